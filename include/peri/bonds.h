@@ -1,0 +1,54 @@
+/* Bonds in compressed sparse rows: the family of node i is
+ * neighbor[offset[i] .. offset[i+1]-1]. Each bond appears from both ends (directed
+ * bonds). Per-bond arrays are parallel to neighbor[]. Built once in the reference
+ * configuration; bonds only break. */
+#ifndef PERI_BONDS_H
+#define PERI_BONDS_H
+#include <stdint.h>
+#include <stddef.h>
+#include "peri/particles.h"
+
+/* Partial-volume rules (model reference section 5):
+ *  NONE:   beta = 1 for |xi| <= delta;
+ *  LINEAR: Le / Hu-Ha-Bobaru ramp, beta = 1/2 + (delta - |xi|)/dx over delta +- dx/2,
+ *          neighbors out to delta + dx/2 (the default);
+ *  LAMMPS: the same ramp truncated at delta (LAMMPS peri: beta falls to 1/2 at delta). */
+typedef enum { PERI_PV_NONE = 0, PERI_PV_LINEAR = 1, PERI_PV_LAMMPS = 2 } peri_partial_volume;
+typedef enum { PERI_INFLUENCE_CONSTANT = 0, PERI_INFLUENCE_INVERSE = 1,
+               PERI_INFLUENCE_GAUSSIAN = 2 } peri_influence;
+
+typedef struct peri_bonds {
+  int32_t n_nodes;
+  int64_t n_bonds;  /* directed bonds = offset[n_nodes] */
+  int64_t *offset;  /* [n_nodes+1] */
+  int32_t *neighbor;/* [n_bonds] */
+  double *length;   /* |xi| reference length */
+  double *beta;     /* partial-volume factor in (0,1] */
+  double *omega;    /* influence function value */
+  uint8_t *broken;  /* 0 intact, 1 broken */
+} peri_bonds;
+
+/* Family search parameters. */
+typedef struct peri_family_params {
+  double horizon;             /* delta */
+  double spacing;             /* grid spacing dx (for the partial-volume ramp) */
+  peri_partial_volume rule;   /* NONE: |xi| <= delta; LINEAR: ramp over delta +- dx/2 */
+  peri_influence influence;
+} peri_family_params;
+
+/* Builds the families of all owned nodes by a cell-list search (O(n)): bins of side
+ * >= the cutoff (delta, or delta + dx/2 for LINEAR). A neighbor j of i is kept when
+ * |xi| <= cutoff (with a relative tolerance of 1e-12 * delta so lattice points exactly at
+ * delta are included) and beta > 0. Neighbors of each node are sorted by index. */
+void peri_bonds_build(peri_bonds *b, const peri_particles *p, const peri_family_params *fp);
+/* The partial-volume factor beta(|xi|) of the rule (section 5 of the model reference). */
+double peri_partial_volume_factor(peri_partial_volume rule, double r, double delta, double dx);
+/* The influence function omega(|xi|). */
+double peri_influence_value(peri_influence w, double r, double delta);
+/* Index of bond j in the family of i, or -1. */
+int64_t peri_bonds_find(const peri_bonds *b, int32_t i, int32_t j);
+/* Bytes used by all per-bond arrays, divided by n_bonds. */
+double peri_bonds_bytes_per_bond(const peri_bonds *b);
+void peri_bonds_free(peri_bonds *b);
+
+#endif

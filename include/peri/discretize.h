@@ -1,0 +1,50 @@
+/* Discretization: nodes on a uniform grid filling shapes minus removed shapes, or read
+ * from a node file; ordering along a space-filling curve. */
+#ifndef PERI_DISCRETIZE_H
+#define PERI_DISCRETIZE_H
+#include "peri/particles.h"
+#include "peri/shape.h"
+
+typedef enum {
+  PERI_PLACE_CENTERS = 0, /* cell centres: origin + (k + 1/2) dx; origin defaults to the
+                             lower corner of the union of the fill shapes' bounds */
+  PERI_PLACE_LATTICE = 1, /* lattice points origin + k dx (LAMMPS `lattice sc`) */
+} peri_placement;
+
+typedef struct peri_fill {
+  peri_shape shape;
+  int32_t material;
+} peri_fill;
+
+typedef struct peri_grid_params {
+  int dim;
+  double spacing;          /* dx */
+  peri_placement placement;
+  double origin[3];
+  bool origin_given;       /* else derived as above (lattice: 0,0,0) */
+  double thickness;        /* 2D: node volume dx^2 * thickness */
+  double cross_section;    /* 1D: node volume dx * cross_section */
+  int n_fill;
+  peri_fill *fill;         /* a point takes the material of the last fill shape containing it */
+  int n_remove;
+  peri_shape *remove;      /* holes, notches: points inside any are removed */
+} peri_grid_params;
+
+/* Generates the nodes (boundary inclusive with a tolerance of 1e-9 dx, both for fill and
+ * remove). Node volume = dx^dim (x thickness in 2D, x cross_section in 1D); block = index
+ * of the fill shape + 1. Returns the number of nodes, or -1 with a message when a fill
+ * shape is unbounded (PERI_SHAPE_ALL) or the grid would exceed 2^31 nodes. */
+int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g);
+
+/* Reads a node file in the Peridigm/PeriLab text format: one node per line,
+ * "x y [z] block volume" (dim + 2 columns), '#' comments and blank lines skipped.
+ * block_to_material maps block ids (1-based) to material indices; blocks beyond
+ * n_blocks are an error. Errors name path:line and exit status 2 (returns PERI_ERR_INPUT). */
+int peri_nodefile_read(peri_particles *p, const char *path, int dim,
+                       const int32_t *block_to_material, int n_blocks);
+
+/* Permutation that orders nodes along a Morton (Z-order) curve of the reference
+ * positions, ties broken by index (deterministic). perm has n entries. */
+void peri_sfc_order(const peri_particles *p, int32_t *perm);
+
+#endif

@@ -1,0 +1,27 @@
+/* Error reporting and exit statuses shared by the library and the program. */
+#ifndef PERI_ERROR_H
+#define PERI_ERROR_H
+#include <stddef.h>
+
+/* Status codes returned by library functions; they are also the program's exit codes. */
+enum peri_status {
+  PERI_OK = 0,
+  PERI_ERR_RUN = 1,   /* a failure during the run (I/O, divergence, ...) */
+  PERI_ERR_INPUT = 2, /* bad input: deck, mesh file, image; detected before work starts */
+};
+
+/* Prints "peri: error: <message>" on stderr. */
+void peri_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* Prints "peri: warning: <message>" on stderr. */
+void peri_warning(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* Prints "<file>:<line>:<col>: error: <message>" on stderr (line/col 1-based). */
+void peri_error_at(const char *file, int line, int col, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+
+/* Allocation that aborts the run with a message instead of returning NULL. */
+void *peri_malloc(size_t bytes);
+void *peri_calloc(size_t count, size_t size);
+void *peri_realloc(void *ptr, size_t bytes);
+char *peri_strdup(const char *s);
+
+#endif

@@ -1,0 +1,44 @@
+/* Geometric shapes used to fill the domain, remove material and define regions. */
+#ifndef PERI_SHAPE_H
+#define PERI_SHAPE_H
+#include <stdbool.h>
+#include "peri/deck.h"
+
+typedef enum {
+  PERI_SHAPE_BOX,      /* min[3], max[3]: box (3D), rectangle (2D), interval (1D) */
+  PERI_SHAPE_SPHERE,   /* center[3], radius: sphere (3D), disk/circle (2D) */
+  PERI_SHAPE_CYLINDER, /* center[3] (of the base), axis (0,1,2), radius, inner_radius,
+                          length along the axis from center */
+  PERI_SHAPE_POLYGON,  /* 2D: vertices (x,y) */
+  PERI_SHAPE_ALL,      /* every point */
+} peri_shape_kind;
+
+typedef struct peri_shape {
+  peri_shape_kind kind;
+  double min[3], max[3];
+  double center[3];
+  double radius, inner_radius, length;
+  int axis;
+  int n_vertices;
+  double *vertices; /* [2*n_vertices] */
+} peri_shape;
+
+/* Parses a shape mapping such as
+ *   {shape: box, min: [0, 0], max: [0.1, 0.04]}
+ *   {shape: circle, center: [0.05, 0.02], radius: 0.01}      (alias: disk, sphere)
+ *   {shape: cylinder, center: [0,0,0], axis: z, radius: 0.025, inner_radius: 0.02, length: 0.1}
+ *   {shape: polygon, vertices: [[0,0], [1,0], [0,1]]}
+ *   {shape: all}
+ * For dim < 3 the missing coordinates of min/max/center are 0 (boxes are unbounded in the
+ * unused directions). `extra_keys` (NULL-terminated, may be NULL) are keys the caller
+ * reads from the same mapping (e.g. "material", "name"); they are allowed here.
+ * Returns PERI_OK or PERI_ERR_INPUT with a message. */
+int peri_shape_parse(const peri_node *map, int dim, const char *section,
+                     const char *const *extra_keys, peri_shape *out);
+/* Whether point x (3 components) lies inside (boundary inclusive, tolerance tol). */
+bool peri_shape_contains(const peri_shape *s, int dim, const double x[3], double tol);
+/* Axis-aligned bounding box; false for PERI_SHAPE_ALL. */
+bool peri_shape_bounds(const peri_shape *s, int dim, double lo[3], double hi[3]);
+void peri_shape_free(peri_shape *s);
+
+#endif
