@@ -1,0 +1,31 @@
+/* The constitutive model interface. A new model is one file in src/model/ plus one line
+ * in the table of src/model/model_table.c. Models never know which solver calls them. */
+#ifndef PERI_MODEL_H
+#define PERI_MODEL_H
+
+typedef struct peri_sim peri_sim;
+
+typedef struct peri_model_ops {
+  const char *name;
+  /* Which elastic constants define it, for messages ("E or K", ...). */
+  const char *description;
+  /* Poisson ratio fixed by the model (bond-based), or 0 when free. */
+  int fixed_poisson;
+  /* Derives per-material constants (after elastic constants are resolved) and allocates
+   * and fills model work arrays (e.g. weighted volume). Returns 0 or PERI_ERR_INPUT. */
+  int (*init)(peri_sim *s);
+  /* Overwrites s->p.f of owned nodes with the internal force density at the current
+   * displacement. When s->breaking is set, first breaks every intact bond whose stretch
+   * exceeds its critical stretch (symmetric in i and j); returns the number of directed
+   * bonds broken in this call. */
+  long (*force)(peri_sim *s);
+  /* Strain energy density W_i of every owned node into W (bonds as they are). */
+  void (*energy)(peri_sim *s, double *W);
+} peri_model_ops;
+
+/* The model table. */
+const peri_model_ops *peri_model_find(const char *name);
+/* NULL-terminated list of model names (for deck choices). */
+const char *const *peri_model_names(void);
+
+#endif

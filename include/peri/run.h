@@ -1,0 +1,15 @@
+/* Running a simulation with output: frames, history, picture, summary, progress. */
+#ifndef PERI_RUN_H
+#define PERI_RUN_H
+#include <stdio.h>
+#include "peri/sim.h"
+
+/* Prints the summary of a built simulation (nodes, bonds, memory, time step, ...). */
+void peri_print_summary(const peri_sim *s, FILE *out);
+/* Estimated bytes of all node and bond arrays. */
+double peri_memory_estimate(const peri_sim *s);
+/* Runs the solver with output into s->out.directory. Returns 0, or PERI_ERR_RUN with a
+ * message (what was written so far is kept). */
+int peri_run(peri_sim *s);
+
+#endif

@@ -1,0 +1,30 @@
+/* Solvers and the pieces they share: loads, prescribed motion, energies. */
+#ifndef PERI_SOLVER_H
+#define PERI_SOLVER_H
+#include "peri/sim.h"
+
+/* Stable time step estimate (MODELS.md 13.2) without the safety factor:
+ * min( min_i sqrt(2 rho_i / sum_j beta V_j c_eq omega / |xi|), dx / c_p ). */
+double peri_stable_dt(const peri_sim *s);
+
+/* Applies initial displacements and velocities (t = 0) and marks prescribed components. */
+void peri_apply_initial_conditions(peri_sim *s);
+/* Prescribed displacement/velocity at time t for the step t - dt -> t: sets u and v of
+ * prescribed components. */
+void peri_apply_prescribed_motion(peri_sim *s, double t, double dt);
+/* External force density at time t into p->b (body forces, tractions, indenter). */
+void peri_apply_loads(peri_sim *s, double t);
+
+/* Global quantities. */
+double peri_kinetic_energy(const peri_sim *s);
+double peri_strain_energy(peri_sim *s);
+/* Reaction on a region: -sum_i f_i V_i over its nodes (internal force density f). */
+void peri_region_reaction(const peri_sim *s, int region, double out[3]);
+
+/* Per-step callback for output; return nonzero to stop. */
+typedef int (*peri_step_hook)(peri_sim *s, void *ctx);
+
+/* Explicit dynamics with velocity-Verlet (MODELS.md 13.1). Calls hook after every step. */
+int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx);
+
+#endif

@@ -1,0 +1,229 @@
+/* Bond families by a cell-list neighbour search, stored in compressed sparse rows. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/bonds.h"
+#include "peri/error.h"
+
+/* Relative tolerance so that lattice points exactly at the cutoff are neighbours. */
+#define CUTOFF_RTOL 1e-12
+
+double peri_partial_volume_factor(peri_partial_volume rule, double r, double delta, double dx) {
+  double rmax = delta * (1 + CUTOFF_RTOL);
+  if (rule == PERI_PV_NONE || !(dx > 0)) return r <= rmax ? 1.0 : 0.0;
+  if (rule == PERI_PV_LAMMPS && r > rmax) return 0.0;
+  if (r <= delta - 0.5 * dx) return 1.0;
+  double beta = 0.5 + (delta - r) / dx;
+  if (beta > 1) beta = 1;
+  return beta > 0 ? beta : 0.0;
+}
+
+double peri_influence_value(peri_influence w, double r, double delta) {
+  switch (w) {
+  case PERI_INFLUENCE_CONSTANT: return 1.0;
+  case PERI_INFLUENCE_INVERSE: return 1.0 / r;
+  case PERI_INFLUENCE_GAUSSIAN: return exp(-(r * r) / (delta * delta));
+  }
+  return 1.0;
+}
+
+static double cutoff_of(const peri_family_params *fp) {
+  if (fp->rule == PERI_PV_LINEAR && fp->spacing > 0) return fp->horizon + 0.5 * fp->spacing;
+  return fp->horizon;
+}
+
+/* Bins of the cell list; items of a bin are in ascending node order (counting sort). */
+typedef struct {
+  int dim;
+  double lo[3], h;
+  int64_t nb[3];
+  int64_t *start; /* [nbins+1] */
+  int32_t *item;  /* [n] */
+} cells;
+
+static int64_t cell_coord(const cells *c, double x, int d) {
+  int64_t k = (int64_t)floor((x - c->lo[d]) / c->h);
+  if (k < 0) k = 0;
+  if (k >= c->nb[d]) k = c->nb[d] - 1;
+  return k;
+}
+
+static void cells_build(cells *c, const peri_particles *p, double cutoff) {
+  int32_t n = p->n;
+  int dim = p->dim;
+  double hi[3] = {0, 0, 0};
+  c->dim = dim;
+  for (int d = 0; d < 3; d++) c->lo[d] = 0;
+  for (int d = 0; d < dim && n > 0; d++) {
+    c->lo[d] = hi[d] = p->x[d];
+    for (int32_t i = 1; i < n; i++) {
+      double v = p->x[3 * i + d];
+      if (v < c->lo[d]) c->lo[d] = v;
+      if (v > hi[d]) hi[d] = v;
+    }
+  }
+  /* Bins may be larger than the cutoff (still correct); keep their number near n so that
+   * a sparse cloud with a tiny horizon cannot ask for an absurd number of bins. */
+  c->h = cutoff > 0 ? cutoff : 1.0;
+  double limit = 2.0 * (double)n + 64;
+  for (;;) {
+    double total = 1;
+    for (int d = 0; d < 3; d++) {
+      c->nb[d] = 1;
+      if (d < dim) {
+        double m = floor((hi[d] - c->lo[d]) / c->h) + 1;
+        c->nb[d] = m > 1e15 ? (int64_t)1e15 : (int64_t)m;
+      }
+      total *= (double)c->nb[d];
+    }
+    if (total <= limit) break;
+    c->h *= 2;
+  }
+  int64_t nbins = c->nb[0] * c->nb[1] * c->nb[2];
+  c->start = peri_calloc((size_t)nbins + 1, sizeof(int64_t));
+  c->item = peri_malloc(sizeof(int32_t) * (size_t)(n > 0 ? n : 1));
+  int64_t *bin = peri_malloc(sizeof(int64_t) * (size_t)(n > 0 ? n : 1));
+  for (int32_t i = 0; i < n; i++) {
+    int64_t b = 0;
+    for (int d = dim - 1; d >= 0; d--) b = b * c->nb[d] + cell_coord(c, p->x[3 * i + d], d);
+    bin[i] = b;
+    c->start[b + 1]++;
+  }
+  for (int64_t b = 0; b < nbins; b++) c->start[b + 1] += c->start[b];
+  int64_t *fill = peri_malloc(sizeof(int64_t) * (size_t)(nbins + 1));
+  memcpy(fill, c->start, sizeof(int64_t) * (size_t)(nbins + 1));
+  for (int32_t i = 0; i < n; i++) c->item[fill[bin[i]]++] = i;
+  free(fill);
+  free(bin);
+}
+
+static void cells_free(cells *c) {
+  free(c->start);
+  free(c->item);
+}
+
+/* Visits the candidate neighbours of node i (all nodes in the 3^dim surrounding bins),
+ * keeping those within the cutoff with beta > 0. With out == NULL only counts. */
+static int64_t scan(const cells *c, const peri_particles *p, const peri_family_params *fp,
+                    double rcut, int32_t i, int32_t *out, int64_t *n_coincident) {
+  const double *xi = p->x + 3 * (size_t)i;
+  int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  for (int d = 0; d < c->dim; d++) {
+    int64_t k = cell_coord(c, xi[d], d);
+    lo[d] = k > 0 ? k - 1 : 0;
+    hi[d] = k + 1 < c->nb[d] ? k + 1 : c->nb[d] - 1;
+  }
+  int64_t count = 0;
+  double r2max = rcut * rcut, r2sure = fp->horizon * fp->horizon;
+  for (int64_t k2 = lo[2]; k2 <= hi[2]; k2++)
+    for (int64_t k1 = lo[1]; k1 <= hi[1]; k1++)
+      for (int64_t k0 = lo[0]; k0 <= hi[0]; k0++) {
+        int64_t b = (k2 * c->nb[1] + k1) * c->nb[0] + k0;
+        for (int64_t t = c->start[b]; t < c->start[b + 1]; t++) {
+          int32_t j = c->item[t];
+          if (j == i) continue;
+          const double *xj = p->x + 3 * (size_t)j;
+          double r2 = 0;
+          for (int d = 0; d < 3; d++) r2 += (xj[d] - xi[d]) * (xj[d] - xi[d]);
+          if (r2 > r2max) continue;
+          /* Coincident nodes would give a zero-length bond (infinite stretch). */
+          if (r2 == 0) {
+            if (n_coincident) (*n_coincident)++;
+            continue;
+          }
+          /* Within delta every rule gives beta >= 1/2; only the LINEAR tail can reach 0. */
+          if (r2 > r2sure &&
+              peri_partial_volume_factor(fp->rule, sqrt(r2), fp->horizon, fp->spacing) <= 0)
+            continue;
+          if (out) out[count] = j;
+          count++;
+        }
+      }
+  return count;
+}
+
+static int cmp_i32(const void *a, const void *b) {
+  int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
+  return (x > y) - (x < y);
+}
+
+void peri_bonds_build(peri_bonds *b, const peri_particles *p, const peri_family_params *fp) {
+  memset(b, 0, sizeof *b);
+  int32_t n_own = p->n_owned;
+  b->n_nodes = n_own;
+  b->offset = peri_calloc((size_t)n_own + 1, sizeof(int64_t));
+  double rcut = cutoff_of(fp) * (1 + CUTOFF_RTOL);
+  cells c;
+  cells_build(&c, p, rcut);
+
+  /* Pass 1: family sizes. Each node writes only its own slot, so the result does not
+   * depend on the number of threads. */
+  int64_t n_coincident = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : n_coincident)
+  for (int32_t i = 0; i < n_own; i++) {
+    int64_t nc = 0;
+    b->offset[i + 1] = scan(&c, p, fp, rcut, i, NULL, &nc);
+    n_coincident += nc;
+  }
+  if (n_coincident > 0)
+    peri_warning("%lld pairs of nodes coincide; they are not bonded", (long long)n_coincident / 2);
+  for (int32_t i = 0; i < n_own; i++) b->offset[i + 1] += b->offset[i];
+  int64_t nb = b->offset[n_own];
+  b->n_bonds = nb;
+  size_t m = (size_t)(nb > 0 ? nb : 1);
+  b->neighbor = peri_malloc(sizeof(int32_t) * m);
+  b->length = peri_malloc(sizeof(double) * m);
+  b->beta = peri_malloc(sizeof(double) * m);
+  b->omega = peri_malloc(sizeof(double) * m);
+  b->broken = peri_calloc(m, 1);
+
+  /* Pass 2: fill each family, sort it by index, then evaluate the per-bond values. */
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int32_t i = 0; i < n_own; i++) {
+    int64_t o = b->offset[i], cnt = b->offset[i + 1] - o;
+    scan(&c, p, fp, rcut, i, b->neighbor + o, NULL);
+    qsort(b->neighbor + o, (size_t)cnt, sizeof(int32_t), cmp_i32);
+    const double *xi = p->x + 3 * (size_t)i;
+    for (int64_t k = o; k < o + cnt; k++) {
+      const double *xj = p->x + 3 * (size_t)b->neighbor[k];
+      double r2 = 0;
+      for (int d = 0; d < 3; d++) r2 += (xj[d] - xi[d]) * (xj[d] - xi[d]);
+      double r = sqrt(r2);
+      b->length[k] = r;
+      b->beta[k] = peri_partial_volume_factor(fp->rule, r, fp->horizon, fp->spacing);
+      b->omega[k] = peri_influence_value(fp->influence, r, fp->horizon);
+    }
+  }
+  cells_free(&c);
+}
+
+int64_t peri_bonds_find(const peri_bonds *b, int32_t i, int32_t j) {
+  if (i < 0 || i >= b->n_nodes) return -1;
+  int64_t lo = b->offset[i], hi = b->offset[i + 1] - 1;
+  while (lo <= hi) {
+    int64_t mid = lo + (hi - lo) / 2;
+    int32_t v = b->neighbor[mid];
+    if (v == j) return mid;
+    if (v < j)
+      lo = mid + 1;
+    else
+      hi = mid - 1;
+  }
+  return -1;
+}
+
+double peri_bonds_bytes_per_bond(const peri_bonds *b) {
+  if (b->n_bonds <= 0) return 0.0;
+  return (double)(sizeof *b->neighbor + sizeof *b->length + sizeof *b->beta + sizeof *b->omega +
+                  sizeof *b->broken);
+}
+
+void peri_bonds_free(peri_bonds *b) {
+  free(b->offset);
+  free(b->neighbor);
+  free(b->length);
+  free(b->beta);
+  free(b->omega);
+  free(b->broken);
+  memset(b, 0, sizeof *b);
+}

@@ -1,0 +1,24 @@
+/* Damage index (MODELS.md 7.3; 000 eq. 1.17). */
+#include "peri/damage.h"
+
+void peri_damage_index(const peri_sim *s, double *phi) {
+  const peri_particles *p = &s->p;
+  const peri_bonds *b = &s->bonds;
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    double all = 0.0, intact = 0.0;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      double w = b->beta[k] * p->volume[b->neighbor[k]];
+      all += w;
+      if (!b->broken[k]) intact += w;
+    }
+    phi[i] = all > 0.0 ? 1.0 - intact / all : 0.0;
+  }
+}
+
+long peri_broken_count(const peri_bonds *b) {
+  long count = 0;
+#pragma omp parallel for reduction(+ : count) schedule(static)
+  for (int64_t k = 0; k < b->n_bonds; ++k) count += b->broken[k];
+  return count;
+}

@@ -1,0 +1,108 @@
+/* Frames: gathers the requested per-node fields and writes VTU + PVD and the picture. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/damage.h"
+#include "peri/error.h"
+#include "peri/output.h"
+#include "peri/frames.h"
+
+struct peri_frames {
+  peri_pvd *pvd;
+  int count;
+  double *points, *damage, *energy;
+};
+
+peri_frames *peri_frames_open(const peri_sim *s) {
+  char path[4200];
+  if (peri_mkdir_p(s->out.directory) != PERI_OK) return NULL;
+  snprintf(path, sizeof path, "%s/%s.pvd", s->out.directory, s->out.basename);
+  peri_frames *f = peri_calloc(1, sizeof *f);
+  f->pvd = peri_pvd_open(path);
+  if (!f->pvd) {
+    free(f);
+    return NULL;
+  }
+  f->points = peri_malloc(sizeof(double) * 3 * (size_t)s->p.n);
+  f->damage = peri_malloc(sizeof(double) * (size_t)s->p.n);
+  return f;
+}
+
+static void current_positions(const peri_sim *s, double *points) {
+  for (size_t c = 0; c < 3 * (size_t)s->p.n_owned; ++c) points[c] = s->p.x[c] + s->p.u[c];
+}
+
+int peri_frames_write(peri_frames *f, peri_sim *s) {
+  const peri_particles *p = &s->p;
+  current_positions(s, f->points);
+  peri_damage_index(s, f->damage);
+  peri_field fields[16];
+  int nf = 0;
+  for (int k = 0; k < s->out.n_fields && nf < 16; ++k) {
+    const char *name = s->out.fields[k];
+    peri_field fl = {.name = name, .ncomp = 1};
+    if (!strcmp(name, "displacement")) fl.ncomp = 3, fl.data = p->u;
+    else if (!strcmp(name, "velocity")) fl.ncomp = 3, fl.data = p->v;
+    else if (!strcmp(name, "force")) fl.ncomp = 3, fl.data = p->f;
+    else if (!strcmp(name, "damage")) fl.data = f->damage;
+    else if (!strcmp(name, "dilatation")) {
+      if (!p->theta) continue; /* the model has no dilatation */
+      fl.data = p->theta;
+    } else if (!strcmp(name, "material")) fl.idata = p->material;
+    else if (!strcmp(name, "block")) fl.idata = p->block;
+    else if (!strcmp(name, "volume")) fl.data = p->volume;
+    else if (!strcmp(name, "strain_energy_density")) {
+      peri_strain_energy(s);
+      fl.data = s->p.energy;
+    } else continue;
+    fields[nf++] = fl;
+  }
+  char file[512], path[4700];
+  snprintf(file, sizeof file, "%s_%06d.vtu", s->out.basename, f->count);
+  snprintf(path, sizeof path, "%s/%s", s->out.directory, file);
+  int rc = peri_vtu_write(path, p->n_owned, f->points, fields, nf, s->out.compress);
+  if (rc != PERI_OK) return rc;
+  f->count++;
+  return peri_pvd_add(f->pvd, s->time, file);
+}
+
+int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
+  const peri_particles *p = &s->p;
+  current_positions(s, f->points);
+  const char *name = s->out.picture_field;
+  double *values = peri_malloc(sizeof(double) * (size_t)p->n_owned);
+  double vmin = 0.0, vmax = 0.0;
+  if (!strcmp(name, "damage")) {
+    peri_damage_index(s, values);
+    vmin = 0.0, vmax = 1.0;
+  } else if (!strcmp(name, "displacement") || !strcmp(name, "velocity") || !strcmp(name, "force")) {
+    const double *v = !strcmp(name, "displacement") ? p->u : !strcmp(name, "velocity") ? p->v : p->f;
+    for (int32_t i = 0; i < p->n_owned; ++i)
+      values[i] = sqrt(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+  } else if (!strcmp(name, "dilatation") && p->theta) {
+    memcpy(values, p->theta, sizeof(double) * (size_t)p->n_owned);
+  } else if (!strcmp(name, "strain_energy_density")) {
+    peri_strain_energy(s);
+    memcpy(values, p->energy, sizeof(double) * (size_t)p->n_owned);
+  } else if (!strcmp(name, "volume")) {
+    memcpy(values, p->volume, sizeof(double) * (size_t)p->n_owned);
+  } else {
+    for (int32_t i = 0; i < p->n_owned; ++i) values[i] = !strcmp(name, "block") ? p->block[i] : p->material[i];
+  }
+  snprintf(path_out, n, "%s/%s.png", s->out.directory, name);
+  char title[256];
+  snprintf(title, sizeof title, "%s  (t = %.4g s)", name, s->time);
+  int rc = peri_png_write_field(path_out, p->n_owned, f->points, values, vmin, vmax, s->geom.spacing,
+                                s->out.picture_width, title);
+  free(values);
+  return rc;
+}
+
+void peri_frames_close(peri_frames *f) {
+  if (!f) return;
+  peri_pvd_close(f->pvd);
+  free(f->points);
+  free(f->damage);
+  free(f);
+}

@@ -1,0 +1,783 @@
+/* Builds a simulation from a deck. Every input error is reported with its position
+ * before any work starts (exit status 2). The keys are documented in docs/deck.md. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/constants.h"
+#include "peri/damage.h"
+#include "peri/deck.h"
+#include "peri/discretize.h"
+#include "peri/error.h"
+#include "peri/sim.h"
+#include "peri/solver.h"
+
+#define TRY(expr)                       \
+  do {                                  \
+    int rc_ = (expr);                   \
+    if (rc_ != PERI_OK) return rc_;     \
+  } while (0)
+
+/* Failure inputs kept until the horizon is known. */
+typedef struct material_failure {
+  double G0, KIc, s0;
+  double E, nu, K, mu; /* as given (NaN = absent); resolved once the horizon is known */
+  const peri_node *at;
+} material_failure;
+
+typedef struct parse_ctx {
+  peri_sim *s;
+  const peri_node *root;
+  material_failure *failure;
+} parse_ctx;
+
+static int find_material(const peri_sim *s, const peri_node *at, const char *name) {
+  for (int m = 0; m < s->n_materials; ++m)
+    if (strcmp(s->materials[m].name, name) == 0) return m;
+  int best = -1, best_d = 1 << 30;
+  for (int m = 0; m < s->n_materials; ++m) {
+    int d = peri_edit_distance(name, s->materials[m].name);
+    if (d < best_d) best_d = d, best = m;
+  }
+  if (best >= 0 && best_d <= 2)
+    return -peri_deck_error(at, "unknown material '%s'; did you mean '%s'?", name, s->materials[best].name);
+  return -peri_deck_error(at, "unknown material '%s' (define it under materials)", name);
+}
+
+static int find_region(const peri_sim *s, const peri_node *at, const char *name) {
+  for (int r = 0; r < s->n_regions; ++r)
+    if (strcmp(s->regions[r].name, name) == 0) return r;
+  int best = -1, best_d = 1 << 30;
+  for (int r = 0; r < s->n_regions; ++r) {
+    int d = peri_edit_distance(name, s->regions[r].name);
+    if (d < best_d) best_d = d, best = r;
+  }
+  if (best >= 0 && best_d <= 2)
+    return -peri_deck_error(at, "unknown region '%s'; did you mean '%s'?", name, s->regions[best].name);
+  return -peri_deck_error(at, "unknown region '%s' (define it under regions; 'all' is predefined)", name);
+}
+
+/* ---------------------------------------------------------------- materials */
+
+static const char *const material_keys[] = {
+    "model", "density", "youngs_modulus", "poisson_ratio", "bulk_modulus", "shear_modulus",
+    "micromodulus", "critical_stretch", "fracture_energy", "fracture_toughness", NULL};
+
+static int parse_material(parse_ctx *c, const peri_node *key, const peri_node *map, int index) {
+  peri_sim *s = c->s;
+  peri_material *mat = &s->materials[index];
+  char section[160];
+  snprintf(section, sizeof section, "materials.%s", key->scalar);
+  TRY(peri_deck_allow(map, section, material_keys));
+  mat->name = peri_strdup(key->scalar);
+  const char *model_name = NULL;
+  TRY(peri_deck_string(map, "model", true, &model_name));
+  int model_index = 0;
+  TRY(peri_deck_choice(map, "model", true, peri_model_names(), &model_index));
+  const peri_model_ops *ops = peri_model_find(model_name);
+  if (s->model && s->model != ops)
+    return peri_deck_error(peri_deck_get(map, "model"),
+                           "key 'model': all materials must use one model (found '%s' and '%s')",
+                           s->model->name, ops->name);
+  s->model = ops;
+  mat->model = model_index;
+  TRY(peri_deck_double(map, "density", true, &mat->density));
+  if (!(mat->density > 0.0))
+    return peri_deck_error(peri_deck_get(map, "density"), "key 'density': must be positive");
+  double E = NAN, nu = NAN, K = NAN, mu = NAN, cgiven = NAN;
+  TRY(peri_deck_double(map, "youngs_modulus", false, &E));
+  TRY(peri_deck_double(map, "poisson_ratio", false, &nu));
+  TRY(peri_deck_double(map, "bulk_modulus", false, &K));
+  TRY(peri_deck_double(map, "shear_modulus", false, &mu));
+  TRY(peri_deck_double(map, "micromodulus", false, &cgiven));
+  if (!isnan(cgiven)) {
+    if (!ops->fixed_poisson)
+      return peri_deck_error(peri_deck_get(map, "micromodulus"),
+                             "key 'micromodulus': only bond-based models take a micromodulus");
+    mat->micromodulus_given = true;
+    mat->micromodulus = cgiven;
+  }
+  material_failure *in = &c->failure[index];
+  in->E = E, in->nu = nu, in->K = K, in->mu = mu;
+  /* failure: a number, a LAMMPS-style mapping {s00, alpha}, or from G0 / K_Ic */
+  material_failure *f = in;
+  f->G0 = f->KIc = f->s0 = NAN;
+  f->at = map;
+  mat->critical_stretch = INFINITY;
+  const peri_node *cs = peri_deck_get(map, "critical_stretch");
+  int given = 0;
+  if (cs && cs->kind == PERI_NODE_MAPPING) {
+    static const char *const lammps_keys[] = {"s00", "alpha", NULL};
+    TRY(peri_deck_allow(cs, "critical_stretch", lammps_keys));
+    TRY(peri_deck_double(cs, "s00", true, &mat->s00));
+    mat->alpha_s = 0.0;
+    TRY(peri_deck_double(cs, "alpha", false, &mat->alpha_s));
+    mat->lammps_s0 = true;
+    given++;
+  } else if (cs) {
+    TRY(peri_deck_double(map, "critical_stretch", false, &f->s0));
+    if (!(f->s0 > 0.0)) return peri_deck_error(cs, "key 'critical_stretch': must be positive");
+    given++;
+  }
+  if (peri_deck_get(map, "fracture_energy")) {
+    TRY(peri_deck_double(map, "fracture_energy", true, &f->G0));
+    given++;
+  }
+  if (peri_deck_get(map, "fracture_toughness")) {
+    TRY(peri_deck_double(map, "fracture_toughness", true, &f->KIc));
+    given++;
+  }
+  if (given > 1)
+    return peri_deck_error(map, "%s: give only one of critical_stretch, fracture_energy, "
+                                "fracture_toughness", section);
+  return PERI_OK;
+}
+
+static int parse_materials(parse_ctx *c) {
+  peri_sim *s = c->s;
+  const peri_node *mats = peri_deck_get(c->root, "materials");
+  if (!mats) return peri_deck_error(c->root, "missing key 'materials' in the deck");
+  if (mats->kind != PERI_NODE_MAPPING || mats->count == 0)
+    return peri_deck_error(mats, "key 'materials': expected a mapping of material names to "
+                                 "properties, got %s", peri_deck_kind_name(mats));
+  s->n_materials = mats->count;
+  s->materials = peri_calloc(mats->count, sizeof(peri_material));
+  c->failure = peri_calloc(mats->count, sizeof(material_failure));
+  for (int m = 0; m < mats->count; ++m) {
+    if (mats->items[m]->kind != PERI_NODE_MAPPING)
+      return peri_deck_error(mats->items[m], "material '%s': expected a mapping, got %s",
+                             mats->keys[m]->scalar, peri_deck_kind_name(mats->items[m]));
+    TRY(parse_material(c, mats->keys[m], mats->items[m], m));
+  }
+  return PERI_OK;
+}
+
+/* Elastic constants (which need the horizon when a micromodulus is given) and the
+ * critical stretch of every material and material pair. */
+static int resolve_materials(parse_ctx *c) {
+  peri_sim *s = c->s;
+  bool lps = s->model == peri_model_find("lps");
+  for (int m = 0; m < s->n_materials; ++m) {
+    peri_material *mat = &s->materials[m];
+    material_failure *f = &c->failure[m];
+    double E = f->E, K = f->K;
+    if (mat->micromodulus_given && isnan(E) && isnan(K) && isnan(f->mu)) {
+      /* invert the calibration so that the time step estimate has a modulus */
+      double c1 = peri_pmb_micromodulus(&s->geom, 1.0, 1.0);
+      if (s->geom.dim == 3) K = mat->micromodulus / c1;
+      else E = mat->micromodulus / c1;
+    }
+    double fixed_nu = s->model->fixed_poisson ? peri_pmb_poisson(&s->geom) : NAN;
+    char why[256];
+    if (peri_elastic_resolve(E, f->nu, K, f->mu, fixed_nu, &mat->E, &mat->nu, &mat->K, &mat->mu,
+                             why, sizeof why) != PERI_OK)
+      return peri_deck_error(f->at, "materials.%s: %s", mat->name, why);
+    if (lps && s->geom.dim == 2 && s->geom.plane == PERI_PLANE_STRESS && mat->nu >= 0.5)
+      return peri_deck_error(f->at, "materials.%s: plane stress LPS needs poisson_ratio < 1/2", mat->name);
+    if (!isnan(f->KIc)) f->G0 = peri_fracture_energy_from_toughness(&s->geom, f->KIc, mat->E, mat->nu);
+    if (!isnan(f->G0)) {
+      if (!(f->G0 > 0.0)) return peri_deck_error(f->at, "materials.%s: fracture energy must be positive", mat->name);
+      f->s0 = lps ? peri_critical_stretch_lps(&s->geom, f->G0, mat->E)
+                  : peri_critical_stretch_pmb(&s->geom, f->G0, mat->E, mat->K);
+    }
+    if (!isnan(f->s0)) mat->critical_stretch = f->s0;
+  }
+  int nm = s->n_materials;
+  s->pair_s0 = peri_malloc(sizeof(double) * nm * nm);
+  for (int a = 0; a < nm; ++a)
+    for (int b = 0; b < nm; ++b)
+      s->pair_s0[a * nm + b] = fmin(s->materials[a].critical_stretch, s->materials[b].critical_stretch);
+  return PERI_OK;
+}
+
+static int parse_interfaces(parse_ctx *c) {
+  peri_sim *s = c->s;
+  const peri_node *list = peri_deck_get(c->root, "interfaces");
+  if (!list) return PERI_OK;
+  if (list->kind != PERI_NODE_SEQUENCE)
+    return peri_deck_error(list, "key 'interfaces': expected a list, got %s", peri_deck_kind_name(list));
+  static const char *const keys[] = {"materials", "critical_stretch", "fracture_energy", NULL};
+  for (int k = 0; k < list->count; ++k) {
+    const peri_node *it = list->items[k];
+    TRY(peri_deck_allow(it, "interfaces", keys));
+    const peri_node *pair = peri_deck_get(it, "materials");
+    if (!pair) return peri_deck_error(it, "missing key 'materials' in interfaces");
+    if (pair->kind != PERI_NODE_SEQUENCE || pair->count != 2 || pair->items[0]->kind != PERI_NODE_SCALAR ||
+        pair->items[1]->kind != PERI_NODE_SCALAR)
+      return peri_deck_error(pair, "key 'materials': expected two material names, e.g. [matrix, fiber]");
+    int a = find_material(s, pair->items[0], pair->items[0]->scalar);
+    if (a < 0) return -a;
+    int b = find_material(s, pair->items[1], pair->items[1]->scalar);
+    if (b < 0) return -b;
+    double s0 = NAN, G0 = NAN;
+    TRY(peri_deck_double(it, "critical_stretch", false, &s0));
+    TRY(peri_deck_double(it, "fracture_energy", false, &G0));
+    if (isnan(s0) == isnan(G0))
+      return peri_deck_error(it, "interfaces: give exactly one of critical_stretch, fracture_energy");
+    if (!isnan(G0)) {
+      /* the softer side's modulus (MODELS.md 8: designated side) */
+      const peri_material *ma = &s->materials[a], *mb = &s->materials[b];
+      const peri_material *soft = ma->E <= mb->E ? ma : mb;
+      s0 = s->model == peri_model_find("lps") ? peri_critical_stretch_lps(&s->geom, G0, soft->E)
+                                             : peri_critical_stretch_pmb(&s->geom, G0, soft->E, soft->K);
+    }
+    int nm = s->n_materials;
+    s->pair_s0[a * nm + b] = s->pair_s0[b * nm + a] = s0;
+  }
+  return PERI_OK;
+}
+
+/* ---------------------------------------------------------------- discretization */
+
+static const char *const discretization_keys[] = {
+    "spacing", "horizon", "m", "placement", "origin", "thickness", "cross_section",
+    "partial_volume", "influence", "weighted_volume", "fill", "remove", "node_file", "blocks",
+    "volume", NULL};
+
+static int parse_shape_list(const peri_node *list, int dim, const char *section,
+                            const char *const *extra, peri_shape **shapes, int *count) {
+  if (list->kind != PERI_NODE_SEQUENCE)
+    return peri_deck_error(list, "key '%s': expected a list of shapes, got %s", section,
+                           peri_deck_kind_name(list));
+  *count = list->count;
+  *shapes = peri_calloc(list->count, sizeof(peri_shape));
+  for (int k = 0; k < list->count; ++k)
+    TRY(peri_shape_parse(list->items[k], dim, section, extra, &(*shapes)[k]));
+  return PERI_OK;
+}
+
+static int parse_discretization(parse_ctx *c) {
+  peri_sim *s = c->s;
+  const peri_node *d = peri_deck_get(c->root, "discretization");
+  if (!d) return peri_deck_error(c->root, "missing key 'discretization' in the deck");
+  TRY(peri_deck_allow(d, "discretization", discretization_keys));
+  peri_geometry *g = &s->geom;
+  const peri_node *node_file = peri_deck_get(d, "node_file");
+  const peri_node *fill = peri_deck_get(d, "fill");
+  if (!node_file == !fill)
+    return peri_deck_error(d, "discretization: give exactly one of 'fill' (shapes on a grid) or "
+                              "'node_file' (x y [z] block volume)");
+  g->spacing = NAN;
+  TRY(peri_deck_double(d, "spacing", fill != NULL, &g->spacing));
+  double horizon = NAN, m = NAN;
+  TRY(peri_deck_double(d, "horizon", false, &horizon));
+  TRY(peri_deck_double(d, "m", false, &m));
+  if (isnan(horizon) == isnan(m))
+    return peri_deck_error(d, "discretization: give exactly one of 'horizon' (a length) or 'm' "
+                              "(horizon / spacing)");
+  g->thickness = 1.0;
+  g->cross_section = 1.0;
+  if (g->dim == 2) TRY(peri_deck_double(d, "thickness", false, &g->thickness));
+  else if (peri_deck_get(d, "thickness"))
+    return peri_deck_error(peri_deck_key_node(d, "thickness"), "key 'thickness': only for dimension 2");
+  if (g->dim == 1) TRY(peri_deck_double(d, "cross_section", false, &g->cross_section));
+  else if (peri_deck_get(d, "cross_section"))
+    return peri_deck_error(peri_deck_key_node(d, "cross_section"), "key 'cross_section': only for dimension 1");
+  if (!(g->thickness > 0.0) || !(g->cross_section > 0.0))
+    return peri_deck_error(d, "discretization: thickness and cross_section must be positive");
+
+  static const char *const placements[] = {"centers", "lattice", NULL};
+  static const char *const pv_rules[] = {"none", "linear", "lammps", NULL};
+  static const char *const influences[] = {"constant", "inverse", "gaussian", NULL};
+  static const char *const wv[] = {"discrete", "analytic", NULL};
+  int placement = 0, pv = PERI_PV_LINEAR, infl = 0, wvol = 0;
+  TRY(peri_deck_choice(d, "placement", false, placements, &placement));
+  TRY(peri_deck_choice(d, "partial_volume", false, pv_rules, &pv));
+  TRY(peri_deck_choice(d, "influence", false, influences, &infl));
+  TRY(peri_deck_choice(d, "weighted_volume", false, wv, &wvol));
+  s->analytic_weighted_volume = wvol == 1;
+  s->family.rule = (peri_partial_volume)pv;
+  s->family.influence = (peri_influence)infl;
+
+  peri_particles *p = &s->p;
+  peri_particles_init(p, g->dim);
+  if (fill) {
+    if (!(g->spacing > 0.0)) return peri_deck_error(peri_deck_get(d, "spacing"), "key 'spacing': must be positive");
+    peri_grid_params gp = {0};
+    gp.dim = g->dim;
+    gp.spacing = g->spacing;
+    gp.placement = (peri_placement)placement;
+    gp.thickness = g->thickness;
+    gp.cross_section = g->cross_section;
+    if (peri_deck_get(d, "origin")) {
+      int count = 0;
+      TRY(peri_deck_vector_range(d, "origin", true, g->dim, 3, gp.origin, &count));
+      gp.origin_given = true;
+    }
+    if (fill->kind != PERI_NODE_SEQUENCE || fill->count == 0)
+      return peri_deck_error(fill, "key 'fill': expected a list of shapes, each with a material");
+    gp.n_fill = fill->count;
+    gp.fill = peri_calloc(fill->count, sizeof(peri_fill));
+    static const char *const fill_extra[] = {"material", NULL};
+    int rc = PERI_OK;
+    for (int k = 0; k < fill->count && rc == PERI_OK; ++k) {
+      rc = peri_shape_parse(fill->items[k], g->dim, "discretization.fill", fill_extra, &gp.fill[k].shape);
+      if (rc != PERI_OK) break;
+      const char *mname = NULL;
+      if (s->n_materials == 1 && !peri_deck_get(fill->items[k], "material")) {
+        gp.fill[k].material = 0;
+        continue;
+      }
+      rc = peri_deck_string(fill->items[k], "material", true, &mname);
+      if (rc != PERI_OK) break;
+      int mi = find_material(s, peri_deck_get(fill->items[k], "material"), mname);
+      if (mi < 0) rc = -mi;
+      else gp.fill[k].material = mi;
+    }
+    const peri_node *remove = peri_deck_get(d, "remove");
+    if (rc == PERI_OK && remove)
+      rc = parse_shape_list(remove, g->dim, "discretization.remove", NULL, &gp.remove, &gp.n_remove);
+    if (rc == PERI_OK && peri_grid_generate(p, &gp) < 0) rc = PERI_ERR_INPUT;
+    for (int k = 0; k < gp.n_fill; ++k) peri_shape_free(&gp.fill[k].shape);
+    for (int k = 0; k < gp.n_remove; ++k) peri_shape_free(&gp.remove[k]);
+    free(gp.fill);
+    free(gp.remove);
+    if (rc != PERI_OK) return rc;
+  } else {
+    const char *path = NULL;
+    TRY(peri_deck_string(d, "node_file", true, &path));
+    /* relative to the deck's directory */
+    char full[4096];
+    const char *slash = strrchr(s->deck_path, '/');
+    if (path[0] != '/' && slash)
+      snprintf(full, sizeof full, "%.*s/%s", (int)(slash - s->deck_path), s->deck_path, path);
+    else
+      snprintf(full, sizeof full, "%s", path);
+    int32_t *block_material = NULL;
+    int n_blocks = 0;
+    const peri_node *blocks = peri_deck_get(d, "blocks");
+    if (blocks) {
+      if (blocks->kind != PERI_NODE_SEQUENCE)
+        return peri_deck_error(blocks, "key 'blocks': expected a list of material names (block 1 first)");
+      n_blocks = blocks->count;
+      block_material = peri_calloc(n_blocks, sizeof(int32_t));
+      for (int k = 0; k < n_blocks; ++k) {
+        int mi = blocks->items[k]->scalar ? find_material(s, blocks->items[k], blocks->items[k]->scalar)
+                                          : -peri_deck_error(blocks->items[k], "expected a material name");
+        if (mi < 0) {
+          free(block_material);
+          return -mi;
+        }
+        block_material[k] = mi;
+      }
+    } else if (s->n_materials == 1) {
+      n_blocks = 1 << 20; /* every block is the one material */
+      block_material = peri_calloc(n_blocks, sizeof(int32_t));
+    } else {
+      return peri_deck_error(d, "discretization: with several materials, 'blocks' must map node "
+                                "file blocks to materials");
+    }
+    int rc = peri_nodefile_read(p, full, g->dim, block_material, n_blocks);
+    free(block_material);
+    if (rc != PERI_OK) return rc;
+    if (isnan(g->spacing)) {
+      /* mean node spacing from the volumes */
+      double vsum = 0.0;
+      for (int32_t i = 0; i < p->n; ++i) vsum += p->volume[i];
+      double v = vsum / (p->n > 0 ? p->n : 1);
+      if (g->dim == 2) v /= g->thickness;
+      if (g->dim == 1) v /= g->cross_section;
+      g->spacing = pow(v, 1.0 / g->dim);
+    }
+  }
+  if (p->n == 0) return peri_deck_error(d, "discretization: the shapes contain no nodes");
+  double volume = NAN;
+  TRY(peri_deck_double(d, "volume", false, &volume));
+  if (!isnan(volume)) {
+    if (!(volume > 0.0)) return peri_deck_error(peri_deck_get(d, "volume"), "key 'volume': must be positive");
+    for (int32_t i = 0; i < p->n; ++i) p->volume[i] = volume;
+  }
+  g->horizon = isnan(horizon) ? m * g->spacing : horizon;
+  if (!(g->horizon > 0.0)) return peri_deck_error(d, "discretization: the horizon must be positive");
+  s->family.horizon = g->horizon;
+  s->family.spacing = g->spacing;
+
+  /* order along a space-filling curve so that neighbours are near in memory */
+  int32_t *perm = peri_malloc(sizeof(int32_t) * p->n);
+  peri_sfc_order(p, perm);
+  peri_particles_permute(p, perm);
+  free(perm);
+  peri_particles_alloc_state(p);
+  return PERI_OK;
+}
+
+/* ---------------------------------------------------------------- regions, cracks */
+
+static int parse_regions(parse_ctx *c) {
+  peri_sim *s = c->s;
+  const peri_node *regs = peri_deck_get(c->root, "regions");
+  int n = regs ? regs->count : 0;
+  if (regs && regs->kind != PERI_NODE_MAPPING)
+    return peri_deck_error(regs, "key 'regions': expected a mapping of region names to shapes, got %s",
+                           peri_deck_kind_name(regs));
+  s->regions = peri_calloc(n + 1, sizeof(peri_region));
+  s->n_regions = 1;
+  s->regions[0].name = peri_strdup("all");
+  s->regions[0].shape.kind = PERI_SHAPE_ALL;
+  peri_region_collect(&s->regions[0], &s->p, 0.0);
+  static const char *const extra[] = {"no_fail", NULL};
+  for (int k = 0; k < n; ++k) {
+    const char *name = regs->keys[k]->scalar;
+    if (strcmp(name, "all") == 0) return peri_deck_error(regs->keys[k], "region name 'all' is predefined");
+    char section[160];
+    snprintf(section, sizeof section, "regions.%s", name);
+    peri_region *r = &s->regions[s->n_regions++];
+    r->name = peri_strdup(name);
+    TRY(peri_shape_parse(regs->items[k], s->geom.dim, section, extra, &r->shape));
+    peri_region_collect(r, &s->p, 1e-9 * s->geom.spacing);
+    if (r->count == 0)
+      peri_warning("region '%s' (%s:%d) contains no nodes", name, regs->keys[k]->file, regs->keys[k]->line);
+    bool no_fail = false;
+    TRY(peri_deck_bool(regs->items[k], "no_fail", false, &no_fail));
+    if (no_fail)
+      for (int32_t a = 0; a < r->count; ++a) s->p.flags[r->nodes[a]] |= PERI_NODE_NO_FAIL;
+  }
+  return PERI_OK;
+}
+
+static int parse_precracks(parse_ctx *c) {
+  peri_sim *s = c->s;
+  const peri_node *list = peri_deck_get(c->root, "precracks");
+  if (!list) return PERI_OK;
+  if (list->kind != PERI_NODE_SEQUENCE)
+    return peri_deck_error(list, "key 'precracks': expected a list, got %s", peri_deck_kind_name(list));
+  s->n_precracks = list->count;
+  s->precracks = peri_calloc(list->count, sizeof(peri_precrack));
+  for (int k = 0; k < list->count; ++k) {
+    const peri_node *it = list->items[k];
+    peri_precrack *pc = &s->precracks[k];
+    if (s->geom.dim == 2) {
+      static const char *const keys[] = {"from", "to", NULL};
+      TRY(peri_deck_allow(it, "precracks", keys));
+      TRY(peri_deck_vector(it, "from", true, 2, pc->a));
+      TRY(peri_deck_vector(it, "to", true, 2, pc->b));
+      pc->dim = 2;
+    } else if (s->geom.dim == 3) {
+      static const char *const keys[] = {"corner", "edge1", "edge2", NULL};
+      TRY(peri_deck_allow(it, "precracks", keys));
+      TRY(peri_deck_vector(it, "corner", true, 3, pc->a));
+      TRY(peri_deck_vector(it, "edge1", true, 3, pc->e1));
+      TRY(peri_deck_vector(it, "edge2", true, 3, pc->e2));
+      pc->dim = 3;
+    } else {
+      return peri_deck_error(it, "precracks: not available in 1D (remove nodes instead)");
+    }
+  }
+  return PERI_OK;
+}
+
+/* ---------------------------------------------------------------- conditions */
+
+static const char *const component_keys[] = {"x", "y", "z"};
+
+static int parse_components(const peri_sim *s, const peri_node *it, peri_expr *value[3], bool need) {
+  int given = 0;
+  for (int d = 0; d < 3; ++d) {
+    const peri_node *v = peri_deck_get(it, component_keys[d]);
+    if (!v) continue;
+    if (d >= s->geom.dim)
+      return peri_deck_error(peri_deck_key_node(it, component_keys[d]),
+                             "key '%s': the problem has dimension %d", component_keys[d], s->geom.dim);
+    TRY(peri_deck_expr(it, component_keys[d], true, &value[d]));
+    given++;
+  }
+  if (need && given == 0) return peri_deck_error(it, "boundary condition: give at least one of x, y, z");
+  return PERI_OK;
+}
+
+static int parse_conditions(parse_ctx *c) {
+  peri_sim *s = c->s;
+  const peri_node *list = peri_deck_get(c->root, "boundary_conditions");
+  if (!list) return PERI_OK;
+  if (list->kind != PERI_NODE_SEQUENCE)
+    return peri_deck_error(list, "key 'boundary_conditions': expected a list, got %s", peri_deck_kind_name(list));
+  static const char *const kinds[] = {"displacement", "velocity", "initial_displacement",
+                                      "initial_velocity", "body_force", "traction", NULL};
+  static const char *const keys[] = {"type", "region", "x", "y", "z", "layer", NULL};
+  s->bcs = peri_calloc(list->count, sizeof(peri_bc));
+  for (int k = 0; k < list->count; ++k) {
+    const peri_node *it = list->items[k];
+    TRY(peri_deck_allow(it, "boundary_conditions", keys));
+    peri_bc *bc = &s->bcs[s->n_bcs++];
+    int kind = 0;
+    TRY(peri_deck_choice(it, "type", true, kinds, &kind));
+    bc->kind = (peri_bc_kind)kind;
+    const char *rname = "all";
+    TRY(peri_deck_string(it, "region", false, &rname));
+    int r = find_region(s, peri_deck_get(it, "region") ? peri_deck_get(it, "region") : it, rname);
+    if (r < 0) return -r;
+    bc->region = r;
+    TRY(parse_components(s, it, bc->value, true));
+    bc->layer = s->geom.spacing;
+    if (peri_deck_get(it, "layer")) {
+      if (bc->kind != PERI_BC_TRACTION)
+        return peri_deck_error(peri_deck_key_node(it, "layer"), "key 'layer': only for type traction");
+      TRY(peri_deck_double(it, "layer", true, &bc->layer));
+      if (!(bc->layer > 0.0)) return peri_deck_error(peri_deck_get(it, "layer"), "key 'layer': must be positive");
+    }
+  }
+  return PERI_OK;
+}
+
+static int parse_indenter(parse_ctx *c) {
+  peri_sim *s = c->s;
+  const peri_node *it = peri_deck_get(c->root, "indenter");
+  if (!it) return PERI_OK;
+  static const char *const keys[] = {"radius", "stiffness", "center", NULL};
+  TRY(peri_deck_allow(it, "indenter", keys));
+  peri_indenter *ind = &s->indenter;
+  ind->on = true;
+  TRY(peri_deck_double(it, "radius", true, &ind->radius));
+  TRY(peri_deck_double(it, "stiffness", true, &ind->stiffness));
+  const peri_node *center = peri_deck_get(it, "center");
+  if (!center) return peri_deck_error(it, "missing key 'center' in indenter");
+  if (center->kind != PERI_NODE_SEQUENCE || center->count != s->geom.dim)
+    return peri_deck_error(center, "key 'center': expected a list of %d numbers or expressions of t",
+                           s->geom.dim);
+  for (int d = 0; d < center->count; ++d) TRY(peri_deck_node_expr(center->items[d], "center", &ind->center[d]));
+  if (!(ind->radius > 0.0) || !(ind->stiffness > 0.0))
+    return peri_deck_error(it, "indenter: radius and stiffness must be positive");
+  return PERI_OK;
+}
+
+/* ---------------------------------------------------------------- solver, output */
+
+static int parse_solver(parse_ctx *c) {
+  peri_sim *s = c->s;
+  const peri_node *it = peri_deck_get(c->root, "solver");
+  if (!it) return peri_deck_error(c->root, "missing key 'solver' in the deck");
+  static const char *const keys[] = {"type", "steps", "end_time", "time_step", "safety_factor",
+                                     "damping", "breaking", NULL};
+  static const char *const types[] = {"explicit", NULL};
+  TRY(peri_deck_allow(it, "solver", keys));
+  int type = 0;
+  TRY(peri_deck_choice(it, "type", false, types, &type));
+  s->solver = (peri_solver_kind)type;
+  long steps = -1;
+  double end_time = NAN;
+  TRY(peri_deck_int(it, "steps", false, &steps));
+  TRY(peri_deck_double(it, "end_time", false, &end_time));
+  if ((steps < 0) == isnan(end_time))
+    return peri_deck_error(it, "solver: give exactly one of 'steps' or 'end_time'");
+  if (steps < 0 && !(end_time > 0.0)) return peri_deck_error(peri_deck_get(it, "end_time"), "key 'end_time': must be positive");
+  s->steps = steps;
+  s->end_time = end_time;
+  s->dt_given = 0.0;
+  s->safety_factor = 0.8;
+  TRY(peri_deck_double(it, "time_step", false, &s->dt_given));
+  TRY(peri_deck_double(it, "safety_factor", false, &s->safety_factor));
+  TRY(peri_deck_double(it, "damping", false, &s->damping));
+  if (peri_deck_get(it, "time_step") && !(s->dt_given > 0.0))
+    return peri_deck_error(peri_deck_get(it, "time_step"), "key 'time_step': must be positive");
+  if (!(s->safety_factor > 0.0 && s->safety_factor <= 1.0))
+    return peri_deck_error(peri_deck_get(it, "safety_factor"), "key 'safety_factor': must be in (0, 1]");
+  if (s->damping < 0.0) return peri_deck_error(peri_deck_get(it, "damping"), "key 'damping': must be >= 0");
+  s->breaking = true;
+  TRY(peri_deck_bool(it, "breaking", false, &s->breaking));
+  return PERI_OK;
+}
+
+static const char *const field_names[] = {"displacement", "velocity", "force", "damage", "dilatation",
+                                          "material", "volume", "strain_energy_density",
+                                          "block", NULL};
+
+static int parse_output(parse_ctx *c) {
+  peri_sim *s = c->s;
+  peri_output *o = &s->out;
+  const peri_node *it = peri_deck_get(c->root, "output");
+  static const char *const keys[] = {"directory", "every", "frames", "fields", "compress",
+                                     "history_every", "picture", NULL};
+  /* defaults */
+  const char *base = strrchr(s->deck_path, '/');
+  base = base ? base + 1 : s->deck_path;
+  o->basename = peri_strdup(base);
+  char *dot = strrchr(o->basename, '.');
+  if (dot) *dot = '\0';
+  o->compress = true;
+  o->picture = s->geom.dim == 2;
+  o->picture_field = peri_strdup("damage");
+  o->picture_width = 1200;
+  long every = -1, frames = -1, history_every = -1;
+  const char *dir = NULL;
+  if (it) {
+    TRY(peri_deck_allow(it, "output", keys));
+    TRY(peri_deck_string(it, "directory", false, &dir));
+    TRY(peri_deck_int(it, "every", false, &every));
+    TRY(peri_deck_int(it, "frames", false, &frames));
+    TRY(peri_deck_int(it, "history_every", false, &history_every));
+    TRY(peri_deck_bool(it, "compress", false, &o->compress));
+    if (every >= 0 && frames >= 0) return peri_deck_error(it, "output: give only one of 'every' or 'frames'");
+    if (peri_deck_get(it, "every") && every < 1) return peri_deck_error(peri_deck_get(it, "every"), "key 'every': must be >= 1");
+    if (peri_deck_get(it, "frames") && frames < 0) return peri_deck_error(peri_deck_get(it, "frames"), "key 'frames': must be >= 0");
+    if (peri_deck_get(it, "history_every") && history_every < 1)
+      return peri_deck_error(peri_deck_get(it, "history_every"), "key 'history_every': must be >= 1");
+    const peri_node *fields = peri_deck_get(it, "fields");
+    if (fields) {
+      if (fields->kind != PERI_NODE_SEQUENCE)
+        return peri_deck_error(fields, "key 'fields': expected a list of field names");
+      o->fields = peri_calloc(fields->count, sizeof(char *));
+      for (int k = 0; k < fields->count; ++k) {
+        const peri_node *f = fields->items[k];
+        int which = -1;
+        for (int n = 0; field_names[n] && f->scalar; ++n)
+          if (strcmp(field_names[n], f->scalar) == 0) which = n;
+        if (which < 0) {
+          int best = 0, best_d = 1 << 30;
+          for (int n = 0; field_names[n]; ++n) {
+            int dd = f->scalar ? peri_edit_distance(f->scalar, field_names[n]) : 99;
+            if (dd < best_d) best_d = dd, best = n;
+          }
+          return peri_deck_error(f, "unknown output field '%s'; did you mean '%s'? (fields: displacement, "
+                                    "velocity, force, damage, dilatation, material, volume, "
+                                    "strain_energy_density, block)", f->scalar ? f->scalar : "", field_names[best]);
+        }
+        o->fields[o->n_fields++] = peri_strdup(f->scalar);
+      }
+    }
+    const peri_node *pic = peri_deck_get(it, "picture");
+    if (pic && pic->kind == PERI_NODE_MAPPING) {
+      static const char *const pkeys[] = {"field", "width", NULL};
+      TRY(peri_deck_allow(pic, "output.picture", pkeys));
+      int which = 3;
+      TRY(peri_deck_choice(pic, "field", false, field_names, &which));
+      free(o->picture_field);
+      o->picture_field = peri_strdup(field_names[which]);
+      long width = o->picture_width;
+      TRY(peri_deck_int(pic, "width", false, &width));
+      if (width < 64 || width > 10000) return peri_deck_error(peri_deck_get(pic, "width"), "key 'width': must be in 64..10000 pixels");
+      o->picture_width = (int)width;
+      o->picture = true;
+    } else if (pic) {
+      TRY(peri_deck_bool(it, "picture", false, &o->picture));
+    }
+    if (o->picture && s->geom.dim != 2) {
+      const peri_node *at = pic ? pic : it;
+      return peri_deck_error(at, "key 'picture': pictures are drawn for 2D problems only");
+    }
+  }
+  if (!o->fields) {
+    static const char *const defaults[] = {"displacement", "velocity", "damage"};
+    o->fields = peri_calloc(3, sizeof(char *));
+    for (int k = 0; k < 3; ++k) o->fields[o->n_fields++] = peri_strdup(defaults[k]);
+  }
+  if (dir) o->directory = peri_strdup(dir);
+  else {
+    char buf[4096];
+    snprintf(buf, sizeof buf, "output/%s", o->basename);
+    o->directory = peri_strdup(buf);
+  }
+  o->every = every >= 1 ? every : 0;
+  if (frames >= 0) o->every = -frames; /* resolved once the step count is known */
+  o->history_every = history_every >= 1 ? history_every : 0;
+  return PERI_OK;
+}
+
+/* ---------------------------------------------------------------- assembly */
+
+static const char *const top_keys[] = {"dimension", "plane", "discretization", "materials",
+                                       "interfaces", "regions", "precracks", "boundary_conditions",
+                                       "indenter", "solver", "output", NULL};
+
+static int build(parse_ctx *c) {
+  peri_sim *s = c->s;
+  const peri_node *root = c->root;
+  TRY(peri_deck_allow(root, "the deck", top_keys));
+  long dim = 0;
+  TRY(peri_deck_int(root, "dimension", true, &dim));
+  if (dim < 1 || dim > 3) return peri_deck_error(peri_deck_get(root, "dimension"), "key 'dimension': expected 1, 2 or 3, got %ld", dim);
+  s->geom.dim = (int)dim;
+  static const char *const planes[] = {"stress", "strain", NULL};
+  if (dim == 2) {
+    int plane = 0;
+    TRY(peri_deck_choice(root, "plane", false, planes, &plane));
+    s->geom.plane = plane == 0 ? PERI_PLANE_STRESS : PERI_PLANE_STRAIN;
+  } else if (peri_deck_get(root, "plane")) {
+    return peri_deck_error(peri_deck_key_node(root, "plane"), "key 'plane': only for dimension 2");
+  }
+  TRY(parse_materials(c));
+  TRY(parse_discretization(c));
+  TRY(resolve_materials(c));
+  TRY(parse_regions(c));
+  peri_bonds_build(&s->bonds, &s->p, &s->family);
+  TRY(parse_precracks(c));
+  peri_precracks_apply(s);
+  TRY(parse_interfaces(c));
+  TRY(s->model->init(s));
+  TRY(parse_conditions(c));
+  TRY(parse_indenter(c));
+  TRY(parse_solver(c));
+  TRY(parse_output(c));
+
+  /* lammps-form critical stretch: s0 starts unbounded (no breaking in the first step) */
+  bool lammps = false;
+  for (int m = 0; m < s->n_materials; ++m) lammps |= s->materials[m].lammps_s0;
+  if (lammps) {
+    for (int m = 0; m < s->n_materials; ++m)
+      if (!s->materials[m].lammps_s0)
+        return peri_deck_error(c->failure[m].at, "materials.%s: when one material uses the "
+                               "{s00, alpha} critical stretch, all must", s->materials[m].name);
+    s->s0_node = peri_malloc(sizeof(double) * s->p.n);
+    s->p.smin = peri_malloc(sizeof(double) * s->p.n);
+    for (int32_t i = 0; i < s->p.n; ++i) s->s0_node[i] = INFINITY;
+  }
+  s->prescribed = peri_calloc(3 * (size_t)s->p.n, 1);
+
+  /* time step and step count */
+  double dt_stable = s->safety_factor * peri_stable_dt(s);
+  if (s->dt_given > 0.0) {
+    s->dt = s->dt_given;
+    if (s->dt > peri_stable_dt(s))
+      peri_warning("time_step %g exceeds the stable estimate %g; the run may diverge", s->dt,
+                   peri_stable_dt(s));
+  } else {
+    s->dt = dt_stable;
+  }
+  if (!(s->dt > 0.0) || !isfinite(s->dt))
+    return peri_deck_error(peri_deck_get(root, "solver"), "solver: cannot estimate a time step (no bonds?); give time_step");
+  if (s->steps < 0) s->steps = (long)ceil(s->end_time / s->dt - 1e-9);
+  if (s->out.every < 0) {
+    long frames = -s->out.every;
+    s->out.every = frames > 0 ? (s->steps + frames - 1) / frames : 0;
+  } else if (s->out.every == 0 && !peri_deck_get(peri_deck_get(root, "output"), "every")) {
+    s->out.every = s->steps >= 10 ? s->steps / 10 : 1;
+  }
+  if (s->out.history_every == 0) s->out.history_every = s->steps >= 1000 ? s->steps / 1000 : 1;
+  return PERI_OK;
+}
+
+int peri_sim_from_deck(peri_sim *s, const char *path) {
+  memset(s, 0, sizeof *s);
+  s->deck_path = peri_strdup(path);
+  s->threads = 0;
+  peri_node *root = peri_deck_load(path);
+  if (!root) return PERI_ERR_INPUT;
+  parse_ctx c = {.s = s, .root = root, .failure = NULL};
+  int rc = build(&c);
+  free(c.failure);
+  peri_deck_free(root);
+  return rc;
+}
+
+void peri_sim_free(peri_sim *s) {
+  peri_particles_free(&s->p);
+  peri_bonds_free(&s->bonds);
+  for (int m = 0; m < s->n_materials; ++m) free(s->materials[m].name);
+  free(s->materials);
+  free(s->pair_s0);
+  free(s->s0_node);
+  for (int r = 0; r < s->n_regions; ++r) peri_region_free(&s->regions[r]);
+  free(s->regions);
+  for (int k = 0; k < s->n_bcs; ++k)
+    for (int d = 0; d < 3; ++d) peri_expr_free(s->bcs[k].value[d]);
+  free(s->bcs);
+  free(s->precracks);
+  for (int d = 0; d < 3; ++d) peri_expr_free(s->indenter.center[d]);
+  free(s->prescribed);
+  for (int k = 0; k < s->out.n_fields; ++k) free(s->out.fields[k]);
+  free(s->out.fields);
+  free(s->out.directory);
+  free(s->out.basename);
+  free(s->out.picture_field);
+  free(s->deck_path);
+  memset(s, 0, sizeof *s);
+}

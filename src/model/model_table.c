@@ -1,0 +1,17 @@
+/* The table of constitutive models: one line per model. */
+#include <string.h>
+#include "peri/model.h"
+
+extern const peri_model_ops peri_model_pmb;
+extern const peri_model_ops peri_model_lps;
+
+static const peri_model_ops *const models[] = {&peri_model_pmb, &peri_model_lps};
+static const char *const names[] = {"pmb", "lps", NULL};
+
+const peri_model_ops *peri_model_find(const char *name) {
+  for (size_t k = 0; k < sizeof models / sizeof *models; ++k)
+    if (strcmp(models[k]->name, name) == 0) return models[k];
+  return NULL;
+}
+
+const char *const *peri_model_names(void) { return names; }

@@ -1,0 +1,114 @@
+/* Boundary and initial conditions on regions, and external loads. */
+#include <math.h>
+#include <string.h>
+#include "peri/solver.h"
+
+static void eval_at(peri_expr *e, const double *x, double t, double *out) {
+  if (e) *out = peri_expr_eval(e, x[0], x[1], x[2], t);
+}
+
+void peri_apply_initial_conditions(peri_sim *s) {
+  peri_particles *p = &s->p;
+  for (int k = 0; k < s->n_bcs; ++k) {
+    const peri_bc *bc = &s->bcs[k];
+    const peri_region *r = &s->regions[bc->region];
+    for (int32_t a = 0; a < r->count; ++a) {
+      int32_t i = r->nodes[a];
+      for (int d = 0; d < 3; ++d) {
+        if (!bc->value[d]) continue;
+        if (bc->kind == PERI_BC_INITIAL_DISPLACEMENT) eval_at(bc->value[d], &p->x[3 * i], 0.0, &p->u[3 * i + d]);
+        if (bc->kind == PERI_BC_INITIAL_VELOCITY) eval_at(bc->value[d], &p->x[3 * i], 0.0, &p->v[3 * i + d]);
+        if (bc->kind == PERI_BC_DISPLACEMENT || bc->kind == PERI_BC_VELOCITY)
+          s->prescribed[3 * i + d] = 1;
+      }
+    }
+  }
+  /* Prescribed displacements hold from t = 0. */
+  for (int k = 0; k < s->n_bcs; ++k) {
+    const peri_bc *bc = &s->bcs[k];
+    if (bc->kind != PERI_BC_DISPLACEMENT) continue;
+    const peri_region *r = &s->regions[bc->region];
+    for (int32_t a = 0; a < r->count; ++a) {
+      int32_t i = r->nodes[a];
+      for (int d = 0; d < 3; ++d) eval_at(bc->value[d], &p->x[3 * i], 0.0, &p->u[3 * i + d]);
+    }
+  }
+}
+
+void peri_apply_prescribed_motion(peri_sim *s, double t, double dt) {
+  peri_particles *p = &s->p;
+  for (int k = 0; k < s->n_bcs; ++k) {
+    const peri_bc *bc = &s->bcs[k];
+    if (bc->kind != PERI_BC_DISPLACEMENT && bc->kind != PERI_BC_VELOCITY) continue;
+    const peri_region *r = &s->regions[bc->region];
+    for (int32_t a = 0; a < r->count; ++a) {
+      int32_t i = r->nodes[a];
+      const double *x = &p->x[3 * i];
+      for (int d = 0; d < 3; ++d) {
+        peri_expr *e = bc->value[d];
+        if (!e) continue;
+        if (bc->kind == PERI_BC_DISPLACEMENT) {
+          double u_new = peri_expr_eval(e, x[0], x[1], x[2], t);
+          p->v[3 * i + d] = (u_new - p->u[3 * i + d]) / dt;
+          p->u[3 * i + d] = u_new;
+        } else {
+          double v_old = peri_expr_eval(e, x[0], x[1], x[2], t - dt);
+          double v_new = peri_expr_eval(e, x[0], x[1], x[2], t);
+          p->u[3 * i + d] += 0.5 * (v_old + v_new) * dt;
+          p->v[3 * i + d] = v_new;
+        }
+      }
+    }
+  }
+}
+
+/* LAMMPS fix indent: force k (R - r)^2 along the outward radius for r < R, added to the
+ * force density as LAMMPS peri does (its per-atom "force" is a force density). */
+static void apply_indenter(peri_sim *s, double t) {
+  peri_indenter *ind = &s->indenter;
+  peri_particles *p = &s->p;
+  double c[3] = {0.0, 0.0, 0.0};
+  for (int d = 0; d < 3; ++d)
+    if (ind->center[d]) c[d] = peri_expr_eval(ind->center[d], 0.0, 0.0, 0.0, t);
+  double fx = 0.0, fy = 0.0, fz = 0.0;
+  const double R = ind->radius, k = ind->stiffness;
+#pragma omp parallel for schedule(static) reduction(+ : fx, fy, fz)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    double d[3], r2 = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      d[a] = p->x[3 * i + a] + p->u[3 * i + a] - c[a];
+      r2 += d[a] * d[a];
+    }
+    if (r2 >= R * R) continue;
+    double r = sqrt(r2);
+    if (r == 0.0) continue;
+    double mag = k * (R - r) * (R - r) / r;
+    p->b[3 * i] += mag * d[0];
+    p->b[3 * i + 1] += mag * d[1];
+    p->b[3 * i + 2] += mag * d[2];
+    fx -= mag * d[0] * p->volume[i];
+    fy -= mag * d[1] * p->volume[i];
+    fz -= mag * d[2] * p->volume[i];
+  }
+  ind->force[0] = fx;
+  ind->force[1] = fy;
+  ind->force[2] = fz;
+}
+
+void peri_apply_loads(peri_sim *s, double t) {
+  peri_particles *p = &s->p;
+  memset(p->b, 0, sizeof(double) * 3 * (size_t)p->n);
+  for (int k = 0; k < s->n_bcs; ++k) {
+    const peri_bc *bc = &s->bcs[k];
+    if (bc->kind != PERI_BC_BODY_FORCE && bc->kind != PERI_BC_TRACTION) continue;
+    const double scale = bc->kind == PERI_BC_TRACTION ? 1.0 / bc->layer : 1.0;
+    const peri_region *r = &s->regions[bc->region];
+    for (int32_t a = 0; a < r->count; ++a) {
+      int32_t i = r->nodes[a];
+      const double *x = &p->x[3 * i];
+      for (int d = 0; d < 3; ++d)
+        if (bc->value[d]) p->b[3 * i + d] += scale * peri_expr_eval(bc->value[d], x[0], x[1], x[2], t);
+    }
+  }
+  if (s->indenter.on) apply_indenter(s, t);
+}

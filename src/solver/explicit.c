@@ -1,0 +1,104 @@
+/* Explicit dynamics: velocity-Verlet (MODELS.md 13.1; 002 sec. 1.3.2), with optional
+ * viscous damping, prescribed motion and external loads. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/error.h"
+#include "peri/solver.h"
+
+/* Work of external loads and prescribed motion over one step (trapezoid rule in force),
+ * so that kinetic + strain energy - external work stays constant. */
+static double step_work(const peri_sim *s, const double *u_old, const double *load_old,
+                        const double *load_new) {
+  const peri_particles *p = &s->p;
+  double work = 0.0;
+  for (int32_t i = 0; i < p->n_owned; ++i)
+    for (int d = 0; d < 3; ++d) {
+      size_t c = 3 * (size_t)i + d;
+      work += 0.5 * (load_old[c] + load_new[c]) * (p->u[c] - u_old[c]) * p->volume[i];
+    }
+  return work;
+}
+
+/* External force density on each component: applied loads on free components, and on
+ * prescribed ones the reaction rho a - f that enforces the motion. */
+static void external_load(const peri_sim *s, const double *v_old, double dt, double *load) {
+  const peri_particles *p = &s->p;
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    double rho = s->materials[p->material[i]].density;
+    for (int d = 0; d < 3; ++d) {
+      size_t c = 3 * (size_t)i + d;
+      load[c] = s->prescribed[c] ? rho * (p->v[c] - v_old[c]) / dt - p->f[c] : p->b[c];
+    }
+  }
+}
+
+int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
+  peri_particles *p = &s->p;
+  const double dt = s->dt;
+  const int32_t n = p->n_owned;
+  const size_t n3 = 3 * (size_t)n;
+  double *inv_rho = peri_malloc(sizeof(double) * n);
+  for (int32_t i = 0; i < n; ++i) inv_rho[i] = 1.0 / s->materials[p->material[i]].density;
+  double *u_old = peri_malloc(sizeof(double) * n3);
+  double *v_old = peri_malloc(sizeof(double) * n3);
+  double *load_old = peri_calloc(n3, sizeof(double));
+  double *load_new = peri_calloc(n3, sizeof(double));
+  const double damping = s->damping;
+  const uint8_t *fixed = s->prescribed;
+
+  peri_apply_loads(s, s->time);
+  s->model->force(s);
+  external_load(s, p->v, dt, load_old);
+  /* accelerations at t = 0 live in f + b */
+  int status = PERI_OK;
+  for (long step = 0; step < s->steps; ++step) {
+    memcpy(u_old, p->u, sizeof(double) * n3);
+    memcpy(v_old, p->v, sizeof(double) * n3);
+#pragma omp parallel for schedule(static)
+    for (int32_t i = 0; i < n; ++i) {
+      for (int d = 0; d < 3; ++d) {
+        size_t c = 3 * (size_t)i + d;
+        if (fixed[c]) continue;
+        double a = (p->f[c] + p->b[c]) * inv_rho[i] - damping * p->v[c];
+        p->v[c] += 0.5 * dt * a;
+        p->u[c] += dt * p->v[c];
+      }
+    }
+    s->time += dt;
+    s->step = step + 1;
+    peri_apply_prescribed_motion(s, s->time, dt);
+    peri_apply_loads(s, s->time);
+    s->model->force(s);
+#pragma omp parallel for schedule(static)
+    for (int32_t i = 0; i < n; ++i) {
+      for (int d = 0; d < 3; ++d) {
+        size_t c = 3 * (size_t)i + d;
+        if (fixed[c]) continue;
+        double a = (p->f[c] + p->b[c]) * inv_rho[i];
+        /* damping is implicit in the half-step velocity (MODELS.md 12.1 erratum) */
+        p->v[c] = (p->v[c] + 0.5 * dt * a) / (1.0 + 0.5 * dt * damping);
+      }
+    }
+    external_load(s, v_old, dt, load_new);
+    s->external_work += step_work(s, u_old, load_old, load_new);
+    double *swap = load_old;
+    load_old = load_new;
+    load_new = swap;
+    for (size_t c = 0; c < n3; ++c)
+      if (!isfinite(p->u[c])) {
+        peri_error("the solution diverged at step %ld (t = %g): displacement is not finite; "
+                   "reduce the time step or check the loads", s->step, s->time);
+        status = PERI_ERR_RUN;
+        break;
+      }
+    if (status != PERI_OK) break;
+    if (hook && hook(s, ctx)) break;
+  }
+  free(inv_rho);
+  free(u_old);
+  free(v_old);
+  free(load_old);
+  free(load_new);
+  return status;
+}

@@ -1,0 +1,175 @@
+/* The run driver: solver + history + frames + picture + summary + progress line. */
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include "peri/damage.h"
+#include "peri/error.h"
+#include "peri/frames.h"
+#include "peri/output.h"
+#include "peri/run.h"
+#include "peri/solver.h"
+
+static double now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+double peri_memory_estimate(const peri_sim *s) {
+  const double n = s->p.n, nb = (double)s->bonds.n_bonds;
+  /* x u v f b (5 x 3 doubles), volume, damage, material, block, flags, + model arrays */
+  double per_node = 15 * 8 + 8 + 8 + 4 + 4 + 1 + 3;
+  if (s->p.theta) per_node += 3 * 8;
+  if (s->s0_node) per_node += 2 * 8;
+  return n * per_node + (n + 1) * 8 + nb * peri_bonds_bytes_per_bond(&s->bonds);
+}
+
+static const char *model_plane(const peri_sim *s) {
+  if (s->geom.dim != 2) return "";
+  return s->geom.plane == PERI_PLANE_STRAIN ? ", plane strain" : ", plane stress";
+}
+
+void peri_print_summary(const peri_sim *s, FILE *out) {
+  fprintf(out, "peri %s: %s\n", PERI_VERSION, s->deck_path);
+  fprintf(out, "  model        %s, %dD%s\n", s->model->name, s->geom.dim, model_plane(s));
+  fprintf(out, "  nodes        %d\n", s->p.n);
+  fprintf(out, "  bonds        %lld directed (%.1f per node), %ld broken\n", (long long)s->bonds.n_bonds,
+          s->p.n ? (double)s->bonds.n_bonds / s->p.n : 0.0, peri_broken_count(&s->bonds));
+  fprintf(out, "  horizon      %g (m = %.4g, spacing %g)\n", s->geom.horizon, s->geom.horizon / s->geom.spacing,
+          s->geom.spacing);
+  fprintf(out, "  memory       %.1f MB estimated (%.1f bytes per directed bond)\n",
+          peri_memory_estimate(s) / 1e6, peri_bonds_bytes_per_bond(&s->bonds));
+  for (int m = 0; m < s->n_materials; ++m) {
+    const peri_material *mat = &s->materials[m];
+    fprintf(out, "  material     %s: rho %g, E %g, nu %.4g, K %g, critical stretch %g%s\n", mat->name,
+            mat->density, mat->E, mat->nu, mat->K, mat->lammps_s0 ? mat->s00 : mat->critical_stretch,
+            mat->lammps_s0 ? " (s00, compression-dependent)" : "");
+  }
+  fprintf(out, "  time step    %g s (stable estimate %g s), %ld steps to t = %g s\n", s->dt,
+          peri_stable_dt(s), s->steps, s->dt * s->steps);
+}
+
+typedef struct run_ctx {
+  peri_frames *frames;
+  peri_history *history;
+  int n_columns;
+  double *row;
+  double t_start, t_last_progress;
+  bool progress;
+  int failed;
+} run_ctx;
+
+static int write_history(peri_sim *s, run_ctx *c) {
+  int k = 0;
+  double ke = peri_kinetic_energy(s);
+  double se = peri_strain_energy(s);
+  c->row[k++] = s->time;
+  c->row[k++] = (double)s->step;
+  c->row[k++] = ke;
+  c->row[k++] = se;
+  c->row[k++] = s->external_work;
+  c->row[k++] = ke + se - s->external_work;
+  c->row[k++] = s->bonds.n_bonds ? (double)peri_broken_count(&s->bonds) / s->bonds.n_bonds : 0.0;
+  if (s->indenter.on)
+    for (int d = 0; d < s->geom.dim; ++d) c->row[k++] = s->indenter.force[d];
+  for (int r = 1; r < s->n_regions; ++r) {
+    double reaction[3];
+    peri_region_reaction(s, r, reaction);
+    for (int d = 0; d < s->geom.dim; ++d) c->row[k++] = reaction[d];
+  }
+  return peri_history_write(c->history, c->row);
+}
+
+static int open_history(peri_sim *s, run_ctx *c) {
+  static const char axis[] = "xyz";
+  int n = 7 + (s->indenter.on ? s->geom.dim : 0) + (s->n_regions - 1) * s->geom.dim;
+  char **names = peri_calloc(n, sizeof(char *));
+  const char *fixed[] = {"time", "step", "kinetic_energy", "strain_energy", "external_work",
+                         "energy_balance", "broken_bond_fraction"};
+  int k = 0;
+  for (; k < 7; ++k) names[k] = peri_strdup(fixed[k]);
+  char buf[256];
+  if (s->indenter.on)
+    for (int d = 0; d < s->geom.dim; ++d) {
+      snprintf(buf, sizeof buf, "indenter_force_%c", axis[d]);
+      names[k++] = peri_strdup(buf);
+    }
+  for (int r = 1; r < s->n_regions; ++r)
+    for (int d = 0; d < s->geom.dim; ++d) {
+      snprintf(buf, sizeof buf, "reaction_%s_%c", s->regions[r].name, axis[d]);
+      names[k++] = peri_strdup(buf);
+    }
+  char path[4200];
+  snprintf(path, sizeof path, "%s/history.csv", s->out.directory);
+  c->history = peri_history_open(path, n, (const char *const *)names);
+  for (int j = 0; j < n; ++j) free(names[j]);
+  free(names);
+  c->n_columns = n;
+  c->row = peri_calloc(n, sizeof(double));
+  return c->history ? PERI_OK : PERI_ERR_RUN;
+}
+
+static int step_hook(peri_sim *s, void *ctx) {
+  run_ctx *c = ctx;
+  bool last = s->step == s->steps;
+  if ((s->step % s->out.history_every == 0 || last) && write_history(s, c) != PERI_OK) {
+    c->failed = 1;
+    return 1;
+  }
+  if (((s->out.every > 0 && s->step % s->out.every == 0) || last) && peri_frames_write(c->frames, s) != PERI_OK) {
+    c->failed = 1;
+    return 1;
+  }
+  if (c->progress) {
+    double t = now();
+    if (t - c->t_last_progress > 0.5 && t - c->t_start > 1.0) {
+      double rate = s->step / (t - c->t_start);
+      fprintf(stderr, "\r  step %ld/%ld  t = %.4g s  %.0f steps/s  eta %.0f s   ", s->step, s->steps,
+              s->time, rate, (s->steps - s->step) / rate);
+      c->t_last_progress = t;
+    }
+  }
+  return 0;
+}
+
+int peri_run(peri_sim *s) {
+  run_ctx c = {0};
+  c.frames = peri_frames_open(s);
+  if (!c.frames) return PERI_ERR_RUN;
+  if (open_history(s, &c) != PERI_OK) {
+    peri_frames_close(c.frames);
+    return PERI_ERR_RUN;
+  }
+  c.progress = !s->quiet && isatty(STDERR_FILENO);
+  peri_apply_initial_conditions(s);
+  int rc = peri_frames_write(c.frames, s);
+  if (rc == PERI_OK) {
+    s->model->force(s);
+    rc = write_history(s, &c);
+  }
+  c.t_start = c.t_last_progress = now();
+  if (rc == PERI_OK) rc = peri_solve_explicit(s, step_hook, &c);
+  if (c.failed) rc = PERI_ERR_RUN;
+  double wall = now() - c.t_start;
+  if (c.progress) fprintf(stderr, "\r%80s\r", "");
+  char picture[4300] = "";
+  if (s->out.picture && s->geom.dim == 2) {
+    if (peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) rc = PERI_ERR_RUN, picture[0] = 0;
+  }
+  if (!s->quiet) {
+    double updates = (double)s->bonds.n_bonds * s->step;
+    printf("  finished     %ld steps in %.3f s: %.1f steps/s, %.3g bond updates/s (%d threads)\n", s->step,
+           wall, wall > 0 ? s->step / wall : 0.0, wall > 0 ? updates / wall : 0.0, omp_get_max_threads());
+    printf("  broken bonds %ld of %lld\n", peri_broken_count(&s->bonds), (long long)s->bonds.n_bonds);
+    printf("  output       %s/%s.pvd (%s), %s/history.csv%s%s\n", s->out.directory, s->out.basename,
+           "VTU series", s->out.directory, picture[0] ? ", " : "", picture);
+  }
+  peri_history_close(c.history);
+  peri_frames_close(c.frames);
+  free(c.row);
+  return rc;
+}

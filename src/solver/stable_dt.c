@@ -1,0 +1,28 @@
+/* Stable time step estimate (MODELS.md 13.2; 002 eqs. 1.105-1.108). */
+#include <math.h>
+#include "peri/constants.h"
+#include "peri/solver.h"
+
+double peri_stable_dt(const peri_sim *s) {
+  const peri_particles *p = &s->p;
+  const peri_bonds *b = &s->bonds;
+  double dt_bond = INFINITY;
+#pragma omp parallel for schedule(static) reduction(min : dt_bond)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    const peri_material *mi = &s->materials[p->material[i]];
+    double stiffness = 0.0;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      int32_t j = b->neighbor[k];
+      double c = 0.5 * (mi->c_stable + s->materials[p->material[j]].c_stable);
+      stiffness += b->beta[k] * p->volume[j] * c * b->omega[k] / b->length[k];
+    }
+    if (stiffness > 0.0) dt_bond = fmin(dt_bond, sqrt(2.0 * mi->density / stiffness));
+  }
+  double dt_cfl = INFINITY;
+  for (int m = 0; m < s->n_materials; ++m) {
+    const peri_material *mat = &s->materials[m];
+    double M = peri_pwave_modulus(&s->geom, mat->E, mat->nu, mat->K, mat->mu);
+    dt_cfl = fmin(dt_cfl, s->geom.spacing / sqrt(M / mat->density));
+  }
+  return fmin(dt_bond, dt_cfl);
+}
