@@ -741,7 +741,7 @@ static int build(parse_ctx *c) {
   } else if (s->out.every == 0 && !peri_deck_get(peri_deck_get(root, "output"), "every")) {
     s->out.every = s->steps >= 10 ? s->steps / 10 : 1;
   }
-  if (s->out.history_every == 0) s->out.history_every = s->steps >= 1000 ? s->steps / 1000 : 1;
+  if (s->out.history_every == 0) s->out.history_every = s->steps >= 100 ? s->steps / 100 : 1;
   return PERI_OK;
 }
 

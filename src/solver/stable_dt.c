@@ -6,6 +6,9 @@
 double peri_stable_dt(const peri_sim *s) {
   const peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
+  /* bond-based models carry the influence function in the pair force; state-based ones
+   * are bounded by the equivalent PMB micromodulus alone */
+  const bool bond_based = s->model->fixed_poisson;
   double dt_bond = INFINITY;
 #pragma omp parallel for schedule(static) reduction(min : dt_bond)
   for (int32_t i = 0; i < p->n_owned; ++i) {
@@ -14,7 +17,7 @@ double peri_stable_dt(const peri_sim *s) {
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       int32_t j = b->neighbor[k];
       double c = 0.5 * (mi->c_stable + s->materials[p->material[j]].c_stable);
-      stiffness += b->beta[k] * p->volume[j] * c * b->omega[k] / b->length[k];
+      stiffness += b->beta[k] * p->volume[j] * c * (bond_based ? b->omega[k] : 1.0) / b->length[k];
     }
     if (stiffness > 0.0) dt_bond = fmin(dt_bond, sqrt(2.0 * mi->density / stiffness));
   }
