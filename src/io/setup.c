@@ -112,6 +112,8 @@ static int parse_material(parse_ctx *c, const peri_node *key, const peri_node *m
     TRY(peri_deck_double(cs, "s00", true, &mat->s00));
     mat->alpha_s = 0.0;
     TRY(peri_deck_double(cs, "alpha", false, &mat->alpha_s));
+    if (!(mat->s00 > 0.0)) return peri_deck_error(peri_deck_get(cs, "s00"), "key 's00': must be positive");
+    if (mat->alpha_s < 0.0) return peri_deck_error(peri_deck_get(cs, "alpha"), "key 'alpha': must be >= 0");
     mat->lammps_s0 = true;
     given++;
   } else if (cs) {
@@ -125,6 +127,8 @@ static int parse_material(parse_ctx *c, const peri_node *key, const peri_node *m
   }
   if (peri_deck_get(map, "fracture_toughness")) {
     TRY(peri_deck_double(map, "fracture_toughness", true, &f->KIc));
+    if (!(f->KIc > 0.0))
+      return peri_deck_error(peri_deck_get(map, "fracture_toughness"), "key 'fracture_toughness': must be positive");
     given++;
   }
   if (given > 1)
@@ -172,6 +176,9 @@ static int resolve_materials(parse_ctx *c) {
     if (peri_elastic_resolve(E, f->nu, K, f->mu, fixed_nu, &mat->E, &mat->nu, &mat->K, &mat->mu,
                              why, sizeof why) != PERI_OK)
       return peri_deck_error(f->at, "materials.%s: %s", mat->name, why);
+    if (!isnan(fixed_nu) && !isnan(f->nu) && fabs(f->nu - fixed_nu) > 1e-9)
+      peri_warning("materials.%s: a bond-based model represents Poisson ratio %.4g here; "
+                   "poisson_ratio %g only converts the given moduli", mat->name, fixed_nu, f->nu);
     if (lps && s->geom.dim == 2 && s->geom.plane == PERI_PLANE_STRESS && mat->nu >= 0.5)
       return peri_deck_error(f->at, "materials.%s: plane stress LPS needs poisson_ratio < 1/2", mat->name);
     if (!isnan(f->KIc)) f->G0 = peri_fracture_energy_from_toughness(&s->geom, f->KIc, mat->E, mat->nu);
@@ -214,6 +221,8 @@ static int parse_interfaces(parse_ctx *c) {
     TRY(peri_deck_double(it, "fracture_energy", false, &G0));
     if (isnan(s0) == isnan(G0))
       return peri_deck_error(it, "interfaces: give exactly one of critical_stretch, fracture_energy");
+    if (!((isnan(s0) ? G0 : s0) > 0.0))
+      return peri_deck_error(it, "interfaces: the critical stretch or fracture energy must be positive");
     if (!isnan(G0)) {
       /* the softer side's modulus (MODELS.md 8: designated side) */
       const peri_material *ma = &s->materials[a], *mb = &s->materials[b];
@@ -257,6 +266,14 @@ static int parse_discretization(parse_ctx *c) {
   if (!node_file == !fill)
     return peri_deck_error(d, "discretization: give exactly one of 'fill' (shapes on a grid) or "
                               "'node_file' (x y [z] block volume)");
+  static const char *const grid_only[] = {"placement", "origin", "remove", NULL};
+  for (int k = 0; node_file && grid_only[k]; ++k)
+    if (peri_deck_get(d, grid_only[k]))
+      return peri_deck_error(peri_deck_key_node(d, grid_only[k]), "key '%s': only with 'fill' (a node "
+                             "file gives the node positions)", grid_only[k]);
+  if (fill && peri_deck_get(d, "blocks"))
+    return peri_deck_error(peri_deck_key_node(d, "blocks"), "key 'blocks': only with 'node_file' (fill "
+                           "shapes name their material)");
   g->spacing = NAN;
   TRY(peri_deck_double(d, "spacing", fill != NULL, &g->spacing));
   double horizon = NAN, m = NAN;
@@ -631,6 +648,8 @@ static int parse_output(parse_ctx *c) {
                                     "velocity, force, damage, dilatation, material, volume, "
                                     "strain_energy_density, block)", f->scalar ? f->scalar : "", field_names[best]);
         }
+        if (!strcmp(f->scalar, "dilatation") && s->model != peri_model_find("lps"))
+          return peri_deck_error(f, "output field 'dilatation': the %s model has no dilatation", s->model->name);
         o->fields[o->n_fields++] = peri_strdup(f->scalar);
       }
     }
@@ -640,6 +659,9 @@ static int parse_output(parse_ctx *c) {
       TRY(peri_deck_allow(pic, "output.picture", pkeys));
       int which = 3;
       TRY(peri_deck_choice(pic, "field", false, field_names, &which));
+      if (!strcmp(field_names[which], "dilatation") && s->model != peri_model_find("lps"))
+        return peri_deck_error(peri_deck_get(pic, "field"), "picture field 'dilatation': the %s model has no "
+                               "dilatation", s->model->name);
       free(o->picture_field);
       o->picture_field = peri_strdup(field_names[which]);
       long width = o->picture_width;

@@ -16,14 +16,16 @@ double peri_pmb_micromodulus(const peri_geometry *g, double E, double K) {
 }
 
 /* Simpson's rule on [0, d] with an even number of panels; the integrands are smooth
- * apart from 1/r, which the r^dim factor (dim >= 1) removes. */
+ * once multiplied by r^power (power >= 1). */
 double peri_influence_moment(peri_influence w, int dim, double d) {
   const int panels = 2000;
   const double h = d / panels;
   double sum = 0.0;
   for (int k = 0; k <= panels; ++k) {
     double r = k * h;
-    double f = r > 0.0 ? peri_influence_value(w, r, d) * pow(r, dim) : 0.0;
+    /* at r = 0 the integrand is its limit: 1 for omega = 1/r with power 1, else 0 */
+    double f = r > 0.0 ? peri_influence_value(w, r, d) * pow(r, dim)
+                       : (w == PERI_INFLUENCE_INVERSE && dim == 1 ? 1.0 : 0.0);
     double weight = (k == 0 || k == panels) ? 1.0 : (k % 2 ? 4.0 : 2.0);
     sum += weight * f;
   }

@@ -6,7 +6,7 @@ extern const peri_model_ops peri_model_pmb;
 extern const peri_model_ops peri_model_lps;
 
 static const peri_model_ops *const models[] = {&peri_model_pmb, &peri_model_lps};
-static const char *const names[] = {"pmb", "lps", NULL};
+#define N_MODELS (sizeof models / sizeof *models)
 
 const peri_model_ops *peri_model_find(const char *name) {
   for (size_t k = 0; k < sizeof models / sizeof *models; ++k)
@@ -14,4 +14,9 @@ const peri_model_ops *peri_model_find(const char *name) {
   return NULL;
 }
 
-const char *const *peri_model_names(void) { return names; }
+const char *const *peri_model_names(void) {
+  static const char *names[N_MODELS + 1];
+  for (size_t k = 0; k < N_MODELS; ++k) names[k] = models[k]->name;
+  names[N_MODELS] = NULL;
+  return names;
+}

@@ -72,7 +72,7 @@ static void apply_indenter(peri_sim *s, double t) {
     if (ind->center[d]) c[d] = peri_expr_eval(ind->center[d], 0.0, 0.0, 0.0, t);
   double fx = 0.0, fy = 0.0, fz = 0.0;
   const double R = ind->radius, k = ind->stiffness;
-#pragma omp parallel for schedule(static) reduction(+ : fx, fy, fz)
+  /* serial: the total force is summed in node order, independent of the thread count */
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double d[3], r2 = 0.0;
     for (int a = 0; a < 3; ++a) {

@@ -146,11 +146,10 @@ int peri_run(peri_sim *s) {
   }
   c.progress = !s->quiet && isatty(STDERR_FILENO);
   peri_apply_initial_conditions(s);
+  peri_apply_loads(s, s->time);
+  s->model->force(s);
   int rc = peri_frames_write(c.frames, s);
-  if (rc == PERI_OK) {
-    s->model->force(s);
-    rc = write_history(s, &c);
-  }
+  if (rc == PERI_OK) rc = write_history(s, &c);
   c.t_start = c.t_last_progress = now();
   if (rc == PERI_OK) rc = peri_solve_explicit(s, step_hook, &c);
   if (c.failed) rc = PERI_ERR_RUN;
