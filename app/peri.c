@@ -49,6 +49,10 @@ int main(int argc, char **argv) {
   long threads = 0;
   for (int k = 2; k < argc; ++k) {
     const char *a = argv[k];
+    if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+      usage(stdout);
+      return 0;
+    }
     if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) quiet = true;
     else if (!strcmp(a, "--threads") || !strcmp(a, "--output")) {
       if (k + 1 >= argc) {
@@ -56,12 +60,18 @@ int main(int argc, char **argv) {
         return PERI_ERR_INPUT;
       }
       const char *value = argv[++k];
-      if (!strcmp(a, "--output")) output = value;
+      if (!strcmp(a, "--output")) {
+        if (!*value) {
+          peri_error("option --output: expected a directory, got an empty path");
+          return PERI_ERR_INPUT;
+        }
+        output = value;
+      }
       else {
         char *end = NULL;
         threads = strtol(value, &end, 10);
-        if (*end || threads < 1) {
-          peri_error("option --threads: expected a positive integer, got '%s'", value);
+        if (*end || threads < 1 || threads > 4096) {
+          peri_error("option --threads: expected an integer from 1 to 4096, got '%s'", value);
           return PERI_ERR_INPUT;
         }
       }

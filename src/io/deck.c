@@ -768,10 +768,12 @@ int peri_deck_node_expr(const peri_node *node, const char *what, peri_expr **out
   if (!node) return missing_node(what);
   if (!is_value_scalar(node)) return report_expected(node, what, "a number or an expression");
   double number;
-  if (parse_number(node->scalar, &number) == NUMBER_OK) {
+  number_status status = parse_number(node->scalar, &number);
+  if (status == NUMBER_OK) {
     *out = peri_expr_constant(number);
     return PERI_OK;
   }
+  if (status == NUMBER_NOT_FINITE) return report_expected(node, what, "a finite number");
   char reason[256];
   peri_expr *expression = peri_expr_parse(node->scalar, reason, sizeof reason);
   if (!expression)

@@ -5,6 +5,7 @@
  * and their muparser handle is released: evaluating a constant is then free and
  * thread-safe. */
 #include <ctype.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -127,6 +128,11 @@ peri_expr *peri_expr_parse(const char *text, char *err, size_t errlen) {
   }
   if (used_count < 0) used_count = mupGetExprVarNum(e->parser);
 
+  if (used_count == 0 && !isfinite(first_value)) {
+    set_error(err, errlen, "%s", isnan(first_value) ? "the value is not a number (nan)" : "the value is infinite");
+    peri_expr_free(e);
+    return NULL;
+  }
   if (used_count == 0) {
     e->constant = true;
     e->value = first_value;

@@ -204,6 +204,10 @@ static int parse_interfaces(parse_ctx *c) {
   if (list->kind != PERI_NODE_SEQUENCE)
     return peri_deck_error(list, "key 'interfaces': expected a list, got %s", peri_deck_kind_name(list));
   static const char *const keys[] = {"materials", "critical_stretch", "fracture_energy", NULL};
+  for (int m = 0; m < s->n_materials; ++m)
+    if (s->materials[m].lammps_s0 && list->count > 0)
+      return peri_deck_error(list, "key 'interfaces': not available with the {s00, alpha} critical "
+                             "stretch of material '%s' (bonds take min(s0_i, s0_j))", s->materials[m].name);
   for (int k = 0; k < list->count; ++k) {
     const peri_node *it = list->items[k];
     TRY(peri_deck_allow(it, "interfaces", keys));

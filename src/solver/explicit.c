@@ -85,13 +85,15 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
     double *swap = load_old;
     load_old = load_new;
     load_new = swap;
-    for (size_t c = 0; c < n3; ++c)
-      if (!isfinite(p->u[c])) {
-        peri_error("the solution diverged at step %ld (t = %g): displacement is not finite; "
-                   "reduce the time step or check the loads", s->step, s->time);
-        status = PERI_ERR_RUN;
-        break;
-      }
+    bool finite = true;
+#pragma omp parallel for schedule(static) reduction(&& : finite)
+    for (size_t c = 0; c < n3; ++c) finite = finite && fabs(p->u[c]) < 1e100 && fabs(p->v[c]) < 1e100;
+    /* NaN fails the comparison; the bound catches a blow-up before energies overflow */
+    if (!finite || !isfinite(s->external_work)) {
+      peri_error("the solution diverged at step %ld (t = %g): displacement or velocity is not "
+                 "finite; reduce the time step or check the loads", s->step, s->time);
+      status = PERI_ERR_RUN;
+    }
     if (status != PERI_OK) break;
     if (hook && hook(s, ctx)) break;
   }

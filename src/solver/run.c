@@ -156,7 +156,7 @@ int peri_run(peri_sim *s) {
   double wall = now() - c.t_start;
   if (c.progress) fprintf(stderr, "\r%80s\r", "");
   char picture[4300] = "";
-  if (s->out.picture && s->geom.dim == 2) {
+  if (rc == PERI_OK && s->out.picture && s->geom.dim == 2) {
     if (peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) rc = PERI_ERR_RUN, picture[0] = 0;
   }
   if (!s->quiet) {

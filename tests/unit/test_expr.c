@@ -112,3 +112,12 @@ Test(expr, error_buffer_optional) {
 }
 
 Test(expr, free_null_is_harmless) { peri_expr_free(NULL); }
+
+/* A constant that is not finite is bad input, reported at parse time. */
+Test(expr, non_finite_constant_rejected) {
+  char err[256] = "";
+  cr_expect_null(peri_expr_parse("1/0", err, sizeof err));
+  cr_expect(strstr(err, "infinite") != NULL, "message: %s", err);
+  cr_expect_null(peri_expr_parse("sqrt(-1)", err, sizeof err));
+  cr_expect(strstr(err, "not a number") != NULL, "message: %s", err);
+}
