@@ -10,6 +10,7 @@
 #include <string.h>
 #include "peri/error.h"
 #include "peri/output.h"
+#include "xml_escape.h"
 
 typedef struct pvd_frame {
   double time;
@@ -22,18 +23,6 @@ struct peri_pvd {
   pvd_frame *frames;
   size_t n_frames, capacity;
 };
-
-static void xml_attr_write(FILE *out, const char *text) {
-  for (const char *c = text; *c; c++) {
-    switch (*c) {
-    case '&': fputs("&amp;", out); break;
-    case '<': fputs("&lt;", out); break;
-    case '>': fputs("&gt;", out); break;
-    case '"': fputs("&quot;", out); break;
-    default: fputc(*c, out);
-    }
-  }
-}
 
 static const char *host_byte_order(void) {
   const uint16_t probe = 1;
@@ -55,7 +44,7 @@ static int pvd_rewrite(const peri_pvd *pvd) {
   for (size_t i = 0; i < pvd->n_frames; i++) {
     fprintf(out, "    <DataSet timestep=\"%.9g\" group=\"\" part=\"0\" file=\"",
             pvd->frames[i].time);
-    xml_attr_write(out, pvd->frames[i].file);
+    peri_xml_attr_write(out, pvd->frames[i].file);
     fputs("\"/>\n", out);
   }
   fputs("  </Collection>\n</VTKFile>\n", out);

@@ -11,6 +11,7 @@
 #include <zlib.h>
 #include "peri/error.h"
 #include "peri/output.h"
+#include "xml_escape.h"
 
 /* Uncompressed size of one zlib block; 32 KiB is what VTK itself uses. */
 enum { VTU_BLOCK_BYTES = 32768 };
@@ -40,19 +41,6 @@ static void base64_write(FILE *out, const unsigned char *bytes, size_t len) {
     }
   }
   fwrite(chunk, 1, used, out);
-}
-
-/* Escapes the characters that cannot appear raw inside a double-quoted XML attribute. */
-static void xml_attr_write(FILE *out, const char *text) {
-  for (const char *c = text; *c; c++) {
-    switch (*c) {
-    case '&': fputs("&amp;", out); break;
-    case '<': fputs("&lt;", out); break;
-    case '>': fputs("&gt;", out); break;
-    case '"': fputs("&quot;", out); break;
-    default: fputc(*c, out);
-    }
-  }
 }
 
 static bool host_is_little_endian(void) {
@@ -108,7 +96,7 @@ static int write_zlib_payload(FILE *out, const void *data, size_t nbytes) {
 static int write_data_array(FILE *out, const char *type, const char *name, int ncomp,
                             const void *data, size_t nbytes, bool compress) {
   fprintf(out, "        <DataArray type=\"%s\" Name=\"", type);
-  xml_attr_write(out, name);
+  peri_xml_attr_write(out, name);
   fputc('"', out);
   if (ncomp > 0) fprintf(out, " NumberOfComponents=\"%d\"", ncomp);
   fputs(" format=\"binary\">\n          ", out);
