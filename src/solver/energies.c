@@ -15,6 +15,15 @@ double peri_kinetic_energy(const peri_sim *s) {
   return sum;
 }
 
+void peri_linear_momentum(const peri_sim *s, double out[3]) {
+  const peri_particles *p = &s->p;
+  out[0] = out[1] = out[2] = 0.0;
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    double m = s->materials[p->material[i]].density * p->volume[i];
+    for (int d = 0; d < 3; ++d) out[d] += m * p->v[3 * i + d];
+  }
+}
+
 double peri_strain_energy(peri_sim *s) {
   peri_particles *p = &s->p;
   if (!p->energy) p->energy = peri_calloc(p->n, sizeof(double));

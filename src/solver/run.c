@@ -74,6 +74,9 @@ static int write_history(peri_sim *s, run_ctx *c) {
   c->row[k++] = s->external_work;
   c->row[k++] = ke + se - s->external_work;
   c->row[k++] = s->bonds.n_bonds ? (double)peri_broken_count(&s->bonds) / s->bonds.n_bonds : 0.0;
+  double momentum[3];
+  peri_linear_momentum(s, momentum);
+  for (int d = 0; d < s->geom.dim; ++d) c->row[k++] = momentum[d];
   if (s->indenter.on)
     for (int d = 0; d < s->geom.dim; ++d) c->row[k++] = s->indenter.force[d];
   for (int r = 1; r < s->n_regions; ++r) {
@@ -86,13 +89,17 @@ static int write_history(peri_sim *s, run_ctx *c) {
 
 static int open_history(peri_sim *s, run_ctx *c) {
   static const char axis[] = "xyz";
-  int n = 7 + (s->indenter.on ? s->geom.dim : 0) + (s->n_regions - 1) * s->geom.dim;
+  int n = 7 + s->geom.dim + (s->indenter.on ? s->geom.dim : 0) + (s->n_regions - 1) * s->geom.dim;
   char **names = peri_calloc(n, sizeof(char *));
   const char *fixed[] = {"time", "step", "kinetic_energy", "strain_energy", "external_work",
                          "energy_balance", "broken_bond_fraction"};
   int k = 0;
   for (; k < 7; ++k) names[k] = peri_strdup(fixed[k]);
   char buf[256];
+  for (int d = 0; d < s->geom.dim; ++d) {
+    snprintf(buf, sizeof buf, "momentum_%c", axis[d]);
+    names[k++] = peri_strdup(buf);
+  }
   if (s->indenter.on)
     for (int d = 0; d < s->geom.dim; ++d) {
       snprintf(buf, sizeof buf, "indenter_force_%c", axis[d]);
