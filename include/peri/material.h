@@ -30,6 +30,10 @@ typedef struct peri_material {
   double n_theta, K_theta, alpha_m;
   /* the PMB micromodulus of equal P-wave modulus, for the stable time step (section 13.2) */
   double c_stable;
+  /* heat conduction (docs/heat.md); NaN when not given */
+  double conductivity;    /* kappa (W/(m K)) */
+  double specific_heat;   /* c (J/(kg K)) */
+  double thermal_expansion; /* alpha_T (1/K), 0 when not given */
 } peri_material;
 
 /* Resolves E, nu, K, mu from whichever two were given (NaN = not given). For models with a

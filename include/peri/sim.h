@@ -40,7 +40,29 @@ typedef struct peri_precrack {
   double a[3], b[3], e1[3], e2[3];
 } peri_precrack;
 
-typedef enum { PERI_SOLVER_EXPLICIT = 0 } peri_solver_kind;
+typedef enum {
+  PERI_SOLVER_EXPLICIT = 0,
+  PERI_SOLVER_ADR = 1,                /* adaptive dynamic relaxation (MODELS.md 12.2) */
+  PERI_SOLVER_DYNAMIC_RELAXATION = 2, /* damped velocity-Verlet (MODELS.md 12.1) */
+  PERI_SOLVER_NLCG = 3,               /* nonlinear conjugate gradients, PR+ (MODELS.md 12.3) */
+  PERI_SOLVER_HEAT = 10,              /* heat conduction only (docs/heat.md) */
+} peri_solver_kind;
+
+/* Quasi-static solver settings (docs/solvers.md) and what the last run did. */
+typedef struct peri_quasi_static {
+  long load_steps;              /* pseudo-time t = end_time * n / load_steps, n = 1..load_steps */
+  double tolerance;             /* relative residual |V(f+b)| / |reference force| */
+  long max_iterations;          /* per solve */
+  double stiffness_factor;      /* ADR: f_s in the fictitious density */
+  double bond_damping;          /* dynamic_relaxation: pairwise damping gamma (000 eq. 2.43) */
+  bool preconditioner;          /* nlcg: Jacobi with the ADR density */
+  long max_broken_per_step;     /* cut the load step back when more bonds break (0: no limit) */
+  int max_cutbacks;             /* halvings of one load step */
+  long max_fracture_iterations; /* re-solves at one load (break, solve, ...) */
+  /* statistics of the run */
+  long iterations, solves, force_evaluations, cutbacks;
+  double residual;              /* last relative residual */
+} peri_quasi_static;
 
 typedef struct peri_output {
   char *directory;
@@ -74,6 +96,8 @@ typedef struct peri_sim {
   int n_precracks;
   peri_precrack *precracks;
   peri_indenter indenter;
+  struct peri_thermal *thermal;  /* heat conduction (docs/heat.md), NULL without */
+  double *thermal_strain;       /* [n] alpha_T,eff (T - T_ref) per node, NULL without thermomechanics */
   /* solver */
   peri_solver_kind solver;
   double dt;                    /* time step in use */
@@ -83,6 +107,7 @@ typedef struct peri_sim {
   double end_time;
   double damping;               /* viscous damping coefficient (1/s), 0 = none */
   bool breaking;                /* bonds may break */
+  peri_quasi_static qs;          /* quasi-static solvers */
   /* state */
   double time;
   long step;

@@ -7,12 +7,28 @@
 #include "peri/error.h"
 #include "peri/output.h"
 #include "peri/frames.h"
+#include "peri/stress.h"
+#include "peri/thermal.h"
 
 struct peri_frames {
   peri_pvd *pvd;
   int count;
   double *points, *damage, *energy;
+  double *stress, *strain, *von_mises, *principal; /* allocated when first asked for */
 };
+
+/* Stress (and its measures) of the current state into the frame buffers. */
+static int compute_stress(peri_frames *f, peri_sim *s) {
+  const size_t n = (size_t)s->p.n_owned;
+  if (!f->stress) {
+    f->stress = peri_malloc(sizeof(double) * 9 * n);
+    f->von_mises = peri_malloc(sizeof(double) * n);
+    f->principal = peri_malloc(sizeof(double) * 3 * n);
+  }
+  int rc = peri_stress(s, f->stress);
+  if (rc == PERI_OK) peri_stress_measures(s, f->stress, f->von_mises, f->principal);
+  return rc;
+}
 
 peri_frames *peri_frames_open(const peri_sim *s) {
   char path[4200];
@@ -39,6 +55,7 @@ int peri_frames_write(peri_frames *f, peri_sim *s) {
   peri_damage_index(s, f->damage);
   peri_field fields[16];
   int nf = 0;
+  bool stress_done = false;
   for (int k = 0; k < s->out.n_fields && nf < 16; ++k) {
     const char *name = s->out.fields[k];
     peri_field fl = {.name = name, .ncomp = 1};
@@ -55,6 +72,21 @@ int peri_frames_write(peri_frames *f, peri_sim *s) {
     else if (!strcmp(name, "strain_energy_density")) {
       peri_strain_energy(s);
       fl.data = s->p.energy;
+    } else if (!strcmp(name, "stress") || !strcmp(name, "von_mises") || !strcmp(name, "principal_stress")) {
+      if (!stress_done && compute_stress(f, s) != PERI_OK) return PERI_ERR_RUN;
+      stress_done = true;
+      if (!strcmp(name, "stress")) fl.ncomp = 9, fl.data = f->stress;
+      else if (!strcmp(name, "von_mises")) fl.data = f->von_mises;
+      else fl.ncomp = 3, fl.data = f->principal;
+    } else if (!strcmp(name, "temperature") && s->thermal) {
+      fl.data = s->thermal->T;
+    } else if (!strcmp(name, "heat_flux") && s->thermal) { /* into-flux, seed 001 eq. 7 */
+      peri_thermal_flux(s);
+      fl.ncomp = 3, fl.data = s->thermal->flux;
+    } else if (!strcmp(name, "strain")) {
+      if (!f->strain) f->strain = peri_malloc(sizeof(double) * 9 * (size_t)p->n_owned);
+      peri_strain(s, f->strain);
+      fl.ncomp = 9, fl.data = f->strain;
     } else continue;
     fields[nf++] = fl;
   }
@@ -85,6 +117,29 @@ int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
   } else if (!strcmp(name, "strain_energy_density")) {
     peri_strain_energy(s);
     memcpy(values, p->energy, sizeof(double) * (size_t)p->n_owned);
+  } else if (!strcmp(name, "stress") || !strcmp(name, "von_mises") || !strcmp(name, "principal_stress")) {
+    if (compute_stress(f, s) != PERI_OK) {
+      free(values);
+      return PERI_ERR_RUN;
+    }
+    for (int32_t i = 0; i < p->n_owned; ++i)
+      values[i] = !strcmp(name, "principal_stress") ? f->principal[3 * (size_t)i] : f->von_mises[i];
+  } else if (!strcmp(name, "strain")) {
+    double *e = peri_malloc(sizeof(double) * 9 * (size_t)p->n_owned);
+    peri_strain(s, e);
+    for (int32_t i = 0; i < p->n_owned; ++i) {
+      double sum = 0.0;
+      for (int k = 0; k < 9; ++k) sum += e[9 * (size_t)i + k] * e[9 * (size_t)i + k];
+      values[i] = sqrt(sum);
+    }
+    free(e);
+  } else if (!strcmp(name, "temperature") && s->thermal) {
+    memcpy(values, s->thermal->T, sizeof(double) * (size_t)p->n_owned);
+  } else if (!strcmp(name, "heat_flux") && s->thermal) {
+    peri_thermal_flux(s);
+    const double *q = s->thermal->flux;
+    for (int32_t i = 0; i < p->n_owned; ++i)
+      values[i] = sqrt(q[3 * i] * q[3 * i] + q[3 * i + 1] * q[3 * i + 1] + q[3 * i + 2] * q[3 * i + 2]);
   } else if (!strcmp(name, "volume")) {
     memcpy(values, p->volume, sizeof(double) * (size_t)p->n_owned);
   } else {
@@ -104,5 +159,9 @@ void peri_frames_close(peri_frames *f) {
   peri_pvd_close(f->pvd);
   free(f->points);
   free(f->damage);
+  free(f->stress);
+  free(f->strain);
+  free(f->von_mises);
+  free(f->principal);
   free(f);
 }

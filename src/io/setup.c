@@ -11,6 +11,9 @@
 #include "peri/error.h"
 #include "peri/sim.h"
 #include "peri/solver.h"
+#include "peri/quasistatic.h"
+#include "peri/thermal.h"
+#include "setup_thermal.h"
 
 #define TRY(expr)                       \
   do {                                  \
@@ -61,15 +64,18 @@ static int find_region(const peri_sim *s, const peri_node *at, const char *name)
 
 static const char *const material_keys[] = {
     "model", "density", "youngs_modulus", "poisson_ratio", "bulk_modulus", "shear_modulus",
-    "micromodulus", "critical_stretch", "fracture_energy", "fracture_toughness", NULL};
+    "micromodulus", "critical_stretch", "fracture_energy", "fracture_toughness",
+    "conductivity", "specific_heat", "thermal_expansion", NULL};
 
 static int parse_material(parse_ctx *c, const peri_node *key, const peri_node *map, int index) {
   peri_sim *s = c->s;
   peri_material *mat = &s->materials[index];
   char section[160];
   snprintf(section, sizeof section, "materials.%s", key->scalar);
+  if (peri_setup_heat_only(c->root)) return peri_setup_heat_material(s, key, map, index); /* docs/heat.md */
   TRY(peri_deck_allow(map, section, material_keys));
   mat->name = peri_strdup(key->scalar);
+  TRY(peri_setup_material_thermal_keys(map, mat));
   const char *model_name = NULL;
   TRY(peri_deck_string(map, "model", true, &model_name));
   int model_index = 0;
@@ -513,11 +519,13 @@ static int parse_conditions(parse_ctx *c) {
   if (list->kind != PERI_NODE_SEQUENCE)
     return peri_deck_error(list, "key 'boundary_conditions': expected a list, got %s", peri_deck_kind_name(list));
   static const char *const kinds[] = {"displacement", "velocity", "initial_displacement",
-                                      "initial_velocity", "body_force", "traction", NULL};
+                                      "initial_velocity", "body_force", "traction", "temperature",
+                                      "heat_flux", "convection", "heat_source", "initial_temperature", NULL};
   static const char *const keys[] = {"type", "region", "x", "y", "z", "layer", NULL};
   s->bcs = peri_calloc(list->count, sizeof(peri_bc));
   for (int k = 0; k < list->count; ++k) {
     const peri_node *it = list->items[k];
+    if (peri_setup_is_thermal_bc(it)) continue; /* parsed by peri_setup_thermal */
     TRY(peri_deck_allow(it, "boundary_conditions", keys));
     peri_bc *bc = &s->bcs[s->n_bcs++];
     int kind = 0;
@@ -568,12 +576,16 @@ static int parse_solver(parse_ctx *c) {
   const peri_node *it = peri_deck_get(c->root, "solver");
   if (!it) return peri_deck_error(c->root, "missing key 'solver' in the deck");
   static const char *const keys[] = {"type", "steps", "end_time", "time_step", "safety_factor",
-                                     "damping", "breaking", NULL};
-  static const char *const types[] = {"explicit", NULL};
+                                     "damping", "breaking", PERI_QUASI_STATIC_KEYS, NULL};
+  static const char *const types[] = {"explicit", "adr", "dynamic_relaxation", "nlcg", "heat", NULL};
   TRY(peri_deck_allow(it, "solver", keys));
   int type = 0;
   TRY(peri_deck_choice(it, "type", false, types, &type));
   s->solver = (peri_solver_kind)type;
+  const bool heat = !strcmp(types[type], "heat"); /* conduction only: the explicit keys (docs/heat.md) */
+  if (heat) s->solver = PERI_SOLVER_EXPLICIT;
+  TRY(peri_quasi_static_parse(s, it)); /* quasi-static keys (docs/solvers.md) */
+  if (s->solver != PERI_SOLVER_EXPLICIT) return PERI_OK;
   long steps = -1;
   double end_time = NAN;
   TRY(peri_deck_int(it, "steps", false, &steps));
@@ -595,12 +607,14 @@ static int parse_solver(parse_ctx *c) {
   if (s->damping < 0.0) return peri_deck_error(peri_deck_get(it, "damping"), "key 'damping': must be >= 0");
   s->breaking = true;
   TRY(peri_deck_bool(it, "breaking", false, &s->breaking));
+  if (heat) s->solver = PERI_SOLVER_HEAT;
   return PERI_OK;
 }
 
 static const char *const field_names[] = {"displacement", "velocity", "force", "damage", "dilatation",
                                           "material", "volume", "strain_energy_density",
-                                          "block", NULL};
+                                          "block", "stress", "strain", "von_mises",
+                                          "principal_stress", "temperature", "heat_flux", NULL};
 
 static int parse_output(parse_ctx *c) {
   peri_sim *s = c->s;
@@ -650,7 +664,8 @@ static int parse_output(parse_ctx *c) {
           }
           return peri_deck_error(f, "unknown output field '%s'; did you mean '%s'? (fields: displacement, "
                                     "velocity, force, damage, dilatation, material, volume, "
-                                    "strain_energy_density, block)", f->scalar ? f->scalar : "", field_names[best]);
+                                    "strain_energy_density, block, stress, strain, von_mises, "
+                                    "principal_stress, temperature, heat_flux)", f->scalar ? f->scalar : "", field_names[best]);
         }
         if (!strcmp(f->scalar, "dilatation") && s->model != peri_model_find("lps"))
           return peri_deck_error(f, "output field 'dilatation': the %s model has no dilatation", s->model->name);
@@ -702,7 +717,7 @@ static int parse_output(parse_ctx *c) {
 
 static const char *const top_keys[] = {"dimension", "plane", "discretization", "materials",
                                        "interfaces", "regions", "precracks", "boundary_conditions",
-                                       "indenter", "solver", "output", NULL};
+                                       "indenter", "solver", "output", "thermal", NULL};
 
 static int build(parse_ctx *c) {
   peri_sim *s = c->s;
@@ -720,19 +735,21 @@ static int build(parse_ctx *c) {
   } else if (peri_deck_get(root, "plane")) {
     return peri_deck_error(peri_deck_key_node(root, "plane"), "key 'plane': only for dimension 2");
   }
+  const bool heat_only = peri_setup_heat_only(root);
   TRY(parse_materials(c));
   TRY(parse_discretization(c));
-  TRY(resolve_materials(c));
+  if (!heat_only) TRY(resolve_materials(c));
   TRY(parse_regions(c));
   peri_bonds_build(&s->bonds, &s->p, &s->family);
   TRY(parse_precracks(c));
   peri_precracks_apply(s);
-  TRY(parse_interfaces(c));
+  if (!heat_only) TRY(parse_interfaces(c));
   TRY(s->model->init(s));
   TRY(parse_conditions(c));
   TRY(parse_indenter(c));
   TRY(parse_solver(c));
   TRY(parse_output(c));
+  TRY(peri_setup_thermal(s, root)); /* heat conduction, thermal strain (docs/heat.md) */
 
   /* lammps-form critical stretch: s0 starts unbounded (no breaking in the first step) */
   bool lammps = false;
@@ -749,12 +766,13 @@ static int build(parse_ctx *c) {
   s->prescribed = peri_calloc(3 * (size_t)s->p.n, 1);
 
   /* time step and step count */
-  double dt_stable = s->safety_factor * peri_stable_dt(s);
+  const double dt_estimate = s->solver == PERI_SOLVER_HEAT ? peri_thermal_stable_dt(s->thermal) : peri_stable_dt(s);
+  double dt_stable = s->safety_factor * dt_estimate;
   if (s->dt_given > 0.0) {
     s->dt = s->dt_given;
-    if (s->dt > peri_stable_dt(s))
+    if (s->dt > dt_estimate)
       peri_warning("time_step %g exceeds the stable estimate %g; the run may diverge", s->dt,
-                   peri_stable_dt(s));
+                   dt_estimate);
   } else {
     s->dt = dt_stable;
   }
@@ -767,7 +785,9 @@ static int build(parse_ctx *c) {
   } else if (s->out.every == 0 && !peri_deck_get(peri_deck_get(root, "output"), "every")) {
     s->out.every = s->steps >= 10 ? s->steps / 10 : 1;
   }
-  if (s->out.history_every == 0) s->out.history_every = s->steps >= 100 ? s->steps / 100 : 1;
+  if (s->out.history_every == 0)  /* quasi-static: a row per load step */
+    s->out.history_every = s->steps >= 100 && (s->solver == PERI_SOLVER_EXPLICIT || s->solver == PERI_SOLVER_HEAT)
+                               ? s->steps / 100 : 1;
   return PERI_OK;
 }
 
@@ -791,6 +811,8 @@ void peri_sim_free(peri_sim *s) {
   free(s->materials);
   free(s->pair_s0);
   free(s->s0_node);
+  peri_thermal_free(s->thermal);
+  free(s->thermal_strain);
   for (int r = 0; r < s->n_regions; ++r) peri_region_free(&s->regions[r]);
   free(s->regions);
   for (int k = 0; k < s->n_bcs; ++k)

@@ -54,22 +54,26 @@ static long lps_dilatation(peri_sim *s) {
   const peri_bonds *b = &s->bonds;
   const bool track_smin = s->s0_node != NULL;
   const bool breaking = s->breaking;
+  const double *eth = s->thermal_strain; /* e_mech = e - alpha_T dT_i |xi| (MODELS.md 9) */
   long n_broken = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : n_broken)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double we_x = 0.0, w_xx = 0.0, smin = INFINITY;
+    const double eth_i = eth ? eth[i] : 0.0;
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       if (b->broken[k]) continue;
       const int32_t j = b->neighbor[k];
       double dy[3];
       const double L = b->length[k];
-      const double e = peri_deformed_bond(p->x, p->u, i, j, dy) - L;
-      if (track_smin && e / L < smin) smin = e / L;
-      if (breaking && e / L > peri_bond_s0(s, i, j)) {
+      const double e_total = peri_deformed_bond(p->x, p->u, i, j, dy) - L;
+      const double s_mech = e_total / L - peri_bond_thermal_stretch(eth, i, j); /* symmetric in i, j */
+      if (track_smin && s_mech < smin) smin = s_mech;
+      if (breaking && s_mech > peri_bond_s0(s, i, j)) {
         b->broken[k] = 1;
         ++n_broken;
         continue;
       }
+      const double e = e_total - eth_i * L;
       const double w = b->omega[k] * L * b->beta[k] * p->volume[j];
       we_x += w * e;
       w_xx += w * L;
@@ -97,10 +101,12 @@ static long lps_force(peri_sim *s) {
   peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
   const peri_material *mats = s->materials;
+  const double *eth = s->thermal_strain;
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double fi[3] = {0.0, 0.0, 0.0};
     const peri_material *mi = &mats[p->material[i]];
+    const double eth_i = eth ? eth[i] : 0.0;
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       if (b->broken[k]) continue;
       const int32_t j = b->neighbor[k];
@@ -109,9 +115,10 @@ static long lps_force(peri_sim *s) {
       const double r = peri_deformed_bond(p->x, p->u, i, j, dy);
       if (r <= 0.0) continue;
       const double e = r - L;
-      const double t = lps_half(mi, p->theta[i], p->pstate[i], p->wvol[i], b->omega[k], L, e) +
+      const double eth_j = eth ? eth[j] : 0.0;
+      const double t = lps_half(mi, p->theta[i], p->pstate[i], p->wvol[i], b->omega[k], L, e - eth_i * L) +
                        lps_half(&mats[p->material[j]], p->theta[j], p->pstate[j], p->wvol[j],
-                                b->omega[k], L, e);
+                                b->omega[k], L, e - eth_j * L);
       const double scale = t * b->beta[k] * p->volume[j] / r;
       for (int d = 0; d < 3; ++d) fi[d] += scale * dy[d];
     }
@@ -132,13 +139,14 @@ static void lps_energy(peri_sim *s, double *W) {
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const peri_material *mat = &s->materials[p->material[i]];
     const double theta = p->theta[i];
+    const double eth_i = s->thermal_strain ? s->thermal_strain[i] : 0.0;
     double sum = 0.0;
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       if (b->broken[k]) continue;
       const int32_t j = b->neighbor[k];
       double dy[3];
       const double L = b->length[k];
-      const double ed = peri_deformed_bond(p->x, p->u, i, j, dy) - L - theta * L / 3.0;
+      const double ed = peri_deformed_bond(p->x, p->u, i, j, dy) - L - eth_i * L - theta * L / 3.0;
       sum += b->omega[k] * ed * ed * b->beta[k] * p->volume[j];
     }
     W[i] = 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / p->wvol[i]) * sum;

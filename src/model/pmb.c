@@ -25,6 +25,7 @@ static long pmb_force(peri_sim *s) {
   const peri_material *mats = s->materials;
   const bool track_smin = s->s0_node != NULL;
   const bool breaking = s->breaking;
+  const double *eth = s->thermal_strain; /* thermal strain (MODELS.md 9), NULL without */
   long n_broken = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : n_broken)
   for (int32_t i = 0; i < p->n_owned; ++i) {
@@ -36,7 +37,7 @@ static long pmb_force(peri_sim *s) {
       const int32_t j = b->neighbor[k];
       double dy[3];
       const double r = peri_deformed_bond(x, u, i, j, dy);
-      const double stretch = (r - b->length[k]) / b->length[k];
+      const double stretch = (r - b->length[k]) / b->length[k] - peri_bond_thermal_stretch(eth, i, j);
       if (track_smin && stretch < smin) smin = stretch;
       if (breaking && stretch > peri_bond_s0(s, i, j)) {
         b->broken[k] = 1;
@@ -68,7 +69,7 @@ static void pmb_energy(peri_sim *s, double *W) {
       const int32_t j = b->neighbor[k];
       double dy[3];
       const double r = peri_deformed_bond(p->x, p->u, i, j, dy);
-      const double stretch = (r - b->length[k]) / b->length[k];
+      const double stretch = (r - b->length[k]) / b->length[k] - peri_bond_thermal_stretch(s->thermal_strain, i, j);
       const double c = 0.5 * (ci + s->materials[p->material[j]].micromodulus);
       sum += 0.5 * c * b->omega[k] * stretch * stretch * b->length[k] * b->beta[k] * p->volume[j];
     }

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "peri/error.h"
 #include "peri/solver.h"
+#include "peri/thermal.h"
 
 /* Work of external loads and prescribed motion over one step (trapezoid rule in force),
  * so that kinetic + strain energy - external work stays constant. */
@@ -69,6 +70,11 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
     s->step = step + 1;
     peri_apply_prescribed_motion(s, s->time, dt);
     peri_apply_loads(s, s->time);
+    /* thermomechanics: heat advanced to t (sub-cycled), then the thermal strain (docs/heat.md) */
+    if (s->thermal && peri_thermal_couple(s, s->step, s->time) != PERI_OK) {
+      status = PERI_ERR_RUN;
+      break;
+    }
     s->model->force(s);
 #pragma omp parallel for schedule(static)
     for (int32_t i = 0; i < n; ++i) {

@@ -12,6 +12,9 @@
 #include "peri/output.h"
 #include "peri/run.h"
 #include "peri/solver.h"
+#include "peri/quasistatic.h"
+#include "peri/stress.h"
+#include "peri/thermal.h"
 
 static double now(void) {
   struct timespec ts;
@@ -34,6 +37,10 @@ static const char *model_plane(const peri_sim *s) {
 }
 
 void peri_print_summary(const peri_sim *s, FILE *out) {
+  if (s->solver == PERI_SOLVER_HEAT) { /* conduction only (docs/heat.md) */
+    peri_thermal_print_summary(s, out);
+    return;
+  }
   fprintf(out, "peri %s: %s\n", PERI_VERSION, s->deck_path);
   fprintf(out, "  model        %s, %dD%s\n", s->model->name, s->geom.dim, model_plane(s));
   fprintf(out, "  nodes        %d\n", s->p.n);
@@ -49,8 +56,11 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
             mat->density, mat->E, mat->nu, mat->K, mat->lammps_s0 ? mat->s00 : mat->critical_stretch,
             mat->lammps_s0 ? " (s00, compression-dependent)" : "");
   }
-  fprintf(out, "  time step    %g s (stable estimate %g s), %ld steps to t = %g s\n", s->dt,
-          peri_stable_dt(s), s->steps, s->dt * s->steps);
+  if (s->solver != PERI_SOLVER_EXPLICIT) peri_print_quasi_static_summary(s, out);
+  else
+    fprintf(out, "  time step    %g s (stable estimate %g s), %ld steps to t = %g s\n", s->dt,
+            peri_stable_dt(s), s->steps, s->dt * s->steps);
+  if (s->thermal) peri_thermal_print_summary(s, out); /* thermomechanics (docs/heat.md) */
 }
 
 typedef struct run_ctx {
@@ -84,12 +94,14 @@ static int write_history(peri_sim *s, run_ctx *c) {
     peri_region_reaction(s, r, reaction);
     for (int d = 0; d < s->geom.dim; ++d) c->row[k++] = reaction[d];
   }
+  peri_thermal_history_values(s, c->row + k); /* total heat, temperature range (docs/heat.md) */
   return peri_history_write(c->history, c->row);
 }
 
 static int open_history(peri_sim *s, run_ctx *c) {
   static const char axis[] = "xyz";
   int n = 7 + s->geom.dim + (s->indenter.on ? s->geom.dim : 0) + (s->n_regions - 1) * s->geom.dim;
+  n += peri_thermal_history_count(s);
   char **names = peri_calloc(n, sizeof(char *));
   const char *fixed[] = {"time", "step", "kinetic_energy", "strain_energy", "external_work",
                          "energy_balance", "broken_bond_fraction"};
@@ -110,6 +122,7 @@ static int open_history(peri_sim *s, run_ctx *c) {
       snprintf(buf, sizeof buf, "reaction_%s_%c", s->regions[r].name, axis[d]);
       names[k++] = peri_strdup(buf);
     }
+  peri_thermal_history_names(s, names + k);
   char path[4200];
   snprintf(path, sizeof path, "%s/history.csv", s->out.directory);
   c->history = peri_history_open(path, n, (const char *const *)names);
@@ -144,6 +157,7 @@ static int step_hook(peri_sim *s, void *ctx) {
 }
 
 int peri_run(peri_sim *s) {
+  if (s->solver == PERI_SOLVER_HEAT) return peri_run_heat(s); /* conduction only (docs/heat.md) */
   run_ctx c = {0};
   c.frames = peri_frames_open(s);
   if (!c.frames) return PERI_ERR_RUN;
@@ -158,7 +172,9 @@ int peri_run(peri_sim *s) {
   int rc = peri_frames_write(c.frames, s);
   if (rc == PERI_OK) rc = write_history(s, &c);
   c.t_start = c.t_last_progress = now();
-  if (rc == PERI_OK) rc = peri_solve_explicit(s, step_hook, &c);
+  if (rc == PERI_OK)
+    rc = s->solver == PERI_SOLVER_EXPLICIT ? peri_solve_explicit(s, step_hook, &c)
+                                           : peri_solve_quasi_static(s, step_hook, &c);
   if (c.failed) rc = PERI_ERR_RUN;
   double wall = now() - c.t_start;
   if (c.progress) fprintf(stderr, "\r%80s\r", "");
@@ -168,9 +184,15 @@ int peri_run(peri_sim *s) {
   }
   if (!s->quiet) {
     double updates = (double)s->bonds.n_bonds * s->step;
-    printf("  finished     %ld steps in %.3f s: %.1f steps/s, %.3g bond updates/s (%d threads)\n", s->step,
-           wall, wall > 0 ? s->step / wall : 0.0, wall > 0 ? updates / wall : 0.0, omp_get_max_threads());
+    if (s->solver != PERI_SOLVER_EXPLICIT)
+      printf("  finished     %ld load steps in %.3f s: %ld solves, %ld iterations, %ld force evaluations, "
+             "%ld cut-backs, residual %.3g (%d threads)\n", s->step, wall, s->qs.solves, s->qs.iterations,
+             s->qs.force_evaluations, s->qs.cutbacks, s->qs.residual, omp_get_max_threads());
+    else
+      printf("  finished     %ld steps in %.3f s: %.1f steps/s, %.3g bond updates/s (%d threads)\n", s->step,
+             wall, wall > 0 ? s->step / wall : 0.0, wall > 0 ? updates / wall : 0.0, omp_get_max_threads());
     printf("  broken bonds %ld of %lld\n", peri_broken_count(&s->bonds), (long long)s->bonds.n_bonds);
+    peri_print_stress_summary(s, stdout);
     printf("  output       %s/%s.pvd (%s), %s/history.csv%s%s\n", s->out.directory, s->out.basename,
            "VTU series", s->out.directory, picture[0] ? ", " : "", picture);
   }

@@ -1,0 +1,60 @@
+/* Quasi-static solvers (docs/solvers.md; MODELS.md 12): adaptive dynamic relaxation,
+ * damped dynamic relaxation and nonlinear conjugate gradients, driven through load steps
+ * with sequentially linear fracture (break, re-solve at the same load, cut back). */
+#ifndef PERI_QUASISTATIC_H
+#define PERI_QUASISTATIC_H
+#include <stdio.h>
+#include "peri/deck.h"
+#include "peri/sim.h"
+#include "peri/solver.h"
+
+/* The solver keys that only quasi-static solvers take (for the deck's key list). */
+#define PERI_QUASI_STATIC_KEYS                                                                   \
+  "load_steps", "tolerance", "max_iterations", "stiffness_factor", "bond_damping",               \
+      "preconditioner", "max_broken_per_step", "max_cutbacks", "max_fracture_iterations"
+
+/* Reads the quasi-static keys of the `solver` mapping (type already set in s->solver) and
+ * the shared ones it uses (end_time, time_step, safety_factor, damping, breaking); sets
+ * s->steps = load_steps. Explicit: rejects the quasi-static keys. Returns PERI_OK or
+ * PERI_ERR_INPUT after a positioned message. */
+int peri_quasi_static_parse(peri_sim *s, const peri_node *solver);
+
+/* Result of one solve at fixed loads. */
+typedef enum { PERI_QS_CONVERGED = 0, PERI_QS_NOT_CONVERGED = 1, PERI_QS_DIVERGED = 2 } peri_qs_status;
+
+/* Solves for equilibrium at the loads and prescribed displacements currently set (p->b,
+ * prescribed components of p->u); bonds do not break during the solve. On return p->f
+ * holds the internal force density at the final state and s->qs.residual the relative
+ * residual. Counts iterations in s->qs. */
+peri_qs_status peri_solve_adr(peri_sim *s);
+peri_qs_status peri_solve_dynamic_relaxation(peri_sim *s);
+peri_qs_status peri_solve_nlcg(peri_sim *s);
+/* The solver of s->solver. */
+peri_qs_status peri_solve_equilibrium(peri_sim *s);
+
+/* Load steps with fracture (MODELS.md 12.4): for n = 1..load_steps sets the loads at
+ * t_n, solves, breaks every bond beyond its critical stretch and re-solves until none
+ * breaks; cuts the increment back when more than max_broken_per_step break. Calls hook
+ * after every load step (history, frames). Returns PERI_OK, or PERI_ERR_RUN with a
+ * message when a solve does not converge (the state reached is kept). */
+int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx);
+
+/* Summary line(s) for the solver settings. */
+void peri_print_quasi_static_summary(const peri_sim *s, FILE *out);
+
+/* Helpers shared by the solvers (src/solver/qs_common.c). */
+/* Dot product summed in fixed blocks, independent of the thread count. */
+double peri_qs_dot(const double *a, const double *b, size_t n);
+/* ADR fictitious density per node, Lambda_i = f_s/4 sum_j beta V_j c_eq (omega) / |xi|
+ * (MODELS.md 12.2), into lambda[n]. */
+void peri_qs_density(const peri_sim *s, double fs, double *lambda);
+/* Sets prescribed displacement components at pseudo-time t (velocity zero) and the loads. */
+void peri_qs_apply_loading(peri_sim *s, double t);
+/* Internal forces at the current u (no breaking; loads re-evaluated with an indenter). */
+void peri_qs_forces(peri_sim *s);
+/* Out-of-balance force r = f + b on free components (0 on prescribed ones and on unused
+ * dimensions) into r[3n]; returns |V r| / |reference| where the reference is the larger of
+ * the applied load |V b| and the reaction |V f| on prescribed components. */
+double peri_qs_residual(const peri_sim *s, double *r);
+
+#endif

@@ -1,0 +1,28 @@
+/* Stress and strain recovery (MODELS.md 10): the symmetrised collapsed PD stress of seed
+ * 000 eq. 3.1, sigma_i = 1/2 sum_j (t_ij + t_ji) M_ij (x) xi_ij chi beta V_j, the strain
+ * from the nonlocal deformation gradient F = (sum w Y (x) xi)(sum w xi (x) xi)^-1, and the
+ * scalar measures (von Mises in plane stress / plane strain / 3D, principal stresses). */
+#ifndef PERI_STRESS_H
+#define PERI_STRESS_H
+#include <stdio.h>
+#include "peri/sim.h"
+
+/* Symmetric part of the PD stress of every owned node into sigma[9n] (row-major 3x3, Pa).
+ * Evaluates the model's forces at the current u first (bonds do not break). Returns
+ * PERI_OK, or PERI_ERR_RUN when the model has no stress recovery. */
+int peri_stress(peri_sim *s, double *sigma);
+/* Small strain eps = (F + F^T)/2 - I into eps[9n]; in plane stress eps33 from the
+ * material's Poisson ratio, -nu/(1-nu)(eps11+eps22). */
+void peri_strain(const peri_sim *s, double *eps);
+/* Von Mises stress of a symmetric stress (row-major) in the problem's dimension and plane:
+ * plane stress sqrt(s11^2 + s22^2 - s11 s22 + 3 s12^2); plane strain with
+ * s33 = nu (s11 + s22); 1D |s11|. */
+double peri_von_mises(const peri_sim *s, const double sig[9], double nu);
+/* Principal stresses, descending (2D: the in-plane pair and s33). */
+void peri_principal_stresses(const peri_sim *s, const double sig[9], double nu, double out[3]);
+/* von_mises[n] (and principal[3n] if not NULL) of every owned node from sigma[9n]. */
+void peri_stress_measures(const peri_sim *s, const double *sigma, double *von_mises, double *principal);
+/* Prints "  max von Mises <material>: <value> Pa at (x, y, z)" for every material. */
+void peri_print_stress_summary(peri_sim *s, FILE *out);
+
+#endif

@@ -1,0 +1,21 @@
+/* Deck parsing of heat conduction and thermomechanics (docs/heat.md), called from setup.c. */
+#ifndef PERI_SETUP_THERMAL_H
+#define PERI_SETUP_THERMAL_H
+#include <stdbool.h>
+#include "peri/deck.h"
+#include "peri/sim.h"
+
+/* Whether the deck asks for a conduction-only run (solver: {type: heat}). */
+bool peri_setup_heat_only(const peri_node *root);
+/* A material of a conduction-only run: density, conductivity, specific_heat. */
+int peri_setup_heat_material(peri_sim *s, const peri_node *key, const peri_node *map, int index);
+/* The optional thermal keys of a mechanical material (conductivity, specific_heat,
+ * thermal_expansion). */
+int peri_setup_material_thermal_keys(const peri_node *map, peri_material *mat);
+/* Whether a boundary_conditions item has a thermal type (parsed by peri_setup_thermal). */
+bool peri_setup_is_thermal_bc(const peri_node *item);
+/* The thermal section, thermal conditions and the conduction operator; after the output
+ * section is parsed and before the time step is set. */
+int peri_setup_thermal(peri_sim *s, const peri_node *root);
+
+#endif

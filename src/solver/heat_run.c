@@ -1,0 +1,176 @@
+/* Conduction-only runs (solver type heat): the summary, the time loop with frames,
+ * history.csv and the end-of-run picture. */
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include "peri/damage.h"
+#include "peri/error.h"
+#include "peri/frames.h"
+#include "peri/output.h"
+#include "peri/run.h"
+#include "peri/thermal.h"
+
+static const char *const kernel_names[] = {"conical", "constant"};
+static const char *const quad_names[] = {"bonds", "bobaru2012"};
+static const char *const self_names[] = {"none", "cell", "bobaru2012"};
+static const char *const rule_names[] = {"lower", "harmonic"};
+static const char *const integrator_names[] = {"rk4", "euler"};
+static const char *const coupling_names[] = {"two_way", "one_way"};
+static const char *const insulation_names[] = {"natural", "algebraic"};
+
+static double now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+void peri_thermal_print_summary(const peri_sim *s, FILE *out) {
+  const peri_thermal *th = s->thermal;
+  if (!th) return;
+  if (s->solver == PERI_SOLVER_HEAT) {
+    fprintf(out, "peri %s: %s\n", PERI_VERSION, s->deck_path);
+    fprintf(out, "  model        heat conduction, %dD\n", s->geom.dim);
+    fprintf(out, "  nodes        %d\n", s->p.n);
+    fprintf(out, "  bonds        %lld directed (%.1f per node), %ld cut\n", (long long)s->bonds.n_bonds,
+            s->p.n ? (double)s->bonds.n_bonds / s->p.n : 0.0, peri_broken_count(&s->bonds));
+    fprintf(out, "  horizon      %g (m = %.4g, spacing %g)\n", s->geom.horizon, s->geom.horizon / s->geom.spacing,
+            s->geom.spacing);
+    fprintf(out, "  memory       %.1f MB estimated\n",
+            (peri_memory_estimate(s) + 16.0 * (double)s->bonds.n_bonds + 80.0 * s->p.n) / 1e6);
+    for (int m = 0; m < s->n_materials; ++m) {
+      const peri_material *mat = &s->materials[m];
+      fprintf(out, "  material     %s: rho %g, conductivity %g, specific heat %g, diffusivity %g\n", mat->name,
+              mat->density, mat->conductivity, mat->specific_heat,
+              mat->conductivity / (mat->density * mat->specific_heat));
+    }
+  }
+  fprintf(out, "  thermal      kernel %s, quadrature %s, self term %s, insulation %s, bonds between "
+          "materials %s\n", kernel_names[th->kernel], quad_names[th->quadrature], self_names[th->self_term],
+          insulation_names[th->insulation], rule_names[th->bond_rule]);
+  if (s->solver == PERI_SOLVER_HEAT) {
+    fprintf(out, "  time step    %g s (%s, stable estimate %g s from the largest row sum %g 1/s), %ld steps "
+            "to t = %g s\n", s->dt, integrator_names[th->integrator], th->dt_stable, th->max_row_sum, s->steps,
+            s->dt * s->steps);
+  } else {
+    fprintf(out, "  heat step    %g s (%s, stable estimate %g s), coupling %s%s\n", th->dt,
+            integrator_names[th->integrator], th->dt_stable, coupling_names[th->coupling],
+            th->n_growing ? ", growing cracks" : "");
+  }
+}
+
+typedef struct heat_ctx {
+  peri_frames *frames;
+  peri_history *history;
+  int n_columns;
+  double *row;
+} heat_ctx;
+
+static int open_history(peri_sim *s, heat_ctx *c) {
+  int n = 6 + 2 * (s->n_regions - 1);
+  char **names = peri_calloc((size_t)n, sizeof(char *));
+  const char *fixed[] = {"time", "step", "total_heat", "min_temperature", "max_temperature",
+                         "broken_bond_fraction"};
+  int k = 0;
+  for (; k < 6; ++k) names[k] = peri_strdup(fixed[k]);
+  char buf[300];
+  for (int r = 1; r < s->n_regions; ++r) {
+    snprintf(buf, sizeof buf, "mean_temperature_%s", s->regions[r].name);
+    names[k++] = peri_strdup(buf);
+    snprintf(buf, sizeof buf, "heat_inflow_%s", s->regions[r].name);
+    names[k++] = peri_strdup(buf);
+  }
+  char path[4200];
+  snprintf(path, sizeof path, "%s/history.csv", s->out.directory);
+  c->history = peri_history_open(path, n, (const char *const *)names);
+  for (int j = 0; j < n; ++j) free(names[j]);
+  free(names);
+  c->n_columns = n;
+  c->row = peri_calloc((size_t)n, sizeof(double));
+  return c->history ? PERI_OK : PERI_ERR_RUN;
+}
+
+static int write_history(peri_sim *s, heat_ctx *c) {
+  const peri_thermal *th = s->thermal;
+  int k = 0;
+  double lo = INFINITY, hi = -INFINITY;
+  for (int32_t i = 0; i < th->n; ++i) {
+    if (th->T[i] < lo) lo = th->T[i];
+    if (th->T[i] > hi) hi = th->T[i];
+  }
+  c->row[k++] = s->time;
+  c->row[k++] = (double)s->step;
+  c->row[k++] = peri_thermal_total_heat(s);
+  c->row[k++] = lo;
+  c->row[k++] = hi;
+  c->row[k++] = s->bonds.n_bonds ? (double)peri_broken_count(&s->bonds) / s->bonds.n_bonds : 0.0;
+  for (int r = 1; r < s->n_regions; ++r) {
+    const peri_region *reg = &s->regions[r];
+    double sum = 0.0, vol = 0.0;
+    for (int32_t a = 0; a < reg->count; ++a) {
+      sum += th->T[reg->nodes[a]] * th->area[reg->nodes[a]];
+      vol += th->area[reg->nodes[a]];
+    }
+    c->row[k++] = vol > 0.0 ? sum / vol : 0.0;
+    c->row[k++] = peri_thermal_region_inflow(s, r);
+  }
+  return peri_history_write(c->history, c->row);
+}
+
+int peri_run_heat(peri_sim *s) {
+  peri_thermal *th = s->thermal;
+  heat_ctx c = {0};
+  c.frames = peri_frames_open(s);
+  if (!c.frames) return PERI_ERR_RUN;
+  if (open_history(s, &c) != PERI_OK) {
+    peri_frames_close(c.frames);
+    return PERI_ERR_RUN;
+  }
+  const bool progress = !s->quiet && isatty(STDERR_FILENO);
+  s->time = th->time;
+  int rc = peri_frames_write(c.frames, s);
+  if (rc == PERI_OK) rc = write_history(s, &c);
+  const double t_start = now();
+  double t_last = t_start;
+  for (long step = 0; step < s->steps && rc == PERI_OK; ++step) {
+    rc = peri_thermal_step(s, s->dt);
+    s->time = th->time;
+    s->step = step + 1;
+    if (rc != PERI_OK) break;
+    const bool last = s->step == s->steps;
+    if ((s->step % s->out.history_every == 0 || last) && write_history(s, &c) != PERI_OK) rc = PERI_ERR_RUN;
+    if (rc == PERI_OK && ((s->out.every > 0 && s->step % s->out.every == 0) || last))
+      rc = peri_frames_write(c.frames, s);
+    if (progress) {
+      double t = now();
+      if (t - t_last > 0.5 && t - t_start > 1.0) {
+        double rate = s->step / (t - t_start);
+        fprintf(stderr, "\r  step %ld/%ld  t = %.4g s  %.0f steps/s  eta %.0f s   ", s->step, s->steps, s->time,
+                rate, (s->steps - s->step) / rate);
+        t_last = t;
+      }
+    }
+  }
+  const double wall = now() - t_start;
+  if (progress) fprintf(stderr, "\r%80s\r", "");
+  char picture[4300] = "";
+  if (rc == PERI_OK && s->out.picture && s->geom.dim == 2 &&
+      peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) {
+    rc = PERI_ERR_RUN;
+    picture[0] = 0;
+  }
+  if (!s->quiet) {
+    printf("  finished     %ld steps in %.3f s: %.1f steps/s (%d threads)\n", s->step, wall,
+           wall > 0 ? s->step / wall : 0.0, omp_get_max_threads());
+    printf("  total heat   %.10g J\n", peri_thermal_total_heat(s));
+    printf("  output       %s/%s.pvd (VTU series), %s/history.csv%s%s\n", s->out.directory, s->out.basename,
+           s->out.directory, picture[0] ? ", " : "", picture);
+  }
+  peri_history_close(c.history);
+  peri_frames_close(c.frames);
+  free(c.row);
+  return rc;
+}

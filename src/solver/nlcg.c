@@ -1,0 +1,190 @@
+/* Energy minimisation by nonlinear conjugate gradients (000 sec. 2.4.1 eqs. 2.46-2.49;
+ * MODELS.md 12.3; Shewchuk 1994 B4/B5): Polak-Ribiere directions with the PR+ reset
+ * (beta = max(beta_PR, 0)), a secant line search on the directional derivative of the
+ * potential energy Pi(u) = sum_i V_i W_i - sum_i V_i b_i.u_i, whose gradient is
+ * -V_i (f_i + b_i) because the models' forces are the exact gradient of their energy
+ * (MODELS.md 3.3). Optional Jacobi preconditioner: the ADR density Lambda_i. The energy
+ * itself guards the line search: a step that raises Pi is halved until it does not. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/error.h"
+#include "peri/quasistatic.h"
+
+typedef struct cg_work {
+  peri_sim *s;
+  size_t n3;
+  double *r;   /* f + b on free components */
+  double *vr;  /* V r (minus the gradient) */
+  double *wn;  /* per-node energy work array */
+} cg_work;
+
+/* Forces and the residual at the current u; returns the relative residual. */
+static double evaluate(cg_work *w) {
+  peri_qs_forces(w->s);
+  double res = peri_qs_residual(w->s, w->r);
+  const peri_particles *p = &w->s->p;
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i)
+    for (int d = 0; d < 3; ++d) w->vr[3 * (size_t)i + d] = p->volume[i] * w->r[3 * (size_t)i + d];
+  return res;
+}
+
+/* Pi(u) = sum V W - sum V b.u (node order blocks via peri_qs_dot). */
+static double potential(cg_work *w) {
+  peri_sim *s = w->s;
+  peri_particles *p = &s->p;
+  s->model->energy(s, w->wn);
+  const int32_t n = p->n_owned;
+  double *vb = peri_malloc(sizeof(double) * w->n3);
+  for (int32_t i = 0; i < n; ++i)
+    for (int d = 0; d < 3; ++d) vb[3 * (size_t)i + d] = p->volume[i] * p->b[3 * (size_t)i + d];
+  double e = peri_qs_dot(w->wn, p->volume, (size_t)n) - peri_qs_dot(vb, p->u, w->n3);
+  free(vb);
+  return e;
+}
+
+static void axpy(double *y, double a, const double *x, size_t n) {
+#pragma omp parallel for schedule(static)
+  for (size_t k = 0; k < n; ++k) y[k] += a * x[k];
+}
+
+static double max_abs(const double *x, size_t n) {
+  double m = 0.0;
+  for (size_t k = 0; k < n; ++k) m = fmax(m, fabs(x[k]));
+  return m;
+}
+
+peri_qs_status peri_solve_nlcg(peri_sim *s) {
+  peri_particles *p = &s->p;
+  peri_quasi_static *q = &s->qs;
+  const int32_t n = p->n_owned;
+  const size_t n3 = 3 * (size_t)n;
+  cg_work w = {.s = s, .n3 = n3};
+  w.r = peri_malloc(sizeof(double) * n3);
+  w.vr = peri_malloc(sizeof(double) * n3);
+  w.wn = peri_malloc(sizeof(double) * (size_t)p->n);
+  double *pre = peri_malloc(sizeof(double) * n3);  /* inverse preconditioner */
+  double *z = peri_malloc(sizeof(double) * n3);    /* preconditioned residual */
+  double *z_old = peri_malloc(sizeof(double) * n3);
+  double *d = peri_malloc(sizeof(double) * n3);
+  double *u_start = peri_malloc(sizeof(double) * n3);
+  if (q->preconditioner) {
+    double *lambda = peri_malloc(sizeof(double) * n);
+    peri_qs_density(s, 1.0, lambda);
+    for (int32_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) pre[3 * (size_t)i + c] = 1.0 / (lambda[i] * p->volume[i]);
+    free(lambda);
+  } else {
+    for (size_t k = 0; k < n3; ++k) pre[k] = 1.0;
+  }
+  q->solves++;
+
+  const double dx = s->geom.spacing;
+  const int jmax = 5;
+  double res = evaluate(&w);
+  peri_qs_status status = res <= q->tolerance ? PERI_QS_CONVERGED : PERI_QS_NOT_CONVERGED;
+  for (size_t k = 0; k < n3; ++k) z[k] = pre[k] * w.vr[k];
+  memcpy(d, z, sizeof(double) * n3);
+  double delta_new = peri_qs_dot(w.vr, z, n3);
+  double last_step = 1e-6 * dx; /* |alpha| max|d| of the previous iteration */
+  long it = 0, k_restart = 0;
+  for (; status == PERI_QS_NOT_CONVERGED && it < q->max_iterations; ++it) {
+    /* eta(alpha) = dPi/dalpha = -(V r).d */
+    double eta0 = -peri_qs_dot(w.vr, d, n3);
+    if (!(eta0 < 0.0)) { /* not a descent direction: restart along z */
+      memcpy(d, z, sizeof(double) * n3);
+      eta0 = -peri_qs_dot(w.vr, d, n3);
+      k_restart = 0;
+    }
+    const double dmax = max_abs(d, n3);
+    if (!(dmax > 0.0)) break;
+    memcpy(u_start, p->u, sizeof(double) * n3);
+    /* secant line search: first point at sigma0 */
+    double sigma0 = fmax(1e-2 * last_step, 1e-12 * dx) / dmax;
+    axpy(p->u, sigma0, d, n3);
+    res = evaluate(&w);
+    double a_prev = 0.0, eta_prev = eta0, a = sigma0, eta = -peri_qs_dot(w.vr, d, n3);
+    bool ok = true;
+    for (int j = 0; j < jmax; ++j) {
+      const double denom = eta - eta_prev;
+      if (!(denom > 0.0) && j == 0) { /* no positive curvature along d */
+        ok = false;
+        break;
+      }
+      if (denom == 0.0) break;
+      double a_new = a - eta * (a - a_prev) / denom;
+      if (!isfinite(a_new)) {
+        ok = false;
+        break;
+      }
+      axpy(p->u, a_new - a, d, n3);
+      a_prev = a, eta_prev = eta, a = a_new;
+      res = evaluate(&w);
+      eta = -peri_qs_dot(w.vr, d, n3);
+      if (fabs(eta) <= 1e-3 * fabs(eta0)) break;
+    }
+    if (!ok || !isfinite(res)) {
+      /* fall back to a halving search on the energy from the start of the iteration */
+      double *u_try = p->u;
+      memcpy(u_try, u_start, sizeof(double) * n3);
+      double pi0 = potential(&w);
+      double step = fmax(last_step, 1e-6 * dx) / dmax;
+      bool decreased = false;
+      for (int h = 0; h < 40 && !decreased; ++h, step *= 0.5) {
+        memcpy(p->u, u_start, sizeof(double) * n3);
+        axpy(p->u, step, d, n3);
+        decreased = potential(&w) < pi0;
+        a = step;
+      }
+      if (!decreased) {
+        memcpy(p->u, u_start, sizeof(double) * n3);
+        a = 0.0;
+      }
+      res = evaluate(&w);
+      if (!decreased) {
+        status = PERI_QS_NOT_CONVERGED;
+        break;
+      }
+    }
+    last_step = fabs(a) * dmax;
+    if (!isfinite(res)) {
+      status = PERI_QS_DIVERGED;
+      break;
+    }
+    if (res <= q->tolerance) {
+      status = PERI_QS_CONVERGED;
+      ++it;
+      break;
+    }
+    /* Polak-Ribiere+ (preconditioned): beta = (r_new.z_new - r_new.z_old) / (r_old.z_old) */
+    double *swap = z_old;
+    z_old = z;
+    z = swap;
+#pragma omp parallel for schedule(static)
+    for (size_t k = 0; k < n3; ++k) z[k] = pre[k] * w.vr[k];
+    const double delta_old = delta_new;
+    const double delta_mid = peri_qs_dot(w.vr, z_old, n3);
+    delta_new = peri_qs_dot(w.vr, z, n3);
+    const double beta = (delta_new - delta_mid) / delta_old;
+    ++k_restart;
+    if (beta <= 0.0 || k_restart >= (long)n3) {
+      memcpy(d, z, sizeof(double) * n3);
+      k_restart = 0;
+    } else {
+#pragma omp parallel for schedule(static)
+      for (size_t k = 0; k < n3; ++k) d[k] = z[k] + beta * d[k];
+    }
+  }
+  q->iterations += it;
+  q->residual = res;
+  free(w.r);
+  free(w.vr);
+  free(w.wn);
+  free(pre);
+  free(z);
+  free(z_old);
+  free(d);
+  free(u_start);
+  return status;
+}

@@ -1,0 +1,122 @@
+/* Pieces shared by the quasi-static solvers: deterministic reductions, the ADR density,
+ * loading at a pseudo-time, forces and the out-of-balance residual. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/error.h"
+#include "peri/quasistatic.h"
+
+/* Fixed blocks: the partial sums and their order do not depend on the thread count. */
+enum { BLOCK = 4096 };
+
+double peri_qs_dot(const double *a, const double *b, size_t n) {
+  size_t nb = (n + BLOCK - 1) / BLOCK;
+  if (nb == 0) return 0.0;
+  double stack[64];
+  double *part = nb <= 64 ? stack : peri_malloc(sizeof(double) * nb);
+#pragma omp parallel for schedule(static)
+  for (size_t k = 0; k < nb; ++k) {
+    size_t lo = k * BLOCK, hi = lo + BLOCK < n ? lo + BLOCK : n;
+    double sum = 0.0;
+    for (size_t c = lo; c < hi; ++c) sum += a[c] * b[c];
+    part[k] = sum;
+  }
+  double total = 0.0;
+  for (size_t k = 0; k < nb; ++k) total += part[k];
+  if (part != stack) free(part);
+  return total;
+}
+
+void peri_qs_density(const peri_sim *s, double fs, double *lambda) {
+  const peri_particles *p = &s->p;
+  const peri_bonds *b = &s->bonds;
+  const bool bond_based = s->model->fixed_poisson;
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    const peri_material *mi = &s->materials[p->material[i]];
+    double stiffness = 0.0;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      const int32_t j = b->neighbor[k];
+      const double c = 0.5 * (mi->c_stable + s->materials[p->material[j]].c_stable);
+      stiffness += b->beta[k] * p->volume[j] * c * (bond_based ? b->omega[k] : 1.0) / b->length[k];
+    }
+    lambda[i] = 0.25 * fs * stiffness;
+    if (!(lambda[i] > 0.0)) lambda[i] = 0.25 * fs * mi->c_stable * p->volume[i] / s->geom.spacing;
+  }
+}
+
+void peri_qs_apply_loading(peri_sim *s, double t) {
+  peri_particles *p = &s->p;
+  s->time = t;
+  for (int k = 0; k < s->n_bcs; ++k) {
+    const peri_bc *bc = &s->bcs[k];
+    if (bc->kind != PERI_BC_DISPLACEMENT) continue;
+    const peri_region *r = &s->regions[bc->region];
+    for (int32_t a = 0; a < r->count; ++a) {
+      const int32_t i = r->nodes[a];
+      const double *x = &p->x[3 * i];
+      for (int d = 0; d < 3; ++d)
+        if (bc->value[d]) p->u[3 * i + d] = peri_expr_eval(bc->value[d], x[0], x[1], x[2], t);
+    }
+  }
+  memset(p->v, 0, sizeof(double) * 3 * (size_t)p->n);
+  peri_apply_loads(s, t);
+}
+
+void peri_qs_forces(peri_sim *s) {
+  const bool breaking = s->breaking;
+  s->breaking = false;
+  if (s->indenter.on) peri_apply_loads(s, s->time);
+  s->model->force(s);
+  s->breaking = breaking;
+  s->qs.force_evaluations++;
+}
+
+double peri_qs_residual(const peri_sim *s, double *r) {
+  const peri_particles *p = &s->p;
+  const int dim = s->geom.dim;
+  const int32_t n = p->n_owned;
+  /* per-node squares, summed in node order blocks */
+  double *sq = peri_malloc(sizeof(double) * 2 * (size_t)n);
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < n; ++i) {
+    double res = 0.0, ref = 0.0;
+    const double V = p->volume[i];
+    for (int d = 0; d < 3; ++d) {
+      const size_t c = 3 * (size_t)i + d;
+      if (d >= dim) {
+        r[c] = 0.0;
+      } else if (s->prescribed[c]) {
+        r[c] = 0.0;
+        ref += V * V * p->f[c] * p->f[c];
+      } else {
+        r[c] = p->f[c] + p->b[c];
+        res += V * V * r[c] * r[c];
+        ref += V * V * p->b[c] * p->b[c];
+      }
+    }
+    sq[i] = res;
+    sq[n + i] = ref;
+  }
+  double res = 0.0, ref = 0.0;
+  /* block sums in a fixed order */
+  size_t nb = ((size_t)n + BLOCK - 1) / BLOCK;
+  for (size_t k = 0; k < nb; ++k) {
+    size_t lo = k * BLOCK, hi = lo + BLOCK < (size_t)n ? lo + BLOCK : (size_t)n;
+    double a = 0.0, b2 = 0.0;
+    for (size_t i = lo; i < hi; ++i) a += sq[i], b2 += sq[n + i];
+    res += a, ref += b2;
+  }
+  free(sq);
+  if (!(ref > 0.0)) return res > 0.0 ? INFINITY : 0.0;
+  return sqrt(res / ref);
+}
+
+peri_qs_status peri_solve_equilibrium(peri_sim *s) {
+  switch (s->solver) {
+  case PERI_SOLVER_ADR: return peri_solve_adr(s);
+  case PERI_SOLVER_DYNAMIC_RELAXATION: return peri_solve_dynamic_relaxation(s);
+  case PERI_SOLVER_NLCG: return peri_solve_nlcg(s);
+  default: return PERI_QS_DIVERGED;
+  }
+}

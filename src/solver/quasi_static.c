@@ -1,0 +1,122 @@
+/* Load stepping with sequentially linear fracture (MODELS.md 12.4; 002 sec. 2.7): at each
+ * load step solve for equilibrium, break every bond beyond its critical stretch, re-solve
+ * at the same load until no bond breaks. A step that breaks more than max_broken_per_step
+ * bonds is undone and taken in halves (up to max_cutbacks times). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/damage.h"
+#include "peri/error.h"
+#include "peri/quasistatic.h"
+
+static const char *solver_name(peri_solver_kind k) {
+  switch (k) {
+  case PERI_SOLVER_ADR: return "adr";
+  case PERI_SOLVER_DYNAMIC_RELAXATION: return "dynamic_relaxation";
+  case PERI_SOLVER_NLCG: return "nlcg";
+  default: return "explicit";
+  }
+}
+
+void peri_print_quasi_static_summary(const peri_sim *s, FILE *out) {
+  const peri_quasi_static *q = &s->qs;
+  fprintf(out, "  solver       %s (quasi-static), %ld load step%s to t = %g, tolerance %g, at most %ld "
+               "iterations per solve\n", solver_name(s->solver), q->load_steps, q->load_steps == 1 ? "" : "s",
+          s->end_time, q->tolerance, q->max_iterations);
+  if (s->solver == PERI_SOLVER_DYNAMIC_RELAXATION)
+    fprintf(out, "  relaxation   time step %g s, damping %g 1/s, bond damping %g\n", s->dt, s->damping,
+            q->bond_damping);
+  if (s->breaking)
+    fprintf(out, "  fracture     re-solve until no bond breaks%s\n",
+            q->max_broken_per_step > 0 ? ", cut back above max_broken_per_step" : "");
+}
+
+/* Breaks every intact bond beyond its critical stretch at the current u (and refreshes the
+ * forces); returns the number of directed bonds broken. */
+static long break_bonds(peri_sim *s) {
+  if (!s->breaking) return 0;
+  if (s->indenter.on) peri_apply_loads(s, s->time);
+  long nb = s->model->force(s);
+  s->qs.force_evaluations++;
+  return nb;
+}
+
+static int not_converged(peri_sim *s, peri_qs_status st, double t) {
+  if (st == PERI_QS_DIVERGED)
+    peri_error("%s: the solution diverged at load step %ld (t = %g): the residual is not finite",
+               solver_name(s->solver), s->step + 1, t);
+  else
+    peri_error("%s: not converged at load step %ld (t = %g) after %ld iterations: relative residual "
+               "%.3g > tolerance %g (raise solver.max_iterations, loosen solver.tolerance or take "
+               "more load_steps)", solver_name(s->solver), s->step + 1, t, s->qs.max_iterations,
+               s->qs.residual, s->qs.tolerance);
+  return PERI_ERR_RUN;
+}
+
+int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
+  peri_particles *p = &s->p;
+  peri_quasi_static *q = &s->qs;
+  const size_t n3 = 3 * (size_t)p->n_owned;
+  const size_t nbonds = (size_t)s->bonds.n_bonds;
+  double *u_save = peri_malloc(sizeof(double) * n3);
+  uint8_t *broken_save = peri_malloc(nbonds ? nbonds : 1);
+  const double T = s->end_time;
+  const long N = q->load_steps;
+  double t_done = s->time;
+  int rc = PERI_OK;
+  for (long n = 0; n < N && rc == PERI_OK; ++n) {
+    const double t_target = T * (double)(n + 1) / (double)N;
+    double inc = t_target - t_done;
+    int cut = 0;
+    while (t_done < t_target && rc == PERI_OK) {
+      const double t = fmin(t_done + inc, t_target);
+      memcpy(u_save, p->u, sizeof(double) * n3);
+      memcpy(broken_save, s->bonds.broken, nbonds);
+      peri_qs_apply_loading(s, t);
+      peri_qs_status st = peri_solve_equilibrium(s);
+      if (st != PERI_QS_CONVERGED) {
+        rc = not_converged(s, st, t);
+        break;
+      }
+      long broken = 0, rounds = 0;
+      bool retry = false;
+      for (;;) {
+        long nb = break_bonds(s);
+        broken += nb;
+        if (nb == 0) break;
+        if (q->max_broken_per_step > 0 && broken > q->max_broken_per_step && cut < q->max_cutbacks) {
+          /* too many at once: undo and take half the increment */
+          memcpy(p->u, u_save, sizeof(double) * n3);
+          memcpy(s->bonds.broken, broken_save, nbonds);
+          inc *= 0.5;
+          ++cut;
+          ++q->cutbacks;
+          retry = true;
+          break;
+        }
+        if (++rounds > q->max_fracture_iterations) {
+          peri_error("%s: bonds still break after %ld re-solves at load step %ld (t = %g); raise "
+                     "solver.max_fracture_iterations", solver_name(s->solver), rounds - 1, n + 1, t);
+          rc = PERI_ERR_RUN;
+          break;
+        }
+        st = peri_solve_equilibrium(s);
+        if (st != PERI_QS_CONVERGED) {
+          rc = not_converged(s, st, t);
+          break;
+        }
+      }
+      if (retry) continue;
+      t_done = t;
+    }
+    s->time = t_done;
+    if (rc != PERI_OK) break;
+    s->step = n + 1;
+    if (hook && hook(s, ctx)) break;
+  }
+  /* the run is static: no velocity to report */
+  memset(p->v, 0, sizeof(double) * 3 * (size_t)p->n);
+  free(u_save);
+  free(broken_save);
+  return rc;
+}

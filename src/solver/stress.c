@@ -1,0 +1,218 @@
+/* Stress and strain recovery (MODELS.md 10). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/error.h"
+#include "peri/model.h"
+#include "peri/stress.h"
+
+/* Scalar force state t_ij of node i's half of an LPS bond (MODELS.md 3.3; as in lps.c). */
+static inline double lps_half(const peri_material *mat, double theta, double P, double m, double omega,
+                              double L, double e) {
+  const double alpha = mat->alpha_m / m;
+  return mat->n_theta * (mat->K_theta * theta - alpha * P / 3.0) * omega * L / m +
+         alpha * omega * (e - theta * L / 3.0);
+}
+
+int peri_stress(peri_sim *s, double *sigma) {
+  peri_particles *p = &s->p;
+  const peri_bonds *b = &s->bonds;
+  const bool lps = !strcmp(s->model->name, "lps"), pmb = !strcmp(s->model->name, "pmb");
+  if (!lps && !pmb) {
+    peri_error("stress recovery is not available for the %s model", s->model->name);
+    return PERI_ERR_RUN;
+  }
+  /* the forces refresh the dilatation (LPS) at the current displacement */
+  const bool breaking = s->breaking;
+  s->breaking = false;
+  s->model->force(s);
+  s->breaking = breaking;
+  const peri_material *mats = s->materials;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    double sg[9] = {0};
+    const peri_material *mi = &mats[p->material[i]];
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      if (b->broken[k]) continue;
+      const int32_t j = b->neighbor[k];
+      double xi[3], dy[3], r2 = 0.0;
+      for (int d = 0; d < 3; ++d) {
+        xi[d] = p->x[3 * j + d] - p->x[3 * i + d];
+        dy[d] = xi[d] + p->u[3 * j + d] - p->u[3 * i + d];
+        r2 += dy[d] * dy[d];
+      }
+      if (!(r2 > 0.0)) continue;
+      const double r = sqrt(r2), L = b->length[k];
+      double pair; /* t_ij + t_ji */
+      if (pmb) {
+        const double c = 0.5 * (mi->micromodulus + mats[p->material[j]].micromodulus);
+        pair = c * (r - L) / L * b->omega[k];
+      } else {
+        pair = lps_half(mi, p->theta[i], p->pstate[i], p->wvol[i], b->omega[k], L, r - L) +
+               lps_half(&mats[p->material[j]], p->theta[j], p->pstate[j], p->wvol[j], b->omega[k], L, r - L);
+      }
+      const double scale = 0.5 * pair * b->beta[k] * p->volume[j] / r;
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) sg[3 * a + c] += scale * dy[a] * xi[c];
+    }
+    double *out = &sigma[9 * (size_t)i];
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c) out[3 * a + c] = 0.5 * (sg[3 * a + c] + sg[3 * c + a]);
+  }
+  return PERI_OK;
+}
+
+/* Inverse of the leading dim x dim block of a 3x3 matrix; false when singular. */
+static bool invert(const double a[9], int dim, double inv[9]) {
+  memset(inv, 0, 9 * sizeof(double));
+  if (dim == 1) {
+    if (a[0] == 0.0) return false;
+    inv[0] = 1.0 / a[0];
+    return true;
+  }
+  if (dim == 2) {
+    const double det = a[0] * a[4] - a[1] * a[3];
+    if (!(fabs(det) > 1e-300)) return false;
+    inv[0] = a[4] / det, inv[1] = -a[1] / det, inv[3] = -a[3] / det, inv[4] = a[0] / det;
+    return true;
+  }
+  const double c00 = a[4] * a[8] - a[5] * a[7], c01 = a[5] * a[6] - a[3] * a[8], c02 = a[3] * a[7] - a[4] * a[6];
+  const double det = a[0] * c00 + a[1] * c01 + a[2] * c02;
+  if (!(fabs(det) > 1e-300)) return false;
+  inv[0] = c00 / det, inv[3] = c01 / det, inv[6] = c02 / det;
+  inv[1] = (a[2] * a[7] - a[1] * a[8]) / det, inv[4] = (a[0] * a[8] - a[2] * a[6]) / det;
+  inv[7] = (a[1] * a[6] - a[0] * a[7]) / det;
+  inv[2] = (a[1] * a[5] - a[2] * a[4]) / det, inv[5] = (a[2] * a[3] - a[0] * a[5]) / det;
+  inv[8] = (a[0] * a[4] - a[1] * a[3]) / det;
+  return true;
+}
+
+void peri_strain(const peri_sim *s, double *eps) {
+  const peri_particles *p = &s->p;
+  const peri_bonds *b = &s->bonds;
+  const int dim = s->geom.dim;
+  const bool plane_stress = dim == 2 && s->geom.plane == PERI_PLANE_STRESS;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    double A[9] = {0}, K[9] = {0}, Kinv[9], F[9] = {0};
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      if (b->broken[k]) continue;
+      const int32_t j = b->neighbor[k];
+      double xi[3], y[3];
+      for (int d = 0; d < 3; ++d) {
+        xi[d] = p->x[3 * j + d] - p->x[3 * i + d];
+        y[d] = xi[d] + p->u[3 * j + d] - p->u[3 * i + d];
+      }
+      const double w = b->omega[k] * b->beta[k] * p->volume[j];
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) {
+          A[3 * a + c] += w * y[a] * xi[c];
+          K[3 * a + c] += w * xi[a] * xi[c];
+        }
+    }
+    double *e = &eps[9 * (size_t)i];
+    memset(e, 0, 9 * sizeof(double));
+    if (!invert(K, dim, Kinv)) continue;
+    for (int a = 0; a < dim; ++a)
+      for (int c = 0; c < dim; ++c)
+        for (int m = 0; m < dim; ++m) F[3 * a + c] += A[3 * a + m] * Kinv[3 * m + c];
+    for (int a = 0; a < dim; ++a)
+      for (int c = 0; c < dim; ++c) e[3 * a + c] = 0.5 * (F[3 * a + c] + F[3 * c + a]) - (a == c ? 1.0 : 0.0);
+    if (plane_stress) {
+      const double nu = s->materials[p->material[i]].nu;
+      e[8] = -nu / (1.0 - nu) * (e[0] + e[4]);
+    }
+  }
+}
+
+static double out_of_plane(const peri_sim *s, const double sig[9], double nu) {
+  if (s->geom.dim == 2 && s->geom.plane == PERI_PLANE_STRAIN) return nu * (sig[0] + sig[4]);
+  if (s->geom.dim == 3) return sig[8];
+  return 0.0;
+}
+
+double peri_von_mises(const peri_sim *s, const double sig[9], double nu) {
+  if (s->geom.dim == 1) return fabs(sig[0]);
+  const double s11 = sig[0], s22 = sig[4], s33 = out_of_plane(s, sig, nu);
+  const double s12 = sig[1], s23 = s->geom.dim == 3 ? sig[5] : 0.0, s13 = s->geom.dim == 3 ? sig[2] : 0.0;
+  const double j2 = 0.5 * ((s11 - s22) * (s11 - s22) + (s22 - s33) * (s22 - s33) + (s33 - s11) * (s33 - s11)) +
+                    3.0 * (s12 * s12 + s23 * s23 + s13 * s13);
+  return sqrt(fmax(j2, 0.0));
+}
+
+static void sort3(double v[3]) {
+  for (int a = 0; a < 2; ++a)
+    for (int c = 0; c < 2 - a; ++c)
+      if (v[c] < v[c + 1]) {
+        double t = v[c];
+        v[c] = v[c + 1];
+        v[c + 1] = t;
+      }
+}
+
+void peri_principal_stresses(const peri_sim *s, const double sig[9], double nu, double out[3]) {
+  const int dim = s->geom.dim;
+  if (dim == 1) {
+    out[0] = sig[0], out[1] = out[2] = 0.0;
+    sort3(out);
+    return;
+  }
+  if (dim == 2) {
+    const double c = 0.5 * (sig[0] + sig[4]), r = hypot(0.5 * (sig[0] - sig[4]), sig[1]);
+    out[0] = c + r, out[1] = c - r, out[2] = out_of_plane(s, sig, nu);
+    sort3(out);
+    return;
+  }
+  /* symmetric 3x3: trigonometric solution of the characteristic cubic */
+  const double p1 = sig[1] * sig[1] + sig[2] * sig[2] + sig[5] * sig[5];
+  const double q = (sig[0] + sig[4] + sig[8]) / 3.0;
+  if (p1 == 0.0) {
+    out[0] = sig[0], out[1] = sig[4], out[2] = sig[8];
+    sort3(out);
+    return;
+  }
+  const double p2 = (sig[0] - q) * (sig[0] - q) + (sig[4] - q) * (sig[4] - q) + (sig[8] - q) * (sig[8] - q) + 2.0 * p1;
+  const double pp = sqrt(p2 / 6.0);
+  double B[9];
+  for (int k = 0; k < 9; ++k) B[k] = (sig[k] - (k % 4 == 0 ? q : 0.0)) / pp;
+  const double detB = B[0] * (B[4] * B[8] - B[5] * B[7]) - B[1] * (B[3] * B[8] - B[5] * B[6]) +
+                      B[2] * (B[3] * B[7] - B[4] * B[6]);
+  const double rr = fmax(-1.0, fmin(1.0, 0.5 * detB));
+  const double phi = acos(rr) / 3.0;
+  out[0] = q + 2.0 * pp * cos(phi);
+  out[2] = q + 2.0 * pp * cos(phi + 2.0 * M_PI / 3.0);
+  out[1] = 3.0 * q - out[0] - out[2];
+  sort3(out);
+}
+
+void peri_stress_measures(const peri_sim *s, const double *sigma, double *von_mises, double *principal) {
+  const peri_particles *p = &s->p;
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    const double nu = s->materials[p->material[i]].nu;
+    const double *sg = &sigma[9 * (size_t)i];
+    if (von_mises) von_mises[i] = peri_von_mises(s, sg, nu);
+    if (principal) peri_principal_stresses(s, sg, nu, &principal[3 * (size_t)i]);
+  }
+}
+
+void peri_print_stress_summary(peri_sim *s, FILE *out) {
+  const peri_particles *p = &s->p;
+  const int32_t n = p->n_owned;
+  double *sigma = peri_malloc(sizeof(double) * 9 * (size_t)n);
+  double *vm = peri_malloc(sizeof(double) * (size_t)n);
+  if (peri_stress(s, sigma) == PERI_OK) {
+    peri_stress_measures(s, sigma, vm, NULL);
+    for (int m = 0; m < s->n_materials; ++m) {
+      int32_t best = -1;
+      for (int32_t i = 0; i < n; ++i) /* first node of the largest value: deterministic */
+        if (p->material[i] == m && (best < 0 || vm[i] > vm[best])) best = i;
+      if (best < 0) continue;
+      const double *x = &p->x[3 * (size_t)best];
+      fprintf(out, "  max von Mises %s: %.4g Pa at (%g, %g, %g)\n", s->materials[m].name, vm[best], x[0], x[1],
+              x[2]);
+    }
+  }
+  free(sigma);
+  free(vm);
+}
