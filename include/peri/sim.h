@@ -122,6 +122,8 @@ typedef struct peri_sim {
 /* Reads the deck and builds the simulation: every input error is reported (exit status 2)
  * before any work. `overrides` are "--output DIR" etc. applied after parsing. */
 int peri_sim_from_deck(peri_sim *s, const char *path);
+/* The same with "key.path=value" overrides applied to the deck first (--set). */
+int peri_sim_from_deck_with(peri_sim *s, const char *path, int n_sets, const char *const *sets);
 void peri_sim_free(peri_sim *s);
 
 #endif

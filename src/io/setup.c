@@ -12,6 +12,7 @@
 #include "peri/sim.h"
 #include "peri/solver.h"
 #include "peri/quasistatic.h"
+#include "peri/overrides.h"
 #include "peri/thermal.h"
 #include "setup_thermal.h"
 
@@ -791,16 +792,21 @@ static int build(parse_ctx *c) {
   return PERI_OK;
 }
 
-int peri_sim_from_deck(peri_sim *s, const char *path) {
+int peri_sim_from_deck(peri_sim *s, const char *path) { return peri_sim_from_deck_with(s, path, 0, NULL); }
+
+int peri_sim_from_deck_with(peri_sim *s, const char *path, int n_sets, const char *const *sets) {
   memset(s, 0, sizeof *s);
   s->deck_path = peri_strdup(path);
   s->threads = 0;
   peri_node *root = peri_deck_load(path);
   if (!root) return PERI_ERR_INPUT;
+  peri_node **keep = NULL; /* --set overrides (src/io/overrides.c) */
+  int rc = peri_deck_apply_overrides(root, n_sets, sets, &keep);
   parse_ctx c = {.s = s, .root = root, .failure = NULL};
-  int rc = build(&c);
+  if (rc == PERI_OK) rc = build(&c);
   free(c.failure);
   peri_deck_free(root);
+  peri_overrides_free(keep, n_sets);
   return rc;
 }
 

@@ -7,6 +7,7 @@
  * itself guards the line search: a step that raises Pi is halved until it does not. */
 #include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 #include "peri/error.h"
 #include "peri/quasistatic.h"
@@ -148,6 +149,7 @@ peri_qs_status peri_solve_nlcg(peri_sim *s) {
       }
     }
     last_step = fabs(a) * dmax;
+    if (getenv("PERI_QS_DEBUG")) fprintf(stderr, "nlcg %ld res %.3e a %.3e eta %.3e/%.3e\n", it, res, a, eta, eta0);
     if (!isfinite(res)) {
       status = PERI_QS_DIVERGED;
       break;
