@@ -3,27 +3,173 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include "peri/error.h"
+#include "peri/probe.h"
+#include "peri/quasistatic.h"
 #include "peri/run.h"
 #include "peri/sim.h"
 
 static void usage(FILE *out) {
   fprintf(out,
-          "usage: peri run DECK [--threads N] [--quiet] [--output DIR]\n"
-          "       peri check DECK\n"
+          "usage: peri run DECK [--threads N] [--quiet] [--output DIR] [--set KEY=VALUE ...]\n"
+          "       peri check DECK [--set KEY=VALUE ...]\n"
+          "       peri sweep DECK --set-list KEY=V1,V2,... [--set-list ...] --quantity NAME [...]\n"
+          "                  [--set KEY=VALUE ...] [--threads N]\n"
           "       peri --help | --version\n"
           "\n"
           "  run     reads the YAML deck, builds the particles and bonds, runs the solver and\n"
           "          writes VTU frames (.pvd series), history.csv and a PNG picture (2D)\n"
           "  check   validates the deck, builds the discretization, prints the summary and\n"
           "          the memory estimate, and runs nothing\n"
+          "  sweep   runs the deck once per value of the --set-list keys (several lists are\n"
+          "          taken in step: the k-th run uses the k-th value of each) without writing\n"
+          "          output, and prints a Markdown table of the quantities\n"
           "\n"
-          "  --threads N   OpenMP threads (default: OMP_NUM_THREADS or all cores)\n"
-          "  --quiet       no summary and no progress line\n"
-          "  --output DIR  write output into DIR (overrides output.directory)\n"
+          "  --threads N         OpenMP threads (default: OMP_NUM_THREADS or all cores)\n"
+          "  --quiet             no summary and no progress line\n"
+          "  --output DIR        write output into DIR (overrides output.directory)\n"
+          "  --set KEY=VALUE     override a deck value before it is read, e.g.\n"
+          "                      --set discretization.horizon=1e-3 (repeatable; KEY is a dotted\n"
+          "                      path, list items by 0-based index; VALUE is YAML)\n"
+          "  --set-list KEY=V1,V2,...  sweep values of one key (commas inside [ ] or { } do not split)\n"
+          "  --quantity NAME     what a sweep tabulates (repeatable): max_von_mises,\n"
+          "                      max_displacement, strain_energy, nodes, iterations,\n"
+          "                      reaction_REGION_x (total reaction on a region, also _y, _z),\n"
+          "                      FIELD@X,Y[,Z] (at the nearest node), mean:FIELD@x=X (mean over\n"
+          "                      the grid column nearest to x = X), max:FIELD@x=X (its largest\n"
+          "                      value); FIELD is von_mises,\n"
+          "                      stress_xx, stress_xy, ..., strain_xx, ..., displacement_x, ...\n"
           "\n"
           "exit status: 0 success, 1 failure during the run, 2 bad input\n"
-          "deck reference: docs/deck.md\n");
+          "deck reference: docs/deck.md; solvers and sweeps: docs/solvers.md\n");
+}
+
+static double now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* Runs the solver of a built simulation without output. */
+static int solve_quietly(peri_sim *s) {
+  peri_apply_initial_conditions(s);
+  peri_apply_loads(s, s->time);
+  s->model->force(s);
+  if (s->solver == PERI_SOLVER_EXPLICIT) return peri_solve_explicit(s, NULL, NULL);
+  return peri_solve_quasi_static(s, NULL, NULL);
+}
+
+typedef struct sweep_list {
+  char key[512];
+  int count;
+  char **values;
+} sweep_list;
+
+static int split_list(const char *arg, sweep_list *l) {
+  const char *eq = strchr(arg, '=');
+  if (!eq || eq == arg || !eq[1] || (size_t)(eq - arg) >= sizeof l->key) {
+    peri_error("option --set-list: expected KEY=V1,V2,..., got '%s'", arg);
+    return PERI_ERR_INPUT;
+  }
+  memcpy(l->key, arg, (size_t)(eq - arg));
+  l->key[eq - arg] = '\0';
+  l->count = 0;
+  l->values = NULL;
+  const char *p = eq + 1;
+  for (;;) {
+    const char *comma = NULL; /* the next comma outside brackets: values may be lists */
+    for (int depth = 0, i = 0; p[i]; ++i) {
+      if (p[i] == '[' || p[i] == '{') ++depth;
+      else if (p[i] == ']' || p[i] == '}') --depth;
+      else if (p[i] == ',' && depth == 0) {
+        comma = p + i;
+        break;
+      }
+    }
+    size_t len = comma ? (size_t)(comma - p) : strlen(p);
+    if (len == 0) {
+      peri_error("option --set-list %s: empty value in '%s'", l->key, eq + 1);
+      return PERI_ERR_INPUT;
+    }
+    l->values = realloc(l->values, sizeof(char *) * (size_t)(l->count + 1));
+    l->values[l->count] = malloc(len + 1);
+    memcpy(l->values[l->count], p, len);
+    l->values[l->count][len] = '\0';
+    l->count++;
+    if (!comma) break;
+    p = comma + 1;
+  }
+  return PERI_OK;
+}
+
+static int sweep(const char *deck, int n_sets, const char **sets, int n_lists, sweep_list *lists, int n_q,
+                 const char **quantities) {
+  if (n_lists == 0 || n_q == 0) {
+    peri_error("sweep: give at least one --set-list and one --quantity (see peri --help)");
+    return PERI_ERR_INPUT;
+  }
+  for (int l = 1; l < n_lists; ++l)
+    if (lists[l].count != lists[0].count) {
+      peri_error("sweep: the --set-list options must have the same number of values (%s has %d, %s has %d)",
+                 lists[0].key, lists[0].count, lists[l].key, lists[l].count);
+      return PERI_ERR_INPUT;
+    }
+  for (int q = 0; q < n_q; ++q) {
+    char why[512];
+    if (peri_probe_check(quantities[q], why, sizeof why) != PERI_OK) {
+      peri_error("option --quantity: %s", why);
+      return PERI_ERR_INPUT;
+    }
+  }
+  /* check every case before running any */
+  const int n_all = n_sets + n_lists;
+  const char **all = malloc(sizeof(char *) * (size_t)(n_all > 0 ? n_all : 1));
+  char **owned = calloc((size_t)n_lists, sizeof(char *));
+  for (int k = 0; k < n_sets; ++k) all[k] = sets[k];
+  int rc = PERI_OK;
+  for (int pass = 0; pass < 2 && rc == PERI_OK; ++pass) {
+    if (pass == 1) {
+      printf("|");
+      for (int l = 0; l < n_lists; ++l) printf(" %s |", lists[l].key);
+      for (int q = 0; q < n_q; ++q) printf(" %s |", quantities[q]);
+      printf(" seconds |\n|");
+      for (int c = 0; c < n_lists + n_q + 1; ++c) printf("---|");
+      printf("\n");
+      fflush(stdout);
+    }
+    for (int v = 0; v < lists[0].count && rc == PERI_OK; ++v) {
+      for (int l = 0; l < n_lists; ++l) {
+        size_t size = strlen(lists[l].key) + strlen(lists[l].values[v]) + 2;
+        free(owned[l]);
+        owned[l] = malloc(size);
+        snprintf(owned[l], size, "%s=%s", lists[l].key, lists[l].values[v]);
+        all[n_sets + l] = owned[l];
+      }
+      peri_sim s;
+      double t0 = now();
+      rc = peri_sim_from_deck_with(&s, deck, n_all, all);
+      if (rc == PERI_OK && pass == 1) {
+        s.quiet = true;
+        rc = solve_quietly(&s);
+        double t1 = now();
+        printf("|");
+        for (int l = 0; l < n_lists; ++l) printf(" %s |", lists[l].values[v]);
+        for (int q = 0; q < n_q && rc == PERI_OK; ++q) {
+          double value = 0.0;
+          rc = peri_probe(&s, quantities[q], &value);
+          printf(" %.6g |", value);
+        }
+        printf(" %.2f |\n", t1 - t0);
+        fflush(stdout);
+      }
+      peri_sim_free(&s);
+    }
+  }
+  for (int l = 0; l < n_lists; ++l) free(owned[l]);
+  free(owned);
+  free(all);
+  return rc;
 }
 
 int main(int argc, char **argv) {
@@ -40,71 +186,96 @@ int main(int argc, char **argv) {
     return 0;
   }
   const char *command = argv[1];
-  if (strcmp(command, "run") && strcmp(command, "check")) {
-    peri_error("unknown command '%s' (commands: run, check; see peri --help)", command);
+  if (strcmp(command, "run") && strcmp(command, "check") && strcmp(command, "sweep")) {
+    peri_error("unknown command '%s' (commands: run, check, sweep; see peri --help)", command);
     return PERI_ERR_INPUT;
   }
+  const bool is_sweep = !strcmp(command, "sweep");
   const char *deck = NULL, *output = NULL;
   bool quiet = false;
   long threads = 0;
-  for (int k = 2; k < argc; ++k) {
+  const char **sets = calloc((size_t)argc, sizeof(char *));
+  const char **quantities = calloc((size_t)argc, sizeof(char *));
+  sweep_list *lists = calloc((size_t)argc, sizeof(sweep_list));
+  int n_sets = 0, n_q = 0, n_lists = 0, rc = PERI_OK;
+  for (int k = 2; k < argc && rc == PERI_OK; ++k) {
     const char *a = argv[k];
     if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
       usage(stdout);
       return 0;
     }
     if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) quiet = true;
-    else if (!strcmp(a, "--threads") || !strcmp(a, "--output")) {
+    else if (!strcmp(a, "--threads") || !strcmp(a, "--output") || !strcmp(a, "--set") ||
+             !strcmp(a, "--set-list") || !strcmp(a, "--quantity")) {
       if (k + 1 >= argc) {
         peri_error("option %s needs a value", a);
-        return PERI_ERR_INPUT;
+        rc = PERI_ERR_INPUT;
+        break;
       }
       const char *value = argv[++k];
-      if (!strcmp(a, "--output")) {
+      if ((!strcmp(a, "--set-list") || !strcmp(a, "--quantity")) && !is_sweep) {
+        peri_error("option %s: only for peri sweep", a);
+        rc = PERI_ERR_INPUT;
+      } else if (!strcmp(a, "--set")) {
+        sets[n_sets++] = value;
+      } else if (!strcmp(a, "--set-list")) {
+        rc = split_list(value, &lists[n_lists]);
+        if (rc == PERI_OK) n_lists++;
+      } else if (!strcmp(a, "--quantity")) {
+        quantities[n_q++] = value;
+      } else if (!strcmp(a, "--output")) {
         if (!*value) {
           peri_error("option --output: expected a directory, got an empty path");
-          return PERI_ERR_INPUT;
+          rc = PERI_ERR_INPUT;
         }
         output = value;
-      }
-      else {
+      } else {
         char *end = NULL;
         threads = strtol(value, &end, 10);
         if (*end || threads < 1 || threads > 4096) {
           peri_error("option --threads: expected an integer from 1 to 4096, got '%s'", value);
-          return PERI_ERR_INPUT;
+          rc = PERI_ERR_INPUT;
         }
       }
     } else if (a[0] == '-') {
       peri_error("unknown option '%s' (see peri --help)", a);
-      return PERI_ERR_INPUT;
+      rc = PERI_ERR_INPUT;
     } else if (!deck) deck = a;
     else {
       peri_error("unexpected argument '%s' (one deck per run)", a);
-      return PERI_ERR_INPUT;
+      rc = PERI_ERR_INPUT;
     }
   }
-  if (!deck) {
+  if (rc == PERI_OK && !deck) {
     peri_error("%s: no deck given (usage: peri %s DECK)", command, command);
-    return PERI_ERR_INPUT;
+    rc = PERI_ERR_INPUT;
   }
-  if (threads > 0) omp_set_num_threads((int)threads);
-  peri_sim sim;
-  int rc = peri_sim_from_deck(&sim, deck);
-  if (rc != PERI_OK) {
+  if (rc == PERI_OK && threads > 0) omp_set_num_threads((int)threads);
+  if (rc == PERI_OK && is_sweep) {
+    rc = sweep(deck, n_sets, sets, n_lists, lists, n_q, quantities);
+  } else if (rc == PERI_OK) {
+    peri_sim sim;
+    rc = peri_sim_from_deck_with(&sim, deck, n_sets, sets);
+    if (rc == PERI_OK) {
+      sim.quiet = quiet;
+      if (output) {
+        free(sim.out.directory);
+        sim.out.directory = strdup(output);
+      }
+      if (!quiet || !strcmp(command, "check")) peri_print_summary(&sim, stdout);
+      if (!strcmp(command, "run")) {
+        fflush(stdout);
+        rc = peri_run(&sim);
+      }
+    }
     peri_sim_free(&sim);
-    return rc;
   }
-  sim.quiet = quiet;
-  if (output) {
-    free(sim.out.directory);
-    sim.out.directory = strdup(output);
+  for (int l = 0; l < n_lists; ++l) {
+    for (int v = 0; v < lists[l].count; ++v) free(lists[l].values[v]);
+    free(lists[l].values);
   }
-  if (!quiet || !strcmp(command, "check")) peri_print_summary(&sim, stdout);
-  if (!strcmp(command, "run")) {
-    fflush(stdout);
-    rc = peri_run(&sim);
-  }
-  peri_sim_free(&sim);
+  free(lists);
+  free(sets);
+  free(quantities);
   return rc;
 }

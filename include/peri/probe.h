@@ -2,6 +2,8 @@
  *   max_von_mises, max_displacement, strain_energy, nodes, iterations
  *   FIELD@X,Y[,Z]      value at the node nearest to the point
  *   mean:FIELD@x=X     mean over the nodes of the grid column nearest to x = X (also y=, z=)
+ *   max:FIELD@x=X      largest value on that column
+ *   reaction_REGION_x  total reaction force on a region (also _y, _z)
  * with FIELD one of von_mises, stress_IJ, strain_IJ (I, J in x, y, z), displacement_I. */
 #ifndef PERI_PROBE_H
 #define PERI_PROBE_H

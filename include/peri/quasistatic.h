@@ -39,6 +39,11 @@ peri_qs_status peri_solve_equilibrium(peri_sim *s);
  * message when a solve does not converge (the state reached is kept). */
 int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx);
 
+/* output.plot: {x: COLUMN, y: COLUMN} of history.csv (src/solver/history_plot.c). */
+int peri_plot_parse(peri_sim *s, const peri_node *output);
+/* Whether history.csv has a column of that name (regions, indenter and solver known). */
+bool peri_history_has_column(const peri_sim *s, const char *name);
+
 /* Summary line(s) for the solver settings. */
 void peri_print_quasi_static_summary(const peri_sim *s, FILE *out);
 

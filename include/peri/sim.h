@@ -62,6 +62,8 @@ typedef struct peri_quasi_static {
   /* statistics of the run */
   long iterations, solves, force_evaluations, cutbacks;
   double residual;              /* last relative residual */
+  double reference, last_reference; /* reference force norm: largest at a converged state, and
+                                   the current one (after a break-through the load may vanish) */
 } peri_quasi_static;
 
 typedef struct peri_output {
@@ -75,6 +77,7 @@ typedef struct peri_output {
   bool picture;                 /* PNG at the end (2D) */
   char *picture_field;
   int picture_width;
+  char *plot_x, *plot_y;         /* history columns of the end-of-run line plot (NULL: none) */
 } peri_output;
 
 typedef struct peri_sim {

@@ -143,7 +143,10 @@ static int apply_one(peri_node *root, const char *arg, int ordinal, peri_node **
   }
   peri_node *doc = peri_deck_parse_string(text, "--set");
   free(text);
-  if (!doc) return PERI_ERR_INPUT; /* the parser said why (positions in the generated text) */
+  if (!doc) { /* the parser said why, with positions in the generated text */
+    peri_error("in --set number %d: '%s' (the value must be YAML, e.g. 1e-3, [0, 1], {x: 0})", ordinal, arg);
+    return PERI_ERR_INPUT;
+  }
   *keep = doc;
   peri_node *new_key = doc->keys[0], *new_value = doc->items[0];
   place_chain(new_key, new_value, first, n - 1, &ps);

@@ -622,7 +622,7 @@ static int parse_output(parse_ctx *c) {
   peri_output *o = &s->out;
   const peri_node *it = peri_deck_get(c->root, "output");
   static const char *const keys[] = {"directory", "every", "frames", "fields", "compress",
-                                     "history_every", "picture", NULL};
+                                     "history_every", "picture", "plot", NULL};
   /* defaults */
   const char *base = strrchr(s->deck_path, '/');
   base = base ? base + 1 : s->deck_path;
@@ -673,6 +673,7 @@ static int parse_output(parse_ctx *c) {
         o->fields[o->n_fields++] = peri_strdup(f->scalar);
       }
     }
+    TRY(peri_plot_parse(s, it)); /* output.plot (src/solver/history_plot.c) */
     const peri_node *pic = peri_deck_get(it, "picture");
     if (pic && pic->kind == PERI_NODE_MAPPING) {
       static const char *const pkeys[] = {"field", "width", NULL};
@@ -832,6 +833,8 @@ void peri_sim_free(peri_sim *s) {
   free(s->out.directory);
   free(s->out.basename);
   free(s->out.picture_field);
+  free(s->out.plot_x);
+  free(s->out.plot_y);
   free(s->deck_path);
   memset(s, 0, sizeof *s);
 }

@@ -32,7 +32,7 @@ peri_qs_status peri_solve_adr(peri_sim *s) {
     double c = 0.0;
     if (it > 0) {
       /* c^n = 2 sqrt(u^T 1K u / u^T u), 1K_ii = -(F^n_i - F^(n-1)_i) / (Lambda_ii U'^(n-1/2)_i) */
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 8192)
       for (int32_t i = 0; i < n; ++i)
         for (int d = 0; d < 3; ++d) {
           const size_t k = 3 * (size_t)i + d;
@@ -47,7 +47,7 @@ peri_qs_status peri_solve_adr(peri_sim *s) {
       const double num = peri_qs_dot(uf, ku, n3), den = peri_qs_dot(uf, uf, n3);
       if (num > 0.0 && den > 0.0) c = fmin(2.0 * sqrt(num / den), 1.9);
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 8192)
     for (int32_t i = 0; i < n; ++i)
       for (int d = 0; d < 3; ++d) {
         const size_t k = 3 * (size_t)i + d;

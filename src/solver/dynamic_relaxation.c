@@ -15,7 +15,7 @@
 static void bond_damping_force(const peri_sim *s, double gamma, const double *vel, double *out) {
   const peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if (p->n_owned > 8192)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double fi[3] = {0.0, 0.0, 0.0};
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
@@ -57,7 +57,7 @@ peri_qs_status peri_solve_dynamic_relaxation(peri_sim *s) {
   long it = 0;
   const int dim = s->geom.dim;
   for (; status == PERI_QS_NOT_CONVERGED && it < q->max_iterations; ++it) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 8192)
     for (int32_t i = 0; i < n; ++i)
       for (int d = 0; d < dim; ++d) {
         const size_t k = 3 * (size_t)i + d;
@@ -68,7 +68,7 @@ peri_qs_status peri_solve_dynamic_relaxation(peri_sim *s) {
     peri_qs_forces(s);
     res = peri_qs_residual(s, r);
     if (fd) bond_damping_force(s, gb, vel, fd);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 8192)
     for (int32_t i = 0; i < n; ++i)
       for (int d = 0; d < dim; ++d) {
         const size_t k = 3 * (size_t)i + d;

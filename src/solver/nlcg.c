@@ -25,7 +25,7 @@ static double evaluate(cg_work *w) {
   peri_qs_forces(w->s);
   double res = peri_qs_residual(w->s, w->r);
   const peri_particles *p = &w->s->p;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (p->n_owned > 8192)
   for (int32_t i = 0; i < p->n_owned; ++i)
     for (int d = 0; d < 3; ++d) w->vr[3 * (size_t)i + d] = p->volume[i] * w->r[3 * (size_t)i + d];
   return res;
@@ -46,7 +46,7 @@ static double potential(cg_work *w) {
 }
 
 static void axpy(double *y, double a, const double *x, size_t n) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 24576)
   for (size_t k = 0; k < n; ++k) y[k] += a * x[k];
 }
 
@@ -163,7 +163,7 @@ peri_qs_status peri_solve_nlcg(peri_sim *s) {
     double *swap = z_old;
     z_old = z;
     z = swap;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n3 > 24576)
     for (size_t k = 0; k < n3; ++k) z[k] = pre[k] * w.vr[k];
     const double delta_old = delta_new;
     const double delta_mid = peri_qs_dot(w.vr, z_old, n3);
@@ -174,7 +174,7 @@ peri_qs_status peri_solve_nlcg(peri_sim *s) {
       memcpy(d, z, sizeof(double) * n3);
       k_restart = 0;
     } else {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n3 > 24576)
       for (size_t k = 0; k < n3; ++k) d[k] = z[k] + beta * d[k];
     }
   }

@@ -9,12 +9,14 @@
 #include "peri/stress.h"
 
 typedef struct probe {
-  enum { P_MAX_VM, P_MAX_U, P_ENERGY, P_NODES, P_ITERATIONS, P_POINT, P_MEAN } kind;
+  enum { P_MAX_VM, P_MAX_U, P_ENERGY, P_NODES, P_ITERATIONS, P_POINT, P_MEAN, P_REACTION } kind;
+  char region[256];
   enum { F_VM, F_STRESS, F_STRAIN, F_U } field;
   int a, b;          /* components */
   double point[3];
   int n_coords;
-  int axis;          /* mean: the fixed coordinate */
+  int axis;          /* mean/max: the fixed coordinate */
+  bool column_max;   /* max:FIELD@x=X instead of the mean */
 } probe;
 
 static int axis_of(char c) { return c == 'x' ? 0 : c == 'y' ? 1 : c == 'z' ? 2 : -1; }
@@ -41,21 +43,31 @@ static int parse(const char *name, probe *p, char *why, size_t n) {
   static const char *const simple[] = {"max_von_mises", "max_displacement", "strain_energy", "nodes", "iterations"};
   for (int k = 0; k < 5; ++k)
     if (!strcmp(name, simple[k])) return p->kind = k, PERI_OK;
-  bool mean = !strncmp(name, "mean:", 5);
-  const char *f = mean ? name + 5 : name;
+  size_t len = strlen(name);
+  if (!strncmp(name, "reaction_", 9) && len > 11 && name[len - 2] == '_' && axis_of(name[len - 1]) >= 0 &&
+      len - 11 < sizeof p->region) {
+    p->kind = P_REACTION;
+    memcpy(p->region, name + 9, len - 11);
+    p->region[len - 11] = '\0';
+    p->a = axis_of(name[len - 1]);
+    return PERI_OK;
+  }
+  bool mean = !strncmp(name, "mean:", 5), max = !strncmp(name, "max:", 4);
+  p->column_max = max;
+  const char *f = mean ? name + 5 : max ? name + 4 : name;
   const char *at = strchr(f, '@');
   if (!at || parse_field(f, (size_t)(at - f), p) != 0) {
     snprintf(why, n, "unknown quantity '%s' (max_von_mises, max_displacement, strain_energy, nodes, "
-                     "iterations, FIELD@X,Y[,Z], mean:FIELD@x=X; FIELD: von_mises, stress_xx, strain_xy, "
+                     "iterations, reaction_REGION_x, FIELD@X,Y[,Z], mean:FIELD@x=X, max:FIELD@x=X; FIELD: von_mises, stress_xx, strain_xy, "
                      "displacement_x, ...)", name);
     return PERI_ERR_INPUT;
   }
-  if (mean) {
+  if (mean || max) {
     p->kind = P_MEAN;
     p->axis = axis_of(at[1]);
     char *end = NULL;
     if (p->axis < 0 || at[2] != '=' || (p->point[0] = strtod(at + 3, &end), end == at + 3 || *end)) {
-      snprintf(why, n, "quantity '%s': expected mean:FIELD@x=VALUE (or y=, z=)", name);
+      snprintf(why, n, "quantity '%s': expected mean:FIELD@x=VALUE or max:FIELD@x=VALUE (or y=, z=)", name);
       return PERI_ERR_INPUT;
     }
     return PERI_OK;
@@ -104,6 +116,16 @@ int peri_probe(peri_sim *s, const char *name, double *value) {
   const peri_particles *pt = &s->p;
   const int32_t n = pt->n_owned;
   if (p.kind == P_NODES) return *value = n, PERI_OK;
+  if (p.kind == P_REACTION) {
+    for (int r = 0; r < s->n_regions; ++r)
+      if (!strcmp(s->regions[r].name, p.region)) {
+        double out[3];
+        peri_region_reaction(s, r, out);
+        return *value = out[p.a], PERI_OK;
+      }
+    peri_error("quantity 'reaction_%s_%c': the deck has no region '%s'", p.region, "xyz"[p.a], p.region);
+    return PERI_ERR_RUN;
+  }
   if (p.kind == P_ITERATIONS) return *value = (double)s->qs.iterations, PERI_OK;
   if (p.kind == P_ENERGY) return *value = peri_strain_energy(s), PERI_OK;
   if (p.kind == P_MAX_U) {
@@ -139,14 +161,16 @@ int peri_probe(peri_sim *s, const char *name, double *value) {
       for (int32_t i = 0; i < n; ++i) nearest = fmin(nearest, fabs(pt->x[3 * i + p.axis] - p.point[0]));
       for (int32_t i = 0; i < n; ++i) /* the lower of two equidistant columns */
         if (fabs(pt->x[3 * i + p.axis] - p.point[0]) <= nearest + tol) column = fmin(column, pt->x[3 * i + p.axis]);
-      double sum = 0.0;
+      double sum = 0.0, largest = -INFINITY;
       long count = 0;
       for (int32_t i = 0; i < n; ++i)
         if (fabs(pt->x[3 * i + p.axis] - column) <= tol) {
-          sum += field_value(s, &p, sigma, eps, i);
+          const double v = field_value(s, &p, sigma, eps, i);
+          sum += v;
+          largest = fmax(largest, v);
           ++count;
         }
-      *value = count ? sum / count : NAN;
+      *value = count ? (p.column_max ? largest : sum / count) : NAN;
     }
   }
   free(sigma);

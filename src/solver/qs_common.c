@@ -14,7 +14,7 @@ double peri_qs_dot(const double *a, const double *b, size_t n) {
   if (nb == 0) return 0.0;
   double stack[64];
   double *part = nb <= 64 ? stack : peri_malloc(sizeof(double) * nb);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nb > 4)
   for (size_t k = 0; k < nb; ++k) {
     size_t lo = k * BLOCK, hi = lo + BLOCK < n ? lo + BLOCK : n;
     double sum = 0.0;
@@ -31,7 +31,7 @@ void peri_qs_density(const peri_sim *s, double fs, double *lambda) {
   const peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
   const bool bond_based = s->model->fixed_poisson;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (p->n_owned > 8192)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const peri_material *mi = &s->materials[p->material[i]];
     double stiffness = 0.0;
@@ -78,7 +78,7 @@ double peri_qs_residual(const peri_sim *s, double *r) {
   const int32_t n = p->n_owned;
   /* per-node squares, summed in node order blocks */
   double *sq = peri_malloc(sizeof(double) * 2 * (size_t)n);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 8192)
   for (int32_t i = 0; i < n; ++i) {
     double res = 0.0, ref = 0.0;
     const double V = p->volume[i];
@@ -108,8 +108,11 @@ double peri_qs_residual(const peri_sim *s, double *r) {
     res += a, ref += b2;
   }
   free(sq);
-  if (!(ref > 0.0)) return res > 0.0 ? INFINITY : 0.0;
-  return sqrt(res / ref);
+  peri_quasi_static *q = (peri_quasi_static *)&s->qs; /* the running reference is bookkeeping */
+  q->last_reference = sqrt(ref);
+  const double scale = fmax(sqrt(ref), q->reference);
+  if (!(scale > 0.0)) return res > 0.0 ? 1.0 : 0.0;
+  return sqrt(res) / scale;
 }
 
 peri_qs_status peri_solve_equilibrium(peri_sim *s) {

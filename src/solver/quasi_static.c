@@ -41,6 +41,9 @@ static long break_bonds(peri_sim *s) {
   return nb;
 }
 
+/* After a converged solve: the reference force norm of later solves is at least this one. */
+static void converged(peri_sim *s) { s->qs.reference = fmax(s->qs.reference, s->qs.last_reference); }
+
 static int not_converged(peri_sim *s, peri_qs_status st, double t) {
   if (st == PERI_QS_DIVERGED)
     peri_error("%s: the solution diverged at load step %ld (t = %g): the residual is not finite",
@@ -78,6 +81,7 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
         rc = not_converged(s, st, t);
         break;
       }
+      converged(s);
       long broken = 0, rounds = 0;
       bool retry = false;
       for (;;) {
@@ -105,6 +109,7 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
           rc = not_converged(s, st, t);
           break;
         }
+        converged(s);
       }
       if (retry) continue;
       t_done = t;

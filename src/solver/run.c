@@ -14,6 +14,7 @@
 #include "peri/solver.h"
 #include "peri/quasistatic.h"
 #include "peri/stress.h"
+#include "peri/plot.h"
 #include "peri/thermal.h"
 
 static double now(void) {
@@ -71,7 +72,19 @@ typedef struct run_ctx {
   double t_start, t_last_progress;
   bool progress;
   int failed;
+  int plot_x, plot_y;           /* history columns of output.plot, -1: none */
+  size_t plot_n, plot_cap;
+  double *plot_xs, *plot_ys;
 } run_ctx;
+
+/* Mean displacement of a region's nodes (quasi-static history: the imposed displacement). */
+static void region_displacement(const peri_sim *s, int region, double out[3]) {
+  const peri_region *r = &s->regions[region];
+  out[0] = out[1] = out[2] = 0.0;
+  for (int32_t a = 0; a < r->count; ++a)
+    for (int d = 0; d < 3; ++d) out[d] += s->p.u[3 * (size_t)r->nodes[a] + d];
+  for (int d = 0; d < 3 && r->count > 0; ++d) out[d] /= r->count;
+}
 
 static int write_history(peri_sim *s, run_ctx *c) {
   int k = 0;
@@ -94,13 +107,29 @@ static int write_history(peri_sim *s, run_ctx *c) {
     peri_region_reaction(s, r, reaction);
     for (int d = 0; d < s->geom.dim; ++d) c->row[k++] = reaction[d];
   }
+  if (s->solver != PERI_SOLVER_EXPLICIT) /* quasi-static: the imposed displacements */
+    for (int r = 1; r < s->n_regions; ++r) {
+      double disp[3];
+      region_displacement(s, r, disp);
+      for (int d = 0; d < s->geom.dim; ++d) c->row[k++] = disp[d];
+    }
   peri_thermal_history_values(s, c->row + k); /* total heat, temperature range (docs/heat.md) */
+  if (c->plot_x >= 0) { /* the series of output.plot */
+    if (c->plot_n == c->plot_cap) {
+      c->plot_cap = c->plot_cap ? 2 * c->plot_cap : 256;
+      c->plot_xs = peri_realloc(c->plot_xs, sizeof(double) * c->plot_cap);
+      c->plot_ys = peri_realloc(c->plot_ys, sizeof(double) * c->plot_cap);
+    }
+    c->plot_xs[c->plot_n] = c->row[c->plot_x];
+    c->plot_ys[c->plot_n++] = c->row[c->plot_y];
+  }
   return peri_history_write(c->history, c->row);
 }
 
 static int open_history(peri_sim *s, run_ctx *c) {
   static const char axis[] = "xyz";
-  int n = 7 + s->geom.dim + (s->indenter.on ? s->geom.dim : 0) + (s->n_regions - 1) * s->geom.dim;
+  const bool qs = s->solver != PERI_SOLVER_EXPLICIT;
+  int n = 7 + s->geom.dim + (s->indenter.on ? s->geom.dim : 0) + (qs ? 2 : 1) * (s->n_regions - 1) * s->geom.dim;
   n += peri_thermal_history_count(s);
   char **names = peri_calloc(n, sizeof(char *));
   const char *fixed[] = {"time", "step", "kinetic_energy", "strain_energy", "external_work",
@@ -122,7 +151,18 @@ static int open_history(peri_sim *s, run_ctx *c) {
       snprintf(buf, sizeof buf, "reaction_%s_%c", s->regions[r].name, axis[d]);
       names[k++] = peri_strdup(buf);
     }
+  for (int r = 1; qs && r < s->n_regions; ++r) /* quasi-static: the imposed displacements */
+    for (int d = 0; d < s->geom.dim; ++d) {
+      snprintf(buf, sizeof buf, "displacement_%s_%c", s->regions[r].name, axis[d]);
+      names[k++] = peri_strdup(buf);
+    }
   peri_thermal_history_names(s, names + k);
+  c->plot_x = c->plot_y = -1;
+  for (int j = 0; j < n && s->out.plot_x; ++j) {
+    if (!strcmp(names[j], s->out.plot_x)) c->plot_x = j;
+    if (!strcmp(names[j], s->out.plot_y)) c->plot_y = j;
+  }
+  if (c->plot_y < 0) c->plot_x = -1;
   char path[4200];
   snprintf(path, sizeof path, "%s/history.csv", s->out.directory);
   c->history = peri_history_open(path, n, (const char *const *)names);
@@ -178,7 +218,15 @@ int peri_run(peri_sim *s) {
   if (c.failed) rc = PERI_ERR_RUN;
   double wall = now() - c.t_start;
   if (c.progress) fprintf(stderr, "\r%80s\r", "");
-  char picture[4300] = "";
+  char picture[4300] = "", plot[4400] = "";
+  if (c.plot_x >= 0 && c.plot_n > 0) { /* drawn even when the run failed: the curve so far */
+    snprintf(plot, sizeof plot, "%s/%s_vs_%s.png", s->out.directory, s->out.plot_y, s->out.plot_x);
+    if (peri_plot_write(plot, c.plot_xs, c.plot_ys, c.plot_n, s->out.plot_x, s->out.plot_y, s->out.basename, 1200,
+                        800) != PERI_OK) {
+      rc = PERI_ERR_RUN;
+      plot[0] = 0;
+    }
+  }
   if (rc == PERI_OK && s->out.picture && s->geom.dim == 2) {
     if (peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) rc = PERI_ERR_RUN, picture[0] = 0;
   }
@@ -193,11 +241,13 @@ int peri_run(peri_sim *s) {
              wall, wall > 0 ? s->step / wall : 0.0, wall > 0 ? updates / wall : 0.0, omp_get_max_threads());
     printf("  broken bonds %ld of %lld\n", peri_broken_count(&s->bonds), (long long)s->bonds.n_bonds);
     peri_print_stress_summary(s, stdout);
-    printf("  output       %s/%s.pvd (%s), %s/history.csv%s%s\n", s->out.directory, s->out.basename,
-           "VTU series", s->out.directory, picture[0] ? ", " : "", picture);
+    printf("  output       %s/%s.pvd (%s), %s/history.csv%s%s%s%s\n", s->out.directory, s->out.basename,
+           "VTU series", s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot);
   }
   peri_history_close(c.history);
   peri_frames_close(c.frames);
   free(c.row);
+  free(c.plot_xs);
+  free(c.plot_ys);
   return rc;
 }

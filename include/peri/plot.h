@@ -1,0 +1,13 @@
+/* Line plots (x-y curves) as PNG, drawn with cairo: used for the force-displacement curve
+ * of quasi-static fracture runs (output.plot). */
+#ifndef PERI_PLOT_H
+#define PERI_PLOT_H
+#include <stddef.h>
+
+/* Draws y(x) as a polyline with markers on white, with axes, ticks at "nice" values, axis
+ * labels and a title, into a width x height PNG at path (written to path.tmp and renamed).
+ * Returns 0 or PERI_ERR_RUN with a message. */
+int peri_plot_write(const char *path, const double *x, const double *y, size_t n, const char *xlabel,
+                    const char *ylabel, const char *title, int width, int height);
+
+#endif
