@@ -2,6 +2,7 @@
  * in the table of src/model/model_table.c. Models never know which solver calls them. */
 #ifndef PERI_MODEL_H
 #define PERI_MODEL_H
+#include <stdint.h>
 
 typedef struct peri_sim peri_sim;
 
@@ -21,6 +22,10 @@ typedef struct peri_model_ops {
   long (*force)(peri_sim *s);
   /* Strain energy density W_i of every owned node into W (bonds as they are). */
   void (*energy)(peri_sim *s, double *W);
+  /* Scalar pair force density (t_ij + t_ji), N/m^6, of the intact bond k of node i whose
+   * deformed length is r, at the state of the last force() call (dilatation, thermal
+   * strain). The force on i is pair * beta V_j * (y_j - y_i)/r. Used by stress recovery. */
+  double (*pair_force)(const peri_sim *s, int32_t i, int64_t k, double r);
 } peri_model_ops;
 
 /* The model table. */

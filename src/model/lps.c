@@ -153,6 +153,19 @@ static void lps_energy(peri_sim *s, double *W) {
   }
 }
 
+static double lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
+  const peri_particles *p = &s->p;
+  const peri_bonds *b = &s->bonds;
+  const int32_t j = b->neighbor[k];
+  const double L = b->length[k], e = r - L;
+  const double eth_i = s->thermal_strain ? s->thermal_strain[i] : 0.0;
+  const double eth_j = s->thermal_strain ? s->thermal_strain[j] : 0.0;
+  return lps_half(&s->materials[p->material[i]], p->theta[i], p->pstate[i], p->wvol[i], b->omega[k], L,
+                  e - eth_i * L) +
+         lps_half(&s->materials[p->material[j]], p->theta[j], p->pstate[j], p->wvol[j], b->omega[k], L,
+                  e - eth_j * L);
+}
+
 const peri_model_ops peri_model_lps = {
     .name = "lps",
     .description = "ordinary state-based linear peridynamic solid (any Poisson ratio)",
@@ -160,4 +173,5 @@ const peri_model_ops peri_model_lps = {
     .init = lps_init,
     .force = lps_force,
     .energy = lps_energy,
+    .pair_force = lps_pair_force,
 };

@@ -77,6 +77,15 @@ static void pmb_energy(peri_sim *s, double *W) {
   }
 }
 
+static double pmb_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
+  const peri_particles *p = &s->p;
+  const peri_bonds *b = &s->bonds;
+  const int32_t j = b->neighbor[k];
+  const double stretch = (r - b->length[k]) / b->length[k] - peri_bond_thermal_stretch(s->thermal_strain, i, j);
+  const double c = 0.5 * (s->materials[p->material[i]].micromodulus + s->materials[p->material[j]].micromodulus);
+  return c * stretch * b->omega[k];
+}
+
 const peri_model_ops peri_model_pmb = {
     .name = "pmb",
     .description = "bond-based PMB (Poisson ratio fixed: 1/4 in 1D, 3D and plane strain, 1/3 in plane stress)",
@@ -84,4 +93,5 @@ const peri_model_ops peri_model_pmb = {
     .init = pmb_init,
     .force = pmb_force,
     .energy = pmb_energy,
+    .pair_force = pmb_pair_force,
 };

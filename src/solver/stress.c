@@ -6,19 +6,10 @@
 #include "peri/model.h"
 #include "peri/stress.h"
 
-/* Scalar force state t_ij of node i's half of an LPS bond (MODELS.md 3.3; as in lps.c). */
-static inline double lps_half(const peri_material *mat, double theta, double P, double m, double omega,
-                              double L, double e) {
-  const double alpha = mat->alpha_m / m;
-  return mat->n_theta * (mat->K_theta * theta - alpha * P / 3.0) * omega * L / m +
-         alpha * omega * (e - theta * L / 3.0);
-}
-
 int peri_stress(peri_sim *s, double *sigma) {
   peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
-  const bool lps = !strcmp(s->model->name, "lps"), pmb = !strcmp(s->model->name, "pmb");
-  if (!lps && !pmb) {
+  if (!s->model->pair_force) {
     peri_error("stress recovery is not available for the %s model", s->model->name);
     return PERI_ERR_RUN;
   }
@@ -27,11 +18,9 @@ int peri_stress(peri_sim *s, double *sigma) {
   s->breaking = false;
   s->model->force(s);
   s->breaking = breaking;
-  const peri_material *mats = s->materials;
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double sg[9] = {0};
-    const peri_material *mi = &mats[p->material[i]];
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       if (b->broken[k]) continue;
       const int32_t j = b->neighbor[k];
@@ -42,15 +31,8 @@ int peri_stress(peri_sim *s, double *sigma) {
         r2 += dy[d] * dy[d];
       }
       if (!(r2 > 0.0)) continue;
-      const double r = sqrt(r2), L = b->length[k];
-      double pair; /* t_ij + t_ji */
-      if (pmb) {
-        const double c = 0.5 * (mi->micromodulus + mats[p->material[j]].micromodulus);
-        pair = c * (r - L) / L * b->omega[k];
-      } else {
-        pair = lps_half(mi, p->theta[i], p->pstate[i], p->wvol[i], b->omega[k], L, r - L) +
-               lps_half(&mats[p->material[j]], p->theta[j], p->pstate[j], p->wvol[j], b->omega[k], L, r - L);
-      }
+      const double r = sqrt(r2);
+      const double pair = s->model->pair_force(s, i, k, r); /* t_ij + t_ji */
       const double scale = 0.5 * pair * b->beta[k] * p->volume[j] / r;
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c) sg[3 * a + c] += scale * dy[a] * xi[c];
