@@ -56,8 +56,10 @@ static int solve_quietly(peri_sim *s) {
   peri_apply_initial_conditions(s);
   peri_apply_loads(s, s->time);
   s->model->force(s);
+  if (peri_is_quasi_static(s)) return peri_solve_quasi_static(s, NULL, NULL);
   if (s->solver == PERI_SOLVER_EXPLICIT) return peri_solve_explicit(s, NULL, NULL);
-  return peri_solve_quasi_static(s, NULL, NULL);
+  peri_error("sweep: solver type heat is not supported (use explicit or a quasi-static solver)");
+  return PERI_ERR_INPUT;
 }
 
 typedef struct sweep_list {

@@ -8,6 +8,11 @@
 #include "peri/sim.h"
 #include "peri/solver.h"
 
+/* Whether the solver is one of the quasi-static ones (adr, dynamic_relaxation, nlcg). */
+static inline bool peri_is_quasi_static(const peri_sim *s) {
+  return s->solver == PERI_SOLVER_ADR || s->solver == PERI_SOLVER_DYNAMIC_RELAXATION || s->solver == PERI_SOLVER_NLCG;
+}
+
 /* The solver keys that only quasi-static solvers take (for the deck's key list). */
 #define PERI_QUASI_STATIC_KEYS                                                                   \
   "load_steps", "tolerance", "max_iterations", "stiffness_factor", "bond_damping",               \

@@ -21,7 +21,7 @@ bool peri_history_has_column(const peri_sim *s, const char *name) {
       snprintf(buf, sizeof buf, "reaction_%s_%c", s->regions[r].name, "xyz"[d]);
       if (!strcmp(name, buf)) return true;
       snprintf(buf, sizeof buf, "displacement_%s_%c", s->regions[r].name, "xyz"[d]);
-      if (s->solver != PERI_SOLVER_EXPLICIT && !strcmp(name, buf)) return true;
+      if (peri_is_quasi_static(s) && !strcmp(name, buf)) return true;
     }
   }
   return false;
@@ -34,7 +34,7 @@ static int column(peri_sim *s, const peri_node *plot, const char *key, char **ou
   if (!peri_history_has_column(s, name))
     return peri_deck_error(peri_deck_get(plot, key), "key '%s': history.csv has no column '%s' (columns: time, "
                            "step, energies, broken_bond_fraction, reaction_REGION_x/y/z%s)", key, name,
-                           s->solver != PERI_SOLVER_EXPLICIT ? ", displacement_REGION_x/y/z" : "");
+                           peri_is_quasi_static(s) ? ", displacement_REGION_x/y/z" : "");
   *out = peri_strdup(name);
   return PERI_OK;
 }

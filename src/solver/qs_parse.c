@@ -28,7 +28,7 @@ static int positive_long(const peri_node *it, const char *key, long min, long *o
 int peri_quasi_static_parse(peri_sim *s, const peri_node *it) {
   peri_quasi_static *q = &s->qs;
   memset(q, 0, sizeof *q);
-  if (s->solver == PERI_SOLVER_EXPLICIT) {
+  if (!peri_is_quasi_static(s)) {
     for (int k = 0; qs_keys[k]; ++k)
       TRY(only_for(it, qs_keys[k], "adr, dynamic_relaxation or nlcg (quasi-static)"));
     return PERI_OK;

@@ -57,7 +57,7 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
             mat->density, mat->E, mat->nu, mat->K, mat->lammps_s0 ? mat->s00 : mat->critical_stretch,
             mat->lammps_s0 ? " (s00, compression-dependent)" : "");
   }
-  if (s->solver != PERI_SOLVER_EXPLICIT) peri_print_quasi_static_summary(s, out);
+  if (peri_is_quasi_static(s)) peri_print_quasi_static_summary(s, out);
   else
     fprintf(out, "  time step    %g s (stable estimate %g s), %ld steps to t = %g s\n", s->dt,
             peri_stable_dt(s), s->steps, s->dt * s->steps);
@@ -107,7 +107,7 @@ static int write_history(peri_sim *s, run_ctx *c) {
     peri_region_reaction(s, r, reaction);
     for (int d = 0; d < s->geom.dim; ++d) c->row[k++] = reaction[d];
   }
-  if (s->solver != PERI_SOLVER_EXPLICIT) /* quasi-static: the imposed displacements */
+  if (peri_is_quasi_static(s)) /* quasi-static: the imposed displacements */
     for (int r = 1; r < s->n_regions; ++r) {
       double disp[3];
       region_displacement(s, r, disp);
@@ -128,7 +128,7 @@ static int write_history(peri_sim *s, run_ctx *c) {
 
 static int open_history(peri_sim *s, run_ctx *c) {
   static const char axis[] = "xyz";
-  const bool qs = s->solver != PERI_SOLVER_EXPLICIT;
+  const bool qs = peri_is_quasi_static(s);
   int n = 7 + s->geom.dim + (s->indenter.on ? s->geom.dim : 0) + (qs ? 2 : 1) * (s->n_regions - 1) * s->geom.dim;
   n += peri_thermal_history_count(s);
   char **names = peri_calloc(n, sizeof(char *));
@@ -213,8 +213,7 @@ int peri_run(peri_sim *s) {
   if (rc == PERI_OK) rc = write_history(s, &c);
   c.t_start = c.t_last_progress = now();
   if (rc == PERI_OK)
-    rc = s->solver == PERI_SOLVER_EXPLICIT ? peri_solve_explicit(s, step_hook, &c)
-                                           : peri_solve_quasi_static(s, step_hook, &c);
+    rc = peri_is_quasi_static(s) ? peri_solve_quasi_static(s, step_hook, &c) : peri_solve_explicit(s, step_hook, &c);
   if (c.failed) rc = PERI_ERR_RUN;
   double wall = now() - c.t_start;
   if (c.progress) fprintf(stderr, "\r%80s\r", "");
@@ -232,7 +231,7 @@ int peri_run(peri_sim *s) {
   }
   if (!s->quiet) {
     double updates = (double)s->bonds.n_bonds * s->step;
-    if (s->solver != PERI_SOLVER_EXPLICIT)
+    if (peri_is_quasi_static(s))
       printf("  finished     %ld load steps in %.3f s: %ld solves, %ld iterations, %ld force evaluations, "
              "%ld cut-backs, residual %.3g (%d threads)\n", s->step, wall, s->qs.solves, s->qs.iterations,
              s->qs.force_evaluations, s->qs.cutbacks, s->qs.residual, omp_get_max_threads());
