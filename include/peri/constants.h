@@ -1,5 +1,5 @@
 /* Published constants: bond-based micromoduli, critical stretches, LPS constants.
- * Each function names the equation it implements (model reference = MODELS.md). */
+ * Each function names the equation it implements (model reference = docs/model_reference.md). */
 #ifndef PERI_CONSTANTS_H
 #define PERI_CONSTANTS_H
 #include "peri/material.h"
@@ -14,7 +14,7 @@ double peri_pmb_micromodulus(const peri_geometry *g, double E, double K);
 double peri_influence_calibration(peri_influence w, int dim, double delta);
 /* int_0^delta omega(r) r^power dr (Simpson's rule). */
 double peri_influence_moment(peri_influence w, int power, double delta);
-/* Analytic weighted volume m = int_H omega |xi|^2 dV of a full horizon (MODELS.md 4). */
+/* Analytic weighted volume m = int_H omega |xi|^2 dV of a full horizon (docs/model_reference.md 4). */
 double peri_weighted_volume_analytic(const peri_geometry *g, peri_influence w);
 /* Critical stretch from the fracture energy G0 (bond-based energy to break all bonds
  * across a unit crack): 3D sqrt(5G0/(9K d)); plane stress sqrt(4 pi G0/(9E d));

@@ -1,4 +1,4 @@
-/* Quasi-static solvers (docs/solvers.md; MODELS.md 12): adaptive dynamic relaxation,
+/* Quasi-static solvers (docs/solvers.md; docs/model_reference.md 12): adaptive dynamic relaxation,
  * damped dynamic relaxation and nonlinear conjugate gradients, driven through load steps
  * with sequentially linear fracture (break, re-solve at the same load, cut back). */
 #ifndef PERI_QUASISTATIC_H
@@ -37,7 +37,7 @@ peri_qs_status peri_solve_nlcg(peri_sim *s);
 /* The solver of s->solver. */
 peri_qs_status peri_solve_equilibrium(peri_sim *s);
 
-/* Load steps with fracture (MODELS.md 12.4): for n = 1..load_steps sets the loads at
+/* Load steps with fracture (docs/model_reference.md 12.4): for n = 1..load_steps sets the loads at
  * t_n, solves, breaks every bond beyond its critical stretch and re-solves until none
  * breaks; cuts the increment back when more than max_broken_per_step break. Calls hook
  * after every load step (history, frames). Returns PERI_OK, or PERI_ERR_RUN with a
@@ -56,7 +56,7 @@ void peri_print_quasi_static_summary(const peri_sim *s, FILE *out);
 /* Dot product summed in fixed blocks, independent of the thread count. */
 double peri_qs_dot(const double *a, const double *b, size_t n);
 /* ADR fictitious density per node, Lambda_i = f_s/4 sum_j beta V_j c_eq (omega) / |xi|
- * (MODELS.md 12.2), into lambda[n]. */
+ * (docs/model_reference.md 12.2), into lambda[n]. */
 void peri_qs_density(const peri_sim *s, double fs, double *lambda);
 /* Sets prescribed displacement components at pseudo-time t (velocity zero) and the loads. */
 void peri_qs_apply_loading(peri_sim *s, double t);

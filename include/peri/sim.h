@@ -42,9 +42,9 @@ typedef struct peri_precrack {
 
 typedef enum {
   PERI_SOLVER_EXPLICIT = 0,
-  PERI_SOLVER_ADR = 1,                /* adaptive dynamic relaxation (MODELS.md 12.2) */
-  PERI_SOLVER_DYNAMIC_RELAXATION = 2, /* damped velocity-Verlet (MODELS.md 12.1) */
-  PERI_SOLVER_NLCG = 3,               /* nonlinear conjugate gradients, PR+ (MODELS.md 12.3) */
+  PERI_SOLVER_ADR = 1,                /* adaptive dynamic relaxation (docs/model_reference.md 12.2) */
+  PERI_SOLVER_DYNAMIC_RELAXATION = 2, /* damped velocity-Verlet (docs/model_reference.md 12.1) */
+  PERI_SOLVER_NLCG = 3,               /* nonlinear conjugate gradients, PR+ (docs/model_reference.md 12.3) */
   PERI_SOLVER_HEAT = 10,              /* heat conduction only (docs/heat.md) */
 } peri_solver_kind;
 
@@ -54,7 +54,7 @@ typedef struct peri_quasi_static {
   double tolerance;             /* relative residual |V(f+b)| / |reference force| */
   long max_iterations;          /* per solve */
   double stiffness_factor;      /* ADR: f_s in the fictitious density */
-  double bond_damping;          /* dynamic_relaxation: pairwise damping gamma (000 eq. 2.43) */
+  double bond_damping;          /* dynamic_relaxation: pairwise damping gamma (Le 2014 eq. 2.43) */
   bool preconditioner;          /* nlcg: Jacobi with the ADR density */
   long max_broken_per_step;     /* cut the load step back when more bonds break (0: no limit) */
   int max_cutbacks;             /* halvings of one load step */

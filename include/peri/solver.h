@@ -3,7 +3,7 @@
 #define PERI_SOLVER_H
 #include "peri/sim.h"
 
-/* Stable time step estimate (MODELS.md 13.2) without the safety factor:
+/* Stable time step estimate (docs/model_reference.md 13.2) without the safety factor:
  * min( min_i sqrt(2 rho_i / sum_j beta V_j c_eq omega / |xi|), dx / c_p ). */
 double peri_stable_dt(const peri_sim *s);
 
@@ -26,7 +26,7 @@ void peri_region_reaction(const peri_sim *s, int region, double out[3]);
 /* Per-step callback for output; return nonzero to stop. */
 typedef int (*peri_step_hook)(peri_sim *s, void *ctx);
 
-/* Explicit dynamics with velocity-Verlet (MODELS.md 13.1). Calls hook after every step. */
+/* Explicit dynamics with velocity-Verlet (docs/model_reference.md 13.1). Calls hook after every step. */
 int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx);
 
 #endif

@@ -1,5 +1,5 @@
-/* Stress and strain recovery (MODELS.md 10): the symmetrised collapsed PD stress of seed
- * 000 eq. 3.1, sigma_i = 1/2 sum_j (t_ij + t_ji) M_ij (x) xi_ij chi beta V_j, the strain
+/* Stress and strain recovery (docs/model_reference.md 10): the symmetrised collapsed PD stress of paper
+ * Le 2014 eq. 3.1, sigma_i = 1/2 sum_j (t_ij + t_ji) M_ij (x) xi_ij chi beta V_j, the strain
  * from the nonlocal deformation gradient F = (sum w Y (x) xi)(sum w xi (x) xi)^-1, and the
  * scalar measures (von Mises in plane stress / plane strain / 3D, principal stresses). */
 #ifndef PERI_STRESS_H

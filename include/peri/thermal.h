@@ -1,11 +1,11 @@
-/* Peridynamic heat conduction (Bobaru & Duangpanya 2012, seed 001; MODELS.md 11) and its
- * coupling to the mechanics through thermal strain (MODELS.md 9).
+/* Peridynamic heat conduction (Bobaru & Duangpanya 2012, Bobaru & Duangpanya 2012; docs/model_reference.md 11) and its
+ * coupling to the mechanics through thermal strain (docs/model_reference.md 9).
  *
  * Discrete equation of node i (per unit volume):
  *   rho_i c_i dT_i/dt = sum_p chi_ip H_ip (T_p - T_i) + w_i,
  *   H_ip = k(|xi|) beta_ip A_p / |xi|^2    (A_p = V_p / h in 2D, V_p / A in 1D, V_p in 3D)
  * with the micro-conductivity k calibrated so that the flux of a linear temperature field
- * equals kappa grad T (MODELS.md 11.2). chi_ip = 0 for a cut bond (pre-crack, broken
+ * equals kappa grad T (docs/model_reference.md 11.2). chi_ip = 0 for a cut bond (pre-crack, broken
  * mechanical bond, growing crack), or the crack conductance fraction. */
 #ifndef PERI_THERMAL_H
 #define PERI_THERMAL_H
@@ -19,11 +19,11 @@ typedef struct peri_model_ops peri_model_ops;
 
 typedef enum { PERI_TKERNEL_CONICAL = 0, PERI_TKERNEL_CONSTANT = 1 } peri_thermal_kernel;
 /* bonds: the bonds' partial-volume factor beta, kernel at |xi|, node volumes.
- * bobaru2012: seed 001 Algorithm 1 (shifted kernel argument, MODELS.md 5(b)) on a
+ * bobaru2012: Bobaru & Duangpanya 2012 Algorithm 1 (shifted kernel argument, docs/model_reference.md 5(b)) on a
  * vertex-centred grid whose boundary nodes carry half (edge) and quarter (corner) areas. */
 typedef enum { PERI_TQUAD_BONDS = 0, PERI_TQUAD_BOBARU2012 = 1 } peri_thermal_quadrature;
 /* Own-cell term: none; cell (the midpoint-consistent own-cell integral k(0) A / (2 d dx^2)
- * on the 2d axial neighbours); bobaru2012 (seed 001 sec. 3: average over the 3^d - 1
+ * on the 2d axial neighbours); bobaru2012 (Bobaru & Duangpanya 2012 sec. 3: average over the 3^d - 1
  * nearest nodes with k at half the distance). */
 typedef enum { PERI_TSELF_NONE = 0, PERI_TSELF_CELL = 1, PERI_TSELF_BOBARU2012 = 2 } peri_thermal_self;
 typedef enum { PERI_TBOND_LOWER = 0, PERI_TBOND_HARMONIC = 1 } peri_thermal_bond_rule;
@@ -96,13 +96,13 @@ typedef struct peri_thermal {
   double *work[6];          /* integrator buffers [n] */
 } peri_thermal;
 
-/* Micro-conductivity constant of the kernel (MODELS.md 11.2), from the flux of a linear
+/* Micro-conductivity constant of the kernel (docs/model_reference.md 11.2), from the flux of a linear
  * field: constant k0 = kappa/delta (1D), 4 kappa/(pi delta^2) (2D), 9 kappa/(2 pi delta^3) (3D);
  * conical k1 = 2 kappa/delta, 12 kappa/(pi delta^2), 18 kappa/(pi delta^3). */
 double peri_thermal_k_constant(peri_thermal_kernel kernel, int dim, double kappa, double delta);
 /* k(r) = k0 (constant) or k1 (1 - r/delta) (conical, 0 beyond delta). */
 double peri_thermal_k(peri_thermal_kernel kernel, int dim, double kappa, double delta, double r);
-/* The continuum flux into a point of the linear field T = g.x (seed 001 eq. 7) over the
+/* The continuum flux into a point of the linear field T = g.x (Bobaru & Duangpanya 2012 eq. 7) over the
  * half horizon H+, by Gauss-Legendre quadrature that is exact for the kernels (polynomial
  * in r, trigonometric in angle): q_into = kappa g. */
 void peri_thermal_flux_integral(peri_thermal_kernel kernel, int dim, double kappa, double delta,
@@ -116,7 +116,7 @@ int peri_thermal_build(peri_sim *s);
 /* Allocates the integrator buffers and evaluates the largest row sum (after the
  * conditions are set). */
 void peri_thermal_prepare(peri_sim *s);
-/* Stability bound of the integrator, from the largest row sum (MODELS.md 11.6):
+/* Stability bound of the integrator, from the largest row sum (docs/model_reference.md 11.6):
  * Euler 1/max_row, RK4 1.3926/max_row (1.3926 = 2.7853/2, RK4's real-axis limit / 2). */
 double peri_thermal_stable_dt(const peri_thermal *th);
 /* dT/dt of every node into out [n] at the temperature field T and time t (prescribed and
@@ -133,7 +133,7 @@ long peri_thermal_grow_cracks(peri_sim *s, double t);
 double peri_thermal_total_heat(const peri_sim *s);
 /* Net heat flow (W) into the nodes of a region from the other nodes. */
 double peri_thermal_region_inflow(const peri_sim *s, int region);
-/* Heat flux per node into th->flux [3n]: the into-flux of seed 001 eq. 7, discrete form
+/* Heat flux per node into th->flux [3n]: the into-flux of Bobaru & Duangpanya 2012 eq. 7, discrete form
  * q_i = sum_{p: T_p > T_i} chi H_ip (T_p - T_i) (x_p - x_i) (points towards hotter nodes;
  * equals kappa grad T = -q_Fourier for a linear field). */
 void peri_thermal_flux(const peri_sim *s);

@@ -1,4 +1,4 @@
-/* Damage index (MODELS.md 7.3; 000 eq. 1.17). */
+/* Damage index (docs/model_reference.md 7.3; Le 2014 eq. 1.17). */
 #include "peri/damage.h"
 
 void peri_damage_index(const peri_sim *s, double *phi) {

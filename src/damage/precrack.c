@@ -1,5 +1,5 @@
 /* Pre-cracks: bonds that cross a crack segment (2D) or rectangle (3D) are removed
- * (004 sec. 5.2.1; 001 sec. 3.4; MODELS.md 7.4). */
+ * (Ebrahimi 2020 sec. 5.2.1; Bobaru & Duangpanya 2012 sec. 3.4; docs/model_reference.md 7.4). */
 #include <math.h>
 #include "peri/damage.h"
 

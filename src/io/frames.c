@@ -80,7 +80,7 @@ int peri_frames_write(peri_frames *f, peri_sim *s) {
       else fl.ncomp = 3, fl.data = f->principal;
     } else if (!strcmp(name, "temperature") && s->thermal) {
       fl.data = s->thermal->T;
-    } else if (!strcmp(name, "heat_flux") && s->thermal) { /* into-flux, seed 001 eq. 7 */
+    } else if (!strcmp(name, "heat_flux") && s->thermal) { /* into-flux, Bobaru & Duangpanya 2012 eq. 7 */
       peri_thermal_flux(s);
       fl.ncomp = 3, fl.data = s->thermal->flux;
     } else if (!strcmp(name, "strain")) {

@@ -235,7 +235,7 @@ static int parse_interfaces(parse_ctx *c) {
     if (!((isnan(s0) ? G0 : s0) > 0.0))
       return peri_deck_error(it, "interfaces: the critical stretch or fracture energy must be positive");
     if (!isnan(G0)) {
-      /* the softer side's modulus (MODELS.md 8: designated side) */
+      /* the softer side's modulus (docs/model_reference.md 8: designated side) */
       const peri_material *ma = &s->materials[a], *mb = &s->materials[b];
       const peri_material *soft = ma->E <= mb->E ? ma : mb;
       s0 = s->model == peri_model_find("lps") ? peri_critical_stretch_lps(&s->geom, G0, soft->E)

@@ -316,10 +316,10 @@ int peri_setup_thermal(peri_sim *s, const peri_node *root) {
     const peri_node *at = peri_deck_get(sec, "quadrature");
     if (peri_deck_get(d, "fill") && !(pl && pl->scalar && !strcmp(pl->scalar, "lattice")))
       return peri_deck_error(at, "quadrature bobaru2012: needs 'placement: lattice' in discretization (a "
-                             "vertex-centred grid with nodes on the boundary, seed 001 sec. 3)");
+                             "vertex-centred grid with nodes on the boundary, Bobaru & Duangpanya 2012 sec. 3)");
     if (s->family.rule != PERI_PV_LINEAR)
       return peri_deck_error(at, "quadrature bobaru2012: needs 'partial_volume: linear' (neighbours out to "
-                             "delta + dx/2, seed 001 Algorithm 1)");
+                             "delta + dx/2, Bobaru & Duangpanya 2012 Algorithm 1)");
   }
 
   /* conditions */

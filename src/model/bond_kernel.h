@@ -21,7 +21,7 @@ static inline double peri_bond_s0(const peri_sim *s, int32_t i, int32_t j) {
   return s->pair_s0[p->material[i] * s->n_materials + p->material[j]];
 }
 
-/* Thermal stretch of bond i-j, 1/2 (alpha_i dT_i + alpha_j dT_j) (MODELS.md 9): subtracted
+/* Thermal stretch of bond i-j, 1/2 (alpha_i dT_i + alpha_j dT_j) (docs/model_reference.md 9): subtracted
  * from the stretch by the bond-based model and by every breaking test; 0 without
  * thermomechanics. */
 static inline double peri_bond_thermal_stretch(const double *eth, int32_t i, int32_t j) {

@@ -1,9 +1,9 @@
-/* Published constants. Equations cited from the model reference (MODELS.md) and seeds:
+/* Published constants. Equations cited from the model reference (docs/model_reference.md) and papers:
  * 000 = Le 2014, 002 = Ongaro 2022, 004 = Ebrahimi 2020. */
 #include <math.h>
 #include "peri/constants.h"
 
-/* MODELS.md 2.3: 000 eqs. 1.6, 1.15; 002 eqs. 1.38-1.42. */
+/* docs/model_reference.md 2.3: Le 2014 eqs. 1.6, 1.15; Ongaro 2022 eqs. 1.38-1.42. */
 double peri_pmb_micromodulus(const peri_geometry *g, double E, double K) {
   const double d = g->horizon;
   switch (g->dim) {
@@ -32,14 +32,14 @@ double peri_influence_moment(peri_influence w, int dim, double d) {
   return sum * h / 3.0;
 }
 
-/* MODELS.md 2.2: the energy-matching calibration holds for any profile c(xi). */
+/* docs/model_reference.md 2.2: the energy-matching calibration holds for any profile c(xi). */
 double peri_influence_calibration(peri_influence w, int dim, double delta) {
   if (w == PERI_INFLUENCE_CONSTANT) return 1.0;
   double constant = pow(delta, dim + 1) / (dim + 1);
   return constant / peri_influence_moment(w, dim, delta);
 }
 
-/* MODELS.md 4: m = S_d int_0^d omega r^2 r^(d-1) dr, S_3 = 4 pi, S_2 = 2 pi h, S_1 = 2 A. */
+/* docs/model_reference.md 4: m = S_d int_0^d omega r^2 r^(d-1) dr, S_3 = 4 pi, S_2 = 2 pi h, S_1 = 2 A. */
 double peri_weighted_volume_analytic(const peri_geometry *g, peri_influence w) {
   double radial = peri_influence_moment(w, g->dim + 1, g->horizon);
   if (g->dim == 3) return 4.0 * M_PI * radial;
@@ -47,7 +47,7 @@ double peri_weighted_volume_analytic(const peri_geometry *g, peri_influence w) {
   return 2.0 * g->cross_section * radial;
 }
 
-/* MODELS.md 2.3 (002 eqs. 1.45-1.48; 1D derived with 2.2). */
+/* docs/model_reference.md 2.3 (Ongaro 2022 eqs. 1.45-1.48; 1D derived with 2.2). */
 double peri_critical_stretch_pmb(const peri_geometry *g, double G0, double E, double K) {
   const double d = g->horizon;
   switch (g->dim) {
@@ -59,20 +59,20 @@ double peri_critical_stretch_pmb(const peri_geometry *g, double G0, double E, do
   }
 }
 
-/* MODELS.md 7.2 (002 eqs. 1.95-1.97). */
+/* docs/model_reference.md 7.2 (Ongaro 2022 eqs. 1.95-1.97). */
 double peri_critical_stretch_lps(const peri_geometry *g, double G0, double E) {
   if (g->dim == 3) return sqrt(5.0 * G0 / (6.0 * E * g->horizon));
   return peri_critical_stretch_pmb(g, G0, E, 0.0);
 }
 
-/* MODELS.md 2.3 notes (002 eqs. 1.49-1.50). */
+/* docs/model_reference.md 2.3 notes (Ongaro 2022 eqs. 1.49-1.50). */
 double peri_fracture_energy_from_toughness(const peri_geometry *g, double KIc, double E, double nu) {
   bool plane_strain = g->dim == 3 || (g->dim == 2 && g->plane == PERI_PLANE_STRAIN);
   double E_eff = plane_strain ? E / (1.0 - nu * nu) : E;
   return KIc * KIc / E_eff;
 }
 
-/* MODELS.md 3.3 table (000 eqs. 2.24-2.42; Silling 2007 for 3D). In 1D the state-based
+/* docs/model_reference.md 3.3 table (Le 2014 eqs. 2.24-2.42; Silling 2007 for 3D). In 1D the state-based
  * bar has no dilatation term (Madenci-Oterkus 1D row, a1 = 0): W = (alpha/2)(w e).e, and
  * matching W = E eps^2/2 under uniform strain gives alpha*m = E. */
 void peri_lps_constants(const peri_geometry *g, double K, double mu, double *n_theta,
@@ -103,14 +103,14 @@ void peri_lps_constants(const peri_geometry *g, double K, double mu, double *n_t
   }
 }
 
-/* MODELS.md 13.2: M = K + 4mu/3 (3D, plane strain), E/(1-nu^2) (plane stress), E (1D). */
+/* docs/model_reference.md 13.2: M = K + 4mu/3 (3D, plane strain), E/(1-nu^2) (plane stress), E (1D). */
 double peri_pwave_modulus(const peri_geometry *g, double E, double nu, double K, double mu) {
   if (g->dim == 1) return E;
   if (g->dim == 2 && g->plane == PERI_PLANE_STRESS) return E / (1.0 - nu * nu);
   return K + 4.0 * mu / 3.0;
 }
 
-/* MODELS.md 13.2: c_eq = 10M/(pi d^4) (3D), 8M/(pi h d^3) (2D), 2M/(A d^2) (1D). */
+/* docs/model_reference.md 13.2: c_eq = 10M/(pi d^4) (3D), 8M/(pi h d^3) (2D), 2M/(A d^2) (1D). */
 double peri_stable_micromodulus(const peri_geometry *g, double M) {
   const double d = g->horizon;
   if (g->dim == 3) return 10.0 * M / (M_PI * pow(d, 4));

@@ -1,5 +1,5 @@
 /* Compression-dependent critical stretch (Silling-Askari 2005, LAMMPS peri):
- * s0_i = s00 - alpha * min_j s_ij of the previous step (MODELS.md 7.1). */
+ * s0_i = s00 - alpha * min_j s_ij of the previous step (docs/model_reference.md 7.1). */
 #include <math.h>
 #include "bond_kernel.h"
 

@@ -1,11 +1,11 @@
 /* Ordinary state-based linear peridynamic solid (LPS): Silling 2007 in 3D, Le's plane
- * stress and plane strain model in 2D (000 ch. 2), one discrete algorithm for all
- * dimensions (MODELS.md 3.3):
+ * stress and plane strain model in 2D (Le 2014 ch. 2), one discrete algorithm for all
+ * dimensions (docs/model_reference.md 3.3):
  *   theta_i = (n_theta/m_i) sum_j w e |xi| W_ij,       e^d = e - theta_i |xi|/3
  *   P_i     = sum_j w e^d |xi| W_ij,                   alpha_i = (alpha m)/m_i
  *   t_ij    = n_theta (K_theta theta_i - alpha_i P_i/3) w |xi|/m_i + alpha_i w e^d_ij
  *   f_i     = sum_j (t_ij + t_ji) M_ij W_ij,           W_ij = chi beta V_j
- * Each end uses its own material's constants (half-bond rule, MODELS.md 8). */
+ * Each end uses its own material's constants (half-bond rule, docs/model_reference.md 8). */
 #include <math.h>
 #include "peri/constants.h"
 #include "peri/error.h"
@@ -54,7 +54,7 @@ static long lps_dilatation(peri_sim *s) {
   const peri_bonds *b = &s->bonds;
   const bool track_smin = s->s0_node != NULL;
   const bool breaking = s->breaking;
-  const double *eth = s->thermal_strain; /* e_mech = e - alpha_T dT_i |xi| (MODELS.md 9) */
+  const double *eth = s->thermal_strain; /* e_mech = e - alpha_T dT_i |xi| (docs/model_reference.md 9) */
   long n_broken = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : n_broken)
   for (int32_t i = 0; i < p->n_owned; ++i) {

@@ -1,6 +1,6 @@
-/* Bond-based prototype microelastic brittle (PMB) model (MODELS.md 2; 000 eqs. 1.3-1.8):
+/* Bond-based prototype microelastic brittle (PMB) model (docs/model_reference.md 2; Le 2014 eqs. 1.3-1.8):
  * pair force f = c omega s M, with the micromodulus c of each end (half-bond rule,
- * c_ij = (c_i + c_j)/2, MODELS.md 8). */
+ * c_ij = (c_i + c_j)/2, docs/model_reference.md 8). */
 #include <math.h>
 #include "peri/constants.h"
 #include "peri/error.h"
@@ -25,7 +25,7 @@ static long pmb_force(peri_sim *s) {
   const peri_material *mats = s->materials;
   const bool track_smin = s->s0_node != NULL;
   const bool breaking = s->breaking;
-  const double *eth = s->thermal_strain; /* thermal strain (MODELS.md 9), NULL without */
+  const double *eth = s->thermal_strain; /* thermal strain (docs/model_reference.md 9), NULL without */
   long n_broken = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : n_broken)
   for (int32_t i = 0; i < p->n_owned; ++i) {

@@ -1,5 +1,5 @@
 /* Peridynamic heat conduction: micro-conductivity constants, the continuum flux of a
- * linear field, and the discrete conduction operator (seed 001 sec. 2-3; MODELS.md 11). */
+ * linear field, and the discrete conduction operator (Bobaru & Duangpanya 2012 sec. 2-3; docs/model_reference.md 11). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -113,14 +113,14 @@ void peri_thermal_flux_integral(peri_thermal_kernel kernel, int dim, double kapp
 
 /* ---------------------------------------------------------------- operator */
 
-/* Linear partial-area factor of seed 001 Algorithm 1 (= MODELS.md 5(a)). */
+/* Linear partial-area factor of Bobaru & Duangpanya 2012 Algorithm 1 (= docs/model_reference.md 5(a)). */
 static double algorithm1_factor(double r, double delta, double dx) {
   if (r < delta - 0.5 * dx) return 1.0;
   double f = (delta + 0.5 * dx - r) / dx;
   return f < 0.0 ? 0.0 : (f > 1.0 ? 1.0 : f);
 }
 
-/* The kernel argument of Algorithm 1 (MODELS.md 5(b)). */
+/* The kernel argument of Algorithm 1 (docs/model_reference.md 5(b)). */
 static double algorithm1_argument(double r, double delta, double dx) {
   if (r < delta - 0.5 * dx) return r;
   double f = algorithm1_factor(r, delta, dx);
@@ -154,8 +154,8 @@ int peri_thermal_build(peri_sim *s) {
     th->area[i] = p->volume[i] / gfac;
   }
   /* Boundary nodes of a vertex-centred grid: a missing axial neighbour at +-dx along an
-   * axis halves the node's area (edge 1/2, corner 1/4; seed 001 sec. 3) and gives the
-   * outward normal of the flux rule (the highest such axis: y at corners, MODELS.md 11.3). */
+   * axis halves the node's area (edge 1/2, corner 1/4; Bobaru & Duangpanya 2012 sec. 3) and gives the
+   * outward normal of the flux rule (the highest such axis: y at corners, docs/model_reference.md 11.3). */
   const double tol = 1e-6 * dx;
   for (int32_t i = 0; i < n; ++i) {
     double factor = 1.0;
@@ -205,7 +205,7 @@ int peri_thermal_build(peri_sim *s) {
         for (int e = 0; e < 3; ++e)
           if (fabs(p->x[3 * j + e] - p->x[3 * i + e]) > dx + tol) nearest = false;
         if (nearest) {
-          /* seed 001 sec. 3: (1/8) sum_k k(s) (T_k - T_i) A_i / s^2, s = r/2 (MODELS.md 11.3) */
+          /* Bobaru & Duangpanya 2012 sec. 3: (1/8) sum_k k(s) (T_k - T_i) A_i / s^2, s = r/2 (docs/model_reference.md 11.3) */
           const double sh = 0.5 * r;
           hs = peri_thermal_k(th->kernel, dim, kb, delta, sh) * th->area[i] / (shell * sh * sh);
         }

@@ -1,4 +1,4 @@
-/* Adaptive dynamic relaxation (Kilic & Madenci 2010; MODELS.md 12.2): the static problem
+/* Adaptive dynamic relaxation (Kilic & Madenci 2010; docs/model_reference.md 12.2): the static problem
  * as the steady state of Lambda U'' + c Lambda U' = F(U) with a fictitious diagonal
  * density Lambda from the stiffness bound, unit pseudo time step, and the damping c from
  * the local Rayleigh quotient of each iteration. */

@@ -1,10 +1,10 @@
-/* Damped dynamic relaxation (000 sec. 2.4.1 eqs. 2.43-2.45; MODELS.md 12.1): velocity-
+/* Damped dynamic relaxation (Le 2014 sec. 2.4.1 eqs. 2.43-2.45; docs/model_reference.md 12.1): velocity-
  * Verlet with the physical density and time step and a user-set damping, run until the
  * out-of-balance force vanishes. Two damping forms:
  *   damping (1/s):     -rho gamma v                                   (mass-proportional)
  *   bond_damping:      gamma sum_j [(v_j - v_i).M_ij] M_ij / |xi| beta V_j  (pairwise, eq. 2.43;
  *                      rigid motion is not damped)
- * Both are evaluated with the half-step velocity v_(n+1/2) (MODELS.md 12.1 erratum). */
+ * Both are evaluated with the half-step velocity v_(n+1/2) (docs/model_reference.md 12.1 erratum). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

@@ -1,4 +1,4 @@
-/* Explicit dynamics: velocity-Verlet (MODELS.md 13.1; 002 sec. 1.3.2), with optional
+/* Explicit dynamics: velocity-Verlet (docs/model_reference.md 13.1; Ongaro 2022 sec. 1.3.2), with optional
  * viscous damping, prescribed motion and external loads. */
 #include <math.h>
 #include <stdlib.h>
@@ -82,7 +82,7 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
         size_t c = 3 * (size_t)i + d;
         if (fixed[c]) continue;
         double a = (p->f[c] + p->b[c]) * inv_rho[i];
-        /* damping is implicit in the half-step velocity (MODELS.md 12.1 erratum) */
+        /* damping is implicit in the half-step velocity (docs/model_reference.md 12.1 erratum) */
         p->v[c] = (p->v[c] + 0.5 * dt * a) / (1.0 + 0.5 * dt * damping);
       }
     }

@@ -1,6 +1,6 @@
 /* Heat conduction in time: sources and boundary conditions, the rate dT/dt, the algebraic
  * flux rule, forward Euler and RK4, growing cracks, heat totals and flux, and the
- * staggered coupling with the explicit mechanics (MODELS.md 9, 11). */
+ * staggered coupling with the explicit mechanics (docs/model_reference.md 9, 11). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -53,7 +53,7 @@ void peri_thermal_prepare(peri_sim *s) {
   for (int k = 0; k < 6; ++k)
     if (!th->work[k]) th->work[k] = peri_calloc(n, sizeof(double));
   eval_sources(s, 0.0);
-  /* Gershgorin: |lambda| <= 2 sum_p w_ip + sink_i / (rho c)_i (MODELS.md 11.6) */
+  /* Gershgorin: |lambda| <= 2 sum_p w_ip + sink_i / (rho c)_i (docs/model_reference.md 11.6) */
   double worst = 0.0;
   for (int32_t i = 0; i < th->n; ++i) {
     double row = 0.0;
@@ -97,7 +97,7 @@ void peri_thermal_constrain(const peri_sim *s, double *T, double t) {
     for (int32_t a = 0; a < r->count; ++a) T[r->nodes[a]] = eval(bc->value, &p->x[3 * r->nodes[a]], t);
   }
   if (!th->alg_bc) return;
-  /* algebraic flux nodes (seed 001 sec. 3.2), Jacobi: every node from the same field */
+  /* algebraic flux nodes (Bobaru & Duangpanya 2012 sec. 3.2), Jacobi: every node from the same field */
   double *q = th->work[5];
   for (int32_t i = 0; i < th->n; ++i) {
     q[i] = 0.0;

@@ -1,9 +1,9 @@
-/* Energy minimisation by nonlinear conjugate gradients (000 sec. 2.4.1 eqs. 2.46-2.49;
- * MODELS.md 12.3; Shewchuk 1994 B4/B5): Polak-Ribiere directions with the PR+ reset
+/* Energy minimisation by nonlinear conjugate gradients (Le 2014 sec. 2.4.1 eqs. 2.46-2.49;
+ * docs/model_reference.md 12.3; Shewchuk 1994 B4/B5): Polak-Ribiere directions with the PR+ reset
  * (beta = max(beta_PR, 0)), a secant line search on the directional derivative of the
  * potential energy Pi(u) = sum_i V_i W_i - sum_i V_i b_i.u_i, whose gradient is
  * -V_i (f_i + b_i) because the models' forces are the exact gradient of their energy
- * (MODELS.md 3.3). Optional Jacobi preconditioner: the ADR density Lambda_i. The energy
+ * (docs/model_reference.md 3.3). Optional Jacobi preconditioner: the ADR density Lambda_i. The energy
  * itself guards the line search: a step that raises Pi is halved until it does not. */
 #include <math.h>
 #include <stdlib.h>

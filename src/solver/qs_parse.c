@@ -93,7 +93,7 @@ int peri_quasi_static_parse(peri_sim *s, const peri_node *it) {
     return peri_deck_error(peri_deck_get(it, "bond_damping"), "key 'bond_damping': must be >= 0");
   if (dr && !(s->damping > 0.0) && !(q->bond_damping > 0.0))
     return peri_deck_error(it, "solver: dynamic_relaxation needs 'damping' (1/s, on the velocity) or "
-                               "'bond_damping' (pairwise, seed 000 eq. 2.43); near critical is fastest");
+                               "'bond_damping' (pairwise, Le 2014 eq. 2.43); near critical is fastest");
   s->breaking = true;
   TRY(peri_deck_bool(it, "breaking", false, &s->breaking));
   for (int k = 0; k < s->n_bcs; ++k) {

@@ -1,4 +1,4 @@
-/* Load stepping with sequentially linear fracture (MODELS.md 12.4; 002 sec. 2.7): at each
+/* Load stepping with sequentially linear fracture (docs/model_reference.md 12.4; Ongaro 2022 sec. 2.7): at each
  * load step solve for equilibrium, break every bond beyond its critical stretch, re-solve
  * at the same load until no bond breaks. A step that breaks more than max_broken_per_step
  * bonds is undone and taken in halves (up to max_cutbacks times). */

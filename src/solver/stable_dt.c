@@ -1,4 +1,4 @@
-/* Stable time step estimate (MODELS.md 13.2; 002 eqs. 1.105-1.108). */
+/* Stable time step estimate (docs/model_reference.md 13.2; Ongaro 2022 eqs. 1.105-1.108). */
 #include <math.h>
 #include "peri/constants.h"
 #include "peri/solver.h"

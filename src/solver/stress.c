@@ -1,4 +1,4 @@
-/* Stress and strain recovery (MODELS.md 10). */
+/* Stress and strain recovery (docs/model_reference.md 10). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

@@ -2,7 +2,7 @@
 # peri check: validates the deck, builds the discretization and prints the summary with
 # the memory estimate, and runs nothing (no output directory).
 # The LAMMPS examples/peri decks must give LAMMPS's own published counts: 3487 nodes and
-# 335,966 directed bonds (VERIFICATION.md case 7).
+# 335,966 directed bonds (docs/verification.md case 7).
 # Usage: bash tests/cli/check.sh PATH_TO_PERI   (from the repository root)
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"

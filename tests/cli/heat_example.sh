@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A heat-conduction deck runs end to end: seed 001 Example 3 (insulated crack) writes its
+# A heat-conduction deck runs end to end: Bobaru & Duangpanya 2012 Example 3 (insulated crack) writes its
 # series, history and temperature picture; the temperatures stay within the prescribed
 # extremes -100 and +100 C (maximum principle of the heat equation).
 # Usage: bash tests/cli/heat_example.sh PATH_TO_PERI   (from the repository root)

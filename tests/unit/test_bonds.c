@@ -141,9 +141,9 @@ Test(bonds, influence) {
 }
 
 /* Deterministic pseudo-random cloud in [0, L)^dim. */
-static void cloud(peri_particles *p, int dim, int32_t n, double L, uint64_t seed) {
+static void cloud(peri_particles *p, int dim, int32_t n, double L, uint64_t paper) {
   peri_particles_init(p, dim);
-  uint64_t s = seed;
+  uint64_t s = paper;
   for (int32_t i = 0; i < n; i++) {
     double x[3] = {0, 0, 0};
     for (int d = 0; d < dim; d++) {

@@ -1,4 +1,4 @@
-/* Pre-cracks remove exactly the bonds that cross them (VERIFICATION.md; MODELS.md 7.4). */
+/* Pre-cracks remove exactly the bonds that cross them (docs/verification.md; docs/model_reference.md 7.4). */
 #include <criterion/criterion.h>
 #include <math.h>
 #include "peri/damage.h"

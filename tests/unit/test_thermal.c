@@ -1,4 +1,4 @@
-/* Heat conduction: micro-conductivity constants (MODELS.md 11.2), the discrete operator on
+/* Heat conduction: micro-conductivity constants (docs/model_reference.md 11.2), the discrete operator on
  * linear fields, conservation of heat, cut bonds, deck errors (docs/heat.md). */
 #include <criterion/criterion.h>
 #include <math.h>
@@ -11,9 +11,9 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-/* The flux of T = g.x into a point over H+ (seed 001 eq. 7), evaluated as a continuum
+/* The flux of T = g.x into a point over H+ (Bobaru & Duangpanya 2012 eq. 7), evaluated as a continuum
  * integral, equals kappa g (the into-flux; the Fourier flux is -kappa g) in 1D, 2D and 3D
- * for both kernels. This checks the constants of MODELS.md 11.2 (1D and 3D derived). */
+ * for both kernels. This checks the constants of docs/model_reference.md 11.2 (1D and 3D derived). */
 Test(thermal, flux_of_linear_field_matches_conductivity) {
   const double kappa = 2.7, delta = 0.013;
   const double grads[3][3] = {{1.0, 0.0, 0.0}, {0.3, -1.7, 0.0}, {-0.4, 0.9, 2.2}};
@@ -31,7 +31,7 @@ Test(thermal, flux_of_linear_field_matches_conductivity) {
       }
 }
 
-/* The printed constants (MODELS.md 11.2 table; seed 001 sec. 2.3 with the erratum). */
+/* The printed constants (docs/model_reference.md 11.2 table; Bobaru & Duangpanya 2012 sec. 2.3 with the erratum). */
 Test(thermal, kernel_constants) {
   const double k = 1.3, d = 0.2;
   struct { int dim, kernel; double expected; } cases[] = {
@@ -50,7 +50,7 @@ Test(thermal, kernel_constants) {
   /* conical: k1 (1 - r/delta), zero beyond delta */
   cr_expect(fabs(peri_thermal_k(PERI_TKERNEL_CONICAL, 2, k, d, 0.25 * d) - 0.75 * 12 * k / (M_PI * d * d)) < 1e-12);
   cr_expect(peri_thermal_k(PERI_TKERNEL_CONICAL, 2, k, d, 1.1 * d) == 0.0);
-  /* bond conductivity between materials: lower (seed 001 sec. 5.4) or harmonic mean */
+  /* bond conductivity between materials: lower (Bobaru & Duangpanya 2012 sec. 5.4) or harmonic mean */
   cr_expect(peri_thermal_bond_kappa(PERI_TBOND_LOWER, 1.14, 0.0114) == 0.0114);
   cr_expect(fabs(peri_thermal_bond_kappa(PERI_TBOND_HARMONIC, 1.0, 3.0) - 1.5) < 1e-15);
 }
@@ -219,7 +219,7 @@ Test(thermal, deck_errors) {
   peri_sim_free(&s);
 }
 
-/* VERIFICATION.md 15: a grid row on the crack line. The crack is shifted by 1e-6 dx along
+/* docs/verification.md 15: a grid row on the crack line. The crack is shifted by 1e-6 dx along
  * its normal (+y for a crack drawn left to right), so a node on the line belongs to the
  * side below: its bonds up across the crack are cut, its bonds down and along the line
  * are not; a bond through a crack tip crosses the shifted crack just inside the tip and is

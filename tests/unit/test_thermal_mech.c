@@ -1,4 +1,4 @@
-/* Thermal strain in the mechanics (MODELS.md 9): a body at the free-expansion displacement
+/* Thermal strain in the mechanics (docs/model_reference.md 9): a body at the free-expansion displacement
  * u = eps x, eps = alpha dT ((1 + nu) alpha dT in plane strain), carries no force in PMB
  * and LPS, 1D, 2D and 3D; a 1D bar held at u = 0 carries the stress -E alpha dT. */
 #include <criterion/criterion.h>

@@ -1,5 +1,5 @@
-/* Support for the heat conduction verification tests: the analytic series of seed 001
- * Examples 1 and 2, the relative difference of seed 001 eq. 13 along y = 0.5, and a
+/* Support for the heat conduction verification tests: the analytic series of Bobaru & Duangpanya 2012
+ * Examples 1 and 2, the relative difference of Bobaru & Duangpanya 2012 eq. 13 along y = 0.5, and a
  * time loop that lands exactly on the sampling times. */
 #ifndef PERI_TEST_HEAT_SUPPORT_H
 #define PERI_TEST_HEAT_SUPPORT_H
@@ -11,7 +11,7 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-/* Example 1 (seed 001 sec. 4.1.1): unit square, initial 40, edges at 0, diffusivity a.
+/* Example 1 (Bobaru & Duangpanya 2012 sec. 4.1.1): unit square, initial 40, edges at 0, diffusivity a.
  * A_mn = 16 * 40 / (pi^2 m n) for odd m, n. Terms until the next is below 1e-16. */
 static inline double example1_exact(double x, double y, double t, double a) {
   double sum = 0.0;
@@ -24,7 +24,7 @@ static inline double example1_exact(double x, double y, double t, double a) {
   return sum;
 }
 
-/* Example 2 (seed 001 eq. 18): T = 1 + sum b_n exp(-beta_n^2 t) sin(beta_n x),
+/* Example 2 (Bobaru & Duangpanya 2012 eq. 18): T = 1 + sum b_n exp(-beta_n^2 t) sin(beta_n x),
  * beta_n = (2n - 1) pi / 2, b_n = (cos beta_n - 1) / ((1/2 - sin(2 beta_n)/(4 beta_n)) beta_n). */
 static inline double example2_exact(double x, double t) {
   double sum = 1.0;
@@ -38,7 +38,7 @@ static inline double example2_exact(double x, double t) {
   return sum;
 }
 
-/* Seed 001 eq. 13 over the nodes on y = 0.5 with 0 <= x <= 1 (within 1e-9). */
+/* Bobaru & Duangpanya 2012 eq. 13 over the nodes on y = 0.5 with 0 <= x <= 1 (within 1e-9). */
 static inline double relative_difference(const peri_sim *s, double (*exact)(double, double, double, void *),
                                          double t, void *ctx) {
   double num = 0.0, den = 0.0;

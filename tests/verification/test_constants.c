@@ -1,4 +1,4 @@
-/* Published constants (VERIFICATION.md "Constants"; MODELS.md 2.2, 2.3, 3.3, 4).
+/* Published constants (docs/verification.md "Constants"; docs/model_reference.md 2.2, 2.3, 3.3, 4).
  * Each constant is checked twice: against its closed form (1e-12 relative: the two
  * evaluations differ only by rounding, a few ulps), and where possible against the rule it
  * comes from, evaluated here by numerical integration. The quadratures are Gauss-Legendre
@@ -66,7 +66,7 @@ static double isotropic_integrand(double r, const void *p) {
  * directly: a node at depth z (0 <= z <= r) below the plane reaches the points at distance
  * r above it on a spherical cap 2 pi r^2 (1 - z/r) (3D), on an arc 2 r arccos(z/r) times h
  * (2D), or one point (1D). The depth integral is done numerically too (z = r cos(phi) in
- * 2D, so the integrand is smooth). w0 = c s0^2 r / 2 (MODELS.md 2.2). */
+ * 2D, so the integrand is smooth). w0 = c s0^2 r / 2 (docs/model_reference.md 2.2). */
 typedef struct {
   const bond_ctx *b;
   double r;
@@ -106,7 +106,7 @@ Test(constants, pmb_micromodulus_closed_form) {
                 ge = geom(2, PERI_PLANE_STRAIN), g1 = geom(1, PERI_PLANE_NONE);
   double K = E0 / (3.0 * (1.0 - 2.0 * 0.25));
   expect_rel(peri_pmb_micromodulus(&g3, E0, K), 18.0 * K / (M_PI * pow(d, 4)), RTOL, "3D 18K/(pi d^4)");
-  /* MODELS.md 2.3: the same at nu = 1/4 written with E */
+  /* docs/model_reference.md 2.3: the same at nu = 1/4 written with E */
   expect_rel(peri_pmb_micromodulus(&g3, E0, K), 12.0 * E0 / (M_PI * pow(d, 4)), RTOL, "3D 12E/(pi d^4)");
   expect_rel(peri_pmb_micromodulus(&gs, E0, NAN), 9.0 * E0 / (M_PI * gs.thickness * pow(d, 3)), RTOL,
              "plane stress 9E/(pi h d^3)");
@@ -129,7 +129,7 @@ Test(constants, critical_stretch_closed_form) {
              RTOL, "plane strain sqrt(5 pi G0/(12E d))");
   expect_rel(peri_critical_stretch_pmb(&g1, G0, E0, NAN), sqrt(3.0 * G0 / (E0 * d)), RTOL,
              "1D sqrt(3G0/(E d))");
-  /* State-based default (MODELS.md 7.2): 3D sqrt(5G0/(6E d)), the PMB value at nu = 1/4. */
+  /* State-based default (docs/model_reference.md 7.2): 3D sqrt(5G0/(6E d)), the PMB value at nu = 1/4. */
   expect_rel(peri_critical_stretch_lps(&g3, G0, E0), sqrt(5.0 * G0 / (6.0 * E0 * d)), RTOL, "LPS 3D");
   expect_rel(peri_critical_stretch_lps(&g3, G0, E0), peri_critical_stretch_pmb(&g3, G0, E0, K), RTOL,
              "LPS 3D = PMB 3D at nu = 1/4");
@@ -137,7 +137,7 @@ Test(constants, critical_stretch_closed_form) {
              "LPS plane stress");
 }
 
-/* MODELS.md 2.2: 1/4 s^2 int_H c |xi| dV equals the classical energy of the isotropic
+/* docs/model_reference.md 2.2: 1/4 s^2 int_H c |xi| dV equals the classical energy of the isotropic
  * stretch s: 9K s^2/2 (3D), 2 K2D s^2 (2D), E s^2/2 (1D). K2D = E/(2(1-nu)) in plane
  * stress (nu = 1/3), E/(2(1+nu)(1-2nu)) in plane strain (nu = 1/4). */
 Test(constants, pmb_micromodulus_matches_isotropic_energy) {
@@ -164,7 +164,7 @@ Test(constants, pmb_micromodulus_matches_isotropic_energy) {
   }
 }
 
-/* MODELS.md 2.2: with s0 from G0, breaking every bond across a unit crack area costs G0.
+/* docs/model_reference.md 2.2: with s0 from G0, breaking every bond across a unit crack area costs G0.
  * The crossing energy is counted directly (double integral over depth and bond length),
  * not through the reduced formulas pi int xi^3 w0 etc. */
 Test(constants, critical_stretch_matches_fracture_energy) {
@@ -255,7 +255,7 @@ Test(constants, pmb_poisson_fixed_values) {
   expect_rel(peri_pmb_poisson(&gs), 1.0 / 3.0, 1e-15, "plane stress nu");
 }
 
-/* MODELS.md 3.3 table. */
+/* docs/model_reference.md 3.3 table. */
 Test(constants, lps_constants_closed_form) {
   const double nu = 0.3, E = 70.0e9, K = E / (3.0 * (1.0 - 2.0 * nu)), mu = E / (2.0 * (1.0 + nu));
   double n, Kt, am;
@@ -280,7 +280,7 @@ Test(constants, lps_constants_closed_form) {
  * the continuum LPS energy W = K_theta theta^2/2 + (alpha m/(2m)) int w (e^d)^2 dV, with
  * theta = (n_theta/m) int w |xi| e dV, becomes W = K_theta theta^2/2 + (alpha m/2)
  * <(n.eps n - theta/3)^2>, theta = n_theta <n.eps n>, for any influence function. It must
- * equal the classical energy for every nu (000 ch. 2). The angular means are numerical. */
+ * equal the classical energy for every nu (Le 2014 ch. 2). The angular means are numerical. */
 Test(constants, lps_constants_match_classical_energy) {
   peri_plane planes[] = {PERI_PLANE_NONE, PERI_PLANE_STRESS, PERI_PLANE_STRAIN};
   int dims[] = {3, 2, 2};
@@ -305,7 +305,7 @@ Test(constants, lps_constants_match_classical_energy) {
   expect_rel(am, E0, RTOL, "1D alpha m = E");
 }
 
-/* MODELS.md 3.4: the dilatation bracket n K_theta - 2/3 (alpha m) + (n/9)(alpha m) is
+/* docs/model_reference.md 3.4: the dilatation bracket n K_theta - 2/3 (alpha m) + (n/9)(alpha m) is
  * 3K - 5 mu in 3D and vanishes at nu = 1/4 (3D, plane strain) and 1/3 (plane stress). */
 Test(constants, lps_bracket_vanishes_at_pmb_poisson) {
   peri_plane planes[] = {PERI_PLANE_NONE, PERI_PLANE_STRESS, PERI_PLANE_STRAIN};
@@ -336,7 +336,7 @@ static double gauss_moment(int n) {
   return 0.5 * ((n - 1) * gauss_moment(n - 2) - exp(-1.0));
 }
 
-/* MODELS.md 4: m = int_H w |xi|^2 dV of a full horizon. */
+/* docs/model_reference.md 4: m = int_H w |xi|^2 dV of a full horizon. */
 Test(constants, weighted_volume_analytic) {
   const double tol = 1e-10;
   peri_geometry g3 = geom(3, PERI_PLANE_NONE), g2 = geom(2, PERI_PLANE_STRESS), g1 = geom(1, PERI_PLANE_NONE);
@@ -370,7 +370,7 @@ Test(constants, influence_calibration) {
                "inverse");
 }
 
-/* 1D with w = 1/r (the classical 1D micromodulus c/|xi|, MODELS.md 2.1): calibration
+/* 1D with w = 1/r (the classical 1D micromodulus c/|xi|, docs/model_reference.md 2.1): calibration
  * int r dr / int (1/r) r dr = d/2. The integrand (1/r) r is 1 at r = 0. */
 Test(constants, influence_calibration_1d_inverse) {
   const double d = 3.0e-3;

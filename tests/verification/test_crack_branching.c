@@ -1,4 +1,4 @@
-/* Dynamic crack branching in soda-lime glass (VERIFICATION.md case 8; Ha & Bobaru 2010):
+/* Dynamic crack branching in soda-lime glass (docs/verification.md case 8; Ha & Bobaru 2010):
  * the quickstart deck. The crack runs from the notch, branches into two branches on
  * either side of y = 0, and its tip never outruns the Rayleigh wave speed. */
 #include <criterion/criterion.h>

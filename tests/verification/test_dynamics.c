@@ -1,4 +1,4 @@
-/* Explicit dynamics: wave speed in a bar (VERIFICATION.md Elasticity 3) and energy
+/* Explicit dynamics: wave speed in a bar (docs/verification.md Elasticity 3) and energy
  * conservation of a freely vibrating body (Elasticity 5). */
 #include <criterion/criterion.h>
 #include <math.h>

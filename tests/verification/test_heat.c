@@ -1,5 +1,5 @@
 /* Heat conduction: the steady state of a 1D bar is linear, the thermal time step bound
- * from the largest row sum of the conduction operator is sharp (VERIFICATION.md 16), and
+ * from the largest row sum of the conduction operator is sharp (docs/verification.md 16), and
  * RK4 converges in time at fourth order. */
 #include <criterion/criterion.h>
 #include <stdio.h>
@@ -9,7 +9,7 @@
 #include "heat_support.h"
 
 /* A 1D bar on [0, 1] with the temperature held at T = x on layers delta + dx/2 thick
- * beyond both ends (MODELS.md 11.3): the linear field is the steady state, reached from
+ * beyond both ends (docs/model_reference.md 11.3): the linear field is the steady state, reached from
  * T = 0 to within exp(-pi^2 t) of the slowest mode. */
 Test(heat, steady_state_of_a_bar_is_linear) {
   const char *deck =
@@ -35,7 +35,7 @@ Test(heat, steady_state_of_a_bar_is_linear) {
 }
 
 /* Nearest-neighbour 1D chain (m = 1, insulated): the alternating mode has eigenvalue
- * -2 x (row sum) up to O(1/N^2), so the Gershgorin bound of MODELS.md 11.6 is sharp: 2% above it
+ * -2 x (row sum) up to O(1/N^2), so the Gershgorin bound of docs/model_reference.md 11.6 is sharp: 2% above it
  * the mode grows, 2% below it decays, for forward Euler and RK4. */
 static double run_chain(const char *integrator, double factor) {
   char deck[2048];

@@ -1,9 +1,9 @@
-/* Seed 001 Example 2 (Bobaru & Duangpanya 2012, sec. 4.2; VERIFICATION.md 13): the unit
+/* Bobaru & Duangpanya 2012 Example 2 (Bobaru & Duangpanya 2012, sec. 4.2; docs/verification.md 13): the unit
  * square held at 1 on its left edge, insulated elsewhere, diffusivity 1, m = 6.5, with the
- * seed's scheme (quadrature bobaru2012: conical kernel, Algorithm 1, vertex-centred grid
+ * paper's scheme (quadrature bobaru2012: conical kernel, Algorithm 1, vertex-centred grid
  * with half and quarter boundary areas, the 8-neighbour self-term at half distance, the
  * zero-flux rule re-imposed after every RK4 stage). The relative differences along
- * y = 0.5 (seed eq. 13) against the series of seed eq. 18 reproduce Table 1 within 3%. */
+ * y = 0.5 (paper eq. 13) against the series of paper eq. 18 reproduce Table 1 within 3%. */
 #include <criterion/criterion.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,7 +32,7 @@ static double exact2(double x, double y, double t, void *ctx) {
   return example2_exact(x, t);
 }
 
-/* Table 1 of seed 001: rows t = 0.05, 0.1, 0.2; columns delta = 13L/120, 13L/240, 13L/480. */
+/* Table 1 of Bobaru & Duangpanya 2012: rows t = 0.05, 0.1, 0.2; columns delta = 13L/120, 13L/240, 13L/480. */
 static const double table1[3][3] = {{0.15741, 0.07927, 0.03474}, {0.11342, 0.05301, 0.02302},
                                     {0.07517, 0.03203, 0.01881}};
 
@@ -48,7 +48,7 @@ static void check_column(int column) {
     cr_assert_eq(advance_to(&s, times[r]), 0);
     double diff = relative_difference(&s, exact2, times[r], NULL);
     double ratio = diff / table1[r][column];
-    printf("example 2, delta = 13L/%d, t = %.2f: relative difference %.5f (seed Table 1: %.5f, ratio %.4f)\n",
+    printf("example 2, delta = 13L/%d, t = %.2f: relative difference %.5f (paper Table 1: %.5f, ratio %.4f)\n",
            120 << column, times[r], diff, table1[r][column], ratio);
     cr_expect(fabs(ratio - 1.0) < 0.03, "delta = 13L/%d, t = %g: %.5f vs Table 1 %.5f", 120 << column,
               times[r], diff, table1[r][column]);

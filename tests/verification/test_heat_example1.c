@@ -1,9 +1,9 @@
-/* Seed 001 Example 1 (sec. 4.1; VERIFICATION.md 14): the unit square at 40 with its edges
+/* Bobaru & Duangpanya 2012 Example 1 (sec. 4.1; docs/verification.md 14): the unit square at 40 with its edges
  * held at 0, diffusivity 1.14, against the analytic series at t = 0.01, 0.025, 0.05, 0.1 s
- * along y = 0.5 (seed eq. 13), at m = 6.5 and two horizons. The relative difference falls
- * at least linearly with delta (seed: rates 1.09-1.11 for m = 5.2-6.9).
+ * along y = 0.5 (paper eq. 13), at m = 6.5 and two horizons. The relative difference falls
+ * at least linearly with delta (paper: rates 1.09-1.11 for m = 5.2-6.9).
  * Default scheme: the bonds' linear partial volumes, the own-cell term, and the Dirichlet
- * condition held on a layer of delta + dx/2 outside the square (MODELS.md 11.3). */
+ * condition held on a layer of delta + dx/2 outside the square (docs/model_reference.md 11.3). */
 #include <criterion/criterion.h>
 #include <stdio.h>
 #include "heat_support.h"
@@ -65,8 +65,8 @@ Test(heat_example1, delta_convergence_default_scheme) {
   }
 }
 
-/* The seed's scheme (quadrature bobaru2012, the edges' boundary nodes held at 0) at
- * t = 0.025 s: the seed reports a delta-convergence rate of 1.112 at m = 6.5 (Fig. 12). */
+/* The paper's scheme (quadrature bobaru2012, the edges' boundary nodes held at 0) at
+ * t = 0.025 s: the paper reports a delta-convergence rate of 1.112 at m = 6.5 (Fig. 12). */
 static const char *deck_seed =
     "dimension: 2\n"
     "materials:\n"
@@ -105,6 +105,6 @@ Test(heat_example1, delta_convergence_seed_scheme) {
   }
   double rate = log(d[0] / d[1]) / log(2.0);
   printf("example 1 (bobaru2012), t = 0.025: relative difference %.5f (13L/120), %.5f (13L/240), rate %.3f "
-         "(seed: 1.112)\n", d[0], d[1], rate);
+         "(paper: 1.112)\n", d[0], d[1], rate);
   cr_expect(rate > 0.9, "delta-convergence rate %.3f, expected at least linear", rate);
 }

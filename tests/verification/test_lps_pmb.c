@@ -1,4 +1,4 @@
-/* "LPS equals PMB" (MODELS.md 3.4): substituting P = theta m/n - theta B/3 (B = sum w
+/* "LPS equals PMB" (docs/model_reference.md 3.4): substituting P = theta m/n - theta B/3 (B = sum w
  * |xi|^2 beta V over the intact family) into the LPS force state gives
  *   t_ij = [n K_theta - 2/3 (alpha m) + (n/9)(alpha m) B_i/m_i] theta_i w |xi|/m_i
  *          + (alpha m/m_i) w e.
@@ -80,7 +80,7 @@ static void set_field(peri_sim *s, int dim, double half) {
   }
 }
 
-/* Elastic constants and the LPS constants of MODELS.md 3.3, from the theory. */
+/* Elastic constants and the LPS constants of docs/model_reference.md 3.3, from the theory. */
 typedef struct {
   double K, mu, n_theta, K_theta, alpha_m;
 } lps_theory;
@@ -101,7 +101,7 @@ static lps_theory theory(const lp_case *c) {
   return t;
 }
 
-/* beta of the linear partial-volume rule (MODELS.md 5a). */
+/* beta of the linear partial-volume rule (docs/model_reference.md 5a). */
 static double beta_linear(double r) {
   if (r <= DELTA - 0.5 * DX) return 1.0;
   return fmax(0.0, fmin(1.0, 0.5 + (DELTA - r) / DX));
@@ -122,7 +122,7 @@ static double lattice_weighted_volume(int dim) {
   return m;
 }
 
-/* Analytic m for w = 1/r (MODELS.md 4): pi d^4 (3D), 2 pi h d^3/3 (2D). */
+/* Analytic m for w = 1/r (docs/model_reference.md 4): pi d^4 (3D), 2 pi h d^3/3 (2D). */
 static double analytic_weighted_volume(int dim) {
   return dim == 3 ? M_PI * pow(DELTA, 4) : 2.0 * M_PI * THICK * pow(DELTA, 3) / 3.0;
 }
@@ -262,7 +262,7 @@ static void check_reduced_form(const lp_case *c, const char *weighted_volume) {
   peri_sim_free(&s);
 }
 
-/* (2) Analytic m: against the PMB of MODELS.md 2.3 (c = 2 (alpha m)/m_analytic = 18K/(pi
+/* (2) Analytic m: against the PMB of docs/model_reference.md 2.3 (c = 2 (alpha m)/m_analytic = 18K/(pi
  * d^4), 9E/(pi h d^3), 48E/(5 pi h d^3)). On interior nodes B = m_discrete for all, and
  * the difference is the (B/m - 1) term, (n alpha m (B/m - 1)/(9m)) sum (theta_i + theta_j)
  * w |xi| M w_ij. Expected size: |B/m - 1| relative, asserted with a safety factor 2. */
@@ -326,7 +326,7 @@ Test(lps_pmb, differs_3d_nu_fifth) {
 }
 
 /* (4) Every node, surface included (partial families, different m_i at the two ends). In
- * 3D with the discrete m this is the LAMMPS peri/lps pair force of MODELS.md 3.1. */
+ * 3D with the discrete m this is the LAMMPS peri/lps pair force of docs/model_reference.md 3.1. */
 Test(lps_pmb, reduced_form_3d_nu_fifth_discrete) { check_reduced_form(&d3_fifth, "discrete"); }
 Test(lps_pmb, reduced_form_3d_nu_quarter_analytic) { check_reduced_form(&d3_quarter, "analytic"); }
 Test(lps_pmb, reduced_form_plane_stress_nu_03_discrete) { check_reduced_form(&ps_03, "discrete"); }

@@ -1,4 +1,4 @@
-/* Fragmenting cylinder (VERIFICATION.md case 10): with no external load the total linear
+/* Fragmenting cylinder (docs/verification.md case 10): with no external load the total linear
  * momentum stays zero while the tube stretches and bonds break. Pair forces are computed
  * identically from both ends, so each bond adds equal and opposite impulses and the
  * momentum changes only by round-off. */

@@ -1,4 +1,4 @@
-/* Patch test (VERIFICATION.md Elasticity 1): under a homogeneous deformation u = H x the
+/* Patch test (docs/verification.md Elasticity 1): under a homogeneous deformation u = H x the
  * interior nodes of a regular grid carry no net internal force, and their strain-energy
  * density equals the classical 1/2 eps:C:eps. PMB and LPS, in 1D, 2D plane stress, 2D
  * plane strain and 3D, built through decks with the default partial-volume rule (linear). */
@@ -73,7 +73,7 @@ static void set_affine(peri_sim *s, const double H[3][3]) {
 
 /* Force-density scale of a full family: S = c V_H, the sum of |c s beta V_j| over a full
  * horizon at unit stretch, with the constant-influence PMB micromodulus of the dimension
- * (MODELS.md 2.3) written with the material's E and K: 3D 18K/(pi d^4) 4/3 pi d^3 = 24K/d,
+ * (docs/model_reference.md 2.3) written with the material's E and K: 3D 18K/(pi d^4) 4/3 pi d^3 = 24K/d,
  * plane stress 9E/(pi h d^3) pi h d^2 = 9E/d, plane strain 48E/(5d), 1D 2E/(A d^2) 2 A d
  * = 4E/d. For LPS it is the same order (2 alpha m/m at the PMB ratio is exactly c). */
 static double force_scale(const patch_case *c) {
@@ -149,7 +149,7 @@ static double classical_energy(const patch_case *c, const double eps[3][3]) {
 }
 
 /* Strain energy density of interior nodes vs the classical value for a symmetric strain,
- * within 1% (VERIFICATION.md: regular grid, m >= 3). The finite deformation adds a
+ * within 1% (docs/verification.md: regular grid, m >= 3). The finite deformation adds a
  * relative O(|eps|) = 1e-4, negligible against 1%. Returns the worst relative error. */
 static double energy_error(const patch_case *c) {
   peri_sim s;
@@ -222,10 +222,10 @@ Test(patch, energy_lps_plane_strain) { check_energy(&lps_pe, m45, 2); }
 Test(patch, energy_lps_3d) { check_energy(&lps_3d, m3, 1); }
 
 /* PMB: the micromodulus is calibrated to the continuum integral int c |xi| dV, and with no
- * volume correction (MODELS.md 6, default) the grid sum sum |xi| beta V of the linear rule
+ * volume correction (docs/model_reference.md 6, default) the grid sum sum |xi| beta V of the linear rule
  * exceeds it by 2.0% (2D) / 6.2% (3D) at m = 3; with the grid anisotropy the energy of the
  * strain used here is off by 4.3% (2D) and 6.7% (3D) at m = 3 and 1.9% / 2.3% at m = 5
- * (lattice sums computed separately). The 1% of VERIFICATION.md is not reached at m <= 5
+ * (lattice sums computed separately). The 1% of docs/verification.md is not reached at m <= 5
  * with this default. What the theory guarantees is convergence: the quadrature error of
  * the partial-volume sums is O((dx/delta)^2) = O(1/m^2), so from m = 3 to m = 5 the error
  * must shrink by about (3/5)^2 = 0.36; asserted with margin as a factor below 0.5. */

@@ -1,4 +1,4 @@
-/* Quasi-static solvers: uniform tension (VERIFICATION.md Elasticity 4). A bar 1 x 0.1 x
+/* Quasi-static solvers: uniform tension (docs/verification.md Elasticity 4). A bar 1 x 0.1 x
  * 0.1 m, E = 200 GPa, pulled by 2 MN on its end layer, the other end held: the elongation
  * is Delta l = F L / (E A) = 1.000 mm, within 2% with ADR, NLCG and damped dynamic
  * relaxation, for PMB and LPS. It is measured both at the loaded end and from the uniform
@@ -129,7 +129,7 @@ Test(quasistatic, tension_3d_adr_nlcg_agree) {
   cr_expect(fabs(a / b - 1.0) < 1e-4, "3D bar: adr Delta l %g, nlcg %g", a, b);
 }
 
-/* Quasi-static fracture (MODELS.md 12.4): a 1D bar (L = 1 m, A = 0.01 m^2, E = 200 GPa,
+/* Quasi-static fracture (docs/model_reference.md 12.4): a 1D bar (L = 1 m, A = 0.01 m^2, E = 200 GPa,
  * critical stretch s0 = 1e-3) stretched by an imposed end displacement rising to 2 mm in
  * 200 load steps. The stretch is uniform, so the reaction grows as E A u / L until bonds
  * reach s0, then the bar breaks through at that load (re-solves at the same load) and the

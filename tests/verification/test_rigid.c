@@ -1,4 +1,4 @@
-/* Rigid motion (VERIFICATION.md Elasticity 2): a rigid translation and a small rigid
+/* Rigid motion (docs/verification.md Elasticity 2): a rigid translation and a small rigid
  * rotation give zero internal force on every node, surface nodes included, for PMB and
  * LPS in 2D (both planes) and 3D (translation also in 1D). The bodies have a hole so that
  * the surface is not only flat faces. */
@@ -56,7 +56,7 @@ static void build(peri_sim *s, const rigid_case *c) {
 }
 
 /* S = c V_H: the force density of a full family with every bond at unit stretch, with
- * the constant-influence PMB micromodulus (MODELS.md 2.3): 24K/d (3D), 9E/d (plane
+ * the constant-influence PMB micromodulus (docs/model_reference.md 2.3): 24K/d (3D), 9E/d (plane
  * stress), 48E/(5d) (plane strain), 4E/d (1D). */
 static double force_scale(const rigid_case *c) {
   double d = M_RATIO * DX, K = E_MOD / (3.0 * (1.0 - 2.0 * c->nu));

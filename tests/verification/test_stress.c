@@ -1,8 +1,8 @@
-/* Stress recovery (MODELS.md 10) and the plate with a hole (VERIFICATION.md Elasticity 6).
+/* Stress recovery (docs/model_reference.md 10) and the plate with a hole (docs/verification.md Elasticity 6).
  *  - Homogeneous deformation u = H x: the nonlocal deformation gradient is exact at every
  *    node (A = (I + H) K), so the strain equals sym(H) to round-off; the PD stress of
  *    nodes more than 2 delta inside equals the classical C : eps within 1% at m = 5 (the
- *    quadrature accuracy of the discrete sums, as the energy of VERIFICATION.md
+ *    quadrature accuracy of the discrete sums, as the energy of docs/verification.md
  *    Elasticity 1).
  *  - Von Mises and principal stresses of known tensors, exactly.
  *  - Plate with a hole at a small size (delta = 3 mm, m = 3): far-field stress within 2%

@@ -1,5 +1,5 @@
 /* A body held at u = 0 and heated by dT carries the classical constrained thermal stress
- * (MODELS.md 9): plane stress -E alpha dT/(1 - nu) in x and y; plane strain (alpha_eff =
+ * (docs/model_reference.md 9): plane stress -E alpha dT/(1 - nu) in x and y; plane strain (alpha_eff =
  * (1 + nu) alpha) and 3D -E alpha dT/(1 - 2 nu). The 1D form -E alpha dT is checked in
  * tests/unit/test_thermal_mech.c.
  *
