@@ -48,7 +48,7 @@ static int find_material(const peri_sim *s, const peri_node *at, const char *nam
   return -peri_deck_error(at, "unknown material '%s' (define it under materials)", name);
 }
 
-static int find_region(const peri_sim *s, const peri_node *at, const char *name) {
+int peri_setup_find_region(const peri_sim *s, const peri_node *at, const char *name) {
   for (int r = 0; r < s->n_regions; ++r)
     if (strcmp(s->regions[r].name, name) == 0) return r;
   int best = -1, best_d = 1 << 30;
@@ -534,7 +534,7 @@ static int parse_conditions(parse_ctx *c) {
     bc->kind = (peri_bc_kind)kind;
     const char *rname = "all";
     TRY(peri_deck_string(it, "region", false, &rname));
-    int r = find_region(s, peri_deck_get(it, "region") ? peri_deck_get(it, "region") : it, rname);
+    int r = peri_setup_find_region(s, peri_deck_get(it, "region") ? peri_deck_get(it, "region") : it, rname);
     if (r < 0) return -r;
     bc->region = r;
     TRY(parse_components(s, it, bc->value, true));

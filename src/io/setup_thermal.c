@@ -70,19 +70,6 @@ int peri_setup_heat_material(peri_sim *s, const peri_node *key, const peri_node 
   return PERI_OK;
 }
 
-static int find_region(const peri_sim *s, const peri_node *at, const char *name) {
-  for (int r = 0; r < s->n_regions; ++r)
-    if (strcmp(s->regions[r].name, name) == 0) return r;
-  int best = -1, best_d = 1 << 30;
-  for (int r = 0; r < s->n_regions; ++r) {
-    int d = peri_edit_distance(name, s->regions[r].name);
-    if (d < best_d) best_d = d, best = r;
-  }
-  if (best >= 0 && best_d <= 2)
-    return -peri_deck_error(at, "unknown region '%s'; did you mean '%s'?", name, s->regions[best].name);
-  return -peri_deck_error(at, "unknown region '%s' (define it under regions; 'all' is predefined)", name);
-}
-
 /* ---------------------------------------------------------------- conditions */
 
 static int parse_thermal_bc(peri_sim *s, const peri_node *it, peri_thermal_bc *bc) {
@@ -98,7 +85,7 @@ static int parse_thermal_bc(peri_sim *s, const peri_node *it, peri_thermal_bc *b
   bc->kind = kinds[kind];
   const char *rname = "all";
   TRY(peri_deck_string(it, "region", false, &rname));
-  int r = find_region(s, peri_deck_get(it, "region") ? peri_deck_get(it, "region") : it, rname);
+  int r = peri_setup_find_region(s, peri_deck_get(it, "region") ? peri_deck_get(it, "region") : it, rname);
   if (r < 0) return -r;
   bc->region = r;
   bc->layer = s->geom.spacing;

@@ -18,4 +18,8 @@ bool peri_setup_is_thermal_bc(const peri_node *item);
  * section is parsed and before the time step is set. */
 int peri_setup_thermal(peri_sim *s, const peri_node *root);
 
+/* Index of the region called `name`; on failure prints a message at `at` (with a
+ * suggestion for a misspelling) and returns -PERI_ERR_INPUT. Defined in setup.c. */
+int peri_setup_find_region(const peri_sim *s, const peri_node *at, const char *name);
+
 #endif
