@@ -4,6 +4,9 @@
 #include <stdio.h>
 #include "peri/sim.h"
 
+/* Prints the first lines of a summary: version and deck, model (with dimension and plane),
+ * nodes, bonds (with the count of broken ones, called `broken`), horizon. */
+void peri_print_discretization(const peri_sim *s, FILE *out, const char *model, const char *broken);
 /* Prints the summary of a built simulation (nodes, bonds, memory, time step, ...). */
 void peri_print_summary(const peri_sim *s, FILE *out);
 /* Estimated bytes of all node and bond arrays. */

@@ -32,13 +32,7 @@ void peri_thermal_print_summary(const peri_sim *s, FILE *out) {
   const peri_thermal *th = s->thermal;
   if (!th) return;
   if (s->solver == PERI_SOLVER_HEAT) {
-    fprintf(out, "peri %s: %s\n", PERI_VERSION, s->deck_path);
-    fprintf(out, "  model        heat conduction, %dD\n", s->geom.dim);
-    fprintf(out, "  nodes        %d\n", s->p.n);
-    fprintf(out, "  bonds        %lld directed (%.1f per node), %ld cut\n", (long long)s->bonds.n_bonds,
-            s->p.n ? (double)s->bonds.n_bonds / s->p.n : 0.0, peri_broken_count(&s->bonds));
-    fprintf(out, "  horizon      %g (m = %.4g, spacing %g)\n", s->geom.horizon, s->geom.horizon / s->geom.spacing,
-            s->geom.spacing);
+    peri_print_discretization(s, out, "heat conduction", "cut");
     fprintf(out, "  memory       %.1f MB estimated\n",
             (peri_memory_estimate(s) + 16.0 * (double)s->bonds.n_bonds + 80.0 * s->p.n) / 1e6);
     for (int m = 0; m < s->n_materials; ++m) {

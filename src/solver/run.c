@@ -37,18 +37,22 @@ static const char *model_plane(const peri_sim *s) {
   return s->geom.plane == PERI_PLANE_STRAIN ? ", plane strain" : ", plane stress";
 }
 
+void peri_print_discretization(const peri_sim *s, FILE *out, const char *model, const char *broken) {
+  fprintf(out, "peri %s: %s\n", PERI_VERSION, s->deck_path);
+  fprintf(out, "  model        %s, %dD%s\n", model, s->geom.dim, s->solver == PERI_SOLVER_HEAT ? "" : model_plane(s));
+  fprintf(out, "  nodes        %d\n", s->p.n);
+  fprintf(out, "  bonds        %lld directed (%.1f per node), %ld %s\n", (long long)s->bonds.n_bonds,
+          s->p.n ? (double)s->bonds.n_bonds / s->p.n : 0.0, peri_broken_count(&s->bonds), broken);
+  fprintf(out, "  horizon      %g (m = %.4g, spacing %g)\n", s->geom.horizon, s->geom.horizon / s->geom.spacing,
+          s->geom.spacing);
+}
+
 void peri_print_summary(const peri_sim *s, FILE *out) {
   if (s->solver == PERI_SOLVER_HEAT) { /* conduction only (docs/heat.md) */
     peri_thermal_print_summary(s, out);
     return;
   }
-  fprintf(out, "peri %s: %s\n", PERI_VERSION, s->deck_path);
-  fprintf(out, "  model        %s, %dD%s\n", s->model->name, s->geom.dim, model_plane(s));
-  fprintf(out, "  nodes        %d\n", s->p.n);
-  fprintf(out, "  bonds        %lld directed (%.1f per node), %ld broken\n", (long long)s->bonds.n_bonds,
-          s->p.n ? (double)s->bonds.n_bonds / s->p.n : 0.0, peri_broken_count(&s->bonds));
-  fprintf(out, "  horizon      %g (m = %.4g, spacing %g)\n", s->geom.horizon, s->geom.horizon / s->geom.spacing,
-          s->geom.spacing);
+  peri_print_discretization(s, out, s->model->name, "broken");
   fprintf(out, "  memory       %.1f MB estimated (%.1f bytes per directed bond)\n",
           peri_memory_estimate(s) / 1e6, peri_bonds_bytes_per_bond(&s->bonds));
   for (int m = 0; m < s->n_materials; ++m) {
