@@ -34,6 +34,9 @@ void peri_pvd_close(peri_pvd *pvd);
  * line so a run that stops midway keeps what it wrote. */
 typedef struct peri_history peri_history;
 peri_history *peri_history_open(const char *path, int n_columns, const char *const *names);
+/* Opens <directory>/history.csv with the n column names and frees names (each name and
+ * the array), whether or not the file opened. */
+peri_history *peri_history_open_in(const char *directory, int n_columns, char **names);
 int peri_history_write(peri_history *h, const double *values);
 void peri_history_close(peri_history *h);
 

@@ -78,3 +78,17 @@ void peri_history_close(peri_history *h) {
   free(h->path);
   free(h);
 }
+
+peri_history *peri_history_open_in(const char *directory, int n_columns, char **names) {
+  size_t len = strlen(directory) + sizeof "/history.csv";
+  char *path = malloc(len);
+  peri_history *h = NULL;
+  if (path) {
+    snprintf(path, len, "%s/history.csv", directory);
+    h = peri_history_open(path, n_columns, (const char *const *)names);
+    free(path);
+  }
+  for (int j = 0; j < n_columns; ++j) free(names[j]);
+  free(names);
+  return h;
+}

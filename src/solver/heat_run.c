@@ -77,11 +77,7 @@ static int open_history(peri_sim *s, heat_ctx *c) {
     snprintf(buf, sizeof buf, "heat_inflow_%s", s->regions[r].name);
     names[k++] = peri_strdup(buf);
   }
-  char path[4200];
-  snprintf(path, sizeof path, "%s/history.csv", s->out.directory);
-  c->history = peri_history_open(path, n, (const char *const *)names);
-  for (int j = 0; j < n; ++j) free(names[j]);
-  free(names);
+  c->history = peri_history_open_in(s->out.directory, n, names);
   c->n_columns = n;
   c->row = peri_calloc((size_t)n, sizeof(double));
   return c->history ? PERI_OK : PERI_ERR_RUN;

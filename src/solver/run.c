@@ -167,11 +167,7 @@ static int open_history(peri_sim *s, run_ctx *c) {
     if (!strcmp(names[j], s->out.plot_y)) c->plot_y = j;
   }
   if (c->plot_y < 0) c->plot_x = -1;
-  char path[4200];
-  snprintf(path, sizeof path, "%s/history.csv", s->out.directory);
-  c->history = peri_history_open(path, n, (const char *const *)names);
-  for (int j = 0; j < n; ++j) free(names[j]);
-  free(names);
+  c->history = peri_history_open_in(s->out.directory, n, names);
   c->n_columns = n;
   c->row = peri_calloc(n, sizeof(double));
   return c->history ? PERI_OK : PERI_ERR_RUN;
