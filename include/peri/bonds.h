@@ -6,6 +6,7 @@
 #define PERI_BONDS_H
 #include <stdint.h>
 #include <stddef.h>
+#include <math.h>
 #include "peri/particles.h"
 
 /* Partial-volume rules (model reference section 5):
@@ -17,6 +18,14 @@ typedef enum { PERI_PV_NONE = 0, PERI_PV_LINEAR = 1, PERI_PV_LAMMPS = 2 } peri_p
 typedef enum { PERI_INFLUENCE_CONSTANT = 0, PERI_INFLUENCE_INVERSE = 1,
                PERI_INFLUENCE_GAUSSIAN = 2 } peri_influence;
 
+/* Family search parameters. */
+typedef struct peri_family_params {
+  double horizon;             /* delta */
+  double spacing;             /* grid spacing dx (for the partial-volume ramp) */
+  peri_partial_volume rule;   /* NONE: |xi| <= delta; LINEAR: ramp over delta +- dx/2 */
+  peri_influence influence;
+} peri_family_params;
+
 typedef struct peri_bonds {
   int32_t n_nodes;
   int64_t n_bonds;  /* directed bonds = offset[n_nodes] */
@@ -26,15 +35,36 @@ typedef struct peri_bonds {
   double *beta;     /* partial-volume factor in (0,1] */
   double *omega;    /* influence function value */
   uint8_t *broken;  /* 0 intact, 1 broken */
+  peri_family_params family; /* what the per-bond reference data are evaluated from */
 } peri_bonds;
 
-/* Family search parameters. */
-typedef struct peri_family_params {
-  double horizon;             /* delta */
-  double spacing;             /* grid spacing dx (for the partial-volume ramp) */
-  peri_partial_volume rule;   /* NONE: |xi| <= delta; LINEAR: ramp over delta +- dx/2 */
-  peri_influence influence;
-} peri_family_params;
+/* Reference bond vector xi = x_j - x_i (x: reference positions, stride 3) and |xi|. */
+static inline double peri_bond_xi(const double *x, int32_t i, int32_t j, double xi[3]) {
+  for (int c = 0; c < 3; ++c) xi[c] = x[3 * j + c] - x[3 * i + c];
+  return sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
+}
+/* Reference length |x_j - x_i|. */
+static inline double peri_bond_length(const double *x, int32_t i, int32_t j) {
+  double xi[3];
+  return peri_bond_xi(x, i, j, xi);
+}
+/* Partial-volume factor of a bond of the family with reference length r (r within the
+ * cutoff): min(1, 1/2 + (delta - r)/dx) for the ramp rules, 1 for NONE. */
+static inline double peri_bonds_beta(const peri_bonds *b, double r) {
+  const peri_family_params *f = &b->family;
+  if (f->rule == PERI_PV_NONE || !(f->spacing > 0)) return 1.0;
+  const double beta = 0.5 + (f->horizon - r) / f->spacing;
+  return beta < 1.0 ? (beta > 0.0 ? beta : 0.0) : 1.0;
+}
+/* Influence function omega(r) of the family. */
+static inline double peri_bonds_omega(const peri_bonds *b, double r) {
+  switch (b->family.influence) {
+  case PERI_INFLUENCE_INVERSE: return 1.0 / r;
+  case PERI_INFLUENCE_GAUSSIAN: return exp(-(r * r) / (b->family.horizon * b->family.horizon));
+  default: return 1.0;
+  }
+}
+
 
 /* Builds the families of all owned nodes by a cell-list search (O(n)): bins of side
  * >= the cutoff (delta, or delta + dx/2 for LINEAR). A neighbor j of i is kept when

@@ -151,6 +151,7 @@ void peri_bonds_build(peri_bonds *b, const peri_particles *p, const peri_family_
   memset(b, 0, sizeof *b);
   int32_t n_own = p->n_owned;
   b->n_nodes = n_own;
+  b->family = *fp;
   b->offset = peri_calloc((size_t)n_own + 1, sizeof(int64_t));
   double rcut = cutoff_of(fp) * (1 + CUTOFF_RTOL);
   cells c;
