@@ -1,7 +1,9 @@
 /* Bonds in compressed sparse rows: the family of node i is
  * neighbor[offset[i] .. offset[i+1]-1]. Each bond appears from both ends (directed
- * bonds). Per-bond arrays are parallel to neighbor[]. Built once in the reference
- * configuration; bonds only break. */
+ * bonds). Per-bond arrays are parallel to neighbor[]: 5 bytes per directed bond. The
+ * reference length, partial volume and influence of a bond are functions of the reference
+ * positions and the family (below), evaluated where needed rather than stored. Built once in
+ * the reference configuration; bonds only break. */
 #ifndef PERI_BONDS_H
 #define PERI_BONDS_H
 #include <stdint.h>
@@ -31,9 +33,6 @@ typedef struct peri_bonds {
   int64_t n_bonds;  /* directed bonds = offset[n_nodes] */
   int64_t *offset;  /* [n_nodes+1] */
   int32_t *neighbor;/* [n_bonds] */
-  double *length;   /* |xi| reference length */
-  double *beta;     /* partial-volume factor in (0,1] */
-  double *omega;    /* influence function value */
   uint8_t *broken;  /* 0 intact, 1 broken */
   peri_family_params family; /* what the per-bond reference data are evaluated from */
 } peri_bonds;

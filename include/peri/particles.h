@@ -31,6 +31,10 @@ typedef struct peri_particles {
   double *pstate;   /* 2D LPS: P_i = (w e^d).x */
   double *energy;   /* strain energy density W_i */
   double *smin;     /* LAMMPS-style critical stretch: min stretch of the previous step */
+  double *coef;     /* per-node coefficients a model's bond loop reads for neighbours
+                       (PMB: micromodulus; LPS: two per node) */
+  double *s0_bound; /* a lower bound of the critical stretch of every bond of the node
+                       (INFINITY: never breaks), screening the bond loops for breaking */
 } peri_particles;
 
 void peri_particles_init(peri_particles *p, int dim);

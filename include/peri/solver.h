@@ -6,6 +6,9 @@
 /* Stable time step estimate (docs/model_reference.md 13.2) without the safety factor:
  * min( min_i sqrt(2 rho_i / sum_j beta V_j c_eq omega / |xi|), dx / c_p ). */
 double peri_stable_dt(const peri_sim *s);
+/* The stiffness bound sum_j beta V_j c_eq (omega) / |xi| of node i's family (all bonds), used
+ * by the stable step and the ADR fictitious density. */
+double peri_node_stiffness_bound(const peri_sim *s, int32_t i);
 
 /* Applies initial displacements and velocities (t = 0) and marks prescribed components. */
 void peri_apply_initial_conditions(peri_sim *s);

@@ -173,27 +173,16 @@ void peri_bonds_build(peri_bonds *b, const peri_particles *p, const peri_family_
   b->n_bonds = nb;
   size_t m = (size_t)(nb > 0 ? nb : 1);
   b->neighbor = peri_malloc(sizeof(int32_t) * m);
-  b->length = peri_malloc(sizeof(double) * m);
-  b->beta = peri_malloc(sizeof(double) * m);
-  b->omega = peri_malloc(sizeof(double) * m);
   b->broken = peri_calloc(m, 1);
 
-  /* Pass 2: fill each family, sort it by index, then evaluate the per-bond values. */
+  /* Pass 2: fill each family and sort it by index. Reference length, partial volume and
+   * influence are not stored: kernels evaluate them from the reference positions
+   * (peri_bond_xi, peri_bonds_beta, peri_bonds_omega), which costs less than reading them. */
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < n_own; i++) {
     int64_t o = b->offset[i], cnt = b->offset[i + 1] - o;
     scan(&c, p, fp, rcut, i, b->neighbor + o, NULL);
     qsort(b->neighbor + o, (size_t)cnt, sizeof(int32_t), cmp_i32);
-    const double *xi = p->x + 3 * (size_t)i;
-    for (int64_t k = o; k < o + cnt; k++) {
-      const double *xj = p->x + 3 * (size_t)b->neighbor[k];
-      double r2 = 0;
-      for (int d = 0; d < 3; d++) r2 += (xj[d] - xi[d]) * (xj[d] - xi[d]);
-      double r = sqrt(r2);
-      b->length[k] = r;
-      b->beta[k] = peri_partial_volume_factor(fp->rule, r, fp->horizon, fp->spacing);
-      b->omega[k] = peri_influence_value(fp->influence, r, fp->horizon);
-    }
   }
   cells_free(&c);
 }
@@ -215,16 +204,12 @@ int64_t peri_bonds_find(const peri_bonds *b, int32_t i, int32_t j) {
 
 double peri_bonds_bytes_per_bond(const peri_bonds *b) {
   if (b->n_bonds <= 0) return 0.0;
-  return (double)(sizeof *b->neighbor + sizeof *b->length + sizeof *b->beta + sizeof *b->omega +
-                  sizeof *b->broken);
+  return (double)(sizeof *b->neighbor + sizeof *b->broken);
 }
 
 void peri_bonds_free(peri_bonds *b) {
   free(b->offset);
   free(b->neighbor);
-  free(b->length);
-  free(b->beta);
-  free(b->omega);
   free(b->broken);
   memset(b, 0, sizeof *b);
 }

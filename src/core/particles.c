@@ -127,6 +127,8 @@ void peri_particles_free(peri_particles *p) {
   free(p->pstate);
   free(p->energy);
   free(p->smin);
+  free(p->coef);
+  free(p->s0_bound);
   int dim = p->dim;
   peri_particles_init(p, dim);
 }

@@ -8,7 +8,8 @@ void peri_damage_index(const peri_sim *s, double *phi) {
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double all = 0.0, intact = 0.0;
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      double w = b->beta[k] * p->volume[b->neighbor[k]];
+      const int32_t j = b->neighbor[k];
+      const double w = peri_bonds_beta(b, peri_bond_length(p->x, i, j)) * p->volume[j];
       all += w;
       if (!b->broken[k]) intact += w;
     }

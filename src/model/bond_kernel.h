@@ -28,6 +28,48 @@ static inline double peri_bond_thermal_stretch(const double *eth, int32_t i, int
   return eth ? 0.5 * (eth[i] + eth[j]) : 0.0;
 }
 
+/* The family's partial-volume and influence rules in the form the bond loops evaluate per
+ * bond (the same values as peri_bonds_beta / peri_bonds_omega up to rounding). */
+typedef struct peri_family_eval {
+  double beta0, inv_dx;   /* beta = min(1, beta0 - |xi| inv_dx) */
+  double inv_delta2;      /* Gaussian influence */
+  peri_influence influence;
+} peri_family_eval;
+
+static inline peri_family_eval peri_family_eval_of(const peri_bonds *b) {
+  const peri_family_params *f = &b->family;
+  peri_family_eval e = {1.0, 0.0, 1.0 / (f->horizon * f->horizon), f->influence};
+  if (f->rule != PERI_PV_NONE && f->spacing > 0) {
+    e.beta0 = 0.5 + f->horizon / f->spacing;
+    e.inv_dx = 1.0 / f->spacing;
+  }
+  return e;
+}
+/* min without fmin's NaN rules, so that it compiles to one vector instruction */
+static inline double peri_min(double a, double b) { return a < b ? a : b; }
+static inline double peri_max(double a, double b) { return a > b ? a : b; }
+static inline double peri_eval_beta(const peri_family_eval *e, double r0) {
+  return peri_min(1.0, e->beta0 - r0 * e->inv_dx);
+}
+/* `influence` is passed separately so that a constant argument specializes the loop. */
+static inline double peri_eval_omega(const peri_family_eval *e, peri_influence influence, double r0) {
+  if (influence == PERI_INFLUENCE_INVERSE) return 1.0 / r0;
+  if (influence == PERI_INFLUENCE_GAUSSIAN) return exp(-(r0 * r0) * e->inv_delta2);
+  return 1.0;
+}
+
+/* Bonds whose mechanical stretch is within this margin of the screening bound are re-checked
+ * exactly (scalar) by the breaking pass, so vector rounding never decides a break. */
+#define PERI_S0_SCREEN_MARGIN 1e-9
+
+/* Fills p->s0_bound (allocated on first use, n entries) with a lower bound of the critical
+ * stretch of every bond of each node: the smallest entry of its material's row of the pair
+ * table, or the LAMMPS-form s0 of the node; INFINITY for no-fail nodes. */
+void peri_update_s0_bound(peri_sim *s);
+/* Breaks, in node i's family, every intact bond beyond its critical stretch (exact scalar
+ * test, symmetric in i and j); returns the number broken. */
+long peri_break_family(peri_sim *s, int32_t i);
+
 /* Publishes the LAMMPS-form critical stretches for the next step, s0_i = s00 - alpha *
  * (min stretch of i's bonds this step), computed in p->smin by the force pass. */
 void peri_update_lammps_s0(peri_sim *s);

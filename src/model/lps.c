@@ -7,6 +7,7 @@
  *   f_i     = sum_j (t_ij + t_ji) M_ij W_ij,           W_ij = chi beta V_j
  * Each end uses its own material's constants (half-bond rule, docs/model_reference.md 8). */
 #include <math.h>
+#include <string.h>
 #include "peri/constants.h"
 #include "peri/error.h"
 #include "peri/model.h"
@@ -24,6 +25,7 @@ static int lps_init(peri_sim *s) {
   p->theta = peri_calloc(p->n, sizeof(double));
   p->pstate = peri_calloc(p->n, sizeof(double));
   p->wvol = peri_calloc(p->n, sizeof(double));
+  p->coef = peri_calloc(2 * (size_t)p->n, sizeof(double));
   if (s->analytic_weighted_volume) {
     double m = peri_weighted_volume_analytic(&s->geom, s->family.influence);
     for (int32_t i = 0; i < p->n; ++i) p->wvol[i] = m;
@@ -34,7 +36,11 @@ static int lps_init(peri_sim *s) {
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double m = 0.0;
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
-      m += b->omega[k] * b->length[k] * b->length[k] * b->beta[k] * p->volume[b->neighbor[k]];
+    {
+      const int32_t j = b->neighbor[k];
+      const double r0 = peri_bond_length(p->x, i, j);
+      m += peri_bonds_omega(b, r0) * r0 * r0 * peri_bonds_beta(b, r0) * p->volume[j];
+    }
     p->wvol[i] = m;
   }
   for (int32_t i = 0; i < p->n_owned; ++i) {
@@ -48,40 +54,112 @@ static int lps_init(peri_sim *s) {
   return PERI_OK;
 }
 
-/* Pass 1: break bonds beyond their critical stretch, then dilatation theta and P. */
+/* What the bond loops of one node read; restrict pointers let the compiler vectorize. */
+typedef struct {
+  const double *restrict x, *restrict u, *restrict V, *restrict eth, *restrict s0_bound, *restrict coef;
+  const int32_t *restrict neighbor;
+  const uint8_t *restrict broken;
+  peri_family_eval fam;
+} lps_view;
+
+/* Pass-1 sums of node i over its intact bonds: sum w e and sum w |xi| with w = omega |xi| beta V_j
+ * and e the extension less node i's thermal part; the minimum mechanical stretch; and
+ * whether any bond is a candidate for breaking (as in the PMB loop). */
+static inline __attribute__((always_inline)) long lps_node_sums(const lps_view *w, int32_t i, int64_t k0, int64_t k1,
+                                                                bool thermal, peri_influence influence, bool damaged,
+                                                                double *we_x_out, double *w_xx_out, double *smin_out) {
+  const double xi0 = w->x[3 * i], xi1 = w->x[3 * i + 1], xi2 = w->x[3 * i + 2];
+  const double ui0 = w->u[3 * i], ui1 = w->u[3 * i + 1], ui2 = w->u[3 * i + 2];
+  const double eth_i = thermal ? w->eth[i] : 0.0, bound_i = w->s0_bound[i];
+  const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict eth = w->eth,
+                         *restrict s0_bound = w->s0_bound;
+  const int32_t *restrict neighbor = w->neighbor;
+  const uint8_t *restrict broken = w->broken;
+  const peri_family_eval fam = w->fam;
+  double we_x = 0.0, w_xx = 0.0, smin = INFINITY;
+  double excess = -INFINITY; /* largest stretch above the screening bound */
+#pragma omp simd reduction(+ : we_x, w_xx) reduction(min : smin) reduction(max : excess)
+  for (int64_t k = k0; k < k1; ++k) {
+    const int32_t j = neighbor[k];
+    const double x0 = x[3 * j] - xi0, x1 = x[3 * j + 1] - xi1, x2 = x[3 * j + 2] - xi2;
+    const double y0 = x0 + (u[3 * j] - ui0), y1 = x1 + (u[3 * j + 1] - ui1),
+                 y2 = x2 + (u[3 * j + 2] - ui2);
+    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+    const double e_total = sqrt(y0 * y0 + y1 * y1 + y2 * y2) - r0;
+    double s_mech = e_total / r0;
+    if (thermal) s_mech -= 0.5 * (eth_i + eth[j]); /* symmetric in i, j */
+    const bool intact = damaged ? !broken[k] : true;
+    const double bound = peri_min(bound_i, s0_bound[j]) - PERI_S0_SCREEN_MARGIN;
+    excess = peri_max(excess, intact ? s_mech - bound : -INFINITY);
+    smin = peri_min(smin, intact ? s_mech : INFINITY);
+    const double wt = intact ? peri_eval_omega(&fam, influence, r0) * r0 * peri_eval_beta(&fam, r0) * V[j] : 0.0;
+    we_x += wt * (e_total - eth_i * r0);
+    w_xx += wt * r0;
+  }
+  *we_x_out = we_x;
+  *w_xx_out = w_xx;
+  *smin_out = smin;
+  return excess > 0.0;
+}
+
+/* Pass 1 for every owned node: break bonds beyond their critical stretch, then the dilatation
+ * theta, P and the two per-node coefficients of the force pass. With
+ *   A_i = n_theta (K_theta theta_i - alpha_i P_i/3)/m_i,  B_i = alpha_i = (alpha m)/m_i,
+ *   D_i = A_i - B_i (alpha_T dT_i + theta_i/3),
+ * the pair force of the header is t_ij + t_ji = omega (|xi| (D_i + D_j) + e (B_i + B_j)), so the
+ * force pass gathers two numbers per neighbour. */
+/* One function per specialization (the OpenMP region is outlined before inlining); a family
+ * without broken bonds runs a loop that does not read the flags (8-wide double vectors). */
+typedef long (*lps_sums_fn)(const lps_view *, int32_t, int64_t, int64_t, double *, double *, double *);
+#define LPS_SUMS_VARIANT(NAME, THERMAL, INFLUENCE)                                                           \
+  static long NAME(const lps_view *w, int32_t i, int64_t k0, int64_t k1, double *we_x, double *w_xx,          \
+                   double *smin) {                                                                           \
+    if (memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                        \
+      return lps_node_sums(w, i, k0, k1, THERMAL, INFLUENCE, true, we_x, w_xx, smin);                        \
+    return lps_node_sums(w, i, k0, k1, THERMAL, INFLUENCE, false, we_x, w_xx, smin);                         \
+  }
+LPS_SUMS_VARIANT(lps_sums_plain, false, PERI_INFLUENCE_CONSTANT)
+LPS_SUMS_VARIANT(lps_sums_thermal, true, PERI_INFLUENCE_CONSTANT)
+LPS_SUMS_VARIANT(lps_sums_inverse, false, PERI_INFLUENCE_INVERSE)
+LPS_SUMS_VARIANT(lps_sums_inverse_thermal, true, PERI_INFLUENCE_INVERSE)
+LPS_SUMS_VARIANT(lps_sums_gaussian, false, PERI_INFLUENCE_GAUSSIAN)
+LPS_SUMS_VARIANT(lps_sums_gaussian_thermal, true, PERI_INFLUENCE_GAUSSIAN)
+
 static long lps_dilatation(peri_sim *s) {
+  peri_update_s0_bound(s);
+  const bool thermal = s->thermal_strain != NULL;
+  lps_sums_fn sums = thermal ? lps_sums_thermal : lps_sums_plain;
+  if (s->family.influence == PERI_INFLUENCE_INVERSE) sums = thermal ? lps_sums_inverse_thermal : lps_sums_inverse;
+  if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) sums = thermal ? lps_sums_gaussian_thermal : lps_sums_gaussian;
   peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
-  const bool track_smin = s->s0_node != NULL;
-  const bool breaking = s->breaking;
-  const double *eth = s->thermal_strain; /* e_mech = e - alpha_T dT_i |xi| (docs/model_reference.md 9) */
+  const lps_view w = {p->x, p->u, p->volume, s->thermal_strain, p->s0_bound, p->coef,
+                      b->neighbor, b->broken, peri_family_eval_of(b)};
+  const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
   long n_broken = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : n_broken)
   for (int32_t i = 0; i < p->n_owned; ++i) {
-    double we_x = 0.0, w_xx = 0.0, smin = INFINITY;
-    const double eth_i = eth ? eth[i] : 0.0;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      double dy[3];
-      const double L = b->length[k];
-      const double e_total = peri_deformed_bond(p->x, p->u, i, j, dy) - L;
-      const double s_mech = e_total / L - peri_bond_thermal_stretch(eth, i, j); /* symmetric in i, j */
-      if (track_smin && s_mech < smin) smin = s_mech;
-      if (breaking && s_mech > peri_bond_s0(s, i, j)) {
-        b->broken[k] = 1;
-        ++n_broken;
-        continue;
+    const int64_t k0 = b->offset[i], k1 = b->offset[i + 1];
+    double we_x, w_xx, smin;
+    const long candidates = sums(&w, i, k0, k1, &we_x, &w_xx, &smin);
+    if (breaking && candidates > 0) {
+      const long nb = peri_break_family(s, i);
+      if (nb > 0) {
+        n_broken += nb;
+        double unused;
+        sums(&w, i, k0, k1, &we_x, &w_xx, &unused);
       }
-      const double e = e_total - eth_i * L;
-      const double w = b->omega[k] * L * b->beta[k] * p->volume[j];
-      we_x += w * e;
-      w_xx += w * L;
     }
     const peri_material *mat = &s->materials[p->material[i]];
-    const double theta = mat->n_theta * we_x / p->wvol[i];
+    const double m = p->wvol[i];
+    const double theta = mat->n_theta * we_x / m;
+    const double P = we_x - theta * w_xx / 3.0;
+    const double alpha = mat->alpha_m / m;
+    const double eth_i = thermal ? s->thermal_strain[i] : 0.0;
     p->theta[i] = theta;
-    p->pstate[i] = we_x - theta * w_xx / 3.0;
+    p->pstate[i] = P;
+    p->coef[2 * i] = mat->n_theta * (mat->K_theta * theta - alpha * P / 3.0) / m - alpha * (eth_i + theta / 3.0);
+    p->coef[2 * i + 1] = alpha;
     if (track_smin) p->smin[i] = smin;
   }
   return n_broken;
@@ -95,35 +173,60 @@ static inline double lps_half(const peri_material *mat, double theta, double P, 
          alpha * omega * (e - theta * L / 3.0);
 }
 
+/* Pass 2 for node i: f_i = sum_j (t_ij + t_ji) M_ij beta V_j over intact bonds. */
+static inline __attribute__((always_inline)) void lps_node_force(const lps_view *w, int32_t i, int64_t k0, int64_t k1,
+                                                                 peri_influence influence, bool damaged, double f[3]) {
+  const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict coef = w->coef;
+  const int32_t *restrict neighbor = w->neighbor;
+  const uint8_t *restrict broken = w->broken;
+  const peri_family_eval fam = w->fam;
+  const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
+  const double ui0 = u[3 * i], ui1 = u[3 * i + 1], ui2 = u[3 * i + 2];
+  const double Di = coef[2 * i], Bi = coef[2 * i + 1];
+  double fx = 0.0, fy = 0.0, fz = 0.0;
+#pragma omp simd reduction(+ : fx, fy, fz)
+  for (int64_t k = k0; k < k1; ++k) {
+    const int32_t j = neighbor[k];
+    const double x0 = x[3 * j] - xi0, x1 = x[3 * j + 1] - xi1, x2 = x[3 * j + 2] - xi2;
+    const double y0 = x0 + (u[3 * j] - ui0), y1 = x1 + (u[3 * j + 1] - ui1), y2 = x2 + (u[3 * j + 2] - ui2);
+    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+    const double r = sqrt(y0 * y0 + y1 * y1 + y2 * y2);
+    const double t = peri_eval_omega(&fam, influence, r0) * (r0 * (Di + coef[2 * j]) + (r - r0) * (Bi + coef[2 * j + 1]));
+    const double scale = t * peri_eval_beta(&fam, r0) * V[j] / r;
+    const double g = ((damaged ? !broken[k] : true) && r > 0.0) ? scale : 0.0;
+    fx += g * y0;
+    fy += g * y1;
+    fz += g * y2;
+  }
+  f[0] = fx;
+  f[1] = fy;
+  f[2] = fz;
+}
+
+typedef void (*lps_force_fn)(const lps_view *, int32_t, int64_t, int64_t, double *);
+#define LPS_FORCE_VARIANT(NAME, INFLUENCE)                                                          \
+  static void NAME(const lps_view *w, int32_t i, int64_t k0, int64_t k1, double *f) {                \
+    if (memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                \
+      lps_node_force(w, i, k0, k1, INFLUENCE, true, f);                                              \
+    else                                                                                             \
+      lps_node_force(w, i, k0, k1, INFLUENCE, false, f);                                             \
+  }
+LPS_FORCE_VARIANT(lps_force_constant, PERI_INFLUENCE_CONSTANT)
+LPS_FORCE_VARIANT(lps_force_inverse, PERI_INFLUENCE_INVERSE)
+LPS_FORCE_VARIANT(lps_force_gaussian, PERI_INFLUENCE_GAUSSIAN)
+
 static long lps_force(peri_sim *s) {
   long n_broken = lps_dilatation(s);
   if (s->s0_node) peri_update_lammps_s0(s);
   peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
-  const peri_material *mats = s->materials;
-  const double *eth = s->thermal_strain;
+  const lps_view w = {p->x, p->u, p->volume, s->thermal_strain, p->s0_bound, p->coef,
+                      b->neighbor, b->broken, peri_family_eval_of(b)};
+  lps_force_fn node = s->family.influence == PERI_INFLUENCE_INVERSE    ? lps_force_inverse
+                      : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? lps_force_gaussian
+                                                                       : lps_force_constant;
 #pragma omp parallel for schedule(dynamic, 256)
-  for (int32_t i = 0; i < p->n_owned; ++i) {
-    double fi[3] = {0.0, 0.0, 0.0};
-    const peri_material *mi = &mats[p->material[i]];
-    const double eth_i = eth ? eth[i] : 0.0;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      double dy[3];
-      const double L = b->length[k];
-      const double r = peri_deformed_bond(p->x, p->u, i, j, dy);
-      if (r <= 0.0) continue;
-      const double e = r - L;
-      const double eth_j = eth ? eth[j] : 0.0;
-      const double t = lps_half(mi, p->theta[i], p->pstate[i], p->wvol[i], b->omega[k], L, e - eth_i * L) +
-                       lps_half(&mats[p->material[j]], p->theta[j], p->pstate[j], p->wvol[j],
-                                b->omega[k], L, e - eth_j * L);
-      const double scale = t * b->beta[k] * p->volume[j] / r;
-      for (int d = 0; d < 3; ++d) fi[d] += scale * dy[d];
-    }
-    for (int d = 0; d < 3; ++d) p->f[3 * i + d] = fi[d];
-  }
+  for (int32_t i = 0; i < p->n_owned; ++i) node(&w, i, b->offset[i], b->offset[i + 1], &p->f[3 * (size_t)i]);
   return n_broken;
 }
 
@@ -145,9 +248,9 @@ static void lps_energy(peri_sim *s, double *W) {
       if (b->broken[k]) continue;
       const int32_t j = b->neighbor[k];
       double dy[3];
-      const double L = b->length[k];
+      const double L = peri_bond_length(p->x, i, j);
       const double ed = peri_deformed_bond(p->x, p->u, i, j, dy) - L - eth_i * L - theta * L / 3.0;
-      sum += b->omega[k] * ed * ed * b->beta[k] * p->volume[j];
+      sum += peri_bonds_omega(b, L) * ed * ed * peri_bonds_beta(b, L) * p->volume[j];
     }
     W[i] = 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / p->wvol[i]) * sum;
   }
@@ -157,12 +260,12 @@ static double lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) 
   const peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
   const int32_t j = b->neighbor[k];
-  const double L = b->length[k], e = r - L;
+  const double L = peri_bond_length(p->x, i, j), e = r - L, omega = peri_bonds_omega(b, L);
   const double eth_i = s->thermal_strain ? s->thermal_strain[i] : 0.0;
   const double eth_j = s->thermal_strain ? s->thermal_strain[j] : 0.0;
-  return lps_half(&s->materials[p->material[i]], p->theta[i], p->pstate[i], p->wvol[i], b->omega[k], L,
+  return lps_half(&s->materials[p->material[i]], p->theta[i], p->pstate[i], p->wvol[i], omega, L,
                   e - eth_i * L) +
-         lps_half(&s->materials[p->material[j]], p->theta[j], p->pstate[j], p->wvol[j], b->omega[k], L,
+         lps_half(&s->materials[p->material[j]], p->theta[j], p->pstate[j], p->wvol[j], omega, L,
                   e - eth_j * L);
 }
 

@@ -2,6 +2,7 @@
  * pair force f = c omega s M, with the micromodulus c of each end (half-bond rule,
  * c_ij = (c_i + c_j)/2, docs/model_reference.md 8). */
 #include <math.h>
+#include <string.h>
 #include "peri/constants.h"
 #include "peri/error.h"
 #include "peri/model.h"
@@ -15,65 +16,159 @@ static int pmb_init(peri_sim *s) {
       mat->micromodulus = peri_pmb_micromodulus(&s->geom, mat->E, mat->K) * calibration;
     mat->c_stable = mat->micromodulus;
   }
+  peri_particles *p = &s->p;
+  p->coef = peri_malloc(sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
   return PERI_OK;
 }
 
+/* What the bond loop of one node reads; restrict pointers let the compiler vectorize. */
+typedef struct {
+  const double *restrict x, *restrict u, *restrict V, *restrict c, *restrict eth, *restrict s0_bound;
+  const int32_t *restrict neighbor;
+  const uint8_t *restrict broken;
+  peri_family_eval fam;
+} pmb_view;
+
+/* Force density on node i from its intact bonds, the minimum mechanical stretch, and
+ * whether any intact bond's stretch passes the screening bound (a candidate for breaking).
+ * Constant arguments (multi-material, thermal, influence, whether any bond of the family is
+ * broken) specialize the loop; a family without broken bonds does not read the flags, so its
+ * loop works on 8-wide double vectors only. */
+static inline __attribute__((always_inline)) long pmb_node(const pmb_view *w, int32_t i, int64_t k0, int64_t k1,
+                                                           bool multi, bool thermal, peri_influence influence,
+                                                           bool damaged, double f[3], double *smin_out) {
+  const double xi0 = w->x[3 * i], xi1 = w->x[3 * i + 1], xi2 = w->x[3 * i + 2];
+  const double ui0 = w->u[3 * i], ui1 = w->u[3 * i + 1], ui2 = w->u[3 * i + 2];
+  const double ci = w->c[i], eth_i = thermal ? w->eth[i] : 0.0, bound_i = w->s0_bound[i];
+  /* local copies: the loop then reads no pointer through w */
+  const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict c_node = w->c,
+                         *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
+  const int32_t *restrict neighbor = w->neighbor;
+  const uint8_t *restrict broken = w->broken;
+  const peri_family_eval fam = w->fam;
+  double fx = 0.0, fy = 0.0, fz = 0.0, smin = INFINITY;
+  double excess = -INFINITY; /* largest stretch above the screening bound */
+#pragma omp simd reduction(+ : fx, fy, fz) reduction(min : smin) reduction(max : excess)
+  for (int64_t k = k0; k < k1; ++k) {
+    const int32_t j = neighbor[k];
+    const double x0 = x[3 * j] - xi0, x1 = x[3 * j + 1] - xi1, x2 = x[3 * j + 2] - xi2;
+    const double y0 = x0 + (u[3 * j] - ui0), y1 = x1 + (u[3 * j + 1] - ui1),
+                 y2 = x2 + (u[3 * j + 2] - ui2);
+    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+    const double r = sqrt(y0 * y0 + y1 * y1 + y2 * y2);
+    double stretch = (r - r0) / r0;
+    if (thermal) stretch -= 0.5 * (eth_i + eth[j]);
+    const bool intact = damaged ? !broken[k] : true;
+    const double bound = peri_min(bound_i, s0_bound[j]) - PERI_S0_SCREEN_MARGIN;
+    excess = peri_max(excess, intact ? stretch - bound : -INFINITY);
+    smin = peri_min(smin, intact ? stretch : INFINITY);
+    const double c = multi ? 0.5 * (ci + c_node[j]) : ci;
+    const double scale = c * stretch * peri_eval_omega(&fam, influence, r0) * peri_eval_beta(&fam, r0) *
+                         V[j] / r;
+    const double g = (intact && r > 0.0) ? scale : 0.0;
+    fx += g * y0;
+    fy += g * y1;
+    fz += g * y2;
+  }
+  f[0] = fx;
+  f[1] = fy;
+  f[2] = fz;
+  *smin_out = smin;
+  return excess > 0.0;
+}
+
+/* One function per specialization: the OpenMP region below is outlined before inlining, so
+ * the constants must be fixed inside a function of their own to reach the vector loop. */
+typedef long (*pmb_node_fn)(const pmb_view *, int32_t, int64_t, int64_t, double *, double *);
+#define PMB_NODE_VARIANT(NAME, MULTI, THERMAL, INFLUENCE)                                             \
+  static long NAME(const pmb_view *w, int32_t i, int64_t k0, int64_t k1, double *f, double *smin) {     \
+    if (memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                 \
+      return pmb_node(w, i, k0, k1, MULTI, THERMAL, INFLUENCE, true, f, smin);                         \
+    return pmb_node(w, i, k0, k1, MULTI, THERMAL, INFLUENCE, false, f, smin);                          \
+  }
+PMB_NODE_VARIANT(pmb_node_plain, false, false, PERI_INFLUENCE_CONSTANT)
+PMB_NODE_VARIANT(pmb_node_multi, true, false, PERI_INFLUENCE_CONSTANT)
+PMB_NODE_VARIANT(pmb_node_thermal, false, true, PERI_INFLUENCE_CONSTANT)
+PMB_NODE_VARIANT(pmb_node_multi_thermal, true, true, PERI_INFLUENCE_CONSTANT)
+PMB_NODE_VARIANT(pmb_node_inverse, true, false, PERI_INFLUENCE_INVERSE)
+PMB_NODE_VARIANT(pmb_node_inverse_thermal, true, true, PERI_INFLUENCE_INVERSE)
+PMB_NODE_VARIANT(pmb_node_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN)
+PMB_NODE_VARIANT(pmb_node_gaussian_thermal, true, true, PERI_INFLUENCE_GAUSSIAN)
+
 static long pmb_force(peri_sim *s) {
   peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
-  const double *x = p->x, *u = p->u, *V = p->volume;
-  const peri_material *mats = s->materials;
-  const bool track_smin = s->s0_node != NULL;
-  const bool breaking = s->breaking;
-  const double *eth = s->thermal_strain; /* thermal strain (docs/model_reference.md 9), NULL without */
+  peri_bonds *b = &s->bonds;
+  /* per-node copies of the material data the loop gathers (O(n), refreshed so that they
+   * follow any change of the materials) */
+  for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->materials[p->material[i]].micromodulus;
+  peri_update_s0_bound(s);
+  const bool multi = s->n_materials > 1, thermal = s->thermal_strain != NULL;
+  pmb_node_fn node = multi ? (thermal ? pmb_node_multi_thermal : pmb_node_multi)
+                           : (thermal ? pmb_node_thermal : pmb_node_plain);
+  if (s->family.influence == PERI_INFLUENCE_INVERSE) node = thermal ? pmb_node_inverse_thermal : pmb_node_inverse;
+  if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) node = thermal ? pmb_node_gaussian_thermal : pmb_node_gaussian;
+  const pmb_view w = {p->x, p->u, p->volume, p->coef, s->thermal_strain, p->s0_bound,
+                      b->neighbor, b->broken, peri_family_eval_of(b)};
+  const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
   long n_broken = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : n_broken)
   for (int32_t i = 0; i < p->n_owned; ++i) {
-    double fi[3] = {0.0, 0.0, 0.0};
-    double smin = INFINITY;
-    const double ci = mats[p->material[i]].micromodulus;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      double dy[3];
-      const double r = peri_deformed_bond(x, u, i, j, dy);
-      const double stretch = (r - b->length[k]) / b->length[k] - peri_bond_thermal_stretch(eth, i, j);
-      if (track_smin && stretch < smin) smin = stretch;
-      if (breaking && stretch > peri_bond_s0(s, i, j)) {
-        b->broken[k] = 1;
-        ++n_broken;
-        continue;
+    const int64_t k0 = b->offset[i], k1 = b->offset[i + 1];
+    double f[3], smin;
+    const long candidates = node(&w, i, k0, k1, f, &smin);
+    if (breaking && candidates > 0) {
+      const long nb = peri_break_family(s, i);
+      if (nb > 0) {
+        n_broken += nb;
+        double unused;
+        node(&w, i, k0, k1, f, &unused);
       }
-      if (r <= 0.0) continue;
-      const double c = 0.5 * (ci + mats[p->material[j]].micromodulus);
-      const double scale = c * stretch * b->omega[k] * b->beta[k] * V[j] / r;
-      for (int d = 0; d < 3; ++d) fi[d] += scale * dy[d];
     }
-    for (int d = 0; d < 3; ++d) p->f[3 * i + d] = fi[d];
+    for (int d = 0; d < 3; ++d) p->f[3 * i + d] = f[d];
     if (track_smin) p->smin[i] = smin;
   }
-  if (track_smin) peri_update_lammps_s0(s);
+  if (s->s0_node) peri_update_lammps_s0(s);
   return n_broken;
 }
 
-/* W_i = 1/2 sum_j w_ij beta V_j with the micropotential w = c omega s^2 |xi| / 2. */
+/* Sum over node i's intact bonds of w beta V_j with the micropotential w = c omega s^2 |xi| / 2. */
+static inline __attribute__((always_inline)) double pmb_node_energy(const pmb_view *w, int32_t i, int64_t k0,
+                                                                    int64_t k1, bool damaged) {
+  const double xi0 = w->x[3 * i], xi1 = w->x[3 * i + 1], xi2 = w->x[3 * i + 2];
+  const double ui0 = w->u[3 * i], ui1 = w->u[3 * i + 1], ui2 = w->u[3 * i + 2];
+  const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict c_node = w->c,
+                         *restrict eth = w->eth;
+  const int32_t *restrict neighbor = w->neighbor;
+  const uint8_t *restrict broken = w->broken;
+  const peri_family_eval fam = w->fam;
+  const double ci = c_node[i], eth_i = eth ? eth[i] : 0.0;
+  double sum = 0.0;
+#pragma omp simd reduction(+ : sum)
+  for (int64_t k = k0; k < k1; ++k) {
+    const int32_t j = neighbor[k];
+    const double x0 = x[3 * j] - xi0, x1 = x[3 * j + 1] - xi1, x2 = x[3 * j + 2] - xi2;
+    const double y0 = x0 + (u[3 * j] - ui0), y1 = x1 + (u[3 * j + 1] - ui1), y2 = x2 + (u[3 * j + 2] - ui2);
+    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+    const double stretch = (sqrt(y0 * y0 + y1 * y1 + y2 * y2) - r0) / r0 - (eth ? 0.5 * (eth_i + eth[j]) : 0.0);
+    const double e = 0.25 * (ci + c_node[j]) * peri_eval_omega(&fam, fam.influence, r0) * stretch * stretch * r0 *
+                     peri_eval_beta(&fam, r0) * V[j];
+    sum += (damaged && broken[k]) ? 0.0 : e;
+  }
+  return sum;
+}
+
+/* W_i = 1/2 sum_j w_ij beta V_j. Not on the time-step path (history rows only). */
 static void pmb_energy(peri_sim *s, double *W) {
-  const peri_particles *p = &s->p;
+  peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
+  for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->materials[p->material[i]].micromodulus;
+  const pmb_view w = {p->x, p->u, p->volume, p->coef, s->thermal_strain, p->s0_bound,
+                      b->neighbor, b->broken, peri_family_eval_of(b)};
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) {
-    double sum = 0.0;
-    const double ci = s->materials[p->material[i]].micromodulus;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      double dy[3];
-      const double r = peri_deformed_bond(p->x, p->u, i, j, dy);
-      const double stretch = (r - b->length[k]) / b->length[k] - peri_bond_thermal_stretch(s->thermal_strain, i, j);
-      const double c = 0.5 * (ci + s->materials[p->material[j]].micromodulus);
-      sum += 0.5 * c * b->omega[k] * stretch * stretch * b->length[k] * b->beta[k] * p->volume[j];
-    }
-    W[i] = 0.5 * sum;
+    const int64_t k0 = b->offset[i], k1 = b->offset[i + 1];
+    const bool damaged = memchr(b->broken + k0, 1, (size_t)(k1 - k0)) != NULL;
+    W[i] = 0.5 * (damaged ? pmb_node_energy(&w, i, k0, k1, true) : pmb_node_energy(&w, i, k0, k1, false));
   }
 }
 
@@ -81,9 +176,10 @@ static double pmb_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) 
   const peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
   const int32_t j = b->neighbor[k];
-  const double stretch = (r - b->length[k]) / b->length[k] - peri_bond_thermal_stretch(s->thermal_strain, i, j);
+  const double r0 = peri_bond_length(p->x, i, j);
+  const double stretch = (r - r0) / r0 - peri_bond_thermal_stretch(s->thermal_strain, i, j);
   const double c = 0.5 * (s->materials[p->material[i]].micromodulus + s->materials[p->material[j]].micromodulus);
-  return c * stretch * b->omega[k];
+  return c * stretch * peri_bonds_omega(b, r0);
 }
 
 const peri_model_ops peri_model_pmb = {

@@ -184,14 +184,14 @@ int peri_thermal_build(peri_sim *s) {
     const double ki = s->materials[p->material[i]].conductivity;
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       const int32_t j = b->neighbor[k];
-      const double r = b->length[k];
+      const double r = peri_bond_length(p->x, i, j);
       const double kb = peri_thermal_bond_kappa(th->bond_rule, ki, s->materials[p->material[j]].conductivity);
       double f, arg;
       if (bobaru) {
         f = algorithm1_factor(r, delta, dx);
         arg = algorithm1_argument(r, delta, dx);
       } else {
-        f = b->beta[k];
+        f = peri_bonds_beta(b, r);
         arg = r;
       }
       double h = peri_thermal_k(th->kernel, dim, kb, delta, arg) * f * th->area[j] / (r * r);

@@ -29,7 +29,8 @@ static void bond_damping_force(const peri_sim *s, double gamma, const double *ve
       if (!(r2 > 0.0)) continue;
       double proj = 0.0;
       for (int d = 0; d < 3; ++d) proj += (vel[3 * j + d] - vel[3 * i + d]) * m[d];
-      const double scale = gamma * proj / r2 / b->length[k] * b->beta[k] * p->volume[j];
+      const double r0 = peri_bond_length(p->x, i, j);
+      const double scale = gamma * proj / r2 / r0 * peri_bonds_beta(b, r0) * p->volume[j];
       for (int d = 0; d < 3; ++d) fi[d] += scale * m[d];
     }
     for (int d = 0; d < 3; ++d) out[3 * i + d] = fi[d];

@@ -29,18 +29,10 @@ double peri_qs_dot(const double *a, const double *b, size_t n) {
 
 void peri_qs_density(const peri_sim *s, double fs, double *lambda) {
   const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
-  const bool bond_based = s->model->fixed_poisson;
 #pragma omp parallel for schedule(static) if (p->n_owned > 8192)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const peri_material *mi = &s->materials[p->material[i]];
-    double stiffness = 0.0;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      const int32_t j = b->neighbor[k];
-      const double c = 0.5 * (mi->c_stable + s->materials[p->material[j]].c_stable);
-      stiffness += b->beta[k] * p->volume[j] * c * (bond_based ? b->omega[k] : 1.0) / b->length[k];
-    }
-    lambda[i] = 0.25 * fs * stiffness;
+    lambda[i] = 0.25 * fs * peri_node_stiffness_bound(s, i);
     if (!(lambda[i] > 0.0)) lambda[i] = 0.25 * fs * mi->c_stable * p->volume[i] / s->geom.spacing;
   }
 }

@@ -33,7 +33,7 @@ int peri_stress(peri_sim *s, double *sigma) {
       if (!(r2 > 0.0)) continue;
       const double r = sqrt(r2);
       const double pair = s->model->pair_force(s, i, k, r); /* t_ij + t_ji */
-      const double scale = 0.5 * pair * b->beta[k] * p->volume[j] / r;
+      const double scale = 0.5 * pair * peri_bonds_beta(b, peri_bond_length(p->x, i, j)) * p->volume[j] / r;
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c) sg[3 * a + c] += scale * dy[a] * xi[c];
     }
@@ -85,7 +85,8 @@ void peri_strain(const peri_sim *s, double *eps) {
         xi[d] = p->x[3 * j + d] - p->x[3 * i + d];
         y[d] = xi[d] + p->u[3 * j + d] - p->u[3 * i + d];
       }
-      const double w = b->omega[k] * b->beta[k] * p->volume[j];
+      const double r0 = peri_bond_length(p->x, i, j);
+      const double w = peri_bonds_omega(b, r0) * peri_bonds_beta(b, r0) * p->volume[j];
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c) {
           A[3 * a + c] += w * y[a] * xi[c];

@@ -203,7 +203,7 @@ static void reduced_lps_force(const peri_sim *s, const lps_theory *t, bool analy
     double sum_e = 0.0;
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       int32_t j = b->neighbor[k];
-      double dy[3], L = b->length[k], w = b->beta[k] * p->volume[j], om = 1.0 / L;
+      double dy[3], L = peri_bond_length(p->x, i, j), w = peri_bonds_beta(b, L) * p->volume[j], om = 1.0 / L;
       for (int d = 0; d < 3; ++d) dy[d] = (p->x[3 * j + d] + p->u[3 * j + d]) - (p->x[3 * i + d] + p->u[3 * i + d]);
       sum_e += om * L * (norm3(dy) - L) * w;
       B[i] += om * L * L * w;
@@ -215,7 +215,7 @@ static void reduced_lps_force(const peri_sim *s, const lps_theory *t, bool analy
     double fi[3] = {0.0, 0.0, 0.0}, Fi = 0.0;
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       int32_t j = b->neighbor[k];
-      double dy[3], L = b->length[k], w = b->beta[k] * p->volume[j], om = 1.0 / L;
+      double dy[3], L = peri_bond_length(p->x, i, j), w = peri_bonds_beta(b, L) * p->volume[j], om = 1.0 / L;
       for (int d = 0; d < 3; ++d) dy[d] = (p->x[3 * j + d] + p->u[3 * j + d]) - (p->x[3 * i + d] + p->u[3 * i + d]);
       double r = norm3(dy), e = r - L, pair = 0.0;
       int32_t ends[2] = {i, j};
