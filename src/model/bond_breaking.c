@@ -10,6 +10,7 @@ void peri_update_s0_bound(peri_sim *s) {
   peri_particles *p = &s->p;
   if (!p->s0_bound) p->s0_bound = peri_malloc(sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
   const int nm = s->n_materials;
+#pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n; ++i) {
     double bound = INFINITY;
     if (!(p->flags[i] & PERI_NODE_NO_FAIL)) {

@@ -56,7 +56,8 @@ static inline __attribute__((always_inline)) long pmb_node(const pmb_view *w, in
                  y2 = x2 + (u[3 * j + 2] - ui2);
     const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
     const double r = sqrt(y0 * y0 + y1 * y1 + y2 * y2);
-    double stretch = (r - r0) / r0;
+    const double inv_r0_r = 1.0 / (r0 * r); /* the loop's one division */
+    double stretch = (r - r0) * r * inv_r0_r;
     if (thermal) stretch -= 0.5 * (eth_i + eth[j]);
     const bool intact = damaged ? !broken[k] : true;
     const double bound = peri_min(bound_i, s0_bound[j]) - PERI_S0_SCREEN_MARGIN;
@@ -64,7 +65,7 @@ static inline __attribute__((always_inline)) long pmb_node(const pmb_view *w, in
     smin = peri_min(smin, intact ? stretch : INFINITY);
     const double c = multi ? 0.5 * (ci + c_node[j]) : ci;
     const double scale = c * stretch * peri_eval_omega(&fam, influence, r0) * peri_eval_beta(&fam, r0) *
-                         V[j] / r;
+                         V[j] * r0 * inv_r0_r;
     const double g = (intact && r > 0.0) ? scale : 0.0;
     fx += g * y0;
     fy += g * y1;
@@ -100,6 +101,7 @@ static long pmb_force(peri_sim *s) {
   peri_bonds *b = &s->bonds;
   /* per-node copies of the material data the loop gathers (O(n), refreshed so that they
    * follow any change of the materials) */
+#pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->materials[p->material[i]].micromodulus;
   peri_update_s0_bound(s);
   const bool multi = s->n_materials > 1, thermal = s->thermal_strain != NULL;
@@ -161,6 +163,7 @@ static inline __attribute__((always_inline)) double pmb_node_energy(const pmb_vi
 static void pmb_energy(peri_sim *s, double *W) {
   peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
+#pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->materials[p->material[i]].micromodulus;
   const pmb_view w = {p->x, p->u, p->volume, p->coef, s->thermal_strain, p->s0_bound,
                       b->neighbor, b->broken, peri_family_eval_of(b)};
