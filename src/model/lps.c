@@ -230,28 +230,61 @@ static long lps_force(peri_sim *s) {
   return n_broken;
 }
 
-/* W_i = K_theta theta_i^2/2 + (alpha_i/2) sum_j w (e^d)^2 W_ij. */
+/* sum_j omega (e^d)^2 beta V_j over node i's intact bonds, e^d = e - alpha_T dT_i |xi| - theta_i |xi|/3. */
+static inline __attribute__((always_inline)) double lps_node_energy(const lps_view *w, int32_t i, int64_t k0, int64_t k1,
+                                                                    double theta, double eth_i,
+                                                                    peri_influence influence, bool damaged) {
+  const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V;
+  const int32_t *restrict neighbor = w->neighbor;
+  const uint8_t *restrict broken = w->broken;
+  const peri_family_eval fam = w->fam;
+  const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
+  const double ui0 = u[3 * i], ui1 = u[3 * i + 1], ui2 = u[3 * i + 2];
+  const double shift = eth_i + theta / 3.0;
+  double sum = 0.0;
+#pragma omp simd reduction(+ : sum)
+  for (int64_t k = k0; k < k1; ++k) {
+    const int32_t j = neighbor[k];
+    const double x0 = x[3 * j] - xi0, x1 = x[3 * j + 1] - xi1, x2 = x[3 * j + 2] - xi2;
+    const double y0 = x0 + (u[3 * j] - ui0), y1 = x1 + (u[3 * j + 1] - ui1), y2 = x2 + (u[3 * j + 2] - ui2);
+    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+    const double ed = sqrt(y0 * y0 + y1 * y1 + y2 * y2) - r0 - shift * r0;
+    const double e = peri_eval_omega(&fam, influence, r0) * ed * ed * peri_eval_beta(&fam, r0) * V[j];
+    sum += (damaged && broken[k]) ? 0.0 : e;
+  }
+  return sum;
+}
+
+typedef double (*lps_energy_fn)(const lps_view *, int32_t, int64_t, int64_t, double, double);
+#define LPS_ENERGY_VARIANT(NAME, INFLUENCE)                                                            \
+  static double NAME(const lps_view *w, int32_t i, int64_t k0, int64_t k1, double theta, double eth_i) { \
+    if (memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                  \
+      return lps_node_energy(w, i, k0, k1, theta, eth_i, INFLUENCE, true);                             \
+    return lps_node_energy(w, i, k0, k1, theta, eth_i, INFLUENCE, false);                              \
+  }
+LPS_ENERGY_VARIANT(lps_energy_constant, PERI_INFLUENCE_CONSTANT)
+LPS_ENERGY_VARIANT(lps_energy_inverse, PERI_INFLUENCE_INVERSE)
+LPS_ENERGY_VARIANT(lps_energy_gaussian, PERI_INFLUENCE_GAUSSIAN)
+
+/* W_i = K_theta theta_i^2/2 + (alpha_i/2) sum_j w (e^d)^2 W_ij. Not on the time-step path. */
 static void lps_energy(peri_sim *s, double *W) {
-  const peri_particles *p = &s->p;
+  peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
   bool breaking = s->breaking;
   s->breaking = false;
   lps_dilatation(s);
   s->breaking = breaking;
+  const lps_view w = {p->x, p->u, p->volume, s->thermal_strain, p->s0_bound, p->coef,
+                      b->neighbor, b->broken, peri_family_eval_of(b)};
+  lps_energy_fn node = s->family.influence == PERI_INFLUENCE_INVERSE    ? lps_energy_inverse
+                       : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? lps_energy_gaussian
+                                                                        : lps_energy_constant;
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const peri_material *mat = &s->materials[p->material[i]];
     const double theta = p->theta[i];
     const double eth_i = s->thermal_strain ? s->thermal_strain[i] : 0.0;
-    double sum = 0.0;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      double dy[3];
-      const double L = peri_bond_length(p->x, i, j);
-      const double ed = peri_deformed_bond(p->x, p->u, i, j, dy) - L - eth_i * L - theta * L / 3.0;
-      sum += peri_bonds_omega(b, L) * ed * ed * peri_bonds_beta(b, L) * p->volume[j];
-    }
+    const double sum = node(&w, i, b->offset[i], b->offset[i + 1], theta, eth_i);
     W[i] = 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / p->wvol[i]) * sum;
   }
 }

@@ -135,7 +135,8 @@ static long pmb_force(peri_sim *s) {
 
 /* Sum over node i's intact bonds of w beta V_j with the micropotential w = c omega s^2 |xi| / 2. */
 static inline __attribute__((always_inline)) double pmb_node_energy(const pmb_view *w, int32_t i, int64_t k0,
-                                                                    int64_t k1, bool damaged) {
+                                                                    int64_t k1, bool thermal,
+                                                                    peri_influence influence, bool damaged) {
   const double xi0 = w->x[3 * i], xi1 = w->x[3 * i + 1], xi2 = w->x[3 * i + 2];
   const double ui0 = w->u[3 * i], ui1 = w->u[3 * i + 1], ui2 = w->u[3 * i + 2];
   const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict c_node = w->c,
@@ -143,7 +144,7 @@ static inline __attribute__((always_inline)) double pmb_node_energy(const pmb_vi
   const int32_t *restrict neighbor = w->neighbor;
   const uint8_t *restrict broken = w->broken;
   const peri_family_eval fam = w->fam;
-  const double ci = c_node[i], eth_i = eth ? eth[i] : 0.0;
+  const double ci = c_node[i], eth_i = thermal ? eth[i] : 0.0;
   double sum = 0.0;
 #pragma omp simd reduction(+ : sum)
   for (int64_t k = k0; k < k1; ++k) {
@@ -151,13 +152,27 @@ static inline __attribute__((always_inline)) double pmb_node_energy(const pmb_vi
     const double x0 = x[3 * j] - xi0, x1 = x[3 * j + 1] - xi1, x2 = x[3 * j + 2] - xi2;
     const double y0 = x0 + (u[3 * j] - ui0), y1 = x1 + (u[3 * j + 1] - ui1), y2 = x2 + (u[3 * j + 2] - ui2);
     const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
-    const double stretch = (sqrt(y0 * y0 + y1 * y1 + y2 * y2) - r0) / r0 - (eth ? 0.5 * (eth_i + eth[j]) : 0.0);
-    const double e = 0.25 * (ci + c_node[j]) * peri_eval_omega(&fam, fam.influence, r0) * stretch * stretch * r0 *
+    const double stretch = (sqrt(y0 * y0 + y1 * y1 + y2 * y2) - r0) / r0 - (thermal ? 0.5 * (eth_i + eth[j]) : 0.0);
+    const double e = 0.25 * (ci + c_node[j]) * peri_eval_omega(&fam, influence, r0) * stretch * stretch * r0 *
                      peri_eval_beta(&fam, r0) * V[j];
     sum += (damaged && broken[k]) ? 0.0 : e;
   }
   return sum;
 }
+
+typedef double (*pmb_energy_fn)(const pmb_view *, int32_t, int64_t, int64_t);
+#define PMB_ENERGY_VARIANT(NAME, THERMAL, INFLUENCE)                                           \
+  static double NAME(const pmb_view *w, int32_t i, int64_t k0, int64_t k1) {                  \
+    if (memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                         \
+      return pmb_node_energy(w, i, k0, k1, THERMAL, INFLUENCE, true);                         \
+    return pmb_node_energy(w, i, k0, k1, THERMAL, INFLUENCE, false);                          \
+  }
+PMB_ENERGY_VARIANT(pmb_energy_constant, false, PERI_INFLUENCE_CONSTANT)
+PMB_ENERGY_VARIANT(pmb_energy_constant_thermal, true, PERI_INFLUENCE_CONSTANT)
+PMB_ENERGY_VARIANT(pmb_energy_inverse, false, PERI_INFLUENCE_INVERSE)
+PMB_ENERGY_VARIANT(pmb_energy_inverse_thermal, true, PERI_INFLUENCE_INVERSE)
+PMB_ENERGY_VARIANT(pmb_energy_gaussian, false, PERI_INFLUENCE_GAUSSIAN)
+PMB_ENERGY_VARIANT(pmb_energy_gaussian_thermal, true, PERI_INFLUENCE_GAUSSIAN)
 
 /* W_i = 1/2 sum_j w_ij beta V_j. Not on the time-step path (history rows only). */
 static void pmb_energy(peri_sim *s, double *W) {
@@ -167,12 +182,12 @@ static void pmb_energy(peri_sim *s, double *W) {
   for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->materials[p->material[i]].micromodulus;
   const pmb_view w = {p->x, p->u, p->volume, p->coef, s->thermal_strain, p->s0_bound,
                       b->neighbor, b->broken, peri_family_eval_of(b)};
+  const bool thermal = s->thermal_strain != NULL;
+  pmb_energy_fn node = thermal ? pmb_energy_constant_thermal : pmb_energy_constant;
+  if (s->family.influence == PERI_INFLUENCE_INVERSE) node = thermal ? pmb_energy_inverse_thermal : pmb_energy_inverse;
+  if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) node = thermal ? pmb_energy_gaussian_thermal : pmb_energy_gaussian;
 #pragma omp parallel for schedule(dynamic, 256)
-  for (int32_t i = 0; i < p->n_owned; ++i) {
-    const int64_t k0 = b->offset[i], k1 = b->offset[i + 1];
-    const bool damaged = memchr(b->broken + k0, 1, (size_t)(k1 - k0)) != NULL;
-    W[i] = 0.5 * (damaged ? pmb_node_energy(&w, i, k0, k1, true) : pmb_node_energy(&w, i, k0, k1, false));
-  }
+  for (int32_t i = 0; i < p->n_owned; ++i) W[i] = 0.5 * node(&w, i, b->offset[i], b->offset[i + 1]);
 }
 
 static double pmb_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
