@@ -58,6 +58,19 @@ static inline double peri_eval_omega(const peri_family_eval *e, peri_influence i
   return 1.0;
 }
 
+/* The bond loops run on lists of intact neighbours: a family without broken bonds is its own
+ * list; the intact neighbours of a damaged family are copied a chunk at a time, so the loops
+ * never read the 1-byte flags (whose type would force 64-lane vectors and a scalar tail)
+ * and skip broken bonds at no cost. */
+#define PERI_INTACT_CHUNK 256
+static inline int peri_next_intact(const int32_t *neighbor, const uint8_t *broken, int64_t *k, int64_t k1,
+                                   int32_t *out) {
+  int n = 0;
+  for (; *k < k1 && n < PERI_INTACT_CHUNK; ++*k)
+    if (!broken[*k]) out[n++] = neighbor[*k];
+  return n;
+}
+
 /* Bonds whose mechanical stretch is within this margin of the screening bound are re-checked
  * exactly (scalar) by the breaking pass, so vector rounding never decides a break. */
 #define PERI_S0_SCREEN_MARGIN 1e-9

@@ -62,25 +62,23 @@ typedef struct {
   peri_family_eval fam;
 } lps_view;
 
-/* Pass-1 sums of node i over its intact bonds: sum w e and sum w |xi| with w = omega |xi| beta V_j
+/* Pass-1 sums of node i over the intact bonds to nbr[0 .. count-1]: sum w e and sum w |xi| with w = omega |xi| beta V_j
  * and e the extension less node i's thermal part; the minimum mechanical stretch; and
  * whether any bond is a candidate for breaking (as in the PMB loop). */
-static inline __attribute__((always_inline)) long lps_node_sums(const lps_view *w, int32_t i, int64_t k0, int64_t k1,
-                                                                bool thermal, peri_influence influence, bool damaged,
+static inline __attribute__((always_inline)) long lps_node_sums(const lps_view *w, int32_t i, const int32_t *restrict nbr,
+                                                                int64_t count, bool thermal, peri_influence influence,
                                                                 double *we_x_out, double *w_xx_out, double *smin_out) {
   const double xi0 = w->x[3 * i], xi1 = w->x[3 * i + 1], xi2 = w->x[3 * i + 2];
   const double ui0 = w->u[3 * i], ui1 = w->u[3 * i + 1], ui2 = w->u[3 * i + 2];
   const double eth_i = thermal ? w->eth[i] : 0.0, bound_i = w->s0_bound[i];
   const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict eth = w->eth,
                          *restrict s0_bound = w->s0_bound;
-  const int32_t *restrict neighbor = w->neighbor;
-  const uint8_t *restrict broken = w->broken;
   const peri_family_eval fam = w->fam;
   double we_x = 0.0, w_xx = 0.0, smin = INFINITY;
   double excess = -INFINITY; /* largest stretch above the screening bound */
 #pragma omp simd reduction(+ : we_x, w_xx) reduction(min : smin) reduction(max : excess)
-  for (int64_t k = k0; k < k1; ++k) {
-    const int32_t j = neighbor[k];
+  for (int64_t a = 0; a < count; ++a) {
+    const int32_t j = nbr[a];
     const double x0 = x[3 * j] - xi0, x1 = x[3 * j + 1] - xi1, x2 = x[3 * j + 2] - xi2;
     const double y0 = x0 + (u[3 * j] - ui0), y1 = x1 + (u[3 * j + 1] - ui1),
                  y2 = x2 + (u[3 * j + 2] - ui2);
@@ -88,11 +86,10 @@ static inline __attribute__((always_inline)) long lps_node_sums(const lps_view *
     const double e_total = sqrt(y0 * y0 + y1 * y1 + y2 * y2) - r0;
     double s_mech = e_total / r0;
     if (thermal) s_mech -= 0.5 * (eth_i + eth[j]); /* symmetric in i, j */
-    const bool intact = damaged ? !broken[k] : true;
     const double bound = peri_min(bound_i, s0_bound[j]) - PERI_S0_SCREEN_MARGIN;
-    excess = peri_max(excess, intact ? s_mech - bound : -INFINITY);
-    smin = peri_min(smin, intact ? s_mech : INFINITY);
-    const double wt = intact ? peri_eval_omega(&fam, influence, r0) * r0 * peri_eval_beta(&fam, r0) * V[j] : 0.0;
+    excess = peri_max(excess, s_mech - bound);
+    smin = peri_min(smin, s_mech);
+    const double wt = peri_eval_omega(&fam, influence, r0) * r0 * peri_eval_beta(&fam, r0) * V[j];
     we_x += wt * (e_total - eth_i * r0);
     w_xx += wt * r0;
   }
@@ -108,15 +105,27 @@ static inline __attribute__((always_inline)) long lps_node_sums(const lps_view *
  *   D_i = A_i - B_i (alpha_T dT_i + theta_i/3),
  * the pair force of the header is t_ij + t_ji = omega (|xi| (D_i + D_j) + e (B_i + B_j)), so the
  * force pass gathers two numbers per neighbour. */
-/* One function per specialization (the OpenMP region is outlined before inlining); a family
- * without broken bonds runs a loop that does not read the flags (8-wide double vectors). */
+/* One function per specialization (the OpenMP region is outlined before inlining). A damaged
+ * family runs the loop on its intact neighbours only, copied a chunk at a time. */
 typedef long (*lps_sums_fn)(const lps_view *, int32_t, int64_t, int64_t, double *, double *, double *);
 #define LPS_SUMS_VARIANT(NAME, THERMAL, INFLUENCE)                                                           \
   static long NAME(const lps_view *w, int32_t i, int64_t k0, int64_t k1, double *we_x, double *w_xx,          \
                    double *smin) {                                                                           \
-    if (memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                        \
-      return lps_node_sums(w, i, k0, k1, THERMAL, INFLUENCE, true, we_x, w_xx, smin);                        \
-    return lps_node_sums(w, i, k0, k1, THERMAL, INFLUENCE, false, we_x, w_xx, smin);                         \
+    if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                       \
+      return lps_node_sums(w, i, w->neighbor + k0, k1 - k0, THERMAL, INFLUENCE, we_x, w_xx, smin);           \
+    int32_t intact[PERI_INTACT_CHUNK];                                                                       \
+    long candidate = 0;                                                                                      \
+    *we_x = *w_xx = 0.0;                                                                                     \
+    *smin = INFINITY;                                                                                        \
+    for (int64_t k = k0; k < k1;) {                                                                          \
+      const int n = peri_next_intact(w->neighbor, w->broken, &k, k1, intact);                                \
+      double a, b, c;                                                                                        \
+      candidate |= lps_node_sums(w, i, intact, n, THERMAL, INFLUENCE, &a, &b, &c);                           \
+      *we_x += a;                                                                                            \
+      *w_xx += b;                                                                                            \
+      *smin = peri_min(*smin, c);                                                                            \
+    }                                                                                                        \
+    return candidate;                                                                                        \
   }
 LPS_SUMS_VARIANT(lps_sums_plain, false, PERI_INFLUENCE_CONSTANT)
 LPS_SUMS_VARIANT(lps_sums_thermal, true, PERI_INFLUENCE_CONSTANT)
@@ -173,27 +182,25 @@ static inline double lps_half(const peri_material *mat, double theta, double P, 
          alpha * omega * (e - theta * L / 3.0);
 }
 
-/* Pass 2 for node i: f_i = sum_j (t_ij + t_ji) M_ij beta V_j over intact bonds. */
-static inline __attribute__((always_inline)) void lps_node_force(const lps_view *w, int32_t i, int64_t k0, int64_t k1,
-                                                                 peri_influence influence, bool damaged, double f[3]) {
+/* Pass 2 for node i: f_i = sum_j (t_ij + t_ji) M_ij beta V_j over the intact bonds to nbr[]. */
+static inline __attribute__((always_inline)) void lps_node_force(const lps_view *w, int32_t i, const int32_t *restrict nbr,
+                                                                 int64_t count, peri_influence influence, double f[3]) {
   const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict coef = w->coef;
-  const int32_t *restrict neighbor = w->neighbor;
-  const uint8_t *restrict broken = w->broken;
   const peri_family_eval fam = w->fam;
   const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
   const double ui0 = u[3 * i], ui1 = u[3 * i + 1], ui2 = u[3 * i + 2];
   const double Di = coef[2 * i], Bi = coef[2 * i + 1];
   double fx = 0.0, fy = 0.0, fz = 0.0;
 #pragma omp simd reduction(+ : fx, fy, fz)
-  for (int64_t k = k0; k < k1; ++k) {
-    const int32_t j = neighbor[k];
+  for (int64_t a = 0; a < count; ++a) {
+    const int32_t j = nbr[a];
     const double x0 = x[3 * j] - xi0, x1 = x[3 * j + 1] - xi1, x2 = x[3 * j + 2] - xi2;
     const double y0 = x0 + (u[3 * j] - ui0), y1 = x1 + (u[3 * j + 1] - ui1), y2 = x2 + (u[3 * j + 2] - ui2);
     const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
     const double r = sqrt(y0 * y0 + y1 * y1 + y2 * y2);
     const double t = peri_eval_omega(&fam, influence, r0) * (r0 * (Di + coef[2 * j]) + (r - r0) * (Bi + coef[2 * j + 1]));
     const double scale = t * peri_eval_beta(&fam, r0) * V[j] / r;
-    const double g = ((damaged ? !broken[k] : true) && r > 0.0) ? scale : 0.0;
+    const double g = r > 0.0 ? scale : 0.0;
     fx += g * y0;
     fy += g * y1;
     fz += g * y2;
@@ -206,10 +213,19 @@ static inline __attribute__((always_inline)) void lps_node_force(const lps_view 
 typedef void (*lps_force_fn)(const lps_view *, int32_t, int64_t, int64_t, double *);
 #define LPS_FORCE_VARIANT(NAME, INFLUENCE)                                                          \
   static void NAME(const lps_view *w, int32_t i, int64_t k0, int64_t k1, double *f) {                \
-    if (memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                \
-      lps_node_force(w, i, k0, k1, INFLUENCE, true, f);                                              \
-    else                                                                                             \
-      lps_node_force(w, i, k0, k1, INFLUENCE, false, f);                                             \
+    if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0))) {                                             \
+      lps_node_force(w, i, w->neighbor + k0, k1 - k0, INFLUENCE, f);                                 \
+      return;                                                                                        \
+    }                                                                                                \
+    int32_t intact[PERI_INTACT_CHUNK];                                                               \
+    double sum[3] = {0.0, 0.0, 0.0};                                                                 \
+    for (int64_t k = k0; k < k1;) {                                                                  \
+      const int n = peri_next_intact(w->neighbor, w->broken, &k, k1, intact);                        \
+      double fc[3];                                                                                  \
+      lps_node_force(w, i, intact, n, INFLUENCE, fc);                                                \
+      for (int d = 0; d < 3; ++d) sum[d] += fc[d];                                                   \
+    }                                                                                                \
+    for (int d = 0; d < 3; ++d) f[d] = sum[d];                                                       \
   }
 LPS_FORCE_VARIANT(lps_force_constant, PERI_INFLUENCE_CONSTANT)
 LPS_FORCE_VARIANT(lps_force_inverse, PERI_INFLUENCE_INVERSE)
@@ -231,26 +247,24 @@ static long lps_force(peri_sim *s) {
 }
 
 /* sum_j omega (e^d)^2 beta V_j over node i's intact bonds, e^d = e - alpha_T dT_i |xi| - theta_i |xi|/3. */
-static inline __attribute__((always_inline)) double lps_node_energy(const lps_view *w, int32_t i, int64_t k0, int64_t k1,
-                                                                    double theta, double eth_i,
-                                                                    peri_influence influence, bool damaged) {
+static inline __attribute__((always_inline)) double lps_node_energy(const lps_view *w, int32_t i,
+                                                                    const int32_t *restrict nbr, int64_t count,
+                                                                    double theta, double eth_i, peri_influence influence) {
   const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V;
-  const int32_t *restrict neighbor = w->neighbor;
-  const uint8_t *restrict broken = w->broken;
   const peri_family_eval fam = w->fam;
   const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
   const double ui0 = u[3 * i], ui1 = u[3 * i + 1], ui2 = u[3 * i + 2];
   const double shift = eth_i + theta / 3.0;
   double sum = 0.0;
 #pragma omp simd reduction(+ : sum)
-  for (int64_t k = k0; k < k1; ++k) {
-    const int32_t j = neighbor[k];
+  for (int64_t a = 0; a < count; ++a) {
+    const int32_t j = nbr[a];
     const double x0 = x[3 * j] - xi0, x1 = x[3 * j + 1] - xi1, x2 = x[3 * j + 2] - xi2;
     const double y0 = x0 + (u[3 * j] - ui0), y1 = x1 + (u[3 * j + 1] - ui1), y2 = x2 + (u[3 * j + 2] - ui2);
     const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
     const double ed = sqrt(y0 * y0 + y1 * y1 + y2 * y2) - r0 - shift * r0;
     const double e = peri_eval_omega(&fam, influence, r0) * ed * ed * peri_eval_beta(&fam, r0) * V[j];
-    sum += (damaged && broken[k]) ? 0.0 : e;
+    sum += e;
   }
   return sum;
 }
@@ -258,9 +272,15 @@ static inline __attribute__((always_inline)) double lps_node_energy(const lps_vi
 typedef double (*lps_energy_fn)(const lps_view *, int32_t, int64_t, int64_t, double, double);
 #define LPS_ENERGY_VARIANT(NAME, INFLUENCE)                                                            \
   static double NAME(const lps_view *w, int32_t i, int64_t k0, int64_t k1, double theta, double eth_i) { \
-    if (memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                  \
-      return lps_node_energy(w, i, k0, k1, theta, eth_i, INFLUENCE, true);                             \
-    return lps_node_energy(w, i, k0, k1, theta, eth_i, INFLUENCE, false);                              \
+    if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                 \
+      return lps_node_energy(w, i, w->neighbor + k0, k1 - k0, theta, eth_i, INFLUENCE);                \
+    int32_t intact[PERI_INTACT_CHUNK];                                                                 \
+    double sum = 0.0;                                                                                  \
+    for (int64_t k = k0; k < k1;) {                                                                    \
+      const int n = peri_next_intact(w->neighbor, w->broken, &k, k1, intact);                          \
+      sum += lps_node_energy(w, i, intact, n, theta, eth_i, INFLUENCE);                                \
+    }                                                                                                  \
+    return sum;                                                                                        \
   }
 LPS_ENERGY_VARIANT(lps_energy_constant, PERI_INFLUENCE_CONSTANT)
 LPS_ENERGY_VARIANT(lps_energy_inverse, PERI_INFLUENCE_INVERSE)

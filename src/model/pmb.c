@@ -29,28 +29,24 @@ typedef struct {
   peri_family_eval fam;
 } pmb_view;
 
-/* Force density on node i from its intact bonds, the minimum mechanical stretch, and
- * whether any intact bond's stretch passes the screening bound (a candidate for breaking).
- * Constant arguments (multi-material, thermal, influence, whether any bond of the family is
- * broken) specialize the loop; a family without broken bonds does not read the flags, so its
- * loop works on 8-wide double vectors only. */
-static inline __attribute__((always_inline)) long pmb_node(const pmb_view *w, int32_t i, int64_t k0, int64_t k1,
-                                                           bool multi, bool thermal, peri_influence influence,
-                                                           bool damaged, double f[3], double *smin_out) {
+/* Force density on node i from the intact bonds to nbr[0 .. count-1], their minimum
+ * mechanical stretch, and whether any stretch passes the screening bound (a candidate for
+ * breaking). Constant arguments (multi-material, thermal, influence) specialize the loop. */
+static inline __attribute__((always_inline)) long pmb_node(const pmb_view *w, int32_t i, const int32_t *restrict nbr,
+                                                           int64_t count, bool multi, bool thermal,
+                                                           peri_influence influence, double f[3], double *smin_out) {
   const double xi0 = w->x[3 * i], xi1 = w->x[3 * i + 1], xi2 = w->x[3 * i + 2];
   const double ui0 = w->u[3 * i], ui1 = w->u[3 * i + 1], ui2 = w->u[3 * i + 2];
   const double ci = w->c[i], eth_i = thermal ? w->eth[i] : 0.0, bound_i = w->s0_bound[i];
   /* local copies: the loop then reads no pointer through w */
   const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict c_node = w->c,
                          *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
-  const int32_t *restrict neighbor = w->neighbor;
-  const uint8_t *restrict broken = w->broken;
   const peri_family_eval fam = w->fam;
   double fx = 0.0, fy = 0.0, fz = 0.0, smin = INFINITY;
   double excess = -INFINITY; /* largest stretch above the screening bound */
 #pragma omp simd reduction(+ : fx, fy, fz) reduction(min : smin) reduction(max : excess)
-  for (int64_t k = k0; k < k1; ++k) {
-    const int32_t j = neighbor[k];
+  for (int64_t a = 0; a < count; ++a) {
+    const int32_t j = nbr[a];
     const double x0 = x[3 * j] - xi0, x1 = x[3 * j + 1] - xi1, x2 = x[3 * j + 2] - xi2;
     const double y0 = x0 + (u[3 * j] - ui0), y1 = x1 + (u[3 * j + 1] - ui1),
                  y2 = x2 + (u[3 * j + 2] - ui2);
@@ -59,14 +55,13 @@ static inline __attribute__((always_inline)) long pmb_node(const pmb_view *w, in
     const double inv_r0_r = 1.0 / (r0 * r); /* the loop's one division */
     double stretch = (r - r0) * r * inv_r0_r;
     if (thermal) stretch -= 0.5 * (eth_i + eth[j]);
-    const bool intact = damaged ? !broken[k] : true;
     const double bound = peri_min(bound_i, s0_bound[j]) - PERI_S0_SCREEN_MARGIN;
-    excess = peri_max(excess, intact ? stretch - bound : -INFINITY);
-    smin = peri_min(smin, intact ? stretch : INFINITY);
+    excess = peri_max(excess, stretch - bound);
+    smin = peri_min(smin, stretch);
     const double c = multi ? 0.5 * (ci + c_node[j]) : ci;
     const double scale = c * stretch * peri_eval_omega(&fam, influence, r0) * peri_eval_beta(&fam, r0) *
                          V[j] * r0 * inv_r0_r;
-    const double g = (intact && r > 0.0) ? scale : 0.0;
+    const double g = r > 0.0 ? scale : 0.0;
     fx += g * y0;
     fy += g * y1;
     fz += g * y2;
@@ -83,9 +78,20 @@ static inline __attribute__((always_inline)) long pmb_node(const pmb_view *w, in
 typedef long (*pmb_node_fn)(const pmb_view *, int32_t, int64_t, int64_t, double *, double *);
 #define PMB_NODE_VARIANT(NAME, MULTI, THERMAL, INFLUENCE)                                             \
   static long NAME(const pmb_view *w, int32_t i, int64_t k0, int64_t k1, double *f, double *smin) {     \
-    if (memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                 \
-      return pmb_node(w, i, k0, k1, MULTI, THERMAL, INFLUENCE, true, f, smin);                         \
-    return pmb_node(w, i, k0, k1, MULTI, THERMAL, INFLUENCE, false, f, smin);                          \
+    if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                \
+      return pmb_node(w, i, w->neighbor + k0, k1 - k0, MULTI, THERMAL, INFLUENCE, f, smin);           \
+    int32_t intact[PERI_INTACT_CHUNK];                                                                \
+    long candidate = 0;                                                                               \
+    f[0] = f[1] = f[2] = 0.0;                                                                         \
+    *smin = INFINITY;                                                                                 \
+    for (int64_t k = k0; k < k1;) {                                                                   \
+      const int n = peri_next_intact(w->neighbor, w->broken, &k, k1, intact);                         \
+      double fc[3], sc;                                                                               \
+      candidate |= pmb_node(w, i, intact, n, MULTI, THERMAL, INFLUENCE, fc, &sc);                     \
+      for (int d = 0; d < 3; ++d) f[d] += fc[d];                                                      \
+      *smin = peri_min(*smin, sc);                                                                    \
+    }                                                                                                 \
+    return candidate;                                                                                 \
   }
 PMB_NODE_VARIANT(pmb_node_plain, false, false, PERI_INFLUENCE_CONSTANT)
 PMB_NODE_VARIANT(pmb_node_multi, true, false, PERI_INFLUENCE_CONSTANT)
@@ -134,28 +140,26 @@ static long pmb_force(peri_sim *s) {
 }
 
 /* Sum over node i's intact bonds of w beta V_j with the micropotential w = c omega s^2 |xi| / 2. */
-static inline __attribute__((always_inline)) double pmb_node_energy(const pmb_view *w, int32_t i, int64_t k0,
-                                                                    int64_t k1, bool thermal,
-                                                                    peri_influence influence, bool damaged) {
+static inline __attribute__((always_inline)) double pmb_node_energy(const pmb_view *w, int32_t i,
+                                                                    const int32_t *restrict nbr, int64_t count,
+                                                                    bool thermal, peri_influence influence) {
   const double xi0 = w->x[3 * i], xi1 = w->x[3 * i + 1], xi2 = w->x[3 * i + 2];
   const double ui0 = w->u[3 * i], ui1 = w->u[3 * i + 1], ui2 = w->u[3 * i + 2];
   const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict c_node = w->c,
                          *restrict eth = w->eth;
-  const int32_t *restrict neighbor = w->neighbor;
-  const uint8_t *restrict broken = w->broken;
   const peri_family_eval fam = w->fam;
   const double ci = c_node[i], eth_i = thermal ? eth[i] : 0.0;
   double sum = 0.0;
 #pragma omp simd reduction(+ : sum)
-  for (int64_t k = k0; k < k1; ++k) {
-    const int32_t j = neighbor[k];
+  for (int64_t a = 0; a < count; ++a) {
+    const int32_t j = nbr[a];
     const double x0 = x[3 * j] - xi0, x1 = x[3 * j + 1] - xi1, x2 = x[3 * j + 2] - xi2;
     const double y0 = x0 + (u[3 * j] - ui0), y1 = x1 + (u[3 * j + 1] - ui1), y2 = x2 + (u[3 * j + 2] - ui2);
     const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
     const double stretch = (sqrt(y0 * y0 + y1 * y1 + y2 * y2) - r0) / r0 - (thermal ? 0.5 * (eth_i + eth[j]) : 0.0);
     const double e = 0.25 * (ci + c_node[j]) * peri_eval_omega(&fam, influence, r0) * stretch * stretch * r0 *
                      peri_eval_beta(&fam, r0) * V[j];
-    sum += (damaged && broken[k]) ? 0.0 : e;
+    sum += e;
   }
   return sum;
 }
@@ -163,9 +167,15 @@ static inline __attribute__((always_inline)) double pmb_node_energy(const pmb_vi
 typedef double (*pmb_energy_fn)(const pmb_view *, int32_t, int64_t, int64_t);
 #define PMB_ENERGY_VARIANT(NAME, THERMAL, INFLUENCE)                                           \
   static double NAME(const pmb_view *w, int32_t i, int64_t k0, int64_t k1) {                  \
-    if (memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                         \
-      return pmb_node_energy(w, i, k0, k1, THERMAL, INFLUENCE, true);                         \
-    return pmb_node_energy(w, i, k0, k1, THERMAL, INFLUENCE, false);                          \
+    if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                        \
+      return pmb_node_energy(w, i, w->neighbor + k0, k1 - k0, THERMAL, INFLUENCE);            \
+    int32_t intact[PERI_INTACT_CHUNK];                                                        \
+    double sum = 0.0;                                                                         \
+    for (int64_t k = k0; k < k1;) {                                                           \
+      const int n = peri_next_intact(w->neighbor, w->broken, &k, k1, intact);                 \
+      sum += pmb_node_energy(w, i, intact, n, THERMAL, INFLUENCE);                            \
+    }                                                                                         \
+    return sum;                                                                               \
   }
 PMB_ENERGY_VARIANT(pmb_energy_constant, false, PERI_INFLUENCE_CONSTANT)
 PMB_ENERGY_VARIANT(pmb_energy_constant_thermal, true, PERI_INFLUENCE_CONSTANT)
