@@ -65,9 +65,15 @@ static inline double peri_eval_omega(const peri_family_eval *e, peri_influence i
 #define PERI_INTACT_CHUNK 256
 static inline int peri_next_intact(const int32_t *neighbor, const uint8_t *broken, int64_t *k, int64_t k1,
                                    int32_t *out) {
+  /* branch-free: broken flags of a damaged region are unpredictable */
   int n = 0;
-  for (; *k < k1 && n < PERI_INTACT_CHUNK; ++*k)
-    if (!broken[*k]) out[n++] = neighbor[*k];
+  int64_t kk = *k;
+  const int64_t end = k1 - kk < PERI_INTACT_CHUNK ? k1 : kk + PERI_INTACT_CHUNK;
+  for (; kk < end; ++kk) {
+    out[n] = neighbor[kk];
+    n += !broken[kk];
+  }
+  *k = kk;
   return n;
 }
 
