@@ -25,6 +25,13 @@ void peri_update_s0_bound(peri_sim *s) {
   }
 }
 
+bool peri_uniform_volume(const peri_particles *p) {
+  bool same = true;
+#pragma omp parallel for schedule(static) reduction(&& : same)
+  for (int32_t i = 1; i < p->n; ++i) same = same && p->volume[i] == p->volume[0];
+  return same;
+}
+
 long peri_break_family(peri_sim *s, int32_t i) {
   peri_particles *p = &s->p;
   peri_bonds *b = &s->bonds;

@@ -85,6 +85,8 @@ static inline int peri_next_intact(const int32_t *neighbor, const uint8_t *broke
  * stretch of every bond of each node: the smallest entry of its material's row of the pair
  * table, or the LAMMPS-form s0 of the node; INFINITY for no-fail nodes. */
 void peri_update_s0_bound(peri_sim *s);
+/* Whether every node (owned and ghost) has the same volume. */
+bool peri_uniform_volume(const peri_particles *p);
 /* Breaks, in node i's family, every intact bond beyond its critical stretch (exact scalar
  * test, symmetric in i and j); returns the number broken. */
 long peri_break_family(peri_sim *s, int32_t i);

@@ -67,10 +67,11 @@ typedef struct {
  * whether any bond is a candidate for breaking (as in the PMB loop). */
 static inline __attribute__((always_inline)) long lps_node_sums(const lps_view *w, int32_t i, const int32_t *restrict nbr,
                                                                 int64_t count, bool thermal, peri_influence influence,
+                                                                bool uniform,
                                                                 double *we_x_out, double *w_xx_out, double *smin_out) {
   const double xi0 = w->x[3 * i], xi1 = w->x[3 * i + 1], xi2 = w->x[3 * i + 2];
   const double ui0 = w->u[3 * i], ui1 = w->u[3 * i + 1], ui2 = w->u[3 * i + 2];
-  const double eth_i = thermal ? w->eth[i] : 0.0, bound_i = w->s0_bound[i];
+  const double eth_i = thermal ? w->eth[i] : 0.0, bound_i = w->s0_bound[i], V_i = w->V[i];
   const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict eth = w->eth,
                          *restrict s0_bound = w->s0_bound;
   const peri_family_eval fam = w->fam;
@@ -89,7 +90,7 @@ static inline __attribute__((always_inline)) long lps_node_sums(const lps_view *
     const double bound = peri_min(bound_i, s0_bound[j]) - PERI_S0_SCREEN_MARGIN;
     excess = peri_max(excess, s_mech - bound);
     smin = peri_min(smin, s_mech);
-    const double wt = peri_eval_omega(&fam, influence, r0) * r0 * peri_eval_beta(&fam, r0) * V[j];
+    const double wt = peri_eval_omega(&fam, influence, r0) * r0 * peri_eval_beta(&fam, r0) * (uniform ? V_i : V[j]);
     we_x += wt * (e_total - eth_i * r0);
     w_xx += wt * r0;
   }
@@ -108,11 +109,11 @@ static inline __attribute__((always_inline)) long lps_node_sums(const lps_view *
 /* One function per specialization (the OpenMP region is outlined before inlining). A damaged
  * family runs the loop on its intact neighbours only, copied a chunk at a time. */
 typedef long (*lps_sums_fn)(const lps_view *, int32_t, int64_t, int64_t, double *, double *, double *);
-#define LPS_SUMS_VARIANT(NAME, THERMAL, INFLUENCE)                                                           \
+#define LPS_SUMS_VARIANT(NAME, THERMAL, INFLUENCE, UNIFORM)                                                  \
   static long NAME(const lps_view *w, int32_t i, int64_t k0, int64_t k1, double *we_x, double *w_xx,          \
                    double *smin) {                                                                           \
     if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                       \
-      return lps_node_sums(w, i, w->neighbor + k0, k1 - k0, THERMAL, INFLUENCE, we_x, w_xx, smin);           \
+      return lps_node_sums(w, i, w->neighbor + k0, k1 - k0, THERMAL, INFLUENCE, UNIFORM, we_x, w_xx, smin);  \
     int32_t intact[PERI_INTACT_CHUNK];                                                                       \
     long candidate = 0;                                                                                      \
     *we_x = *w_xx = 0.0;                                                                                     \
@@ -120,24 +121,26 @@ typedef long (*lps_sums_fn)(const lps_view *, int32_t, int64_t, int64_t, double 
     for (int64_t k = k0; k < k1;) {                                                                          \
       const int n = peri_next_intact(w->neighbor, w->broken, &k, k1, intact);                                \
       double a, b, c;                                                                                        \
-      candidate |= lps_node_sums(w, i, intact, n, THERMAL, INFLUENCE, &a, &b, &c);                           \
+      candidate |= lps_node_sums(w, i, intact, n, THERMAL, INFLUENCE, UNIFORM, &a, &b, &c);                  \
       *we_x += a;                                                                                            \
       *w_xx += b;                                                                                            \
       *smin = peri_min(*smin, c);                                                                            \
     }                                                                                                        \
     return candidate;                                                                                        \
   }
-LPS_SUMS_VARIANT(lps_sums_plain, false, PERI_INFLUENCE_CONSTANT)
-LPS_SUMS_VARIANT(lps_sums_thermal, true, PERI_INFLUENCE_CONSTANT)
-LPS_SUMS_VARIANT(lps_sums_inverse, false, PERI_INFLUENCE_INVERSE)
-LPS_SUMS_VARIANT(lps_sums_inverse_thermal, true, PERI_INFLUENCE_INVERSE)
-LPS_SUMS_VARIANT(lps_sums_gaussian, false, PERI_INFLUENCE_GAUSSIAN)
-LPS_SUMS_VARIANT(lps_sums_gaussian_thermal, true, PERI_INFLUENCE_GAUSSIAN)
+/* "uniform": every node has the same volume (a grid), so the loop does not gather it */
+LPS_SUMS_VARIANT(lps_sums_uniform, false, PERI_INFLUENCE_CONSTANT, true)
+LPS_SUMS_VARIANT(lps_sums_plain, false, PERI_INFLUENCE_CONSTANT, false)
+LPS_SUMS_VARIANT(lps_sums_thermal, true, PERI_INFLUENCE_CONSTANT, false)
+LPS_SUMS_VARIANT(lps_sums_inverse, false, PERI_INFLUENCE_INVERSE, false)
+LPS_SUMS_VARIANT(lps_sums_inverse_thermal, true, PERI_INFLUENCE_INVERSE, false)
+LPS_SUMS_VARIANT(lps_sums_gaussian, false, PERI_INFLUENCE_GAUSSIAN, false)
+LPS_SUMS_VARIANT(lps_sums_gaussian_thermal, true, PERI_INFLUENCE_GAUSSIAN, false)
 
 static long lps_dilatation(peri_sim *s) {
   peri_update_s0_bound(s);
   const bool thermal = s->thermal_strain != NULL;
-  lps_sums_fn sums = thermal ? lps_sums_thermal : lps_sums_plain;
+  lps_sums_fn sums = thermal ? lps_sums_thermal : peri_uniform_volume(&s->p) ? lps_sums_uniform : lps_sums_plain;
   if (s->family.influence == PERI_INFLUENCE_INVERSE) sums = thermal ? lps_sums_inverse_thermal : lps_sums_inverse;
   if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) sums = thermal ? lps_sums_gaussian_thermal : lps_sums_gaussian;
   peri_particles *p = &s->p;
@@ -184,7 +187,8 @@ static inline double lps_half(const peri_material *mat, double theta, double P, 
 
 /* Pass 2 for node i: f_i = sum_j (t_ij + t_ji) M_ij beta V_j over the intact bonds to nbr[]. */
 static inline __attribute__((always_inline)) void lps_node_force(const lps_view *w, int32_t i, const int32_t *restrict nbr,
-                                                                 int64_t count, peri_influence influence, double f[3]) {
+                                                                 int64_t count, peri_influence influence, bool uniform,
+                                                                 double f[3]) {
   const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict coef = w->coef;
   const peri_family_eval fam = w->fam;
   const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
@@ -199,7 +203,7 @@ static inline __attribute__((always_inline)) void lps_node_force(const lps_view 
     const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
     const double r = sqrt(y0 * y0 + y1 * y1 + y2 * y2);
     const double t = peri_eval_omega(&fam, influence, r0) * (r0 * (Di + coef[2 * j]) + (r - r0) * (Bi + coef[2 * j + 1]));
-    const double scale = t * peri_eval_beta(&fam, r0) * V[j] / r;
+    const double scale = t * peri_eval_beta(&fam, r0) * (uniform ? V[i] : V[j]) / r;
     const double g = r > 0.0 ? scale : 0.0;
     fx += g * y0;
     fy += g * y1;
@@ -211,10 +215,10 @@ static inline __attribute__((always_inline)) void lps_node_force(const lps_view 
 }
 
 typedef void (*lps_force_fn)(const lps_view *, int32_t, int64_t, int64_t, double *);
-#define LPS_FORCE_VARIANT(NAME, INFLUENCE)                                                          \
+#define LPS_FORCE_VARIANT(NAME, INFLUENCE, UNIFORM)                                                 \
   static void NAME(const lps_view *w, int32_t i, int64_t k0, int64_t k1, double *f) {                \
     if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0))) {                                             \
-      lps_node_force(w, i, w->neighbor + k0, k1 - k0, INFLUENCE, f);                                 \
+      lps_node_force(w, i, w->neighbor + k0, k1 - k0, INFLUENCE, UNIFORM, f);                        \
       return;                                                                                        \
     }                                                                                                \
     int32_t intact[PERI_INTACT_CHUNK];                                                               \
@@ -222,14 +226,15 @@ typedef void (*lps_force_fn)(const lps_view *, int32_t, int64_t, int64_t, double
     for (int64_t k = k0; k < k1;) {                                                                  \
       const int n = peri_next_intact(w->neighbor, w->broken, &k, k1, intact);                        \
       double fc[3];                                                                                  \
-      lps_node_force(w, i, intact, n, INFLUENCE, fc);                                                \
+      lps_node_force(w, i, intact, n, INFLUENCE, UNIFORM, fc);                                       \
       for (int d = 0; d < 3; ++d) sum[d] += fc[d];                                                   \
     }                                                                                                \
     for (int d = 0; d < 3; ++d) f[d] = sum[d];                                                       \
   }
-LPS_FORCE_VARIANT(lps_force_constant, PERI_INFLUENCE_CONSTANT)
-LPS_FORCE_VARIANT(lps_force_inverse, PERI_INFLUENCE_INVERSE)
-LPS_FORCE_VARIANT(lps_force_gaussian, PERI_INFLUENCE_GAUSSIAN)
+LPS_FORCE_VARIANT(lps_force_uniform, PERI_INFLUENCE_CONSTANT, true)
+LPS_FORCE_VARIANT(lps_force_constant, PERI_INFLUENCE_CONSTANT, false)
+LPS_FORCE_VARIANT(lps_force_inverse, PERI_INFLUENCE_INVERSE, false)
+LPS_FORCE_VARIANT(lps_force_gaussian, PERI_INFLUENCE_GAUSSIAN, false)
 
 static long lps_force(peri_sim *s) {
   long n_broken = lps_dilatation(s);
@@ -240,6 +245,7 @@ static long lps_force(peri_sim *s) {
                       b->neighbor, b->broken, peri_family_eval_of(b)};
   lps_force_fn node = s->family.influence == PERI_INFLUENCE_INVERSE    ? lps_force_inverse
                       : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? lps_force_gaussian
+                      : peri_uniform_volume(p)                         ? lps_force_uniform
                                                                        : lps_force_constant;
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) node(&w, i, b->offset[i], b->offset[i + 1], &p->f[3 * (size_t)i]);

@@ -34,10 +34,11 @@ typedef struct {
  * breaking). Constant arguments (multi-material, thermal, influence) specialize the loop. */
 static inline __attribute__((always_inline)) long pmb_node(const pmb_view *w, int32_t i, const int32_t *restrict nbr,
                                                            int64_t count, bool multi, bool thermal,
-                                                           peri_influence influence, double f[3], double *smin_out) {
+                                                           peri_influence influence, bool uniform, double f[3],
+                                                           double *smin_out) {
   const double xi0 = w->x[3 * i], xi1 = w->x[3 * i + 1], xi2 = w->x[3 * i + 2];
   const double ui0 = w->u[3 * i], ui1 = w->u[3 * i + 1], ui2 = w->u[3 * i + 2];
-  const double ci = w->c[i], eth_i = thermal ? w->eth[i] : 0.0, bound_i = w->s0_bound[i];
+  const double ci = w->c[i], eth_i = thermal ? w->eth[i] : 0.0, bound_i = w->s0_bound[i], V_i = w->V[i];
   /* local copies: the loop then reads no pointer through w */
   const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict c_node = w->c,
                          *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
@@ -60,7 +61,7 @@ static inline __attribute__((always_inline)) long pmb_node(const pmb_view *w, in
     smin = peri_min(smin, stretch);
     const double c = multi ? 0.5 * (ci + c_node[j]) : ci;
     const double scale = c * stretch * peri_eval_omega(&fam, influence, r0) * peri_eval_beta(&fam, r0) *
-                         V[j] * r0 * inv_r0_r;
+                         (uniform ? V_i : V[j]) * r0 * inv_r0_r;
     const double g = r > 0.0 ? scale : 0.0;
     fx += g * y0;
     fy += g * y1;
@@ -76,10 +77,10 @@ static inline __attribute__((always_inline)) long pmb_node(const pmb_view *w, in
 /* One function per specialization: the OpenMP region below is outlined before inlining, so
  * the constants must be fixed inside a function of their own to reach the vector loop. */
 typedef long (*pmb_node_fn)(const pmb_view *, int32_t, int64_t, int64_t, double *, double *);
-#define PMB_NODE_VARIANT(NAME, MULTI, THERMAL, INFLUENCE)                                             \
+#define PMB_NODE_VARIANT(NAME, MULTI, THERMAL, INFLUENCE, UNIFORM)                                    \
   static long NAME(const pmb_view *w, int32_t i, int64_t k0, int64_t k1, double *f, double *smin) {     \
     if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                \
-      return pmb_node(w, i, w->neighbor + k0, k1 - k0, MULTI, THERMAL, INFLUENCE, f, smin);           \
+      return pmb_node(w, i, w->neighbor + k0, k1 - k0, MULTI, THERMAL, INFLUENCE, UNIFORM, f, smin);  \
     int32_t intact[PERI_INTACT_CHUNK];                                                                \
     long candidate = 0;                                                                               \
     f[0] = f[1] = f[2] = 0.0;                                                                         \
@@ -87,20 +88,22 @@ typedef long (*pmb_node_fn)(const pmb_view *, int32_t, int64_t, int64_t, double 
     for (int64_t k = k0; k < k1;) {                                                                   \
       const int n = peri_next_intact(w->neighbor, w->broken, &k, k1, intact);                         \
       double fc[3], sc;                                                                               \
-      candidate |= pmb_node(w, i, intact, n, MULTI, THERMAL, INFLUENCE, fc, &sc);                     \
+      candidate |= pmb_node(w, i, intact, n, MULTI, THERMAL, INFLUENCE, UNIFORM, fc, &sc);            \
       for (int d = 0; d < 3; ++d) f[d] += fc[d];                                                      \
       *smin = peri_min(*smin, sc);                                                                    \
     }                                                                                                 \
     return candidate;                                                                                 \
   }
-PMB_NODE_VARIANT(pmb_node_plain, false, false, PERI_INFLUENCE_CONSTANT)
-PMB_NODE_VARIANT(pmb_node_multi, true, false, PERI_INFLUENCE_CONSTANT)
-PMB_NODE_VARIANT(pmb_node_thermal, false, true, PERI_INFLUENCE_CONSTANT)
-PMB_NODE_VARIANT(pmb_node_multi_thermal, true, true, PERI_INFLUENCE_CONSTANT)
-PMB_NODE_VARIANT(pmb_node_inverse, true, false, PERI_INFLUENCE_INVERSE)
-PMB_NODE_VARIANT(pmb_node_inverse_thermal, true, true, PERI_INFLUENCE_INVERSE)
-PMB_NODE_VARIANT(pmb_node_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN)
-PMB_NODE_VARIANT(pmb_node_gaussian_thermal, true, true, PERI_INFLUENCE_GAUSSIAN)
+/* "uniform": every node has the same volume (a grid), so the loop does not gather it */
+PMB_NODE_VARIANT(pmb_node_uniform, false, false, PERI_INFLUENCE_CONSTANT, true)
+PMB_NODE_VARIANT(pmb_node_plain, false, false, PERI_INFLUENCE_CONSTANT, false)
+PMB_NODE_VARIANT(pmb_node_multi, true, false, PERI_INFLUENCE_CONSTANT, false)
+PMB_NODE_VARIANT(pmb_node_thermal, false, true, PERI_INFLUENCE_CONSTANT, false)
+PMB_NODE_VARIANT(pmb_node_multi_thermal, true, true, PERI_INFLUENCE_CONSTANT, false)
+PMB_NODE_VARIANT(pmb_node_inverse, true, false, PERI_INFLUENCE_INVERSE, false)
+PMB_NODE_VARIANT(pmb_node_inverse_thermal, true, true, PERI_INFLUENCE_INVERSE, false)
+PMB_NODE_VARIANT(pmb_node_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false)
+PMB_NODE_VARIANT(pmb_node_gaussian_thermal, true, true, PERI_INFLUENCE_GAUSSIAN, false)
 
 static long pmb_force(peri_sim *s) {
   peri_particles *p = &s->p;
@@ -110,9 +113,10 @@ static long pmb_force(peri_sim *s) {
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->materials[p->material[i]].micromodulus;
   peri_update_s0_bound(s);
+  const bool uniform = peri_uniform_volume(p);
   const bool multi = s->n_materials > 1, thermal = s->thermal_strain != NULL;
   pmb_node_fn node = multi ? (thermal ? pmb_node_multi_thermal : pmb_node_multi)
-                           : (thermal ? pmb_node_thermal : pmb_node_plain);
+                           : (thermal ? pmb_node_thermal : uniform ? pmb_node_uniform : pmb_node_plain);
   if (s->family.influence == PERI_INFLUENCE_INVERSE) node = thermal ? pmb_node_inverse_thermal : pmb_node_inverse;
   if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) node = thermal ? pmb_node_gaussian_thermal : pmb_node_gaussian;
   const pmb_view w = {p->x, p->u, p->volume, p->coef, s->thermal_strain, p->s0_bound,
