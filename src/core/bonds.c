@@ -142,9 +142,37 @@ static int64_t scan(const cells *c, const peri_particles *p, const peri_family_p
   return count;
 }
 
-static int cmp_i32(const void *a, const void *b) {
-  int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-  return (x > y) - (x < y);
+/* Sorts a family in place: quicksort (median of three) down to short runs, then insertion
+ * sort. Inline comparisons: the library qsort's callback dominated the family search. */
+static void sort_family(int32_t *a, int64_t n) {
+  while (n > 24) {
+    const int32_t x = a[0], y = a[n / 2], z = a[n - 1];
+    const int32_t pivot = x < y ? (y < z ? y : (x < z ? z : x)) : (x < z ? x : (y < z ? z : y));
+    int64_t i = 0, j = n - 1;
+    for (;;) {
+      while (a[i] < pivot) ++i;
+      while (a[j] > pivot) --j;
+      if (i >= j) break;
+      const int32_t tmp = a[i];
+      a[i++] = a[j];
+      a[j--] = tmp;
+    }
+    /* recurse into the smaller part, loop on the larger: O(log n) depth */
+    if (j + 1 < n - j - 1) {
+      sort_family(a, j + 1);
+      a += j + 1;
+      n -= j + 1;
+    } else {
+      sort_family(a + j + 1, n - j - 1);
+      n = j + 1;
+    }
+  }
+  for (int64_t i = 1; i < n; ++i) {
+    const int32_t v = a[i];
+    int64_t k = i;
+    for (; k > 0 && a[k - 1] > v; --k) a[k] = a[k - 1];
+    a[k] = v;
+  }
 }
 
 void peri_bonds_build(peri_bonds *b, const peri_particles *p, const peri_family_params *fp) {
@@ -182,7 +210,7 @@ void peri_bonds_build(peri_bonds *b, const peri_particles *p, const peri_family_
   for (int32_t i = 0; i < n_own; i++) {
     int64_t o = b->offset[i], cnt = b->offset[i + 1] - o;
     scan(&c, p, fp, rcut, i, b->neighbor + o, NULL);
-    qsort(b->neighbor + o, (size_t)cnt, sizeof(int32_t), cmp_i32);
+    sort_family(b->neighbor + o, cnt);
   }
   cells_free(&c);
 }
