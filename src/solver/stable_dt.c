@@ -2,6 +2,7 @@
 #include <math.h>
 #include "peri/constants.h"
 #include "peri/solver.h"
+#include "model/bond_kernel.h"
 
 double peri_node_stiffness_bound(const peri_sim *s, int32_t i) {
   const peri_particles *p = &s->p;
@@ -9,15 +10,32 @@ double peri_node_stiffness_bound(const peri_sim *s, int32_t i) {
   /* bond-based models carry the influence function in the pair force; state-based ones
    * are bounded by the equivalent PMB micromodulus alone */
   const bool bond_based = s->model->fixed_poisson;
-  const peri_material *mi = &s->materials[p->material[i]];
-  double stiffness = 0.0;
-  for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-    const int32_t j = b->neighbor[k];
-    const double r0 = peri_bond_length(p->x, i, j);
-    const double c = 0.5 * (mi->c_stable + s->materials[p->material[j]].c_stable);
-    stiffness += peri_bonds_beta(b, r0) * p->volume[j] * c * (bond_based ? peri_bonds_omega(b, r0) : 1.0) / r0;
+  const peri_family_eval fam = peri_family_eval_of(b);
+  const peri_influence influence = bond_based ? fam.influence : PERI_INFLUENCE_CONSTANT;
+  const double ci = s->materials[p->material[i]].c_stable;
+  const double *restrict x = p->x, *restrict V = p->volume;
+  const int32_t *restrict neighbor = b->neighbor;
+  const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
+  const int64_t k0 = b->offset[i], k1 = b->offset[i + 1];
+  if (s->n_materials > 1) { /* c per pair: a scalar loop */
+    double stiffness = 0.0;
+    for (int64_t k = k0; k < k1; ++k) {
+      const int32_t j = neighbor[k];
+      const double r0 = peri_bond_length(x, i, j);
+      const double c = 0.5 * (ci + s->materials[p->material[j]].c_stable);
+      stiffness += peri_eval_beta(&fam, r0) * V[j] * c * peri_eval_omega(&fam, influence, r0) / r0;
+    }
+    return stiffness;
   }
-  return stiffness;
+  double stiffness = 0.0;
+#pragma omp simd reduction(+ : stiffness)
+  for (int64_t k = k0; k < k1; ++k) {
+    const int32_t j = neighbor[k];
+    const double d0 = x[3 * j] - xi0, d1 = x[3 * j + 1] - xi1, d2 = x[3 * j + 2] - xi2;
+    const double r0 = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+    stiffness += peri_eval_beta(&fam, r0) * V[j] * peri_eval_omega(&fam, influence, r0) / r0;
+  }
+  return ci * stiffness;
 }
 
 double peri_stable_dt(const peri_sim *s) {
