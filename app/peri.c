@@ -4,7 +4,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include "peri/checkpoint.h"
+#include "peri/comm.h"
+#include "peri/decompose.h"
 #include "peri/error.h"
+#include "peri/implicit.h"
 #include "peri/probe.h"
 #include "peri/quasistatic.h"
 #include "peri/run.h"
@@ -13,6 +17,7 @@
 static void usage(FILE *out) {
   fprintf(out,
           "usage: peri run DECK [--threads N] [--quiet] [--output DIR] [--set KEY=VALUE ...]\n"
+          "                [--restart FILE]\n"
           "       peri check DECK [--set KEY=VALUE ...]\n"
           "       peri sweep DECK --set-list KEY=V1,V2,... [--set-list ...] --quantity NAME [...]\n"
           "                  [--set KEY=VALUE ...] [--threads N]\n"
@@ -29,6 +34,10 @@ static void usage(FILE *out) {
           "  --threads N         OpenMP threads (default: OMP_NUM_THREADS or all cores)\n"
           "  --quiet             no summary and no progress line\n"
           "  --output DIR        write output into DIR (overrides output.directory)\n"
+          "  --restart FILE      continue the run from the checkpoint FILE (output.checkpoint_every;\n"
+          "                      docs/restart.md): same deck, history.csv and the .pvd continue\n"
+          "  --petsc-options STR PETSc options for solver type implicit, after the deck's\n"
+          "                      solver.petsc_options, e.g. \"-snes_monitor -ksp_monitor\"\n"
           "  --set KEY=VALUE     override a deck value before it is read, e.g.\n"
           "                      --set discretization.horizon=1e-3 (repeatable; KEY is a dotted\n"
           "                      path, list items by 0-based index; VALUE is YAML)\n"
@@ -41,8 +50,17 @@ static void usage(FILE *out) {
           "                      value); FIELD is von_mises,\n"
           "                      stress_xx, stress_xy, ..., strain_xx, ..., displacement_x, ...\n"
           "\n"
+          "mpirun -np N peri run DECK   runs an explicit or heat deck on N MPI ranks (%s;\n"
+          "                             docs/parallel.md)\n"
+          "\n"
           "exit status: 0 success, 1 failure during the run, 2 bad input\n"
-          "deck reference: docs/deck.md; solvers and sweeps: docs/solvers.md\n");
+          "deck reference: docs/deck.md; solvers and sweeps: docs/solvers.md\n",
+#ifdef PERI_HAVE_MPI
+          "this build has MPI"
+#else
+          "this build has no MPI: install libopenmpi-dev and rebuild"
+#endif
+  );
 }
 
 static double now(void) {
@@ -174,7 +192,7 @@ static int sweep(const char *deck, int n_sets, const char **sets, int n_lists, s
   return rc;
 }
 
-int main(int argc, char **argv) {
+static int command(int argc, char **argv) {
   if (argc < 2) {
     usage(stderr);
     return PERI_ERR_INPUT;
@@ -194,6 +212,7 @@ int main(int argc, char **argv) {
   }
   const bool is_sweep = !strcmp(command, "sweep");
   const char *deck = NULL, *output = NULL;
+  const char *restart = NULL; /* --restart FILE (docs/restart.md) */
   bool quiet = false;
   long threads = 0;
   const char **sets = calloc((size_t)argc, sizeof(char *));
@@ -208,7 +227,8 @@ int main(int argc, char **argv) {
     }
     if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) quiet = true;
     else if (!strcmp(a, "--threads") || !strcmp(a, "--output") || !strcmp(a, "--set") ||
-             !strcmp(a, "--set-list") || !strcmp(a, "--quantity")) {
+             !strcmp(a, "--set-list") || !strcmp(a, "--quantity") || !strcmp(a, "--restart") ||
+             !strcmp(a, "--petsc-options")) {
       if (k + 1 >= argc) {
         peri_error("option %s needs a value", a);
         rc = PERI_ERR_INPUT;
@@ -225,6 +245,14 @@ int main(int argc, char **argv) {
         if (rc == PERI_OK) n_lists++;
       } else if (!strcmp(a, "--quantity")) {
         quantities[n_q++] = value;
+      } else if (!strcmp(a, "--petsc-options")) {
+        peri_implicit_set_command_line_options(value);
+      } else if (!strcmp(a, "--restart")) {
+        if (strcmp(command, "run") != 0) {
+          peri_error("option --restart: only for peri run");
+          rc = PERI_ERR_INPUT;
+        }
+        restart = value;
       } else if (!strcmp(a, "--output")) {
         if (!*value) {
           peri_error("option --output: expected a directory, got an empty path");
@@ -253,7 +281,10 @@ int main(int argc, char **argv) {
     rc = PERI_ERR_INPUT;
   }
   if (rc == PERI_OK && threads > 0) omp_set_num_threads((int)threads);
-  if (rc == PERI_OK && is_sweep) {
+  if (rc == PERI_OK && is_sweep && peri_comm_size() > 1) {
+    peri_error("sweep: runs in one process (without mpirun, or mpirun -np 1)");
+    rc = PERI_ERR_INPUT;
+  } else if (rc == PERI_OK && is_sweep) {
     rc = sweep(deck, n_sets, sets, n_lists, lists, n_q, quantities);
   } else if (rc == PERI_OK) {
     peri_sim sim;
@@ -264,10 +295,15 @@ int main(int argc, char **argv) {
         free(sim.out.directory);
         sim.out.directory = strdup(output);
       }
-      if (!quiet || !strcmp(command, "check")) peri_print_summary(&sim, stdout);
-      if (!strcmp(command, "run")) {
+      if (restart) rc = peri_restart_load(&sim, restart); /* checked before any output (docs/restart.md) */
+      if (rc == PERI_OK && !strcmp(command, "run")) rc = peri_decompose_check(&sim); /* MPI ranks */
+      if (rc == PERI_OK && (!quiet || !strcmp(command, "check"))) peri_print_summary(&sim, stdout);
+      if (rc == PERI_OK && restart && !quiet) peri_restart_print(&sim, stdout);
+      if (rc == PERI_OK && !strcmp(command, "run")) {
         fflush(stdout);
-        rc = peri_run(&sim);
+        rc = peri_decompose(&sim); /* MPI ranks (docs/parallel.md); nothing in one process */
+        if (rc == PERI_OK && !quiet) peri_print_decomposition(&sim, stdout);
+        if (rc == PERI_OK) rc = peri_run(&sim);
       }
     }
     peri_sim_free(&sim);
@@ -279,5 +315,14 @@ int main(int argc, char **argv) {
   free(lists);
   free(sets);
   free(quantities);
+  peri_implicit_finalize(); /* PETSc before MPI (a no-op when no implicit solve ran) */
+  return rc;
+}
+
+int main(int argc, char **argv) {
+  peri_comm_init(&argc, &argv); /* MPI when built with it (docs/parallel.md) */
+  int rc = command(argc, argv);
+  fflush(stdout);
+  peri_comm_finalize();
   return rc;
 }

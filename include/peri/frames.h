@@ -9,6 +9,11 @@ typedef struct peri_frames peri_frames;
 /* Creates the output directory and the .pvd; NULL (with a message) on failure. */
 peri_frames *peri_frames_open(const peri_sim *s);
 int peri_frames_write(peri_frames *f, peri_sim *s);
+/* A restarted run (docs/restart.md) continues the series: the next frame is number `next`,
+ * and the .pvd lists the n_listed frames of the run it restarts first. */
+int peri_frames_resume(peri_frames *f, long next, long n_listed, const double *times, char *const *files);
+/* Frames written so far (with those of a restarted run). */
+long peri_frames_written(const peri_frames *f);
 /* Writes <directory>/<field>.png of the picture field; its path into path_out. */
 int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n);
 void peri_frames_close(peri_frames *f);

@@ -6,6 +6,12 @@
 
 typedef struct peri_sim peri_sim;
 
+/* Receives row i of the tangent stiffness: for each of the count columns j = cols[c] the
+ * 3x3 block K_ij = d f_i / d u_j (row-major, N/m^3 per m; f_i is the internal force
+ * density of node i) at blocks[9c .. 9c+8]. Each row is given once, each column once in it.
+ * In 1D and 2D only the dim x dim part of a block is used. */
+typedef void (*peri_tangent_add_fn)(void *ctx, int32_t i, int32_t count, const int32_t *cols, const double *blocks);
+
 typedef struct peri_model_ops {
   const char *name;
   /* Which elastic constants define it, for messages ("E or K", ...). */
@@ -26,7 +32,18 @@ typedef struct peri_model_ops {
    * deformed length is r, at the state of the last force() call (dilatation, thermal
    * strain). The force on i is pair * beta V_j * (y_j - y_i)/r. Used by stress recovery. */
   double (*pair_force)(const peri_sim *s, int32_t i, int64_t k, double r);
+  /* Tangent stiffness at the current displacement (intact bonds, no breaking): calls add once
+   * for every row of an owned node, one call at a time (from any thread). Used by the
+   * implicit solver; NULL when the model has none. */
+  void (*tangent)(const peri_sim *s, peri_tangent_add_fn add, void *ctx);
+  /* Reach of the tangent in bonds: 1 when K_ij != 0 only for bonded i, j (bond-based), 2 when
+   * neighbours of neighbours couple (state-based). The solver preallocates from it. */
+  int tangent_reach;
 } peri_model_ops;
+
+/* Tangents of the built-in models (src/model/pmb_tangent.c, lps_tangent.c). */
+void peri_pmb_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx);
+void peri_lps_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx);
 
 /* The model table. */
 const peri_model_ops *peri_model_find(const char *name);

@@ -22,6 +22,11 @@ typedef struct peri_field {
 int peri_vtu_write(const char *path, int32_t n, const double *points,
                    const peri_field *fields, int n_fields, bool compress);
 
+/* A parallel VTU index (.pvtu) of the pieces written by the ranks of a distributed run
+ * (`pieces`: .vtu paths relative to the .pvtu; `fields`: names and types, no data needed). */
+int peri_pvtu_write(const char *path, const char *const *pieces, int n_pieces, const peri_field *fields,
+                    int n_fields);
+
 /* A ParaView .pvd collection, rewritten whole after each added frame so that a run that
  * stops midway leaves a valid file. */
 typedef struct peri_pvd peri_pvd;

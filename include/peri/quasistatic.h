@@ -8,15 +8,17 @@
 #include "peri/sim.h"
 #include "peri/solver.h"
 
-/* Whether the solver is one of the quasi-static ones (adr, dynamic_relaxation, nlcg). */
+/* Whether the solver is one of the quasi-static ones (adr, dynamic_relaxation, nlcg, implicit). */
 static inline bool peri_is_quasi_static(const peri_sim *s) {
-  return s->solver == PERI_SOLVER_ADR || s->solver == PERI_SOLVER_DYNAMIC_RELAXATION || s->solver == PERI_SOLVER_NLCG;
+  return s->solver == PERI_SOLVER_ADR || s->solver == PERI_SOLVER_DYNAMIC_RELAXATION || s->solver == PERI_SOLVER_NLCG ||
+         s->solver == PERI_SOLVER_IMPLICIT;
 }
 
 /* The solver keys that only quasi-static solvers take (for the deck's key list). */
 #define PERI_QUASI_STATIC_KEYS                                                                   \
   "load_steps", "tolerance", "max_iterations", "stiffness_factor", "bond_damping",               \
-      "preconditioner", "max_broken_per_step", "max_cutbacks", "max_fracture_iterations"
+      "preconditioner", "max_broken_per_step", "max_cutbacks", "max_fracture_iterations",          \
+      "linear_solver", "petsc_preconditioner", "newton_tolerance", "petsc_options", "dynamic_switch"
 
 /* Reads the quasi-static keys of the `solver` mapping (type already set in s->solver) and
  * the shared ones it uses (end_time, time_step, safety_factor, damping, breaking); sets
@@ -43,6 +45,18 @@ peri_qs_status peri_solve_equilibrium(peri_sim *s);
  * after every load step (history, frames). Returns PERI_OK, or PERI_ERR_RUN with a
  * message when a solve does not converge (the state reached is kept). */
 int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx);
+
+/* solver.dynamic_switch (docs/solvers.md section 4, src/solver/qs_dynamic_parse.c): reads the
+ * mapping into s->qs.dynamic (off when absent). Returns PERI_OK or PERI_ERR_INPUT. */
+int peri_qs_dynamic_parse(peri_sim *s, const peri_node *solver);
+/* Summary line of the dynamic switch (time step, damping, arrest criteria). */
+void peri_qs_dynamic_summary(const peri_sim *s, FILE *out);
+/* A dynamic phase (src/solver/qs_dynamic.c): from the current state, explicit dynamics with
+ * the loads held at pseudo-time t and bonds breaking, until the crack arrests or
+ * max_dynamic_steps; then the velocities are zeroed and the loads set again at t. Calls
+ * hook with s->qs.phase = dynamic every history_every steps and at the end (history rows).
+ * *stop is set when the hook asks to stop. Returns PERI_OK or PERI_ERR_RUN (diverged). */
+int peri_qs_dynamic_phase(peri_sim *s, double t, peri_step_hook hook, void *ctx, bool *stop);
 
 /* output.plot: {x: COLUMN, y: COLUMN} of history.csv (src/solver/history_plot.c). */
 int peri_plot_parse(peri_sim *s, const peri_node *output);

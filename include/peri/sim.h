@@ -45,8 +45,26 @@ typedef enum {
   PERI_SOLVER_ADR = 1,                /* adaptive dynamic relaxation (docs/model_reference.md 12.2) */
   PERI_SOLVER_DYNAMIC_RELAXATION = 2, /* damped velocity-Verlet (docs/model_reference.md 12.1) */
   PERI_SOLVER_NLCG = 3,               /* nonlinear conjugate gradients, PR+ (docs/model_reference.md 12.3) */
+  PERI_SOLVER_IMPLICIT = 4,           /* Newton with the assembled tangent, PETSc (docs/solvers.md) */
   PERI_SOLVER_HEAT = 10,              /* heat conduction only (docs/heat.md) */
 } peri_solver_kind;
+
+/* Switch of a quasi-static run to explicit dynamics while a crack grows unstably, and back
+ * when it arrests (docs/solvers.md section 4). */
+typedef struct peri_qs_dynamic_switch {
+  bool on;
+  long when_broken_exceeds;     /* directed bonds broken at one load step that start a dynamic phase */
+  double time_step;             /* 0: safety_factor x the stable estimate */
+  double safety_factor;
+  double damping;               /* mass-proportional damping (1/s) of the dynamic phase */
+  double arrest_kinetic_energy; /* arrested: kinetic energy below this fraction of the phase's peak */
+  long arrest_steps;            /* ... or no bond broke for this many steps (0: the wave-crossing default) */
+  long max_dynamic_steps;       /* steps of one dynamic phase at most */
+  long history_every;           /* a history row every this many dynamic steps */
+} peri_qs_dynamic_switch;
+
+/* Phase of a quasi-static run, the history column `phase`. */
+typedef enum { PERI_QS_PHASE_STATIC = 0, PERI_QS_PHASE_DYNAMIC = 1 } peri_qs_phase;
 
 /* Quasi-static solver settings (docs/solvers.md) and what the last run did. */
 typedef struct peri_quasi_static {
@@ -59,6 +77,15 @@ typedef struct peri_quasi_static {
   long max_broken_per_step;     /* cut the load step back when more bonds break (0: no limit) */
   int max_cutbacks;             /* halvings of one load step */
   long max_fracture_iterations; /* re-solves at one load (break, solve, ...) */
+  /* implicit (docs/solvers.md): Newton with the tangent stiffness, linear solves by PETSc */
+  int linear_solver;            /* peri_linear_solver (include/peri/implicit.h) */
+  int petsc_preconditioner;     /* peri_petsc_preconditioner */
+  char petsc_options[1024];     /* solver.petsc_options, for PetscOptionsInsertString */
+  long linear_iterations;       /* statistics: Krylov iterations over all solves */
+  peri_qs_dynamic_switch dynamic; /* solver.dynamic_switch (src/solver/qs_dynamic.c) */
+  peri_qs_phase phase;          /* static, or inside a dynamic phase */
+  double dynamic_time;          /* physical time spent in dynamic phases (s) */
+  long dynamic_phases, dynamic_steps; /* statistics of the dynamic phases */
   /* statistics of the run */
   long iterations, solves, force_evaluations, cutbacks;
   double residual;              /* last relative residual */
@@ -78,6 +105,8 @@ typedef struct peri_output {
   char *picture_field;
   int picture_width;
   char *plot_x, *plot_y;         /* history columns of the end-of-run line plot (NULL: none) */
+  long checkpoint_every;        /* steps between checkpoints (0: none; docs/restart.md) */
+  char *checkpoint_file;        /* checkpoint path, "{step}" = step number (NULL: <basename>.h5) */
 } peri_output;
 
 typedef struct peri_sim {
@@ -116,11 +145,26 @@ typedef struct peri_sim {
   long step;
   uint8_t *prescribed;          /* [3n] component has a prescribed displacement/velocity */
   double external_work;
+  double *step_load;            /* explicit: [3n] external load density of the last step, the left
+                                   end of the next step's work integral (kept for checkpoints) */
+  struct peri_restart *restart; /* checkpoint to continue from (--restart), NULL otherwise */
   /* output */
   peri_output out;
   bool quiet;
   int threads;
+  /* distributed runs (docs/parallel.md): this rank's part, NULL in a single process */
+  struct peri_decomposition *dd;
+  /* copies the owners' values of a per-node field (ncomp doubles per node) into the ghost
+   * slots; NULL in a single process. Call it through peri_sim_exchange. */
+  void (*exchange)(struct peri_sim *s, double *field, int ncomp);
 } peri_sim;
+
+/* Ghost values of a per-node field from their owners (a no-op in a single process). A
+ * kernel that reads field[j] of a neighbour j calls it after the pass that computes the
+ * field of the owned nodes. */
+static inline void peri_sim_exchange(peri_sim *s, double *field, int ncomp) {
+  if (s->exchange) s->exchange(s, field, ncomp);
+}
 
 /* Reads the deck and builds the simulation: every input error is reported (exit status 2)
  * before any work. `overrides` are "--output DIR" etc. applied after parsing. */

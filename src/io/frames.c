@@ -3,7 +3,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/comm.h"
 #include "peri/damage.h"
+#include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/output.h"
 #include "peri/frames.h"
@@ -25,6 +27,10 @@ static int compute_stress(peri_frames *f, peri_sim *s) {
     f->von_mises = peri_malloc(sizeof(double) * n);
     f->principal = peri_malloc(sizeof(double) * 3 * n);
   }
+  if (s->p.theta && s->p.pstate) { /* LPS pair forces read the ghosts' theta and P (MPI ranks) */
+    peri_sim_exchange(s, s->p.theta, 1);
+    peri_sim_exchange(s, s->p.pstate, 1);
+  }
   int rc = peri_stress(s, f->stress);
   if (rc == PERI_OK) peri_stress_measures(s, f->stress, f->von_mises, f->principal);
   return rc;
@@ -32,11 +38,16 @@ static int compute_stress(peri_frames *f, peri_sim *s) {
 
 peri_frames *peri_frames_open(const peri_sim *s) {
   char path[4200];
-  if (peri_mkdir_p(s->out.directory) != PERI_OK) return NULL;
+  /* MPI ranks: rank 0 makes the directory and writes the .pvd; all agree on the outcome */
+  int failed = peri_comm_rank() == 0 && peri_mkdir_p(s->out.directory) != PERI_OK;
   snprintf(path, sizeof path, "%s/%s.pvd", s->out.directory, s->out.basename);
   peri_frames *f = peri_calloc(1, sizeof *f);
-  f->pvd = peri_pvd_open(path);
-  if (!f->pvd) {
+  if (!failed && peri_comm_rank() == 0) {
+    f->pvd = peri_pvd_open(path);
+    failed = !f->pvd;
+  }
+  if (peri_comm_max_int(failed)) {
+    peri_pvd_close(f->pvd);
     free(f);
     return NULL;
   }
@@ -47,6 +58,36 @@ peri_frames *peri_frames_open(const peri_sim *s) {
 
 static void current_positions(const peri_sim *s, double *points) {
   for (size_t c = 0; c < 3 * (size_t)s->p.n_owned; ++c) points[c] = s->p.x[c] + s->p.u[c];
+}
+
+/* MPI ranks (docs/parallel.md): each rank with nodes writes its piece <base>_<frame>_<rank>.vtu,
+ * rank 0 the index <base>_<frame>.pvtu that the .pvd lists. */
+static int write_pieces(peri_frames *f, peri_sim *s, const peri_field *fields, int nf) {
+  const peri_decomposition *d = s->dd;
+  char file[512], path[4700];
+  int rc = PERI_OK;
+  if (s->p.n_owned > 0) {
+    snprintf(file, sizeof file, "%s_%06d_%d.vtu", s->out.basename, f->count, d->rank);
+    snprintf(path, sizeof path, "%s/%s", s->out.directory, file);
+    rc = peri_vtu_write(path, s->p.n_owned, f->points, fields, nf, s->out.compress);
+  }
+  if (d->rank == 0 && rc == PERI_OK) {
+    char **pieces = peri_calloc((size_t)d->size, sizeof(char *));
+    int n_pieces = 0;
+    for (int r = 0; r < d->size; ++r) {
+      if (d->owned[r] == 0) continue; /* a rank without nodes writes no piece */
+      snprintf(file, sizeof file, "%s_%06d_%d.vtu", s->out.basename, f->count, r);
+      pieces[n_pieces++] = peri_strdup(file);
+    }
+    snprintf(file, sizeof file, "%s_%06d.pvtu", s->out.basename, f->count);
+    snprintf(path, sizeof path, "%s/%s", s->out.directory, file);
+    rc = peri_pvtu_write(path, (const char *const *)pieces, n_pieces, fields, nf);
+    if (rc == PERI_OK) rc = peri_pvd_add(f->pvd, s->time, file);
+    for (int k = 0; k < n_pieces; ++k) free(pieces[k]);
+    free(pieces);
+  }
+  f->count++;
+  return peri_comm_max_int(rc);
 }
 
 int peri_frames_write(peri_frames *f, peri_sim *s) {
@@ -91,6 +132,7 @@ int peri_frames_write(peri_frames *f, peri_sim *s) {
     fields[nf++] = fl;
   }
   char file[512], path[4700];
+  if (s->dd) return write_pieces(f, s, fields, nf);
   snprintf(file, sizeof file, "%s_%06d.vtu", s->out.basename, f->count);
   snprintf(path, sizeof path, "%s/%s", s->out.directory, file);
   int rc = peri_vtu_write(path, p->n_owned, f->points, fields, nf, s->out.compress);
@@ -98,6 +140,15 @@ int peri_frames_write(peri_frames *f, peri_sim *s) {
   f->count++;
   return peri_pvd_add(f->pvd, s->time, file);
 }
+
+int peri_frames_resume(peri_frames *f, long next, long n_listed, const double *times, char *const *files) {
+  f->count = (int)next;
+  for (long k = 0; k < n_listed; ++k)
+    if (peri_pvd_add(f->pvd, times[k], files[k]) != PERI_OK) return PERI_ERR_RUN;
+  return PERI_OK;
+}
+
+long peri_frames_written(const peri_frames *f) { return f->count; }
 
 int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
   const peri_particles *p = &s->p;
@@ -148,8 +199,23 @@ int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
   snprintf(path_out, n, "%s/%s.png", s->out.directory, name);
   char title[256];
   snprintf(title, sizeof title, "%s  (t = %.4g s)", name, s->time);
-  int rc = peri_png_write_field(path_out, p->n_owned, f->points, values, vmin, vmax, s->geom.spacing,
+  int rc = PERI_OK;
+  if (s->dd) { /* MPI ranks: rank 0 draws every node, gathered in global order */
+    const size_t all = (size_t)peri_global_nodes(s);
+    double *points = s->dd->rank == 0 ? peri_malloc(sizeof(double) * 3 * (all > 0 ? all : 1)) : NULL;
+    double *every = s->dd->rank == 0 ? peri_malloc(sizeof(double) * (all > 0 ? all : 1)) : NULL;
+    peri_gather_owned(s, f->points, 3, points);
+    peri_gather_owned(s, values, 1, every);
+    if (s->dd->rank == 0)
+      rc = peri_png_write_field(path_out, (int32_t)all, points, every, vmin, vmax, s->geom.spacing,
                                 s->out.picture_width, title);
+    free(points);
+    free(every);
+    rc = peri_comm_max_int(rc);
+  } else {
+    rc = peri_png_write_field(path_out, p->n_owned, f->points, values, vmin, vmax, s->geom.spacing,
+                              s->out.picture_width, title);
+  }
   free(values);
   return rc;
 }

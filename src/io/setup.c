@@ -4,9 +4,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/checkpoint.h"
 #include "peri/constants.h"
 #include "peri/damage.h"
 #include "peri/deck.h"
+#include "peri/decompose.h"
 #include "peri/discretize.h"
 #include "peri/error.h"
 #include "peri/sim.h"
@@ -578,7 +580,7 @@ static int parse_solver(parse_ctx *c) {
   if (!it) return peri_deck_error(c->root, "missing key 'solver' in the deck");
   static const char *const keys[] = {"type", "steps", "end_time", "time_step", "safety_factor",
                                      "damping", "breaking", PERI_QUASI_STATIC_KEYS, NULL};
-  static const char *const types[] = {"explicit", "adr", "dynamic_relaxation", "nlcg", "heat", NULL};
+  static const char *const types[] = {"explicit", "adr", "dynamic_relaxation", "nlcg", "implicit", "heat", NULL};
   TRY(peri_deck_allow(it, "solver", keys));
   int type = 0;
   TRY(peri_deck_choice(it, "type", false, types, &type));
@@ -622,7 +624,8 @@ static int parse_output(parse_ctx *c) {
   peri_output *o = &s->out;
   const peri_node *it = peri_deck_get(c->root, "output");
   static const char *const keys[] = {"directory", "every", "frames", "fields", "compress",
-                                     "history_every", "picture", "plot", NULL};
+                                     "history_every", "picture", "plot", "checkpoint_every",
+                                     "checkpoint_file", NULL};
   /* defaults */
   const char *base = strrchr(s->deck_path, '/');
   base = base ? base + 1 : s->deck_path;
@@ -674,6 +677,7 @@ static int parse_output(parse_ctx *c) {
       }
     }
     TRY(peri_plot_parse(s, it)); /* output.plot (src/solver/history_plot.c) */
+    TRY(peri_checkpoint_parse(s, it)); /* output.checkpoint_* (src/io/checkpoint_keys.c) */
     const peri_node *pic = peri_deck_get(it, "picture");
     if (pic && pic->kind == PERI_NODE_MAPPING) {
       static const char *const pkeys[] = {"field", "width", NULL};
@@ -812,6 +816,7 @@ int peri_sim_from_deck_with(peri_sim *s, const char *path, int n_sets, const cha
 }
 
 void peri_sim_free(peri_sim *s) {
+  peri_decomposition_free(s->dd); /* distributed runs (src/parallel/decompose.c) */
   peri_particles_free(&s->p);
   peri_bonds_free(&s->bonds);
   for (int m = 0; m < s->n_materials; ++m) free(s->materials[m].name);
@@ -835,6 +840,9 @@ void peri_sim_free(peri_sim *s) {
   free(s->out.picture_field);
   free(s->out.plot_x);
   free(s->out.plot_y);
+  free(s->out.checkpoint_file);
+  free(s->step_load);
+  peri_restart_free(s->restart);
   free(s->deck_path);
   memset(s, 0, sizeof *s);
 }

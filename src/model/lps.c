@@ -239,6 +239,7 @@ LPS_FORCE_VARIANT(lps_force_gaussian, PERI_INFLUENCE_GAUSSIAN, false)
 static long lps_force(peri_sim *s) {
   long n_broken = lps_dilatation(s);
   if (s->s0_node) peri_update_lammps_s0(s);
+  peri_sim_exchange(s, s->p.coef, 2); /* the force pass reads D_j and B_j of ghosts (docs/parallel.md) */
   peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
   const lps_view w = {p->x, p->u, p->volume, s->thermal_strain, p->s0_bound, p->coef,
@@ -336,4 +337,5 @@ const peri_model_ops peri_model_lps = {
     .force = lps_force,
     .energy = lps_energy,
     .pair_force = lps_pair_force,
+    .tangent = peri_lps_tangent, .tangent_reach = 2, /* src/model/lps_tangent.c */
 };

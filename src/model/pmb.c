@@ -222,4 +222,5 @@ const peri_model_ops peri_model_pmb = {
     .force = pmb_force,
     .energy = pmb_energy,
     .pair_force = pmb_pair_force,
+    .tangent = peri_pmb_tangent, .tangent_reach = 1, /* src/model/pmb_tangent.c */
 };

@@ -1,6 +1,9 @@
 /* Boundary and initial conditions on regions, and external loads. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
+#include "peri/decompose.h"
+#include "peri/error.h"
 #include "peri/solver.h"
 
 static void eval_at(peri_expr *e, const double *x, double t, double *out) {
@@ -70,9 +73,9 @@ static void apply_indenter(peri_sim *s, double t) {
   double c[3] = {0.0, 0.0, 0.0};
   for (int d = 0; d < 3; ++d)
     if (ind->center[d]) c[d] = peri_expr_eval(ind->center[d], 0.0, 0.0, 0.0, t);
-  double fx = 0.0, fy = 0.0, fz = 0.0;
   const double R = ind->radius, k = ind->stiffness;
-  /* serial: the total force is summed in node order, independent of the thread count */
+  /* per-node reactions summed in fixed-order blocks: independent of threads and ranks */
+  double *terms = peri_calloc(3 * (size_t)(p->n_owned > 0 ? p->n_owned : 1), sizeof(double));
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double d[3], r2 = 0.0;
     for (int a = 0; a < 3; ++a) {
@@ -86,13 +89,10 @@ static void apply_indenter(peri_sim *s, double t) {
     p->b[3 * i] += mag * d[0];
     p->b[3 * i + 1] += mag * d[1];
     p->b[3 * i + 2] += mag * d[2];
-    fx -= mag * d[0] * p->volume[i];
-    fy -= mag * d[1] * p->volume[i];
-    fz -= mag * d[2] * p->volume[i];
+    for (int a = 0; a < 3; ++a) terms[3 * i + a] = -mag * d[a] * p->volume[i];
   }
-  ind->force[0] = fx;
-  ind->force[1] = fy;
-  ind->force[2] = fz;
+  peri_sum_owned(s, terms, 3, ind->force);
+  free(terms);
 }
 
 void peri_apply_loads(peri_sim *s, double t) {

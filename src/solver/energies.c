@@ -1,44 +1,59 @@
-/* Global quantities for the history: energies and reactions. Sums run in node order over
- * per-node values so that they do not depend on the thread count. */
+/* Global quantities for the history: energies and reactions. Per-node values are summed in
+ * fixed-order blocks of the global node order (peri_sum_owned), so that the totals do not
+ * depend on the thread count or on the number of MPI ranks. */
 #include <math.h>
+#include <stdlib.h>
+#include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/solver.h"
 
+static double *node_terms(const peri_sim *s, int ncomp) {
+  return peri_calloc((size_t)(s->p.n_owned > 0 ? s->p.n_owned : 1) * (size_t)ncomp, sizeof(double));
+}
+
 double peri_kinetic_energy(const peri_sim *s) {
   const peri_particles *p = &s->p;
-  double sum = 0.0;
+  double *terms = node_terms(s, 1), sum = 0.0;
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const double *v = &p->v[3 * i];
     double rho = s->materials[p->material[i]].density;
-    sum += 0.5 * rho * p->volume[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    terms[i] = 0.5 * rho * p->volume[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   }
+  peri_sum_owned(s, terms, 1, &sum);
+  free(terms);
   return sum;
 }
 
 void peri_linear_momentum(const peri_sim *s, double out[3]) {
   const peri_particles *p = &s->p;
-  out[0] = out[1] = out[2] = 0.0;
+  double *terms = node_terms(s, 3);
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double m = s->materials[p->material[i]].density * p->volume[i];
-    for (int d = 0; d < 3; ++d) out[d] += m * p->v[3 * i + d];
+    for (int d = 0; d < 3; ++d) terms[3 * i + d] = m * p->v[3 * i + d];
   }
+  peri_sum_owned(s, terms, 3, out);
+  free(terms);
 }
 
 double peri_strain_energy(peri_sim *s) {
   peri_particles *p = &s->p;
   if (!p->energy) p->energy = peri_calloc(p->n, sizeof(double));
   s->model->energy(s, p->energy);
-  double sum = 0.0;
-  for (int32_t i = 0; i < p->n_owned; ++i) sum += p->energy[i] * p->volume[i];
+  double *terms = node_terms(s, 1), sum = 0.0;
+  for (int32_t i = 0; i < p->n_owned; ++i) terms[i] = p->energy[i] * p->volume[i];
+  peri_sum_owned(s, terms, 1, &sum);
+  free(terms);
   return sum;
 }
 
 void peri_region_reaction(const peri_sim *s, int region, double out[3]) {
   const peri_particles *p = &s->p;
   const peri_region *r = &s->regions[region];
-  out[0] = out[1] = out[2] = 0.0;
+  double *terms = node_terms(s, 3); /* zero outside the region */
   for (int32_t a = 0; a < r->count; ++a) {
     int32_t i = r->nodes[a];
-    for (int d = 0; d < 3; ++d) out[d] -= p->f[3 * i + d] * p->volume[i];
+    for (int d = 0; d < 3; ++d) terms[3 * i + d] = -p->f[3 * i + d] * p->volume[i];
   }
+  peri_sum_owned(s, terms, 3, out);
+  free(terms);
 }

@@ -4,6 +4,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/comm.h"
+#include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/sim.h"
 #include "peri/thermal.h"
@@ -15,6 +17,10 @@ static double gfac_of(const peri_sim *s) {
 }
 
 static double eval(peri_expr *e, const double *x, double t) { return peri_expr_eval(e, x[0], x[1], x[2], t); }
+
+/* Ghost temperatures from their owners before a pass reads T of neighbours (MPI ranks,
+ * docs/parallel.md; a no-op in one process). */
+static void exchange(const peri_sim *s, double *T) { peri_sim_exchange((peri_sim *)s, T, 1); }
 
 /* Volumetric sources w_i and linear sinks (convection) at time t (serial: expressions). */
 static void eval_sources(const peri_sim *s, double t) {
@@ -97,6 +103,7 @@ void peri_thermal_constrain(const peri_sim *s, double *T, double t) {
     for (int32_t a = 0; a < r->count; ++a) T[r->nodes[a]] = eval(bc->value, &p->x[3 * r->nodes[a]], t);
   }
   if (!th->alg_bc) return;
+  exchange(s, T);
   /* algebraic flux nodes (Bobaru & Duangpanya 2012 sec. 3.2), Jacobi: every node from the same field */
   double *q = th->work[5];
   for (int32_t i = 0; i < th->n; ++i) {
@@ -148,19 +155,24 @@ int peri_thermal_step(peri_sim *s, double dt) {
   double *T = th->T;
   if (th->integrator == PERI_TINT_EULER) {
     double *k1 = th->work[0];
+    exchange(s, T);
     peri_thermal_rate(s, T, t0, k1);
     for (int32_t i = 0; i < n; ++i) T[i] += dt * k1[i];
   } else {
     double *k1 = th->work[0], *k2 = th->work[1], *k3 = th->work[2], *k4 = th->work[3], *Y = th->work[4];
+    exchange(s, T);
     peri_thermal_rate(s, T, t0, k1);
     for (int32_t i = 0; i < n; ++i) Y[i] = T[i] + 0.5 * dt * k1[i];
     peri_thermal_constrain(s, Y, t0 + 0.5 * dt);
+    exchange(s, Y);
     peri_thermal_rate(s, Y, t0 + 0.5 * dt, k2);
     for (int32_t i = 0; i < n; ++i) Y[i] = T[i] + 0.5 * dt * k2[i];
     peri_thermal_constrain(s, Y, t0 + 0.5 * dt);
+    exchange(s, Y);
     peri_thermal_rate(s, Y, t0 + 0.5 * dt, k3);
     for (int32_t i = 0; i < n; ++i) Y[i] = T[i] + dt * k3[i];
     peri_thermal_constrain(s, Y, t0 + dt);
+    exchange(s, Y);
     peri_thermal_rate(s, Y, t0 + dt, k4);
     for (int32_t i = 0; i < n; ++i) T[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
   }
@@ -168,7 +180,7 @@ int peri_thermal_step(peri_sim *s, double dt) {
   peri_thermal_constrain(s, T, th->time);
   bool finite = true;
   for (int32_t i = 0; i < n; ++i) finite = finite && fabs(T[i]) < 1e100;
-  if (!finite) {
+  if (!peri_comm_all(finite)) { /* every rank stops together */
     peri_error("the temperature diverged at t = %g: reduce the heat time step (stable estimate %g s)",
                th->time, peri_thermal_stable_dt(th));
     return PERI_ERR_RUN;
@@ -178,8 +190,10 @@ int peri_thermal_step(peri_sim *s, double dt) {
 
 double peri_thermal_total_heat(const peri_sim *s) {
   const peri_thermal *th = s->thermal;
-  double sum = 0.0;
-  for (int32_t i = 0; i < th->n; ++i) sum += th->rhoc[i] * th->T[i] * th->area[i];
+  double *terms = peri_malloc(sizeof(double) * (size_t)(th->n > 0 ? th->n : 1)), sum = 0.0;
+  for (int32_t i = 0; i < th->n; ++i) terms[i] = th->rhoc[i] * th->T[i] * th->area[i];
+  peri_sum_owned(s, terms, 1, &sum); /* fixed-order blocks: independent of threads and ranks */
+  free(terms);
   return sum * gfac_of(s);
 }
 
@@ -187,20 +201,26 @@ double peri_thermal_region_inflow(const peri_sim *s, int region) {
   const peri_thermal *th = s->thermal;
   const peri_bonds *b = &s->bonds;
   const peri_region *r = &s->regions[region];
-  uint8_t *in = peri_calloc((size_t)th->n, 1);
-  for (int32_t a = 0; a < r->count; ++a) in[r->nodes[a]] = 1;
+  const int32_t n_all = s->p.n; /* owned and ghosts: membership of ghosts from their owners */
+  double *in = peri_calloc((size_t)(n_all > 0 ? n_all : 1), sizeof(double));
+  double *terms = peri_calloc((size_t)(th->n > 0 ? th->n : 1), sizeof(double));
+  for (int32_t a = 0; a < r->count; ++a) in[r->nodes[a]] = 1.0;
+  exchange(s, in);
+  exchange(s, th->T);
   double sum = 0.0;
   for (int32_t a = 0; a < r->count; ++a) {
     const int32_t i = r->nodes[a];
     double si = 0.0;
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       const int32_t j = b->neighbor[k];
-      if (in[j]) continue;
+      if (in[j] != 0.0) continue;
       const double w = th->cut[k] ? th->crack_conductance * th->H[k] : th->H[k];
       si += w * (th->T[j] - th->T[i]);
     }
-    sum += si * th->area[i];
+    terms[i] = si * th->area[i];
   }
+  peri_sum_owned(s, terms, 1, &sum);
+  free(terms);
   free(in);
   return sum * gfac_of(s);
 }
@@ -209,6 +229,7 @@ void peri_thermal_flux(const peri_sim *s) {
   const peri_thermal *th = s->thermal;
   const peri_bonds *b = &s->bonds;
   const double *x = s->p.x;
+  exchange(s, th->T);
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < th->n; ++i) {
     double q[3] = {0.0, 0.0, 0.0};
@@ -232,6 +253,7 @@ void peri_thermal_update_strain(peri_sim *s) {
     const double alpha = plane_strain ? (1.0 + m->nu) * m->thermal_expansion : m->thermal_expansion;
     s->thermal_strain[i] = alpha * (th->T[i] - th->T_ref[i]);
   }
+  peri_sim_exchange(s, s->thermal_strain, 1); /* the bond stretch reads both ends */
 }
 
 int peri_thermal_couple(peri_sim *s, long step, double t) {
@@ -278,6 +300,6 @@ void peri_thermal_history_values(const peri_sim *s, double *values) {
     if (th->T[i] > hi) hi = th->T[i];
   }
   values[0] = peri_thermal_total_heat(s);
-  values[1] = lo;
-  values[2] = hi;
+  values[1] = peri_comm_min(lo); /* over all ranks */
+  values[2] = peri_comm_max(hi);
 }

@@ -7,7 +7,10 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include "peri/checkpoint.h"
+#include "peri/comm.h"
 #include "peri/damage.h"
+#include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/frames.h"
 #include "peri/output.h"
@@ -61,6 +64,7 @@ typedef struct heat_ctx {
   peri_history *history;
   int n_columns;
   double *row;
+  long history_rows;  /* rows in history.csv (a checkpoint records it) */
 } heat_ctx;
 
 static int open_history(peri_sim *s, heat_ctx *c) {
@@ -77,9 +81,14 @@ static int open_history(peri_sim *s, heat_ctx *c) {
     snprintf(buf, sizeof buf, "heat_inflow_%s", s->regions[r].name);
     names[k++] = peri_strdup(buf);
   }
-  c->history = peri_history_open_in(s->out.directory, n, names);
   c->n_columns = n;
   c->row = peri_calloc((size_t)n, sizeof(double));
+  if (peri_comm_rank() > 0) { /* rank 0 writes history.csv (docs/parallel.md) */
+    for (int j = 0; j < n; ++j) free(names[j]);
+    free(names);
+    return PERI_OK;
+  }
+  c->history = peri_history_open_in(s->out.directory, n, names);
   return c->history ? PERI_OK : PERI_ERR_RUN;
 }
 
@@ -94,20 +103,48 @@ static int write_history(peri_sim *s, heat_ctx *c) {
   c->row[k++] = s->time;
   c->row[k++] = (double)s->step;
   c->row[k++] = peri_thermal_total_heat(s);
-  c->row[k++] = lo;
-  c->row[k++] = hi;
-  c->row[k++] = s->bonds.n_bonds ? (double)peri_broken_count(&s->bonds) / s->bonds.n_bonds : 0.0;
+  c->row[k++] = peri_comm_min(lo); /* all ranks */
+  c->row[k++] = peri_comm_max(hi);
+  const int64_t n_bonds = peri_global_bonds(s);
+  c->row[k++] = n_bonds ? (double)peri_global_broken(s) / (double)n_bonds : 0.0;
+  double *terms = peri_calloc(2 * (size_t)(th->n > 0 ? th->n : 1), sizeof(double));
   for (int r = 1; r < s->n_regions; ++r) {
     const peri_region *reg = &s->regions[r];
-    double sum = 0.0, vol = 0.0;
+    for (int32_t i = 0; i < th->n; ++i) terms[2 * i] = terms[2 * i + 1] = 0.0;
     for (int32_t a = 0; a < reg->count; ++a) {
-      sum += th->T[reg->nodes[a]] * th->area[reg->nodes[a]];
-      vol += th->area[reg->nodes[a]];
+      terms[2 * reg->nodes[a]] = th->T[reg->nodes[a]] * th->area[reg->nodes[a]];
+      terms[2 * reg->nodes[a] + 1] = th->area[reg->nodes[a]];
     }
+    double sums[2]; /* fixed-order blocks: independent of threads and ranks */
+    peri_sum_owned(s, terms, 2, sums);
+    const double sum = sums[0], vol = sums[1];
     c->row[k++] = vol > 0.0 ? sum / vol : 0.0;
     c->row[k++] = peri_thermal_region_inflow(s, r);
   }
-  return peri_history_write(c->history, c->row);
+  free(terms);
+  c->history_rows++;
+  return c->history ? peri_history_write(c->history, c->row) : PERI_OK;
+}
+
+/* A restarted run: the checkpoint's state, then the frames and history rows the run had
+ * written up to it (docs/restart.md). */
+static int resume(peri_sim *s, heat_ctx *c) {
+  peri_restart_apply(s);
+  long listed = 0, rows = 0;
+  const double *times = NULL;
+  char *const *files = NULL;
+  const long next = peri_restart_frames(s, &listed, &times, &files);
+  if (peri_frames_resume(c->frames, next, listed, times, files) != PERI_OK) return PERI_ERR_RUN;
+  int columns = 0;
+  const double *kept = peri_restart_history(s, &rows, &columns);
+  if (kept && columns != c->n_columns) {
+    peri_warning("restart: history.csv has %d columns, this run writes %d; its rows are not kept", columns,
+                 c->n_columns);
+    rows = 0;
+  }
+  for (long r = 0; r < rows; ++r, ++c->history_rows)
+    if (peri_history_write(c->history, kept + (size_t)r * (size_t)columns) != PERI_OK) return PERI_ERR_RUN;
+  return PERI_OK;
 }
 
 int peri_run_heat(peri_sim *s) {
@@ -115,29 +152,40 @@ int peri_run_heat(peri_sim *s) {
   heat_ctx c = {0};
   c.frames = peri_frames_open(s);
   if (!c.frames) return PERI_ERR_RUN;
-  if (open_history(s, &c) != PERI_OK) {
+  if (peri_comm_max_int(open_history(s, &c))) { /* collective: rank 0 opens the file */
     peri_frames_close(c.frames);
+    free(c.row);
     return PERI_ERR_RUN;
   }
   const bool progress = !s->quiet && isatty(STDERR_FILENO);
-  s->time = th->time;
-  int rc = peri_frames_write(c.frames, s);
-  if (rc == PERI_OK) rc = write_history(s, &c);
+  int rc = PERI_OK;
+  if (s->restart) { /* continue from a checkpoint (docs/restart.md) */
+    rc = resume(s, &c);
+  } else {
+    s->time = th->time;
+    rc = peri_frames_write(c.frames, s);
+    if (rc == PERI_OK) rc = write_history(s, &c);
+    rc = peri_comm_max_int(rc);
+  }
   const double t_start = now();
+  const long first_step = s->step; /* a restart's checkpoint, else 0 */
   double t_last = t_start;
-  for (long step = 0; step < s->steps && rc == PERI_OK; ++step) {
+  for (long step = s->step; step < s->steps && rc == PERI_OK; ++step) {
     rc = peri_thermal_step(s, s->dt);
     s->time = th->time;
     s->step = step + 1;
     if (rc != PERI_OK) break;
     const bool last = s->step == s->steps;
-    if ((s->step % s->out.history_every == 0 || last) && write_history(s, &c) != PERI_OK) rc = PERI_ERR_RUN;
+    if ((s->step % s->out.history_every == 0 || last) && peri_comm_max_int(write_history(s, &c) != PERI_OK))
+      rc = PERI_ERR_RUN; /* every rank stops together */
     if (rc == PERI_OK && ((s->out.every > 0 && s->step % s->out.every == 0) || last))
       rc = peri_frames_write(c.frames, s);
+    const peri_checkpoint_progress done = {peri_frames_written(c.frames), c.history_rows};
+    if (rc == PERI_OK) rc = peri_checkpoint_after_step(s, &done); /* docs/restart.md */
     if (progress) {
       double t = now();
       if (t - t_last > 0.5 && t - t_start > 1.0) {
-        double rate = s->step / (t - t_start);
+        double rate = (s->step - first_step) / (t - t_start);
         fprintf(stderr, "\r  step %ld/%ld  t = %.4g s  %.0f steps/s  eta %.0f s   ", s->step, s->steps, s->time,
                 rate, (s->steps - s->step) / rate);
         t_last = t;
@@ -154,7 +202,7 @@ int peri_run_heat(peri_sim *s) {
   }
   if (!s->quiet) {
     printf("  finished     %ld steps in %.3f s: %.1f steps/s (%d threads)\n", s->step, wall,
-           wall > 0 ? s->step / wall : 0.0, omp_get_max_threads());
+           wall > 0 ? (s->step - first_step) / wall : 0.0, omp_get_max_threads());
     printf("  total heat   %.10g J\n", peri_thermal_total_heat(s));
     printf("  output       %s/%s.pvd (VTU series), %s/history.csv%s%s\n", s->out.directory, s->out.basename,
            s->out.directory, picture[0] ? ", " : "", picture);

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/error.h"
+#include "peri/implicit.h"
 #include "peri/quasistatic.h"
 
 /* Fixed blocks: the partial sums and their order do not depend on the thread count. */
@@ -112,6 +113,7 @@ peri_qs_status peri_solve_equilibrium(peri_sim *s) {
   case PERI_SOLVER_ADR: return peri_solve_adr(s);
   case PERI_SOLVER_DYNAMIC_RELAXATION: return peri_solve_dynamic_relaxation(s);
   case PERI_SOLVER_NLCG: return peri_solve_nlcg(s);
+  case PERI_SOLVER_IMPLICIT: return peri_solve_implicit(s);
   default: return PERI_QS_DIVERGED;
   }
 }

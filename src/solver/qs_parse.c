@@ -2,6 +2,7 @@
 #include <math.h>
 #include <string.h>
 #include "peri/error.h"
+#include "peri/implicit.h"
 #include "peri/quasistatic.h"
 
 static const char *const qs_keys[] = {PERI_QUASI_STATIC_KEYS, NULL};
@@ -29,8 +30,9 @@ int peri_quasi_static_parse(peri_sim *s, const peri_node *it) {
   peri_quasi_static *q = &s->qs;
   memset(q, 0, sizeof *q);
   if (!peri_is_quasi_static(s)) {
+    TRY(peri_implicit_parse(s, it)); /* its keys: "only for solver type implicit" */
     for (int k = 0; qs_keys[k]; ++k)
-      TRY(only_for(it, qs_keys[k], "adr, dynamic_relaxation or nlcg (quasi-static)"));
+      TRY(only_for(it, qs_keys[k], "adr, dynamic_relaxation or nlcg (quasi-static; also implicit)"));
     return PERI_OK;
   }
   const bool adr = s->solver == PERI_SOLVER_ADR, dr = s->solver == PERI_SOLVER_DYNAMIC_RELAXATION,
@@ -72,6 +74,7 @@ int peri_quasi_static_parse(peri_sim *s, const peri_node *it) {
   int pc = 1;
   TRY(peri_deck_choice(it, "preconditioner", false, preconditioners, &pc));
   q->preconditioner = pc == 1;
+  TRY(peri_implicit_parse(s, it)); /* linear_solver, petsc_* and newton_tolerance (implicit_parse.c) */
 
   /* pseudo-time of the last load step */
   s->end_time = 1.0;
@@ -96,6 +99,7 @@ int peri_quasi_static_parse(peri_sim *s, const peri_node *it) {
                                "'bond_damping' (pairwise, Le 2014 eq. 2.43); near critical is fastest");
   s->breaking = true;
   TRY(peri_deck_bool(it, "breaking", false, &s->breaking));
+  TRY(peri_qs_dynamic_parse(s, it)); /* dynamic_switch (src/solver/qs_dynamic_parse.c) */
   for (int k = 0; k < s->n_bcs; ++k) {
     peri_bc_kind kind = s->bcs[k].kind;
     if (kind == PERI_BC_VELOCITY || kind == PERI_BC_INITIAL_VELOCITY || kind == PERI_BC_INITIAL_DISPLACEMENT)

@@ -14,6 +14,7 @@ static const char *solver_name(peri_solver_kind k) {
   case PERI_SOLVER_ADR: return "adr";
   case PERI_SOLVER_DYNAMIC_RELAXATION: return "dynamic_relaxation";
   case PERI_SOLVER_NLCG: return "nlcg";
+  case PERI_SOLVER_IMPLICIT: return "implicit";
   default: return "explicit";
   }
 }
@@ -29,6 +30,7 @@ void peri_print_quasi_static_summary(const peri_sim *s, FILE *out) {
   if (s->breaking)
     fprintf(out, "  fracture     re-solve until no bond breaks%s\n",
             q->max_broken_per_step > 0 ? ", cut back above max_broken_per_step" : "");
+  peri_qs_dynamic_summary(s, out); /* solver.dynamic_switch */
 }
 
 /* Breaks every intact bond beyond its critical stretch at the current u (and refreshes the
@@ -67,11 +69,13 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
   const long N = q->load_steps;
   double t_done = s->time;
   int rc = PERI_OK;
-  for (long n = 0; n < N && rc == PERI_OK; ++n) {
+  bool stop = false; /* the hook asked to stop (during a dynamic phase) */
+  /* from the load step reached: 0, or a checkpoint's (docs/restart.md) */
+  for (long n = s->step; n < N && rc == PERI_OK; ++n) {
     const double t_target = T * (double)(n + 1) / (double)N;
     double inc = t_target - t_done;
     int cut = 0;
-    while (t_done < t_target && rc == PERI_OK) {
+    while (t_done < t_target && rc == PERI_OK && !stop) {
       const double t = fmin(t_done + inc, t_target);
       memcpy(u_save, p->u, sizeof(double) * n3);
       memcpy(broken_save, s->bonds.broken, nbonds);
@@ -82,13 +86,15 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
         break;
       }
       converged(s);
-      long broken = 0, rounds = 0;
-      bool retry = false;
+      long broken = 0, rounds = 0, since_dynamic = 0;
+      bool retry = false, went_dynamic = false;
       for (;;) {
         long nb = break_bonds(s);
         broken += nb;
+        since_dynamic += nb;
         if (nb == 0) break;
-        if (q->max_broken_per_step > 0 && broken > q->max_broken_per_step && cut < q->max_cutbacks) {
+        if (q->max_broken_per_step > 0 && broken > q->max_broken_per_step && cut < q->max_cutbacks &&
+            !went_dynamic) {
           /* too many at once: undo and take half the increment */
           memcpy(p->u, u_save, sizeof(double) * n3);
           memcpy(s->bonds.broken, broken_save, nbonds);
@@ -97,6 +103,14 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
           ++q->cutbacks;
           retry = true;
           break;
+        }
+        if (q->dynamic.on && since_dynamic > q->dynamic.when_broken_exceeds) {
+          /* unstable growth: explicit dynamics at this load until the crack arrests, then
+           * equilibrium again from where it stopped (docs/solvers.md section 4) */
+          rc = peri_qs_dynamic_phase(s, t, hook, ctx, &stop);
+          if (rc != PERI_OK || stop) break;
+          went_dynamic = true;
+          since_dynamic = 0;
         }
         if (++rounds > q->max_fracture_iterations) {
           peri_error("%s: bonds still break after %ld re-solves at load step %ld (t = %g); raise "
@@ -112,10 +126,10 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
         converged(s);
       }
       if (retry) continue;
-      t_done = t;
+      if (!stop) t_done = t;
     }
     s->time = t_done;
-    if (rc != PERI_OK) break;
+    if (rc != PERI_OK || stop) break;
     s->step = n + 1;
     if (hook && hook(s, ctx)) break;
   }

@@ -6,7 +6,10 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include "peri/comm.h"
+#include "peri/checkpoint.h"
 #include "peri/damage.h"
+#include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/frames.h"
 #include "peri/output.h"
@@ -50,6 +53,7 @@ void peri_print_discretization(const peri_sim *s, FILE *out, const char *model, 
 void peri_print_summary(const peri_sim *s, FILE *out) {
   if (s->solver == PERI_SOLVER_HEAT) { /* conduction only (docs/heat.md) */
     peri_thermal_print_summary(s, out);
+    peri_checkpoint_print_summary(s, out); /* docs/restart.md */
     return;
   }
   peri_print_discretization(s, out, s->model->name, "broken");
@@ -66,6 +70,7 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
     fprintf(out, "  time step    %g s (stable estimate %g s), %ld steps to t = %g s\n", s->dt,
             peri_stable_dt(s), s->steps, s->dt * s->steps);
   if (s->thermal) peri_thermal_print_summary(s, out); /* thermomechanics (docs/heat.md) */
+  peri_checkpoint_print_summary(s, out);               /* docs/restart.md */
 }
 
 typedef struct run_ctx {
@@ -77,6 +82,8 @@ typedef struct run_ctx {
   bool progress;
   int failed;
   int plot_x, plot_y;           /* history columns of output.plot, -1: none */
+  long history_rows;            /* rows in history.csv (a checkpoint records it) */
+  long first_step;              /* step the solver started from (a restart's checkpoint) */
   size_t plot_n, plot_cap;
   double *plot_xs, *plot_ys;
 } run_ctx;
@@ -90,6 +97,11 @@ static void region_displacement(const peri_sim *s, int region, double out[3]) {
   for (int d = 0; d < 3 && r->count > 0; ++d) out[d] /= r->count;
 }
 
+static int record_row(run_ctx *c);
+
+/* A quasi-static run that may switch to dynamics has the columns phase and dynamic_time. */
+static bool qs_dynamic_columns(const peri_sim *s) { return peri_is_quasi_static(s) && s->qs.dynamic.on; }
+
 static int write_history(peri_sim *s, run_ctx *c) {
   int k = 0;
   double ke = peri_kinetic_energy(s);
@@ -100,7 +112,8 @@ static int write_history(peri_sim *s, run_ctx *c) {
   c->row[k++] = se;
   c->row[k++] = s->external_work;
   c->row[k++] = ke + se - s->external_work;
-  c->row[k++] = s->bonds.n_bonds ? (double)peri_broken_count(&s->bonds) / s->bonds.n_bonds : 0.0;
+  const int64_t n_bonds = peri_global_bonds(s); /* all ranks (docs/parallel.md) */
+  c->row[k++] = n_bonds ? (double)peri_global_broken(s) / (double)n_bonds : 0.0;
   double momentum[3];
   peri_linear_momentum(s, momentum);
   for (int d = 0; d < s->geom.dim; ++d) c->row[k++] = momentum[d];
@@ -117,7 +130,17 @@ static int write_history(peri_sim *s, run_ctx *c) {
       region_displacement(s, r, disp);
       for (int d = 0; d < s->geom.dim; ++d) c->row[k++] = disp[d];
     }
+  if (qs_dynamic_columns(s)) { /* static (0) or dynamic (1) phase, time in dynamics (docs/solvers.md) */
+    c->row[k++] = (double)s->qs.phase;
+    c->row[k++] = s->qs.dynamic_time;
+  }
   peri_thermal_history_values(s, c->row + k); /* total heat, temperature range (docs/heat.md) */
+  return record_row(c);
+}
+
+/* Adds c->row to history.csv and to the series of output.plot. */
+static int record_row(run_ctx *c) {
+  c->history_rows++;
   if (c->plot_x >= 0) { /* the series of output.plot */
     if (c->plot_n == c->plot_cap) {
       c->plot_cap = c->plot_cap ? 2 * c->plot_cap : 256;
@@ -127,14 +150,14 @@ static int write_history(peri_sim *s, run_ctx *c) {
     c->plot_xs[c->plot_n] = c->row[c->plot_x];
     c->plot_ys[c->plot_n++] = c->row[c->plot_y];
   }
-  return peri_history_write(c->history, c->row);
+  return c->history ? peri_history_write(c->history, c->row) : PERI_OK; /* rank 0 writes */
 }
 
 static int open_history(peri_sim *s, run_ctx *c) {
   static const char axis[] = "xyz";
   const bool qs = peri_is_quasi_static(s);
   int n = 7 + s->geom.dim + (s->indenter.on ? s->geom.dim : 0) + (qs ? 2 : 1) * (s->n_regions - 1) * s->geom.dim;
-  n += peri_thermal_history_count(s);
+  n += (qs_dynamic_columns(s) ? 2 : 0) + peri_thermal_history_count(s);
   char **names = peri_calloc(n, sizeof(char *));
   const char *fixed[] = {"time", "step", "kinetic_energy", "strain_energy", "external_work",
                          "energy_balance", "broken_bond_fraction"};
@@ -160,6 +183,10 @@ static int open_history(peri_sim *s, run_ctx *c) {
       snprintf(buf, sizeof buf, "displacement_%s_%c", s->regions[r].name, axis[d]);
       names[k++] = peri_strdup(buf);
     }
+  if (qs_dynamic_columns(s)) {
+    names[k++] = peri_strdup("phase");
+    names[k++] = peri_strdup("dynamic_time");
+  }
   peri_thermal_history_names(s, names + k);
   c->plot_x = c->plot_y = -1;
   for (int j = 0; j < n && s->out.plot_x; ++j) {
@@ -167,27 +194,41 @@ static int open_history(peri_sim *s, run_ctx *c) {
     if (!strcmp(names[j], s->out.plot_y)) c->plot_y = j;
   }
   if (c->plot_y < 0) c->plot_x = -1;
-  c->history = peri_history_open_in(s->out.directory, n, names);
   c->n_columns = n;
   c->row = peri_calloc(n, sizeof(double));
+  if (peri_comm_rank() > 0) { /* rank 0 writes history.csv */
+    for (int j = 0; j < n; ++j) free(names[j]);
+    free(names);
+    return PERI_OK;
+  }
+  c->history = peri_history_open_in(s->out.directory, n, names);
   return c->history ? PERI_OK : PERI_ERR_RUN;
 }
 
 static int step_hook(peri_sim *s, void *ctx) {
   run_ctx *c = ctx;
+  if (peri_is_quasi_static(s) && s->qs.phase == PERI_QS_PHASE_DYNAMIC) { /* inside a load step: a row only */
+    if (write_history(s, c) != PERI_OK) c->failed = 1;
+    return peri_comm_max_int(c->failed);
+  }
   bool last = s->step == s->steps;
-  if ((s->step % s->out.history_every == 0 || last) && write_history(s, c) != PERI_OK) {
+  const bool history = s->step % s->out.history_every == 0 || last;
+  const bool frame = (s->out.every > 0 && s->step % s->out.every == 0) || last;
+  if (history && write_history(s, c) != PERI_OK) c->failed = 1;
+  if (!c->failed && frame && peri_frames_write(c->frames, s) != PERI_OK) c->failed = 1;
+  const peri_checkpoint_progress done = {peri_frames_written(c->frames), c->history_rows};
+  if (!c->failed && peri_checkpoint_after_step(s, &done) != PERI_OK) { /* docs/restart.md */
     c->failed = 1;
     return 1;
   }
-  if (((s->out.every > 0 && s->step % s->out.every == 0) || last) && peri_frames_write(c->frames, s) != PERI_OK) {
+  if ((history || frame) && peri_comm_max_int(c->failed)) { /* every rank stops together */
     c->failed = 1;
     return 1;
   }
   if (c->progress) {
     double t = now();
     if (t - c->t_last_progress > 0.5 && t - c->t_start > 1.0) {
-      double rate = s->step / (t - c->t_start);
+      double rate = (s->step - c->first_step) / (t - c->t_start);
       fprintf(stderr, "\r  step %ld/%ld  t = %.4g s  %.0f steps/s  eta %.0f s   ", s->step, s->steps,
               s->time, rate, (s->steps - s->step) / rate);
       c->t_last_progress = t;
@@ -196,29 +237,61 @@ static int step_hook(peri_sim *s, void *ctx) {
   return 0;
 }
 
+/* A restarted run: the checkpoint's state, then the frames and history rows the run had
+ * written up to it (docs/restart.md). */
+static int resume(peri_sim *s, run_ctx *c) {
+  peri_restart_apply(s);
+  long listed = 0, rows = 0;
+  const double *times = NULL;
+  char *const *files = NULL;
+  const long next = peri_restart_frames(s, &listed, &times, &files);
+  if (peri_frames_resume(c->frames, next, listed, times, files) != PERI_OK) return PERI_ERR_RUN;
+  int columns = 0;
+  const double *kept = peri_restart_history(s, &rows, &columns);
+  if (kept && columns != c->n_columns) {
+    peri_warning("restart: history.csv has %d columns, this run writes %d; its rows are not kept", columns,
+                 c->n_columns);
+    rows = 0;
+  }
+  for (long r = 0; r < rows; ++r) {
+    memcpy(c->row, kept + (size_t)r * (size_t)columns, sizeof(double) * (size_t)columns);
+    if (record_row(c) != PERI_OK) return PERI_ERR_RUN;
+  }
+  return PERI_OK;
+}
+
 int peri_run(peri_sim *s) {
   if (s->solver == PERI_SOLVER_HEAT) return peri_run_heat(s); /* conduction only (docs/heat.md) */
   run_ctx c = {0};
   c.frames = peri_frames_open(s);
   if (!c.frames) return PERI_ERR_RUN;
-  if (open_history(s, &c) != PERI_OK) {
+  if (peri_comm_max_int(open_history(s, &c))) { /* collective: rank 0 opens the file */
     peri_frames_close(c.frames);
+    free(c.row);
     return PERI_ERR_RUN;
   }
   c.progress = !s->quiet && isatty(STDERR_FILENO);
   peri_apply_initial_conditions(s);
   peri_apply_loads(s, s->time);
-  s->model->force(s);
-  int rc = peri_frames_write(c.frames, s);
-  if (rc == PERI_OK) rc = write_history(s, &c);
+  peri_exchange_state(s); /* ghost displacements (MPI ranks, docs/parallel.md) */
+  int rc = PERI_OK;
+  if (s->restart) { /* continue from a checkpoint (docs/restart.md) */
+    rc = resume(s, &c);
+  } else {
+    s->model->force(s);
+    rc = peri_frames_write(c.frames, s);
+    if (rc == PERI_OK) rc = write_history(s, &c);
+  }
+  rc = peri_comm_max_int(rc);
   c.t_start = c.t_last_progress = now();
+  c.first_step = s->step;
   if (rc == PERI_OK)
     rc = peri_is_quasi_static(s) ? peri_solve_quasi_static(s, step_hook, &c) : peri_solve_explicit(s, step_hook, &c);
   if (c.failed) rc = PERI_ERR_RUN;
   double wall = now() - c.t_start;
   if (c.progress) fprintf(stderr, "\r%80s\r", "");
   char picture[4300] = "", plot[4400] = "";
-  if (c.plot_x >= 0 && c.plot_n > 0) { /* drawn even when the run failed: the curve so far */
+  if (c.plot_x >= 0 && c.plot_n > 0 && peri_comm_rank() == 0) { /* drawn even when the run failed: the curve so far */
     snprintf(plot, sizeof plot, "%s/%s_vs_%s.png", s->out.directory, s->out.plot_y, s->out.plot_x);
     if (peri_plot_write(plot, c.plot_xs, c.plot_ys, c.plot_n, s->out.plot_x, s->out.plot_y, s->out.basename, 1200,
                         800) != PERI_OK) {
@@ -229,17 +302,23 @@ int peri_run(peri_sim *s) {
   if (rc == PERI_OK && s->out.picture && s->geom.dim == 2) {
     if (peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) rc = PERI_ERR_RUN, picture[0] = 0;
   }
+  rc = peri_comm_max_int(rc); /* one status for all ranks */
   if (!s->quiet) {
-    double updates = (double)s->bonds.n_bonds * s->step;
+    double updates = (double)peri_global_bonds(s) * (s->step - c.first_step);
+    const long broken = peri_global_broken(s);
     if (peri_is_quasi_static(s))
       printf("  finished     %ld load steps in %.3f s: %ld solves, %ld iterations, %ld force evaluations, "
              "%ld cut-backs, residual %.3g (%d threads)\n", s->step, wall, s->qs.solves, s->qs.iterations,
              s->qs.force_evaluations, s->qs.cutbacks, s->qs.residual, omp_get_max_threads());
-    else
+    if (qs_dynamic_columns(s))
+      printf("  dynamic      %ld phase%s, %ld explicit steps, %.4g s of dynamics\n", s->qs.dynamic_phases,
+             s->qs.dynamic_phases == 1 ? "" : "s", s->qs.dynamic_steps, s->qs.dynamic_time);
+    if (!peri_is_quasi_static(s))
       printf("  finished     %ld steps in %.3f s: %.1f steps/s, %.3g bond updates/s (%d threads)\n", s->step,
-             wall, wall > 0 ? s->step / wall : 0.0, wall > 0 ? updates / wall : 0.0, omp_get_max_threads());
-    printf("  broken bonds %ld of %lld\n", peri_broken_count(&s->bonds), (long long)s->bonds.n_bonds);
-    peri_print_stress_summary(s, stdout);
+             wall, wall > 0 ? (s->step - c.first_step) / wall : 0.0, wall > 0 ? updates / wall : 0.0,
+             omp_get_max_threads());
+    printf("  broken bonds %ld of %lld\n", broken, (long long)peri_global_bonds(s));
+    if (!s->dd) peri_print_stress_summary(s, stdout); /* per-node maxima: single process */
     printf("  output       %s/%s.pvd (%s), %s/history.csv%s%s%s%s\n", s->out.directory, s->out.basename,
            "VTU series", s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot);
   }

@@ -1,0 +1,83 @@
+/* Checkpoints and restart (docs/restart.md): the state of a run in an HDF5 file, written
+ * every output.checkpoint_every steps and at the end, and read back by
+ * `peri run DECK --restart FILE` to continue the run bitwise as if it had not stopped.
+ *
+ * Per-node arrays are stored whole, in the node order of the discretization (a
+ * deterministic function of the deck), and per-bond arrays in bond order: a checkpoint
+ * does not depend on how the nodes were split between processes. */
+#ifndef PERI_CHECKPOINT_H
+#define PERI_CHECKPOINT_H
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+#include "peri/deck.h"
+#include "peri/sim.h"
+
+/* Version of the file layout; a reader takes this version and older ones. */
+#define PERI_CHECKPOINT_FORMAT_VERSION 1
+
+/* What the run's output held at the checkpoint: a restart keeps exactly this much of the
+ * .pvd series and of history.csv and continues after it. */
+typedef struct peri_checkpoint_progress {
+  long frames;       /* VTU frames written (the next one is NAME_<frames>.vtu) */
+  long history_rows; /* history.csv rows written after the header */
+} peri_checkpoint_progress;
+
+/* Reads output.checkpoint_every and output.checkpoint_file of the `output` mapping.
+ * Returns PERI_OK or PERI_ERR_INPUT after a positioned message. */
+int peri_checkpoint_parse(peri_sim *s, const peri_node *output);
+
+/* Whether this build reads and writes checkpoints (it was built with HDF5). */
+bool peri_checkpoint_supported(void);
+
+/* Path of the checkpoint of the current step: output.checkpoint_file with "{step}"
+ * replaced by the step number, relative to the output directory unless absolute;
+ * default <directory>/<basename>.h5. */
+void peri_checkpoint_path(const peri_sim *s, char *out, size_t size);
+
+/* Summary line of the checkpoint settings (nothing without output.checkpoint_every). */
+void peri_checkpoint_print_summary(const peri_sim *s, FILE *out);
+
+/* Writes the state of s to path (through path.tmp and a rename, so a crash never leaves a
+ * half-written file). Returns PERI_OK, or PERI_ERR_RUN with a message. */
+int peri_checkpoint_write(const peri_sim *s, const char *path, const peri_checkpoint_progress *done);
+
+/* Writes the checkpoint when one is due after this step (every checkpoint_every steps and
+ * at the last step; nothing without output.checkpoint_every). */
+int peri_checkpoint_after_step(const peri_sim *s, const peri_checkpoint_progress *done);
+
+/* Reads the checkpoint `path` for the simulation s, built from the deck as usual (with the
+ * output directory already final), checks that the deck builds the same discretization
+ * and solver, and keeps its state in s->restart; reads the history.csv rows and .pvd
+ * frames of the output directory written up to the checkpoint. Writes nothing. Returns
+ * PERI_OK, or PERI_ERR_INPUT with a message (missing, damaged or mismatched checkpoint,
+ * or a build without HDF5). */
+int peri_restart_load(peri_sim *s, const char *path);
+
+/* One summary line: the checkpoint, its step and time. */
+void peri_restart_print(const peri_sim *s, FILE *out);
+
+/* Puts the checkpoint's state into s (after peri_apply_initial_conditions, which marks the
+ * prescribed components): time, step, fields, broken bonds, solver and heat state. */
+void peri_restart_apply(peri_sim *s);
+
+/* The history.csv rows kept from before the checkpoint ([rows][n_columns], row-major), or
+ * NULL when there are none. */
+const double *peri_restart_history(const peri_sim *s, long *rows, int *n_columns);
+
+/* The frames of the .pvd kept from before the checkpoint: the number of frames written by
+ * then (the index of the next frame), and those of them listed in the output directory's
+ * .pvd (times and file names). */
+long peri_restart_frames(const peri_sim *s, long *n_listed, const double **times, char *const **files);
+
+void peri_restart_free(struct peri_restart *r);
+
+/* What a run wrote into `directory` up to its checkpoint (src/io/checkpoint_output.c):
+ * the first `rows` rows of history.csv into *history ([*history_rows][*history_columns])
+ * and the first `frames` frames listed in <basename>.pvd (times and file names). A missing
+ * file, or one with fewer entries, gives a warning and what there is. Returns PERI_OK. */
+int peri_restart_read_output(const char *directory, const char *basename, long rows, long frames,
+                             double **history, long *history_rows, int *history_columns,
+                             double **frame_times, char ***frame_files, long *frames_listed);
+
+#endif

@@ -1,0 +1,56 @@
+/* Domain decomposition for distributed runs (docs/parallel.md). Every rank builds the whole
+ * discretization from the deck; peri_decompose then keeps a contiguous range of the
+ * space-filling-curve (Morton) node order, split so that the ranks hold equal numbers of
+ * bonds, and the ghosts its families reference. */
+#ifndef PERI_DECOMPOSE_H
+#define PERI_DECOMPOSE_H
+#include <stdint.h>
+#include <stdio.h>
+#include "peri/sim.h"
+#include "peri/halo.h"
+
+/* Global sums run over blocks of this many nodes of the global order: each block is summed
+ * in node order, then the block sums in block order. Rank ranges start on block boundaries,
+ * so the result is the same, bit for bit, on any number of ranks. */
+enum { PERI_SUM_BLOCK = 64 };
+
+typedef struct peri_decomposition {
+  int rank, size;
+  int64_t n_global;        /* nodes of the whole problem */
+  int64_t n_bonds_global;  /* directed bonds of the whole problem */
+  int64_t *first;          /* [size + 1]: rank r owns global nodes first[r] .. first[r+1]-1 */
+  int64_t *owned;          /* [size]: nodes owned by each rank */
+  int64_t *blocks;         /* [size]: sum blocks of each rank */
+  int32_t *global_id;      /* [p.n]: global (Morton order) index of each local node */
+  peri_halo halo;
+} peri_decomposition;
+
+/* Splits the built simulation over the ranks (nothing in a single process): keeps this
+ * rank's nodes and ghosts, families with local indices, regions, conditions and the heat
+ * operator, and installs the halo exchange as s->exchange. Returns 0 or PERI_ERR_INPUT
+ * (with a message) for solvers that do not run distributed. */
+int peri_decompose(peri_sim *s);
+/* The check peri_decompose starts with, alone: 0, or PERI_ERR_INPUT with a message when the
+ * simulation cannot run on the current number of ranks (always 0 in a single process). */
+int peri_decompose_check(const peri_sim *s);
+void peri_decomposition_free(peri_decomposition *d);
+/* Rank 0 prints, for the ranks together, the nodes owned, ghosts, neighbour ranks and the
+ * values one exchange of a scalar field sends (the halo volume); every rank must call it. */
+void peri_print_decomposition(const peri_sim *s, FILE *out);
+/* Before a force evaluation: the ghosts' displacements, and their compression-dependent
+ * critical stretch when the deck uses it (a no-op in a single process). */
+void peri_exchange_state(peri_sim *s);
+
+/* The sum over every owned node of all ranks of terms[ncomp * i + c] (ncomp <= 9), in
+ * fixed-order blocks (PERI_SUM_BLOCK): independent of the number of ranks and threads.
+ * Every rank gets the result. */
+void peri_sum_owned(const peri_sim *s, const double *terms, int ncomp, double *out);
+/* Global counts: nodes, directed bonds, broken directed bonds. */
+int64_t peri_global_nodes(const peri_sim *s);
+int64_t peri_global_bonds(const peri_sim *s);
+long peri_global_broken(const peri_sim *s);
+/* Rank 0 receives ncomp values per node of every rank's owned nodes in global order
+ * (`out`: ncomp * global nodes, used on rank 0 only; in a single process a copy). */
+void peri_gather_owned(const peri_sim *s, const double *local, int ncomp, double *out);
+
+#endif

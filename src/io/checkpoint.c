@@ -1,0 +1,758 @@
+/* Checkpoint files (docs/restart.md): the state of a run in HDF5, written through a
+ * temporary file and a rename, and read back and checked against the deck for a restart.
+ *
+ * Layout (format version 1):
+ *   /                 attributes format = "peri checkpoint", format_version, peri_version,
+ *                     deck_path, model, solver, solver_name, dimension
+ *   /deck_text        the deck file as it was when the checkpoint was written
+ *   /state            attributes time, step, steps, dt, external_work, frames, history_rows
+ *   /discretization   attributes n_nodes, n_bonds, bond_hash; dataset x [n][3]
+ *   /nodes            u, v, f [n][3], damage [n]; theta, wvol, pstate, smin, s0,
+ *                     thermal_strain [n] and step_load [n][3] when the run has them
+ *   /bonds/broken     [n_bonds] uint8, 0 intact / 1 broken, in bond (CSR) order
+ *   /indenter/force   [3]
+ *   /quasi_static     attributes reference, last_reference, residual, iterations, solves,
+ *                     force_evaluations, cutbacks, dynamic_time, dynamic_phases, dynamic_steps
+ *   /thermal          attributes time, growing_next, every, substeps; T [n]; cut [n_bonds]
+ *                     (only when conduction keeps its own cut flags)
+ * Node arrays hold every node in the node order of the discretization, bond arrays every
+ * directed bond in CSR order: both are deterministic functions of the deck. */
+#ifndef _POSIX_C_SOURCE
+#define _POSIX_C_SOURCE 200809L
+#endif
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/checkpoint.h"
+#include "peri/error.h"
+#include "peri/thermal.h"
+
+/* What a restart carries from the checkpoint to the run (filled by peri_restart_load). */
+struct peri_restart {
+  char *path;
+  double time, external_work;
+  long step;
+  peri_checkpoint_progress done;
+  int32_t n;
+  int64_t n_bonds;
+  double *u, *v, *f, *damage, *theta, *wvol, *pstate, *smin, *s0, *thermal_strain, *step_load;
+  uint8_t *broken;
+  double indenter_force[3];
+  peri_quasi_static qs;
+  bool thermal;
+  double thermal_time;
+  long growing_next, every, substeps;
+  double *T;
+  uint8_t *cut;
+  /* output kept from before the checkpoint */
+  double *history;
+  long history_rows;
+  int history_columns;
+  long frames_listed;
+  double *frame_times;
+  char **frame_files;
+};
+
+void peri_restart_free(struct peri_restart *r) {
+  if (!r) return;
+  double *arrays[] = {r->u, r->v, r->f, r->damage, r->theta, r->wvol, r->pstate, r->smin, r->s0,
+                      r->thermal_strain, r->step_load, r->T, r->history, r->frame_times};
+  for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k) free(arrays[k]);
+  free(r->broken);
+  free(r->cut);
+  for (long k = 0; k < r->frames_listed; ++k) free(r->frame_files[k]);
+  free(r->frame_files);
+  free(r->path);
+  free(r);
+}
+
+const double *peri_restart_history(const peri_sim *s, long *rows, int *n_columns) {
+  const struct peri_restart *r = s->restart;
+  *rows = r ? r->history_rows : 0;
+  *n_columns = r ? r->history_columns : 0;
+  return r && r->history_rows > 0 ? r->history : NULL;
+}
+
+long peri_restart_frames(const peri_sim *s, long *n_listed, const double **times, char *const **files) {
+  const struct peri_restart *r = s->restart;
+  *n_listed = r ? r->frames_listed : 0;
+  *times = r ? r->frame_times : NULL;
+  *files = r ? r->frame_files : NULL;
+  return r ? r->done.frames : 0;
+}
+
+void peri_restart_print(const peri_sim *s, FILE *out) {
+  const struct peri_restart *r = s->restart;
+  if (!r) return;
+  fprintf(out, "  restart      from %s at step %ld (t = %g s), %ld frames and %ld history rows kept\n", r->path,
+          r->step, r->time, r->frames_listed, r->history_rows);
+}
+
+static void copy_if(double *to, const double *from, size_t count) {
+  if (to && from) memcpy(to, from, sizeof(double) * count);
+}
+
+void peri_restart_apply(peri_sim *s) {
+  const struct peri_restart *r = s->restart;
+  if (!r) return;
+  peri_particles *p = &s->p;
+  const size_t n = (size_t)r->n, n3 = 3 * n;
+  s->time = r->time;
+  s->step = r->step;
+  s->external_work = r->external_work;
+  copy_if(p->u, r->u, n3);
+  copy_if(p->v, r->v, n3);
+  copy_if(p->f, r->f, n3);
+  copy_if(p->damage, r->damage, n);
+  copy_if(p->theta, r->theta, n);
+  copy_if(p->wvol, r->wvol, n);
+  copy_if(p->pstate, r->pstate, n);
+  copy_if(p->smin, r->smin, n);
+  copy_if(s->s0_node, r->s0, n);
+  copy_if(s->thermal_strain, r->thermal_strain, n);
+  if (r->step_load) {
+    if (!s->step_load) s->step_load = peri_calloc(n3 ? n3 : 1, sizeof(double));
+    memcpy(s->step_load, r->step_load, sizeof(double) * n3);
+  }
+  if (r->n_bonds > 0) memcpy(s->bonds.broken, r->broken, (size_t)r->n_bonds);
+  memcpy(s->indenter.force, r->indenter_force, sizeof r->indenter_force);
+  peri_quasi_static *q = &s->qs;
+  q->reference = r->qs.reference;
+  q->last_reference = r->qs.last_reference;
+  q->residual = r->qs.residual;
+  q->iterations = r->qs.iterations;
+  q->solves = r->qs.solves;
+  q->force_evaluations = r->qs.force_evaluations;
+  q->cutbacks = r->qs.cutbacks;
+  q->dynamic_time = r->qs.dynamic_time;
+  q->dynamic_phases = r->qs.dynamic_phases;
+  q->dynamic_steps = r->qs.dynamic_steps;
+  peri_thermal *th = s->thermal;
+  if (th && r->thermal) {
+    th->time = r->thermal_time;
+    th->growing_next = r->growing_next;
+    th->every = r->every;
+    th->substeps = r->substeps;
+    copy_if(th->T, r->T, n);
+    /* a private copy of the cut flags (one-way coupling); otherwise they are the broken flags */
+    if (th->own_cut && r->cut && r->n_bonds > 0) memcpy(th->cut, r->cut, (size_t)r->n_bonds);
+  }
+}
+
+/* FNV-1a over the CSR arrays, value by value least significant byte first: a checkpoint
+ * is only resumed on the same bond families. */
+static uint64_t bond_hash(const peri_bonds *b, int32_t n) {
+  uint64_t h = 1469598103934665603ULL; /* FNV-1a 64-bit offset basis and prime (Fowler, Noll, Vo) */
+  const uint64_t prime = 1099511628211ULL;
+  for (int32_t i = 0; i <= n; ++i) {
+    uint64_t v = (uint64_t)b->offset[i];
+    for (int k = 0; k < 8; ++k) h = (h ^ ((v >> (8 * k)) & 0xff)) * prime;
+  }
+  for (int64_t k = 0; k < b->n_bonds; ++k) {
+    uint32_t v = (uint32_t)b->neighbor[k];
+    for (int c = 0; c < 4; ++c) h = (h ^ ((v >> (8 * c)) & 0xff)) * prime;
+  }
+  return h;
+}
+
+static const char *solver_kind_name(peri_solver_kind k) {
+  switch (k) {
+  case PERI_SOLVER_EXPLICIT: return "explicit";
+  case PERI_SOLVER_ADR: return "adr";
+  case PERI_SOLVER_DYNAMIC_RELAXATION: return "dynamic_relaxation";
+  case PERI_SOLVER_NLCG: return "nlcg";
+  case PERI_SOLVER_HEAT: return "heat";
+  case PERI_SOLVER_IMPLICIT: return "implicit";
+  }
+  return "unknown";
+}
+
+/* The whole file, or NULL (with errno) if it cannot be read. */
+static char *read_text(const char *path) {
+  FILE *in = fopen(path, "rb");
+  if (!in) return NULL;
+  size_t size = 0, cap = 4096;
+  char *text = peri_malloc(cap);
+  size_t got;
+  while ((got = fread(text + size, 1, cap - size - 1, in)) > 0) {
+    size += got;
+    if (cap - size - 1 == 0) text = peri_realloc(text, cap *= 2);
+  }
+  const bool failed = ferror(in) != 0;
+  fclose(in);
+  if (failed) {
+    free(text);
+    return NULL;
+  }
+  text[size] = '\0';
+  return text;
+}
+
+#ifdef PERI_HAVE_HDF5
+#include <hdf5.h>
+
+bool peri_checkpoint_supported(void) { return true; }
+
+/* ---------------------------------------------------------------- writing */
+
+typedef struct writer {
+  hid_t file, dcpl, gcpl;
+  bool failed;
+} writer;
+
+static hid_t group_create(writer *w, hid_t loc, const char *name) {
+  hid_t g = H5Gcreate2(loc, name, H5P_DEFAULT, w->gcpl, H5P_DEFAULT);
+  if (g < 0) w->failed = true;
+  return g;
+}
+
+static void group_close(hid_t g) {
+  if (g >= 0) H5Gclose(g);
+}
+
+static void attr_put(writer *w, hid_t loc, const char *name, hid_t file_type, hid_t mem_type, const void *value) {
+  if (w->failed || loc < 0) return;
+  hid_t space = H5Screate(H5S_SCALAR);
+  hid_t a = H5Acreate2(loc, name, file_type, space, H5P_DEFAULT, H5P_DEFAULT);
+  if (a < 0 || H5Awrite(a, mem_type, value) < 0) w->failed = true;
+  if (a >= 0) H5Aclose(a);
+  H5Sclose(space);
+}
+
+static void attr_double(writer *w, hid_t loc, const char *name, double v) {
+  attr_put(w, loc, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &v);
+}
+
+static void attr_long(writer *w, hid_t loc, const char *name, long v) {
+  long long value = v;
+  attr_put(w, loc, name, H5T_STD_I64LE, H5T_NATIVE_LLONG, &value);
+}
+
+static void attr_u64(writer *w, hid_t loc, const char *name, uint64_t v) {
+  unsigned long long value = v;
+  attr_put(w, loc, name, H5T_STD_U64LE, H5T_NATIVE_ULLONG, &value);
+}
+
+static hid_t string_type(size_t length) {
+  hid_t t = H5Tcopy(H5T_C_S1);
+  H5Tset_size(t, length > 0 ? length : 1);
+  H5Tset_strpad(t, H5T_STR_NULLPAD);
+  return t;
+}
+
+static void attr_string(writer *w, hid_t loc, const char *name, const char *value) {
+  const size_t len = strlen(value);
+  hid_t t = string_type(len);
+  attr_put(w, loc, name, t, t, len > 0 ? value : "");
+  H5Tclose(t);
+}
+
+/* A dataset of `rows` x `cols` values (cols 0: one dimension). NULL data: nothing. */
+static void dataset_put(writer *w, hid_t loc, const char *name, hid_t file_type, hid_t mem_type, hsize_t rows,
+                        hsize_t cols, const void *data) {
+  if (w->failed || loc < 0 || !data) return;
+  hsize_t dims[2] = {rows, cols};
+  hid_t space = H5Screate_simple(cols ? 2 : 1, dims, NULL);
+  /* chunks with a Fletcher-32 checksum: a damaged array fails to read instead of restarting
+   * from garbage (chunks of at most 2^20 rows stay under HDF5's 4 GB chunk limit) */
+  hid_t dcpl = H5Pcopy(w->dcpl);
+  if (rows > 0) {
+    hsize_t chunk[2] = {rows < ((hsize_t)1 << 20) ? rows : ((hsize_t)1 << 20), cols};
+    if (H5Pset_chunk(dcpl, cols ? 2 : 1, chunk) < 0 || H5Pset_fletcher32(dcpl) < 0) w->failed = true;
+  }
+  hid_t d = H5Dcreate2(loc, name, file_type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  if (d < 0 || (rows > 0 && H5Dwrite(d, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)) w->failed = true;
+  if (d >= 0) H5Dclose(d);
+  H5Pclose(dcpl);
+  H5Sclose(space);
+}
+
+static void doubles_put(writer *w, hid_t loc, const char *name, size_t n, int ncomp, const double *data) {
+  dataset_put(w, loc, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, n, ncomp > 1 ? (hsize_t)ncomp : 0, data);
+}
+
+static void text_put(writer *w, hid_t loc, const char *name, const char *text) {
+  if (w->failed) return;
+  const size_t len = strlen(text);
+  hid_t t = string_type(len);
+  hid_t space = H5Screate(H5S_SCALAR);
+  hid_t d = H5Dcreate2(loc, name, t, space, H5P_DEFAULT, w->dcpl, H5P_DEFAULT);
+  if (d < 0 || H5Dwrite(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, len > 0 ? text : "") < 0) w->failed = true;
+  if (d >= 0) H5Dclose(d);
+  H5Sclose(space);
+  H5Tclose(t);
+}
+
+static void write_contents(writer *w, const peri_sim *s, const peri_checkpoint_progress *done) {
+  const peri_particles *p = &s->p;
+  const size_t n = (size_t)p->n_owned;
+  const hid_t root = w->file;
+  attr_string(w, root, "format", "peri checkpoint");
+  attr_long(w, root, "format_version", PERI_CHECKPOINT_FORMAT_VERSION);
+  attr_string(w, root, "peri_version", PERI_VERSION);
+  attr_string(w, root, "deck_path", s->deck_path);
+  attr_string(w, root, "model", s->model ? s->model->name : "");
+  attr_long(w, root, "solver", (long)s->solver);
+  attr_string(w, root, "solver_name", solver_kind_name(s->solver));
+  attr_long(w, root, "dimension", s->geom.dim);
+  char *deck = read_text(s->deck_path); /* the deck as it is now: a record of the run */
+  text_put(w, root, "deck_text", deck ? deck : "");
+  free(deck);
+
+  hid_t g = group_create(w, root, "state");
+  attr_double(w, g, "time", s->time);
+  attr_long(w, g, "step", s->step);
+  attr_long(w, g, "steps", s->steps);
+  attr_double(w, g, "dt", s->dt);
+  attr_double(w, g, "external_work", s->external_work);
+  attr_long(w, g, "frames", done ? done->frames : 0);
+  attr_long(w, g, "history_rows", done ? done->history_rows : 0);
+  group_close(g);
+
+  g = group_create(w, root, "discretization");
+  attr_long(w, g, "n_nodes", (long)n);
+  attr_long(w, g, "n_bonds", (long)s->bonds.n_bonds);
+  attr_u64(w, g, "bond_hash", bond_hash(&s->bonds, (int32_t)n));
+  doubles_put(w, g, "x", n, 3, p->x);
+  group_close(g);
+
+  g = group_create(w, root, "nodes");
+  doubles_put(w, g, "u", n, 3, p->u);
+  doubles_put(w, g, "v", n, 3, p->v);
+  doubles_put(w, g, "f", n, 3, p->f);
+  doubles_put(w, g, "damage", n, 1, p->damage);
+  doubles_put(w, g, "theta", n, 1, p->theta);
+  doubles_put(w, g, "wvol", n, 1, p->wvol);
+  doubles_put(w, g, "pstate", n, 1, p->pstate);
+  doubles_put(w, g, "smin", n, 1, p->smin);
+  doubles_put(w, g, "s0", n, 1, s->s0_node);
+  doubles_put(w, g, "thermal_strain", n, 1, s->thermal_strain);
+  doubles_put(w, g, "step_load", n, 3, s->step_load);
+  group_close(g);
+
+  g = group_create(w, root, "bonds");
+  dataset_put(w, g, "broken", H5T_STD_U8LE, H5T_NATIVE_UINT8, (hsize_t)s->bonds.n_bonds, 0, s->bonds.broken);
+  group_close(g);
+
+  g = group_create(w, root, "indenter");
+  doubles_put(w, g, "force", 3, 1, s->indenter.force);
+  group_close(g);
+
+  g = group_create(w, root, "quasi_static");
+  const peri_quasi_static *q = &s->qs;
+  attr_double(w, g, "reference", q->reference);
+  attr_double(w, g, "last_reference", q->last_reference);
+  attr_double(w, g, "residual", q->residual);
+  attr_long(w, g, "iterations", q->iterations);
+  attr_long(w, g, "solves", q->solves);
+  attr_long(w, g, "force_evaluations", q->force_evaluations);
+  attr_long(w, g, "cutbacks", q->cutbacks);
+  attr_double(w, g, "dynamic_time", q->dynamic_time);
+  attr_long(w, g, "dynamic_phases", q->dynamic_phases);
+  attr_long(w, g, "dynamic_steps", q->dynamic_steps);
+  group_close(g);
+
+  const peri_thermal *th = s->thermal;
+  if (th) {
+    g = group_create(w, root, "thermal");
+    attr_double(w, g, "time", th->time);
+    attr_long(w, g, "growing_next", (long)th->growing_next);
+    attr_long(w, g, "every", th->every);
+    attr_long(w, g, "substeps", th->substeps);
+    doubles_put(w, g, "T", n, 1, th->T);
+    if (th->own_cut)
+      dataset_put(w, g, "cut", H5T_STD_U8LE, H5T_NATIVE_UINT8, (hsize_t)s->bonds.n_bonds, 0, th->cut);
+    group_close(g);
+  }
+}
+
+int peri_checkpoint_write(const peri_sim *s, const char *path, const peri_checkpoint_progress *done) {
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* our messages, not the library's error stack */
+  const size_t len = strlen(path);
+  char *tmp = peri_malloc(len + sizeof ".tmp");
+  memcpy(tmp, path, len);
+  memcpy(tmp + len, ".tmp", sizeof ".tmp");
+  writer w = {.failed = false};
+  /* no modification times in the file: the same state gives the same bytes */
+  w.dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  H5Pset_obj_track_times(w.dcpl, 0);
+  w.gcpl = H5Pcreate(H5P_GROUP_CREATE);
+  H5Pset_obj_track_times(w.gcpl, 0);
+  hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
+  H5Pset_obj_track_times(fcpl, 0);
+  /* the HDF5 1.8 file format: object headers and the superblock carry checksums, so
+   * damaged attributes (time, step, ...) are detected too; readable by HDF5 >= 1.8 */
+  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+  H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_LATEST);
+  w.file = H5Fcreate(tmp, H5F_ACC_TRUNC, fcpl, fapl);
+  H5Pclose(fapl);
+  int rc = PERI_OK;
+  if (w.file < 0) {
+    peri_error("cannot write checkpoint '%s': cannot create '%s' (does the directory exist and is it writable?)",
+               path, tmp);
+    rc = PERI_ERR_RUN;
+  } else {
+    write_contents(&w, s, done);
+    if (H5Fclose(w.file) < 0) w.failed = true;
+    if (!w.failed && rename(tmp, path) != 0) {
+      peri_error("cannot write checkpoint '%s': %s", path, strerror(errno));
+      remove(tmp);
+      rc = PERI_ERR_RUN;
+    } else if (w.failed) {
+      peri_error("cannot write checkpoint '%s': HDF5 write failed (disk full?)", path);
+      remove(tmp);
+      rc = PERI_ERR_RUN;
+    }
+  }
+  H5Pclose(fcpl);
+  H5Pclose(w.dcpl);
+  H5Pclose(w.gcpl);
+  free(tmp);
+  return rc;
+}
+
+/* ---------------------------------------------------------------- reading */
+
+typedef struct reader {
+  hid_t file;
+  const char *path;
+  bool failed; /* a message was printed */
+} reader;
+
+static int bad(reader *r, const char *fmt, const char *what) {
+  if (!r->failed) {
+    char msg[1024];
+    snprintf(msg, sizeof msg, fmt, what);
+    peri_error("checkpoint '%s': %s", r->path, msg);
+  }
+  r->failed = true;
+  return PERI_ERR_INPUT;
+}
+
+static hid_t group_open(reader *r, const char *name, bool required) {
+  if (r->failed) return -1;
+  if (H5Lexists(r->file, name, H5P_DEFAULT) <= 0) {
+    if (required) bad(r, "no group '%s' (not a peri checkpoint, or damaged)", name);
+    return -1;
+  }
+  hid_t g = H5Gopen2(r->file, name, H5P_DEFAULT);
+  if (g < 0) bad(r, "cannot open group '%s' (damaged file)", name);
+  return g;
+}
+
+static void attr_get(reader *r, hid_t loc, const char *name, hid_t mem_type, void *out) {
+  if (r->failed || loc < 0) return;
+  if (H5Aexists(loc, name) <= 0) {
+    bad(r, "attribute '%s' is missing (not a peri checkpoint, or damaged)", name);
+    return;
+  }
+  hid_t a = H5Aopen(loc, name, H5P_DEFAULT);
+  if (a < 0 || H5Aread(a, mem_type, out) < 0) bad(r, "cannot read attribute '%s' (damaged file)", name);
+  if (a >= 0) H5Aclose(a);
+}
+
+static double get_double(reader *r, hid_t loc, const char *name) {
+  double v = 0.0;
+  attr_get(r, loc, name, H5T_NATIVE_DOUBLE, &v);
+  return v;
+}
+
+static long get_long(reader *r, hid_t loc, const char *name) {
+  long long v = 0;
+  attr_get(r, loc, name, H5T_NATIVE_LLONG, &v);
+  return (long)v;
+}
+
+/* A string attribute or a scalar string dataset (dataset = true), newly allocated. */
+static char *get_string(reader *r, hid_t loc, const char *name, bool dataset) {
+  if (r->failed || loc < 0) return NULL;
+  if ((dataset ? H5Lexists(loc, name, H5P_DEFAULT) : H5Aexists(loc, name)) <= 0) {
+    bad(r, "'%s' is missing (not a peri checkpoint, or damaged)", name);
+    return NULL;
+  }
+  hid_t obj = dataset ? H5Dopen2(loc, name, H5P_DEFAULT) : H5Aopen(loc, name, H5P_DEFAULT);
+  hid_t t = obj < 0 ? -1 : dataset ? H5Dget_type(obj) : H5Aget_type(obj);
+  char *out = NULL;
+  if (t >= 0 && H5Tget_class(t) == H5T_STRING && !H5Tis_variable_str(t)) {
+    const size_t size = H5Tget_size(t);
+    out = peri_calloc(size + 1, 1);
+    if ((dataset ? H5Dread(obj, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) : H5Aread(obj, t, out)) < 0) {
+      free(out);
+      out = NULL;
+    }
+  }
+  if (!out) bad(r, "cannot read '%s' (damaged file)", name);
+  if (t >= 0) H5Tclose(t);
+  if (obj >= 0 && dataset) H5Dclose(obj);
+  else if (obj >= 0) H5Aclose(obj);
+  return out;
+}
+
+/* Reads dataset `name` of rows x ncomp values into a new array; NULL when absent and not
+ * required. The extent must match. */
+static void *get_array(reader *r, hid_t loc, const char *name, hid_t mem_type, size_t elem, hsize_t rows, int ncomp,
+                       bool required) {
+  if (r->failed || loc < 0) return NULL;
+  if (H5Lexists(loc, name, H5P_DEFAULT) <= 0) {
+    if (required) bad(r, "dataset '%s' is missing (damaged file)", name);
+    return NULL;
+  }
+  hid_t d = H5Dopen2(loc, name, H5P_DEFAULT);
+  hid_t space = d < 0 ? -1 : H5Dget_space(d);
+  hsize_t dims[2] = {0, 0};
+  const int rank = space < 0 ? -1 : H5Sget_simple_extent_dims(space, dims, NULL);
+  const int want_rank = ncomp > 1 ? 2 : 1;
+  void *out = NULL;
+  if (rank != want_rank || dims[0] != rows || (ncomp > 1 && dims[1] != (hsize_t)ncomp)) {
+    char what[256];
+    snprintf(what, sizeof what, "dataset '%s' has %llu values, expected %llu", name,
+             (unsigned long long)(rank == 2 ? dims[0] * dims[1] : rank == 1 ? dims[0] : 0),
+             (unsigned long long)(rows * (hsize_t)(ncomp > 1 ? ncomp : 1)));
+    bad(r, "%s (damaged file)", what);
+  } else {
+    const size_t count = (size_t)rows * (size_t)(ncomp > 1 ? ncomp : 1);
+    out = peri_malloc(count > 0 ? count * elem : 1);
+    if (count > 0 && H5Dread(d, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) < 0) {
+      free(out);
+      out = NULL;
+      bad(r, "cannot read dataset '%s' (damaged file)", name);
+    }
+  }
+  if (space >= 0) H5Sclose(space);
+  if (d >= 0) H5Dclose(d);
+  return out;
+}
+
+static double *get_doubles(reader *r, hid_t loc, const char *name, size_t n, int ncomp, bool required) {
+  return get_array(r, loc, name, H5T_NATIVE_DOUBLE, sizeof(double), n, ncomp, required);
+}
+
+/* A model work array: present in the checkpoint exactly when the deck's run has it. */
+static double *get_work_array(reader *r, hid_t loc, const char *name, size_t n, bool in_sim) {
+  double *a = get_doubles(r, loc, name, n, 1, false);
+  if (!r->failed && in_sim != (a != NULL)) {
+    bad(r, in_sim ? "has no '%s' array, but the deck's model needs one (was it written with another model or "
+                    "critical-stretch form?)"
+                  : "has a '%s' array the deck's model does not use (was it written with another model?)",
+        name);
+  }
+  return a;
+}
+
+/* Reads and checks everything; fills *out. */
+static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *out) {
+  const peri_particles *p = &s->p;
+  const size_t n = (size_t)p->n_owned;
+  const hid_t root = r->file;
+  char *format = get_string(r, root, "format", false);
+  if (format && strcmp(format, "peri checkpoint") != 0) bad(r, "format '%s' is not a peri checkpoint", format);
+  free(format);
+  const long version = get_long(r, root, "format_version");
+  if (!r->failed && (version < 1 || version > PERI_CHECKPOINT_FORMAT_VERSION)) {
+    char what[128];
+    snprintf(what, sizeof what, "%ld", version);
+    bad(r, "format version %s is not one this peri reads (1); was it written by a newer peri?", what);
+  }
+  const long solver = get_long(r, root, "solver");
+  if (!r->failed && solver != (long)s->solver) {
+    char what[256];
+    snprintf(what, sizeof what, "it is from a run with solver type %s, the deck sets solver type %s",
+             solver_kind_name((peri_solver_kind)solver), solver_kind_name(s->solver));
+    bad(r, "%s", what);
+  }
+  char *model = get_string(r, root, "model", false);
+  if (model && s->model && strcmp(model, s->model->name) != 0) {
+    char what[256];
+    snprintf(what, sizeof what, "it is from a run with model %s, the deck uses %s", model, s->model->name);
+    bad(r, "%s", what);
+  }
+  free(model);
+  const long dim = get_long(r, root, "dimension");
+  if (!r->failed && dim != s->geom.dim) {
+    char what[128];
+    snprintf(what, sizeof what, "it is %ldD, the deck is %dD", dim, s->geom.dim);
+    bad(r, "%s", what);
+  }
+
+  hid_t g = group_open(r, "discretization", true);
+  const long nodes = get_long(r, g, "n_nodes");
+  const long bonds = get_long(r, g, "n_bonds");
+  unsigned long long hash = 0;
+  attr_get(r, g, "bond_hash", H5T_NATIVE_ULLONG, &hash);
+  if (!r->failed && nodes != (long)n) {
+    peri_error("checkpoint '%s' has %ld nodes, deck builds %zu: it is not from this deck's discretization", r->path,
+               nodes, n);
+    r->failed = true;
+  }
+  if (!r->failed && bonds != (long)s->bonds.n_bonds) {
+    peri_error("checkpoint '%s' has %ld bonds, deck builds %lld: the horizon or the partial-volume rule differ",
+               r->path, bonds, (long long)s->bonds.n_bonds);
+    r->failed = true;
+  }
+  double *x = get_doubles(r, g, "x", n, 3, true);
+  for (size_t i = 0; x && !r->failed && i < n; ++i)
+    for (int d = 0; d < 3; ++d)
+      if (x[3 * i + d] != p->x[3 * i + d]) {
+        char what[512];
+        snprintf(what, sizeof what, "node %zu is at (%.9g, %.9g, %.9g) in the checkpoint and at (%.9g, %.9g, %.9g) in "
+                 "the deck's discretization", i, x[3 * i], x[3 * i + 1], x[3 * i + 2], p->x[3 * i], p->x[3 * i + 1],
+                 p->x[3 * i + 2]);
+        bad(r, "%s: it is not from this deck", what);
+        break;
+      }
+  free(x);
+  if (!r->failed && hash != bond_hash(&s->bonds, (int32_t)n))
+    bad(r, "%s", "the bond families differ from the deck's (another horizon or partial-volume rule)");
+  group_close(g);
+
+  g = group_open(r, "state", true);
+  out->time = get_double(r, g, "time");
+  out->step = get_long(r, g, "step");
+  const double dt = get_double(r, g, "dt");
+  out->external_work = get_double(r, g, "external_work");
+  out->done.frames = get_long(r, g, "frames");
+  out->done.history_rows = get_long(r, g, "history_rows");
+  group_close(g);
+  if (!r->failed && (out->step < 0 || out->step > s->steps)) {
+    char what[256];
+    snprintf(what, sizeof what, "it is at step %ld, beyond the deck's last step %ld (raise solver.end_time or "
+             "solver.steps to continue)", out->step, s->steps);
+    bad(r, "%s", what);
+  }
+  const bool timed = s->solver == PERI_SOLVER_EXPLICIT || s->solver == PERI_SOLVER_DYNAMIC_RELAXATION ||
+                     s->solver == PERI_SOLVER_HEAT; /* the others have no time step */
+  if (!r->failed && timed && dt != s->dt)
+    peri_warning("checkpoint '%s': written with time step %.17g s, the deck gives %.17g s; continuing with the deck's",
+                 r->path, dt, s->dt);
+
+  g = group_open(r, "nodes", true);
+  out->n = (int32_t)n;
+  out->u = get_doubles(r, g, "u", n, 3, true);
+  out->v = get_doubles(r, g, "v", n, 3, true);
+  out->f = get_doubles(r, g, "f", n, 3, true);
+  out->damage = get_doubles(r, g, "damage", n, 1, true);
+  out->theta = get_work_array(r, g, "theta", n, p->theta != NULL);
+  out->wvol = get_work_array(r, g, "wvol", n, p->wvol != NULL);
+  out->pstate = get_work_array(r, g, "pstate", n, p->pstate != NULL);
+  out->smin = get_work_array(r, g, "smin", n, p->smin != NULL);
+  out->s0 = get_work_array(r, g, "s0", n, s->s0_node != NULL);
+  out->thermal_strain = get_work_array(r, g, "thermal_strain", n, s->thermal_strain != NULL);
+  out->step_load = get_doubles(r, g, "step_load", n, 3, false);
+  group_close(g);
+
+  g = group_open(r, "bonds", true);
+  out->n_bonds = s->bonds.n_bonds;
+  out->broken = get_array(r, g, "broken", H5T_NATIVE_UINT8, 1, (hsize_t)s->bonds.n_bonds, 1, true);
+  for (int64_t k = 0; out->broken && !r->failed && k < s->bonds.n_bonds; ++k)
+    if (out->broken[k] > 1) bad(r, "%s", "bond flags other than 0 and 1 (damaged file)");
+  group_close(g);
+
+  g = group_open(r, "indenter", true);
+  double *force = get_doubles(r, g, "force", 3, 1, true);
+  if (force) memcpy(out->indenter_force, force, sizeof out->indenter_force);
+  free(force);
+  group_close(g);
+
+  g = group_open(r, "quasi_static", true);
+  out->qs.reference = get_double(r, g, "reference");
+  out->qs.last_reference = get_double(r, g, "last_reference");
+  out->qs.residual = get_double(r, g, "residual");
+  out->qs.iterations = get_long(r, g, "iterations");
+  out->qs.solves = get_long(r, g, "solves");
+  out->qs.force_evaluations = get_long(r, g, "force_evaluations");
+  out->qs.cutbacks = get_long(r, g, "cutbacks");
+  out->qs.dynamic_time = get_double(r, g, "dynamic_time");
+  out->qs.dynamic_phases = get_long(r, g, "dynamic_phases");
+  out->qs.dynamic_steps = get_long(r, g, "dynamic_steps");
+  group_close(g);
+
+  g = group_open(r, "thermal", false);
+  if (!r->failed && (g >= 0) != (s->thermal != NULL))
+    bad(r, "%s", g >= 0 ? "it has a temperature field, but the deck has no heat conduction"
+                        : "it has no temperature field, but the deck has heat conduction");
+  if (g >= 0 && s->thermal) {
+    out->thermal = true;
+    out->thermal_time = get_double(r, g, "time");
+    out->growing_next = get_long(r, g, "growing_next");
+    out->every = get_long(r, g, "every");
+    out->substeps = get_long(r, g, "substeps");
+    out->T = get_doubles(r, g, "T", n, 1, true);
+    out->cut = get_array(r, g, "cut", H5T_NATIVE_UINT8, 1, (hsize_t)s->bonds.n_bonds, 1, s->thermal->own_cut);
+    if (!r->failed && (out->growing_next < 0 || out->growing_next > s->thermal->n_growing_bonds))
+      bad(r, "%s", "the growing-crack position does not match the deck's growing cracks");
+  }
+  group_close(g);
+}
+
+static int read_file(peri_sim *s, const char *path, struct peri_restart *out) {
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  FILE *probe = fopen(path, "rb");
+  if (!probe) {
+    peri_error("cannot read checkpoint '%s': %s", path, strerror(errno));
+    return PERI_ERR_INPUT;
+  }
+  fclose(probe);
+  if (H5Fis_hdf5(path) <= 0) {
+    peri_error("checkpoint '%s': not an HDF5 file (damaged, truncated, or not a checkpoint)", path);
+    return PERI_ERR_INPUT;
+  }
+  reader r = {.path = path, .failed = false};
+  r.file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (r.file < 0) {
+    peri_error("checkpoint '%s': cannot open it as HDF5 (damaged or truncated)", path);
+    return PERI_ERR_INPUT;
+  }
+  read_checkpoint(&r, s, out);
+  if (!r.failed) {
+    /* the deck it was written with, for a note when the deck has changed since */
+    char *then = get_string(&r, r.file, "deck_text", true);
+    char *now = read_text(s->deck_path);
+    if (then && now && strcmp(then, now) != 0)
+      peri_warning("checkpoint '%s' was written with a different version of '%s'; continuing with the deck as it "
+                   "is now", path, s->deck_path);
+    free(then);
+    free(now);
+  }
+  H5Fclose(r.file);
+  return r.failed ? PERI_ERR_INPUT : PERI_OK;
+}
+
+#else /* no HDF5 */
+
+bool peri_checkpoint_supported(void) { return false; }
+
+int peri_checkpoint_write(const peri_sim *s, const char *path, const peri_checkpoint_progress *done) {
+  (void)s, (void)done;
+  peri_error("cannot write checkpoint '%s': this peri was built without HDF5 (install libhdf5-dev and rebuild)",
+             path);
+  return PERI_ERR_RUN;
+}
+
+static int read_file(peri_sim *s, const char *path, struct peri_restart *out) {
+  (void)s, (void)out, (void)bond_hash, (void)solver_kind_name, (void)read_text;
+  peri_error("cannot restart from '%s': this peri was built without HDF5, which checkpoints need (install "
+             "libhdf5-dev, e.g. with scripts/install-deps, and rebuild)", path);
+  return PERI_ERR_INPUT;
+}
+
+#endif
+
+int peri_restart_load(peri_sim *s, const char *path) {
+  struct peri_restart *r = peri_calloc(1, sizeof *r);
+  r->path = peri_strdup(path);
+  int rc = read_file(s, path, r);
+  if (rc == PERI_OK)
+    rc = peri_restart_read_output(s->out.directory, s->out.basename, r->done.history_rows, r->done.frames,
+                                  &r->history, &r->history_rows, &r->history_columns, &r->frame_times,
+                                  &r->frame_files, &r->frames_listed);
+  if (rc != PERI_OK) {
+    peri_restart_free(r);
+    return rc;
+  }
+  peri_restart_free(s->restart);
+  s->restart = r;
+  return PERI_OK;
+}

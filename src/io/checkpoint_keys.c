@@ -1,0 +1,77 @@
+/* The checkpoint keys of the `output` section and the checkpoint path (docs/restart.md). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/checkpoint.h"
+#include "peri/error.h"
+#include "peri/output.h"
+
+int peri_checkpoint_parse(peri_sim *s, const peri_node *output) {
+  peri_output *o = &s->out;
+  const peri_node *every = peri_deck_get(output, "checkpoint_every");
+  const peri_node *file = peri_deck_get(output, "checkpoint_file");
+  if (peri_deck_int(output, "checkpoint_every", false, &o->checkpoint_every) != PERI_OK) return PERI_ERR_INPUT;
+  if (every && o->checkpoint_every < 1) return peri_deck_error(every, "key 'checkpoint_every': must be >= 1 (steps)");
+  const char *name = NULL;
+  if (peri_deck_string(output, "checkpoint_file", false, &name) != PERI_OK) return PERI_ERR_INPUT;
+  if (file && !every)
+    return peri_deck_error(file, "key 'checkpoint_file': give 'checkpoint_every' too (steps between checkpoints)");
+  if (name && !*name) return peri_deck_error(file, "key 'checkpoint_file': expected a file name, got an empty string");
+  if (every && !peri_checkpoint_supported())
+    return peri_deck_error(every, "key 'checkpoint_every': this peri was built without HDF5, which checkpoints "
+                                  "need (install libhdf5-dev, e.g. with scripts/install-deps, and rebuild)");
+  if (name) o->checkpoint_file = peri_strdup(name);
+  return PERI_OK;
+}
+
+void peri_checkpoint_path(const peri_sim *s, char *out, size_t size) {
+  const peri_output *o = &s->out;
+  if (!o->checkpoint_file) {
+    snprintf(out, size, "%s/%s.h5", o->directory, o->basename);
+    return;
+  }
+  /* "{step}" becomes the step number, so that every checkpoint is kept */
+  char name[4096];
+  const char *mark = strstr(o->checkpoint_file, "{step}");
+  if (mark)
+    snprintf(name, sizeof name, "%.*s%06ld%s", (int)(mark - o->checkpoint_file), o->checkpoint_file, s->step,
+             mark + strlen("{step}"));
+  else
+    snprintf(name, sizeof name, "%s", o->checkpoint_file);
+  if (name[0] == '/') snprintf(out, size, "%s", name);
+  else snprintf(out, size, "%s/%s", o->directory, name);
+}
+
+int peri_checkpoint_after_step(const peri_sim *s, const peri_checkpoint_progress *done) {
+  const long every = s->out.checkpoint_every;
+  if (every < 1 || (s->step % every != 0 && s->step != s->steps)) return PERI_OK;
+  /* inside a dynamic phase the load step is not finished: its checkpoint comes at its end */
+  if (s->qs.phase == PERI_QS_PHASE_DYNAMIC) return PERI_OK;
+  if (s->dd) { /* the writer stores whole arrays from one process */
+    peri_error("output.checkpoint_every: checkpoints are written by single-process runs only (run without mpirun)");
+    return PERI_ERR_RUN;
+  }
+  char path[8192];
+  peri_checkpoint_path(s, path, sizeof path);
+  char *slash = strrchr(path, '/');
+  if (slash && slash != path) { /* checkpoint_file may name a sub-directory */
+    *slash = '\0';
+    const int rc = peri_mkdir_p(path);
+    *slash = '/';
+    if (rc != PERI_OK) return rc;
+  }
+  return peri_checkpoint_write(s, path, done);
+}
+
+void peri_checkpoint_print_summary(const peri_sim *s, FILE *out) {
+  if (s->out.checkpoint_every < 1) return;
+  char path[8192];
+  if (s->out.checkpoint_file && strstr(s->out.checkpoint_file, "{step}")) {
+    const char *name = s->out.checkpoint_file;
+    snprintf(path, sizeof path, "%s%s%s", name[0] == '/' ? "" : s->out.directory, name[0] == '/' ? "" : "/", name);
+  } else {
+    peri_checkpoint_path(s, path, sizeof path);
+  }
+  fprintf(out, "  checkpoints  every %ld step%s and at the end: %s\n", s->out.checkpoint_every,
+          s->out.checkpoint_every == 1 ? "" : "s", path);
+}

@@ -1,0 +1,175 @@
+/* Tangent stiffness of the LPS model (src/model/lps.c), analytic and exact for the discrete
+ * force, in the current configuration. Analytic rather than by differencing the force per
+ * family: the LPS half-state is affine in two quantities only, so the exact derivative is
+ * short, costs no force evaluations and carries no truncation error (which would spoil
+ * Newton's quadratic convergence near the solution).
+ *
+ * With the extension e_ij = r_ij - L_ij - eth_i L_ij (r = |y_j - y_i|), the weight
+ * w_ij = omega L beta V_j and S_i = sum_j w_ij e_ij over intact bonds, lps.c has
+ *   theta_i = n_theta S_i / m_i,   P_i = S_i - theta_i sum_j w_ij L_ij / 3 = q_i S_i,
+ * so i's half of the pair force is (docs/model_reference.md 3.3)
+ *   t_ij = alpha_i omega e_ij + omega L g_i S_i,
+ *   g_i  = n_theta^2 K_theta / m_i^2 - n_theta alpha_i (q_i + 1) / (3 m_i),  alpha_i = alpha_m / m_i.
+ * The force f_i = sum_j (t_ij + t_ji) beta V_j n_ij (n_ij = (y_j - y_i)/r_ij) then has
+ *   d f_i / d u = sum_j beta V_j [ n_ij (x) dT_ij + T_ij (I - n_ij n_ij^T)/r_ij d r_ij ],
+ * with d r_ij = n_ij.(du_j - du_i), dS_i = sum_k w_ik n_ik.(du_k - du_i). Collected by the
+ * column they multiply, the blocks of row i are
+ *   pair      (i,j) += beta V_j [(alpha_i + alpha_j) omega n n^T + (T_ij/r)(I - n n^T)], (i,i) -= same
+ *   own S_i   (i,k) += g_i s_i (x) w_ik n_ik,   (i,i) -= g_i s_i (x) s_i,   s_i = sum_k w_ik n_ik
+ *   S_j       (i,k) += g_j w_ij n_ij (x) w_jk n_jk for k in the family of j (k = i included),
+ *             (i,j) -= g_j w_ij n_ij (x) s_j
+ * so row i reaches the neighbours of its neighbours (2 delta). V_i K_ij is symmetric (the
+ * force derives from an energy). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/error.h"
+#include "peri/sim.h"
+#include "bond_kernel.h"
+
+/* Per-node quantities of the current state. */
+typedef struct node_state {
+  double S;      /* sum_j w_ij e_ij */
+  double svec[3]; /* s_i = sum_j w_ij n_ij */
+  double g;      /* coefficient of S_i in t_ij / (omega L) */
+  double alpha;  /* alpha_m / m_i */
+} node_state;
+
+/* The blocks of one row, accumulated by column through a marker array. */
+typedef struct row_blocks {
+  int32_t *slot; /* [n] position of column j in this row, -1 when absent */
+  int32_t *cols;
+  double *blk;   /* 9 per column */
+  int32_t count, capacity;
+} row_blocks;
+
+static double *block_of(row_blocks *rb, int32_t j) {
+  if (rb->slot[j] < 0) {
+    if (rb->count == rb->capacity) {
+      rb->capacity = rb->capacity ? 2 * rb->capacity : 256;
+      rb->cols = peri_realloc(rb->cols, sizeof(int32_t) * (size_t)rb->capacity);
+      rb->blk = peri_realloc(rb->blk, sizeof(double) * 9 * (size_t)rb->capacity);
+    }
+    rb->slot[j] = rb->count;
+    rb->cols[rb->count] = j;
+    memset(&rb->blk[9 * (size_t)rb->count], 0, sizeof(double) * 9);
+    rb->count++;
+  }
+  return &rb->blk[9 * (size_t)rb->slot[j]];
+}
+
+/* blk += a (u v^T) */
+static void add_outer(double *blk, double a, const double u[3], const double v[3]) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) blk[3 * r + c] += a * u[r] * v[c];
+}
+
+/* Node states, and per bond w_ij n_ij (zero when broken or of zero length). */
+static void compute_states(const peri_sim *s, node_state *st, double *wn) {
+  const peri_particles *p = &s->p;
+  const peri_bonds *b = &s->bonds;
+  const double *eth = s->thermal_strain;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    const peri_material *mat = &s->materials[p->material[i]];
+    const double eth_i = eth ? eth[i] : 0.0;
+    double S = 0.0, wxx = 0.0, sv[3] = {0.0, 0.0, 0.0};
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      double *wnk = &wn[3 * (size_t)k];
+      wnk[0] = wnk[1] = wnk[2] = 0.0;
+      if (b->broken[k]) continue;
+      const int32_t j = b->neighbor[k];
+      double dy[3];
+      const double L = peri_bond_length(p->x, i, j);
+      const double r = peri_deformed_bond(p->x, p->u, i, j, dy);
+      const double w = peri_bonds_omega(b, L) * L * peri_bonds_beta(b, L) * p->volume[j];
+      S += w * (r - L - eth_i * L);
+      wxx += w * L;
+      if (r > 0.0)
+        for (int d = 0; d < 3; ++d) wnk[d] = w * dy[d] / r, sv[d] += wnk[d];
+    }
+    const double m = p->wvol[i], nt = mat->n_theta;
+    const double alpha = mat->alpha_m / m, q = 1.0 - nt * wxx / (3.0 * m);
+    st[i].S = S;
+    for (int d = 0; d < 3; ++d) st[i].svec[d] = sv[d];
+    st[i].alpha = alpha;
+    st[i].g = nt * nt * mat->K_theta / (m * m) - nt * alpha * (q + 1.0) / (3.0 * m);
+  }
+}
+
+/* The blocks of row i into rb. */
+static void row(const peri_sim *s, const node_state *st, const double *wn, int32_t i, row_blocks *rb) {
+  const peri_particles *p = &s->p;
+  const peri_bonds *b = &s->bonds;
+  const double *eth = s->thermal_strain;
+  const int dim = s->geom.dim;
+  const node_state *si = &st[i];
+  add_outer(block_of(rb, i), -si->g, si->svec, si->svec);
+  for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+    if (b->broken[k]) continue;
+    const int32_t j = b->neighbor[k];
+    double dy[3], n[3];
+    const double r = peri_deformed_bond(p->x, p->u, i, j, dy);
+    if (r <= 0.0) continue;
+    for (int d = 0; d < 3; ++d) n[d] = dy[d] / r;
+    const node_state *sj = &st[j];
+    const double L = peri_bond_length(p->x, i, j), omega = peri_bonds_omega(b, L);
+    const double bV = peri_bonds_beta(b, L) * p->volume[j], w_ij = omega * L * bV;
+    const double e_i = r - L - (eth ? eth[i] : 0.0) * L, e_j = r - L - (eth ? eth[j] : 0.0) * L;
+    const double T = si->alpha * omega * e_i + omega * L * si->g * si->S + sj->alpha * omega * e_j +
+                     omega * L * sj->g * sj->S;
+    /* pair term */
+    double pair[9];
+    const double axial = bV * (si->alpha + sj->alpha) * omega, geometric = bV * T / r;
+    for (int r1 = 0; r1 < 3; ++r1)
+      for (int c1 = 0; c1 < 3; ++c1)
+        pair[3 * r1 + c1] = axial * n[r1] * n[c1] + geometric * ((r1 == c1) - n[r1] * n[c1]);
+    double *dij = block_of(rb, j);
+    double *dii = block_of(rb, i); /* after block_of(j), which may move the storage */
+    for (int e = 0; e < 9; ++e) dij[e] += pair[e], dii[e] -= pair[e];
+    /* own dilatation: d S_i / d u_j = w_ij n_ij */
+    add_outer(dij, si->g * w_ij, si->svec, n);
+    /* the neighbour's dilatation: d S_j / d u_k = w_jk n_jk, d S_j / d u_j = -s_j */
+    const double coef = sj->g * w_ij;
+    add_outer(dij, -coef, n, sj->svec);
+    /* the hot loop (neighbours of neighbours): only the dim x dim part is nonzero */
+    double a[3];
+    for (int d = 0; d < 3; ++d) a[d] = coef * n[d];
+    for (int64_t l = b->offset[j]; l < b->offset[j + 1]; ++l) {
+      const double *wnl = &wn[3 * (size_t)l];
+      if (b->broken[l]) continue;
+      double *blk = block_of(rb, b->neighbor[l]);
+      for (int r1 = 0; r1 < dim; ++r1)
+        for (int c1 = 0; c1 < dim; ++c1) blk[3 * r1 + c1] += a[r1] * wnl[c1];
+    }
+  }
+}
+
+void peri_lps_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
+  const peri_particles *p = &s->p;
+  const peri_bonds *b = &s->bonds;
+  /* serial runs only: every neighbour is owned (ghost states would need an exchange) */
+  node_state *st = peri_calloc((size_t)(p->n > 0 ? p->n : 1), sizeof(node_state));
+  double *wn = peri_malloc(sizeof(double) * 3 * (size_t)(b->n_bonds > 0 ? b->n_bonds : 1));
+  compute_states(s, st, wn);
+  /* Rows in parallel, each gathered in its thread's buffer; add() is called for one row at
+   * a time. Every block is added once per row, so the sums do not depend on the threads. */
+#pragma omp parallel
+  {
+    row_blocks rb = {.slot = peri_malloc(sizeof(int32_t) * (size_t)(p->n > 0 ? p->n : 1))};
+    for (int32_t i = 0; i < p->n; ++i) rb.slot[i] = -1;
+#pragma omp for schedule(dynamic, 64)
+    for (int32_t i = 0; i < p->n_owned; ++i) {
+      row(s, st, wn, i, &rb);
+#pragma omp critical(peri_lps_tangent_add)
+      add(ctx, i, rb.count, rb.cols, rb.blk);
+      for (int32_t c = 0; c < rb.count; ++c) rb.slot[rb.cols[c]] = -1;
+      rb.count = 0;
+    }
+    free(rb.slot);
+    free(rb.cols);
+    free(rb.blk);
+  }
+  free(wn);
+  free(st);
+}

@@ -1,0 +1,194 @@
+/* The message-passing layer (include/peri/comm.h): MPI when PERI_HAVE_MPI is defined, else
+ * a single process. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/comm.h"
+#include "peri/error.h"
+#ifdef PERI_HAVE_MPI
+#include <mpi.h>
+#endif
+
+#ifdef PERI_HAVE_MPI
+struct peri_comm_request {
+  MPI_Request request;
+};
+
+static int comm_rank = 0, comm_size = 1;
+static bool started_here = false;
+
+/* Started by an MPI launcher (mpirun, mpiexec, srun)? A plain `peri run` then skips MPI_Init,
+ * which would otherwise start a singleton MPI job (about a second). */
+static bool launched_by_mpi(void) {
+  static const char *const vars[] = {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS", NULL};
+  for (int k = 0; vars[k]; ++k)
+    if (getenv(vars[k])) return true;
+  return false;
+}
+
+void peri_comm_init(int *argc, char ***argv) {
+  int ready = 0;
+  MPI_Initialized(&ready);
+  if (!ready && !launched_by_mpi()) return; /* one process */
+  if (!ready) {
+    MPI_Init(argc, argv);
+    started_here = true;
+  }
+  MPI_Comm_rank(MPI_COMM_WORLD, &comm_rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &comm_size);
+  if (comm_rank > 0) { /* one copy of every message: rank 0 prints */
+    if (!freopen("/dev/null", "w", stdout)) { /* keep the stream as it is */ }
+    if (!freopen("/dev/null", "w", stderr)) { /* keep the stream as it is */ }
+  }
+}
+
+void peri_comm_finalize(void) {
+  int done = 0;
+  MPI_Finalized(&done);
+  if (started_here && !done) MPI_Finalize();
+}
+
+void peri_comm_abort(int status) {
+  fflush(stdout);
+  fflush(stderr);
+  if (comm_size == 1) exit(status);
+  MPI_Abort(MPI_COMM_WORLD, status);
+}
+
+int peri_comm_rank(void) { return comm_rank; }
+int peri_comm_size(void) { return comm_size; }
+void peri_comm_barrier(void) {
+  if (comm_size > 1) MPI_Barrier(MPI_COMM_WORLD);
+}
+
+long peri_comm_sum_long(long value) {
+  long out = value;
+  if (comm_size > 1) MPI_Allreduce(&value, &out, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
+  return out;
+}
+
+int peri_comm_max_int(int value) {
+  int out = value;
+  if (comm_size > 1) MPI_Allreduce(&value, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  return out;
+}
+
+double peri_comm_min(double value) {
+  double out = value;
+  if (comm_size > 1) MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  return out;
+}
+
+double peri_comm_max(double value) {
+  double out = value;
+  if (comm_size > 1) MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  return out;
+}
+
+bool peri_comm_all(bool value) {
+  int v = value ? 1 : 0, out = v;
+  if (comm_size > 1) MPI_Allreduce(&v, &out, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  return out != 0;
+}
+
+void peri_comm_gather_doubles(const double *local, int64_t count, const int64_t *counts, double *out) {
+  if (comm_size == 1) {
+    if (count > 0) memcpy(out, local, sizeof(double) * (size_t)count);
+    return;
+  }
+  int *rc = NULL, *displ = NULL;
+  if (comm_rank == 0) {
+    rc = peri_malloc(sizeof(int) * (size_t)comm_size);
+    displ = peri_malloc(sizeof(int) * (size_t)comm_size);
+    int64_t at = 0;
+    for (int r = 0; r < comm_size; ++r) {
+      rc[r] = (int)counts[r];
+      displ[r] = (int)at;
+      at += counts[r];
+    }
+  }
+  MPI_Gatherv(local, (int)count, MPI_DOUBLE, out, rc, displ, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  free(rc);
+  free(displ);
+}
+
+void peri_comm_allgather_doubles(const double *local, int64_t count, const int64_t *counts, double *out) {
+  if (comm_size == 1) {
+    if (count > 0) memcpy(out, local, sizeof(double) * (size_t)count);
+    return;
+  }
+  int *rc = peri_malloc(sizeof(int) * (size_t)comm_size), *displ = peri_malloc(sizeof(int) * (size_t)comm_size);
+  int64_t at = 0;
+  for (int r = 0; r < comm_size; ++r) {
+    rc[r] = (int)counts[r];
+    displ[r] = (int)at;
+    at += counts[r];
+  }
+  MPI_Allgatherv(local, (int)count, MPI_DOUBLE, out, rc, displ, MPI_DOUBLE, MPI_COMM_WORLD);
+  free(rc);
+  free(displ);
+}
+
+void peri_comm_broadcast_doubles(double *values, int count) {
+  if (comm_size > 1) MPI_Bcast(values, count, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+}
+
+peri_comm_request *peri_comm_requests(int n) { return peri_calloc((size_t)(n > 0 ? n : 1), sizeof(peri_comm_request)); }
+
+void peri_comm_isend(const double *data, int64_t count, int to, peri_comm_request *r, int k) {
+  MPI_Isend(data, (int)count, MPI_DOUBLE, to, 17, MPI_COMM_WORLD, &r[k].request);
+}
+
+void peri_comm_irecv(double *data, int64_t count, int from, peri_comm_request *r, int k) {
+  MPI_Irecv(data, (int)count, MPI_DOUBLE, from, 17, MPI_COMM_WORLD, &r[k].request);
+}
+
+void peri_comm_waitall(peri_comm_request *r, int n) {
+  for (int k = 0; k < n; ++k) MPI_Wait(&r[k].request, MPI_STATUS_IGNORE);
+}
+
+#else /* one process */
+
+struct peri_comm_request {
+  int unused;
+};
+
+void peri_comm_init(int *argc, char ***argv) {
+  (void)argc;
+  (void)argv;
+}
+void peri_comm_finalize(void) {}
+void peri_comm_abort(int status) { exit(status); }
+int peri_comm_rank(void) { return 0; }
+int peri_comm_size(void) { return 1; }
+void peri_comm_barrier(void) {}
+long peri_comm_sum_long(long value) { return value; }
+int peri_comm_max_int(int value) { return value; }
+double peri_comm_min(double value) { return value; }
+double peri_comm_max(double value) { return value; }
+bool peri_comm_all(bool value) { return value; }
+void peri_comm_gather_doubles(const double *local, int64_t count, const int64_t *counts, double *out) {
+  (void)counts;
+  if (count > 0) memcpy(out, local, sizeof(double) * (size_t)count);
+}
+void peri_comm_allgather_doubles(const double *local, int64_t count, const int64_t *counts, double *out) {
+  (void)counts;
+  if (count > 0) memcpy(out, local, sizeof(double) * (size_t)count);
+}
+void peri_comm_broadcast_doubles(double *values, int count) {
+  (void)values;
+  (void)count;
+}
+peri_comm_request *peri_comm_requests(int n) { return peri_calloc((size_t)(n > 0 ? n : 1), sizeof(peri_comm_request)); }
+/* A single process has no neighbours: the halo is empty and these are never called. */
+void peri_comm_isend(const double *data, int64_t count, int to, peri_comm_request *r, int k) {
+  (void)data, (void)count, (void)to, (void)r, (void)k;
+}
+void peri_comm_irecv(double *data, int64_t count, int from, peri_comm_request *r, int k) {
+  (void)data, (void)count, (void)from, (void)r, (void)k;
+}
+void peri_comm_waitall(peri_comm_request *r, int n) {
+  (void)r;
+  (void)n;
+}
+#endif

@@ -1,0 +1,65 @@
+/* Global quantities of a distributed run (include/peri/decompose.h): sums in fixed-order
+ * blocks of the global node order, exact counts, and gathers to rank 0 in global order. */
+#include <stdlib.h>
+#include <string.h>
+#include "peri/comm.h"
+#include "peri/damage.h"
+#include "peri/decompose.h"
+#include "peri/error.h"
+
+enum { MAX_COMPONENTS = 9 };
+
+void peri_sum_owned(const peri_sim *s, const double *terms, int ncomp, double *out) {
+  const int32_t n = s->p.n_owned;
+  const int64_t n_blocks = (n + PERI_SUM_BLOCK - 1) / PERI_SUM_BLOCK;
+  double *block = peri_calloc((size_t)(n_blocks > 0 ? n_blocks : 1) * (size_t)ncomp, sizeof(double));
+  for (int64_t k = 0; k < n_blocks; ++k) {
+    const int32_t a = (int32_t)(k * PERI_SUM_BLOCK), e = a + PERI_SUM_BLOCK < n ? a + PERI_SUM_BLOCK : n;
+    for (int c = 0; c < ncomp; ++c) {
+      double sum = 0.0;
+      for (int32_t i = a; i < e; ++i) sum += terms[(size_t)ncomp * i + c];
+      block[k * ncomp + c] = sum;
+    }
+  }
+  const peri_decomposition *d = s->dd;
+  double total[MAX_COMPONENTS] = {0};
+  if (!d) {
+    for (int64_t k = 0; k < n_blocks; ++k)
+      for (int c = 0; c < ncomp; ++c) total[c] += block[k * ncomp + c];
+  } else {
+    int64_t all = 0;
+    int64_t *counts = peri_malloc(sizeof(int64_t) * (size_t)d->size);
+    for (int r = 0; r < d->size; ++r) {
+      counts[r] = d->blocks[r] * ncomp;
+      all += counts[r];
+    }
+    /* every rank gets all block sums and adds them in the same order */
+    double *every = peri_malloc(sizeof(double) * (size_t)(all > 0 ? all : 1));
+    peri_comm_allgather_doubles(block, n_blocks * ncomp, counts, every);
+    for (int64_t k = 0; k < all / ncomp; ++k)
+      for (int c = 0; c < ncomp; ++c) total[c] += every[k * ncomp + c];
+    free(every);
+    free(counts);
+  }
+  for (int c = 0; c < ncomp; ++c) out[c] = total[c];
+  free(block);
+}
+
+int64_t peri_global_nodes(const peri_sim *s) { return s->dd ? s->dd->n_global : s->p.n_owned; }
+int64_t peri_global_bonds(const peri_sim *s) { return s->dd ? s->dd->n_bonds_global : s->bonds.n_bonds; }
+long peri_global_broken(const peri_sim *s) {
+  const long local = peri_broken_count(&s->bonds);
+  return s->dd ? peri_comm_sum_long(local) : local;
+}
+
+void peri_gather_owned(const peri_sim *s, const double *local, int ncomp, double *out) {
+  const peri_decomposition *d = s->dd;
+  if (!d) {
+    memcpy(out, local, sizeof(double) * (size_t)ncomp * (size_t)s->p.n_owned);
+    return;
+  }
+  int64_t *counts = peri_malloc(sizeof(int64_t) * (size_t)d->size);
+  for (int r = 0; r < d->size; ++r) counts[r] = d->owned[r] * ncomp;
+  peri_comm_gather_doubles(local, (int64_t)s->p.n_owned * ncomp, counts, out);
+  free(counts);
+}

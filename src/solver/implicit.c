@@ -1,0 +1,490 @@
+/* The implicit quasi-static solver (docs/solvers.md, "Implicit (Newton + PETSc)"): Newton's
+ * method (PETSc SNES, newtonls: line search on |F|^2) on
+ *   F(u) = -V_i (f_i(u) + b_i) = 0 on free components,
+ * with the Jacobian dF/du = -V_i K_ij assembled from the model's tangent (model.h) into an
+ * AIJ matrix of block size dim, preallocated from the bond lists. Prescribed components
+ * already hold their values when the solve starts (peri_qs_apply_loading), so their Newton
+ * updates are zero: their rows and columns are zeroed with a unit diagonal and F = 0 there.
+ * Nodes with no intact bond are held the same way (their rows are empty). Linear solves by
+ * KSP: CG + GAMG by default (the tangent of an energy is symmetric), GMRES when CG breaks
+ * down (an indefinite tangent under compression) or on request, LU on request; a diagonal
+ * shift when the tangent is singular (pieces set loose by fracture). Convergence uses the
+ * quasi-static relative residual of every solver (peri_qs_residual). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/error.h"
+#include "peri/implicit.h"
+
+static char *command_line_options; /* --petsc-options */
+
+void peri_implicit_set_command_line_options(const char *options) {
+  free(command_line_options);
+  command_line_options = options ? peri_strdup(options) : NULL;
+}
+
+/* Relative residuals of the Newton iterations of the last solve (iteration 0 first). */
+enum { HISTORY_MAX = 256 };
+static double history[HISTORY_MAX];
+static int history_count;
+
+int peri_implicit_residual_history(double *out, int max) {
+  int n = history_count < max ? history_count : max;
+  for (int k = 0; k < n; ++k) out[k] = history[k];
+  return history_count;
+}
+
+#ifndef PERI_HAVE_PETSC
+
+peri_qs_status peri_solve_implicit(peri_sim *s) {
+  (void)s;
+  peri_error("implicit: this peri was built without PETSc");
+  return PERI_QS_DIVERGED;
+}
+
+void peri_implicit_finalize(void) { peri_implicit_set_command_line_options(NULL); }
+
+#else
+#include <petscsnes.h>
+
+static bool petsc_initialized_here;
+
+void peri_implicit_finalize(void) {
+  peri_implicit_set_command_line_options(NULL);
+  if (!petsc_initialized_here) return;
+  petsc_initialized_here = false;
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!finalized) PetscFinalize(); /* MPI finalized by its owner first: nothing left to do */
+}
+
+/* PETSc starts on the first implicit solve, so other runs never pay for MPI and PETSc. */
+static int start_petsc(void) {
+  PetscBool initialized = PETSC_FALSE;
+  PetscInitialized(&initialized);
+  if (initialized) return PERI_OK;
+  if (PetscInitializeNoArguments()) {
+    peri_error("implicit: PETSc failed to initialize");
+    return PERI_ERR_RUN;
+  }
+  /* peri's own handlers (and sanitizers, test runners) keep the signals */
+  PetscPopSignalHandler();
+  petsc_initialized_here = true;
+  atexit(peri_implicit_finalize);
+  return PERI_OK;
+}
+
+typedef struct implicit_ctx {
+  peri_sim *s;
+  int dim;
+  PetscInt n_eq;        /* dim * n_owned */
+  uint8_t *held;        /* [n_eq] prescribed, or a node with no intact bond */
+  PetscInt *held_rows;
+  PetscInt n_held;
+  double *r;            /* [3n] out-of-balance force density */
+  double rel;           /* relative residual of the last evaluation */
+  double shift;         /* J += shift |diag J|: makes a singular tangent (a loose piece) regular */
+  double fnorm_start;   /* |F| when the solve started */
+  bool roundoff;        /* |F| fell to round-off: ROUNDOFF times |F| at the start */
+  Mat A;                /* the matrix being assembled */
+  PetscErrorCode error; /* first PETSc error inside a callback */
+  /* one row at a time: columns sorted (PETSc then inserts in one pass) and values */
+  struct column { PetscInt col; int32_t at; } *order;
+  PetscInt *cols;
+  PetscScalar *values;
+  int32_t capacity;
+} implicit_ctx;
+
+/* u on free components from the Newton iterate. */
+static PetscErrorCode set_displacement(implicit_ctx *c, Vec x) {
+  peri_particles *p = &c->s->p;
+  const PetscScalar *xa;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(x, &xa));
+  for (int32_t i = 0; i < p->n_owned; ++i)
+    for (int d = 0; d < c->dim; ++d) {
+      const PetscInt e = (PetscInt)c->dim * i + d;
+      if (!c->held[e]) p->u[3 * (size_t)i + d] = xa[e];
+    }
+  PetscCall(VecRestoreArrayRead(x, &xa));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode form_function(SNES snes, Vec x, Vec F, void *vctx) {
+  implicit_ctx *c = vctx;
+  peri_sim *s = c->s;
+  PetscScalar *fa;
+  (void)snes;
+  PetscFunctionBeginUser;
+  PetscCall(set_displacement(c, x));
+  peri_qs_forces(s);
+  c->rel = peri_qs_residual(s, c->r);
+  PetscCall(VecGetArray(F, &fa));
+  for (int32_t i = 0; i < s->p.n_owned; ++i)
+    for (int d = 0; d < c->dim; ++d) {
+      const PetscInt e = (PetscInt)c->dim * i + d;
+      fa[e] = c->held[e] ? 0.0 : -s->p.volume[i] * c->r[3 * (size_t)i + d];
+    }
+  PetscCall(VecRestoreArray(F, &fa));
+  PetscFunctionReturn(0);
+}
+
+static int by_column(const void *a, const void *b) {
+  const PetscInt x = ((const struct column *)a)->col, y = ((const struct column *)b)->col;
+  return (x > y) - (x < y);
+}
+
+/* Row i of J: J_ij += -V_i K_ij (the dim x dim part of each block), columns in order. */
+static void add_row(void *vctx, int32_t i, int32_t count, const int32_t *cols, const double *blocks) {
+  implicit_ctx *c = vctx;
+  if (c->error || count <= 0) return;
+  if (count > c->capacity) {
+    c->capacity = 2 * count;
+    c->order = peri_realloc(c->order, sizeof *c->order * (size_t)c->capacity);
+    c->cols = peri_realloc(c->cols, sizeof(PetscInt) * (size_t)c->capacity);
+    c->values = peri_realloc(c->values, sizeof(PetscScalar) * 9 * (size_t)c->capacity);
+  }
+  for (int32_t k = 0; k < count; ++k) c->order[k] = (struct column){cols[k], k};
+  qsort(c->order, (size_t)count, sizeof *c->order, by_column);
+  const int dim = c->dim;
+  const double V = c->s->p.volume[i];
+  const size_t width = (size_t)count * dim; /* values row-major over the block row */
+  for (int32_t k = 0; k < count; ++k) {
+    c->cols[k] = c->order[k].col;
+    const double *K = &blocks[9 * (size_t)c->order[k].at];
+    for (int a = 0; a < dim; ++a)
+      for (int b = 0; b < dim; ++b) c->values[a * width + (size_t)k * dim + b] = -V * K[3 * a + b];
+  }
+  const PetscInt row = i;
+  c->error = MatSetValuesBlocked(c->A, 1, &row, count, c->cols, c->values, ADD_VALUES);
+}
+
+/* The indenter's force density k (R - r)^2 n on nodes inside it (src/solver/conditions.c)
+ * depends on u_i: d b_i / d u_i = k [(R - r)^2 / r (I - n n^T) - 2 (R - r) n n^T]. */
+static void add_indenter(implicit_ctx *c) {
+  const peri_sim *s = c->s;
+  const peri_indenter *ind = &s->indenter;
+  const peri_particles *p = &s->p;
+  double centre[3] = {0.0, 0.0, 0.0};
+  for (int d = 0; d < 3; ++d)
+    if (ind->center[d]) centre[d] = peri_expr_eval(ind->center[d], 0.0, 0.0, 0.0, s->time);
+  const double R = ind->radius, k = ind->stiffness;
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    double y[3], r2 = 0.0;
+    for (int d = 0; d < 3; ++d) {
+      y[d] = p->x[3 * i + d] + p->u[3 * i + d] - centre[d];
+      r2 += y[d] * y[d];
+    }
+    if (r2 >= R * R || r2 == 0.0) continue;
+    const double r = sqrt(r2), tangential = k * (R - r) * (R - r) / r, normal = -2.0 * k * (R - r);
+    double K[9]; /* d b_i / d u_i: enters like a tangent block of f_i (F = -V (f + b)) */
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) {
+        const double nn = y[a] * y[b] / r2;
+        K[3 * a + b] = tangential * ((a == b) - nn) + normal * nn;
+      }
+    add_row(c, i, 1, &i, K);
+  }
+}
+
+static PetscErrorCode form_jacobian(SNES snes, Vec x, Mat J, Mat P, void *vctx) {
+  implicit_ctx *c = vctx;
+  (void)snes;
+  PetscFunctionBeginUser;
+  PetscCall(set_displacement(c, x));
+  PetscCall(MatZeroEntries(P));
+  c->A = P;
+  c->error = 0;
+  c->s->model->tangent(c->s, add_row, c);
+  if (c->s->indenter.on) add_indenter(c);
+  PetscCall(c->error);
+  PetscCall(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(P, MAT_FINAL_ASSEMBLY));
+  if (c->shift > 0.0) {
+    Vec diag;
+    PetscCall(MatCreateVecs(P, &diag, NULL));
+    PetscCall(MatGetDiagonal(P, diag));
+    PetscCall(VecAbs(diag));
+    PetscCall(VecScale(diag, c->shift));
+    PetscCall(MatDiagonalSet(P, diag, ADD_VALUES));
+    PetscCall(VecDestroy(&diag));
+  }
+  PetscCall(MatZeroRowsColumns(P, c->n_held, c->held_rows, 1.0, NULL, NULL));
+  if (J != P) {
+    PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Newton has converged to round-off when |F| has fallen by this factor within one solve. This
+ * matters only when the reference force of the relative residual vanishes (nothing loaded:
+ * a piece moved rigidly by its prescribed displacements), where no relative measure works. */
+#define ROUNDOFF 1e-12
+
+/* Converged when the quasi-static relative residual reaches the tolerance, or at round-off. */
+static PetscErrorCode converged_test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal step, PetscReal fnorm,
+                                     SNESConvergedReason *reason, void *vctx) {
+  implicit_ctx *c = vctx;
+  const peri_quasi_static *q = &c->s->qs;
+  (void)snes, (void)xnorm, (void)step;
+  PetscFunctionBeginUser;
+  if (history_count < HISTORY_MAX) history[history_count] = c->rel;
+  history_count++;
+  if (getenv("PERI_QS_DEBUG")) fprintf(stderr, "implicit %ld: relative residual %.3e |F| %.3e\n", (long)it, c->rel, fnorm);
+  if (c->fnorm_start == 0.0) c->fnorm_start = fnorm;
+  *reason = SNES_CONVERGED_ITERATING;
+  if (!isfinite(c->rel) || !isfinite(fnorm)) *reason = SNES_DIVERGED_FNORM_NAN;
+  else if (c->rel <= q->tolerance) *reason = SNES_CONVERGED_FNORM_ABS;
+  else if (fnorm <= ROUNDOFF * c->fnorm_start) *reason = SNES_CONVERGED_FNORM_RELATIVE, c->roundoff = true;
+  else if (it >= q->max_iterations) *reason = SNES_DIVERGED_MAX_IT;
+  PetscFunctionReturn(0);
+}
+
+/* Before each Newton step: the linear solve need not go further than a hundredth of what the
+ * tolerance asks of the nonlinear residual, whose scale (the reactions) changes as it goes. */
+static PetscErrorCode update_linear_tolerance(SNES snes, PetscInt step) {
+  implicit_ctx *c;
+  KSP ksp;
+  PetscReal rtol, atol, dtol;
+  PetscInt maxits;
+  PetscFunctionBeginUser;
+  (void)step;
+  PetscCall(SNESGetApplicationContext(snes, &c));
+  const peri_quasi_static *q = &c->s->qs;
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPGetTolerances(ksp, &rtol, &atol, &dtol, &maxits));
+  PetscCall(KSPSetTolerances(ksp, rtol, 1e-2 * q->tolerance * fmax(q->last_reference, q->reference), dtol, maxits));
+  PetscFunctionReturn(0);
+}
+
+/* Block nonzeros of each row: the node, its intact bonds, and for reach 2 their intact bonds. */
+static PetscInt *count_blocks(const peri_sim *s, int reach) {
+  const peri_bonds *b = &s->bonds;
+  const int32_t n = s->p.n_owned;
+  PetscInt *count = peri_calloc((size_t)(n > 0 ? n : 1), sizeof(PetscInt));
+  int32_t *mark = peri_malloc(sizeof(int32_t) * (size_t)(s->p.n > 0 ? s->p.n : 1));
+  for (int32_t i = 0; i < s->p.n; ++i) mark[i] = -1;
+  for (int32_t i = 0; i < n; ++i) {
+    PetscInt c = 1;
+    mark[i] = i;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      if (b->broken[k]) continue;
+      const int32_t j = b->neighbor[k];
+      if (mark[j] != i) mark[j] = i, ++c;
+      if (reach < 2) continue;
+      for (int64_t l = b->offset[j]; l < b->offset[j + 1]; ++l) {
+        const int32_t m = b->neighbor[l];
+        if (!b->broken[l] && mark[m] != i) mark[m] = i, ++c;
+      }
+    }
+    count[i] = c;
+  }
+  free(mark);
+  return count;
+}
+
+/* Prescribed components, and every component of a node with no intact bond. */
+static void find_held(implicit_ctx *c) {
+  const peri_sim *s = c->s;
+  const peri_bonds *b = &s->bonds;
+  c->held = peri_calloc((size_t)c->n_eq + 1, 1);
+  c->held_rows = peri_malloc(sizeof(PetscInt) * ((size_t)c->n_eq + 1));
+  c->n_held = 0;
+  for (int32_t i = 0; i < s->p.n_owned; ++i) {
+    bool bonded = false;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1] && !bonded; ++k) bonded = !b->broken[k];
+    for (int d = 0; d < c->dim; ++d) {
+      const PetscInt e = (PetscInt)c->dim * i + d;
+      if (s->prescribed[3 * (size_t)i + d] || !bonded) {
+        c->held[e] = 1;
+        c->held_rows[c->n_held++] = e;
+      }
+    }
+  }
+}
+
+static PetscErrorCode configure_ksp(const peri_sim *s, KSP ksp, peri_linear_solver linear, Mat A, Vec coords,
+                                    double atol) {
+  PC pc;
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetPC(ksp, &pc));
+  if (linear == PERI_LINEAR_DIRECT) {
+    PetscCall(KSPSetType(ksp, KSPPREONLY));
+    PetscCall(PCSetType(pc, PCLU));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(KSPSetType(ksp, linear == PERI_LINEAR_CG ? KSPCG : KSPGMRES));
+  /* tolerances on the true residual |K du + F|, in the units of F */
+  if (linear == PERI_LINEAR_GMRES) PetscCall(KSPSetPCSide(ksp, PC_RIGHT));
+  PetscCall(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED));
+  /* inexact Newton: 1e-6 of the Newton residual, and no further than a hundredth of what
+   * the tolerance asks of the nonlinear residual */
+  PetscCall(KSPSetTolerances(ksp, 1e-6, atol, PETSC_DEFAULT, 10000));
+  static const PCType types[] = {PCGAMG, PCJACOBI, PCILU, PCLU, PCNONE};
+  PetscCall(PCSetType(pc, types[s->qs.petsc_preconditioner]));
+  if (s->qs.petsc_preconditioner == PERI_PC_GAMG) {
+    /* the rigid-body modes let aggregation coarsen elasticity well */
+    MatNullSpace rigid;
+    PetscCall(MatNullSpaceCreateRigidBody(coords, &rigid));
+    PetscCall(MatSetNearNullSpace(A, rigid));
+    PetscCall(MatNullSpaceDestroy(&rigid));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Options of the deck, then of the command line, in a private database for this solve. */
+static PetscErrorCode push_options(const peri_sim *s, PetscOptions *opts) {
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsCreate(opts));
+  if (s->qs.petsc_options[0]) PetscCall(PetscOptionsInsertString(*opts, s->qs.petsc_options));
+  if (command_line_options) PetscCall(PetscOptionsInsertString(*opts, command_line_options));
+  PetscCall(PetscOptionsPush(*opts));
+  PetscFunctionReturn(0);
+}
+
+static void warn_unused_options(PetscOptions opts) {
+  static bool warned = false; /* once per run, not per solve */
+  PetscInt n = 0;
+  char **names = NULL, **values = NULL;
+  if (warned || PetscOptionsLeftGet(opts, &n, &names, &values) || n == 0) return;
+  for (PetscInt k = 0; k < n; ++k)
+    peri_warning("implicit: PETSc option -%s was not used (misspelt, or not for this solver)", names[k]);
+  PetscOptionsLeftRestore(opts, &n, &names, &values);
+  warned = true;
+}
+
+static PetscErrorCode solve(implicit_ctx *c, peri_linear_solver linear, long *newton, long *krylov,
+                            SNESConvergedReason *reason) {
+  peri_sim *s = c->s;
+  const peri_particles *p = &s->p;
+  const int dim = c->dim;
+  Mat A;
+  Vec x, F, coords;
+  SNES snes;
+  KSP ksp;
+  PetscOptions opts;
+  PetscFunctionBeginUser;
+  PetscInt *blocks = count_blocks(s, s->model->tangent_reach);
+  PetscCall(MatCreate(PETSC_COMM_SELF, &A));
+  PetscCall(MatSetSizes(A, c->n_eq, c->n_eq, c->n_eq, c->n_eq));
+  PetscCall(MatSetType(A, MATAIJ));
+  PetscCall(MatSetBlockSize(A, dim));
+  PetscCall(MatXAIJSetPreallocation(A, dim, blocks, NULL, NULL, NULL));
+  free(blocks);
+  PetscCall(MatSetOption(A, MAT_SYMMETRIC, linear != PERI_LINEAR_GMRES ? PETSC_TRUE : PETSC_FALSE));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, c->n_eq, &x));
+  PetscCall(VecSetBlockSize(x, dim));
+  PetscCall(VecDuplicate(x, &F));
+  PetscCall(VecDuplicate(x, &coords));
+  PetscScalar *xa, *ca;
+  PetscCall(VecGetArray(x, &xa));
+  PetscCall(VecGetArray(coords, &ca));
+  for (int32_t i = 0; i < p->n_owned; ++i)
+    for (int d = 0; d < dim; ++d) {
+      xa[dim * i + d] = p->u[3 * (size_t)i + d];
+      ca[dim * i + d] = p->x[3 * (size_t)i + d];
+    }
+  PetscCall(VecRestoreArray(x, &xa));
+  PetscCall(VecRestoreArray(coords, &ca));
+
+  PetscCall(SNESCreate(PETSC_COMM_SELF, &snes));
+  PetscCall(SNESSetType(snes, SNESNEWTONLS));
+  PetscCall(SNESSetFunction(snes, F, form_function, c));
+  PetscCall(SNESSetJacobian(snes, A, A, form_jacobian, c));
+  PetscCall(SNESSetConvergenceTest(snes, converged_test, c, NULL));
+  PetscCall(SNESSetApplicationContext(snes, c));
+  if (linear != PERI_LINEAR_DIRECT) PetscCall(SNESSetUpdate(snes, update_linear_tolerance));
+  PetscCall(SNESSetTolerances(snes, 0.0, 0.0, 0.0, (PetscInt)s->qs.max_iterations, 1000000));
+  PetscCall(SNESGetKSP(snes, &ksp));
+  /* the scale of the residual is the reference force norm of the quasi-static measure */
+  const double scale = fmax(s->qs.last_reference, s->qs.reference);
+  PetscCall(configure_ksp(s, ksp, linear, A, coords, 1e-2 * s->qs.tolerance * scale));
+  PetscCall(push_options(s, &opts));
+  PetscErrorCode solved = SNESSetFromOptions(snes); /* a bad option value fails here */
+  if (!solved) solved = SNESSolve(snes, NULL, x);
+  PetscCall(PetscOptionsPop()); /* whatever happened: the next solve starts clean */
+  warn_unused_options(opts);
+  PetscCall(PetscOptionsDestroy(&opts));
+  PetscCall(solved);
+  PetscInt its = 0, lits = 0;
+  PetscCall(SNESGetIterationNumber(snes, &its));
+  PetscCall(SNESGetLinearSolveIterations(snes, &lits));
+  PetscCall(SNESGetConvergedReason(snes, reason));
+  *newton += its;
+  *krylov += lits;
+  PetscCall(set_displacement(c, x)); /* the iterate SNES returned, whatever it evaluated last */
+  PetscCall(SNESDestroy(&snes));
+  PetscCall(MatDestroy(&A));
+  PetscCall(VecDestroy(&x));
+  PetscCall(VecDestroy(&F));
+  PetscCall(VecDestroy(&coords));
+  PetscFunctionReturn(0);
+}
+
+peri_qs_status peri_solve_implicit(peri_sim *s) {
+  peri_quasi_static *q = &s->qs;
+  if (!s->model->tangent) {
+    peri_error("implicit: model %s has no tangent stiffness (use solver type nlcg)", s->model->name);
+    return PERI_QS_DIVERGED;
+  }
+  if (start_petsc() != PERI_OK) return PERI_QS_DIVERGED;
+  implicit_ctx c = {.s = s, .dim = s->geom.dim};
+  c.n_eq = (PetscInt)c.dim * s->p.n_owned;
+  c.r = peri_malloc(sizeof(double) * 3 * (size_t)(s->p.n > 0 ? s->p.n : 1));
+  find_held(&c);
+  q->solves++;
+  history_count = 0;
+  /* the state at the start: its residual sets the scale of the linear tolerance */
+  peri_qs_forces(s);
+  c.rel = peri_qs_residual(s, c.r);
+  long newton = 0, krylov = 0;
+  SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
+  peri_linear_solver linear = (peri_linear_solver)q->linear_solver;
+  PetscErrorCode err = 0;
+  /* When a linear solve fails, Newton continues from where it stopped: CG fails on an
+   * indefinite tangent (bonds in compression), so GMRES takes over; any solver fails on a
+   * singular one (a piece that fracture set loose, a node left on one bond), so a diagonal
+   * shift of 1e-8 |diag J|, raised 100-fold up to 1e-2, makes it regular. The shift only
+   * changes the Newton steps, not the equations, so the converged state is the same. */
+  static bool told_gmres = false, told_shift = false; /* once per run */
+  while (c.rel > q->tolerance && !c.roundoff) {
+    err = solve(&c, linear, &newton, &krylov, &reason);
+    if (err || reason != SNES_DIVERGED_LINEAR_SOLVE) break;
+    if (linear == PERI_LINEAR_CG && c.shift == 0.0) {
+      if (!s->quiet && !told_gmres)
+        peri_warning("implicit: CG failed on an indefinite tangent at t = %g; GMRES takes over for such "
+                     "solves", s->time);
+      told_gmres = true;
+      linear = PERI_LINEAR_GMRES;
+      continue;
+    }
+    if (c.shift >= 1e-2) break;
+    c.shift = c.shift == 0.0 ? 1e-8 : 100.0 * c.shift;
+    if (!s->quiet && !told_shift)
+      peri_warning("implicit: the tangent is singular at t = %g (a loose piece?); solving with a diagonal "
+                   "shift of %g |diag K| (reported once)", s->time, c.shift);
+    told_shift = true;
+  }
+  /* forces and residual at the final state (the line search may have evaluated elsewhere) */
+  peri_qs_forces(s);
+  const double rel = peri_qs_residual(s, c.r);
+  q->iterations += newton;
+  q->linear_iterations += krylov;
+  q->residual = rel;
+  free(c.r);
+  free(c.order);
+  free(c.cols);
+  free(c.values);
+  free(c.held);
+  free(c.held_rows);
+  if (err) {
+    peri_error("implicit: PETSc error %d during the solve at t = %g", (int)err, s->time);
+    return PERI_QS_DIVERGED;
+  }
+  if (!isfinite(rel)) return PERI_QS_DIVERGED;
+  return rel <= q->tolerance || c.roundoff ? PERI_QS_CONVERGED : PERI_QS_NOT_CONVERGED;
+}
+
+#endif
