@@ -70,6 +70,14 @@ const double *peri_restart_history(const peri_sim *s, long *rows, int *n_columns
  * .pvd (times and file names). */
 long peri_restart_frames(const peri_sim *s, long *n_listed, const double **times, char *const **files);
 
+/* A restarted run's start, shared by the mechanical and heat drivers: puts the checkpoint's
+ * state into s, continues the .pvd series in frames, and returns the history.csv rows to
+ * replay ([*rows][n_columns]; NULL with *rows = 0 when there are none or when they have
+ * another number of columns, with a warning). Returns NULL with *rows = -1 on an output
+ * failure. */
+struct peri_frames;
+const double *peri_restart_resume(peri_sim *s, struct peri_frames *frames, int n_columns, long *rows);
+
 void peri_restart_free(struct peri_restart *r);
 
 /* What a run wrote into `directory` up to its checkpoint (src/io/checkpoint_output.c):

@@ -58,6 +58,22 @@ static inline double peri_eval_omega(const peri_family_eval *e, peri_influence i
   return 1.0;
 }
 
+/* What the bond loops of the models read, as restrict pointers so that the compiler
+ * vectorizes: positions, displacements, volumes, the model's per-node coefficients
+ * (p->coef), thermal strain (NULL without), the breaking bounds, and the bonds. */
+typedef struct peri_bond_view {
+  const double *restrict x, *restrict u, *restrict V, *restrict coef, *restrict eth, *restrict s0_bound;
+  const int32_t *restrict neighbor;
+  const uint8_t *restrict broken;
+  peri_family_eval fam;
+} peri_bond_view;
+
+static inline peri_bond_view peri_bond_view_of(const peri_sim *s) {
+  const peri_bond_view w = {s->p.x, s->p.u, s->p.volume, s->p.coef, s->thermal_strain, s->p.s0_bound,
+                            s->bonds.neighbor, s->bonds.broken, peri_family_eval_of(&s->bonds)};
+  return w;
+}
+
 /* The bond loops run on lists of intact neighbours: a family without broken bonds is its own
  * list; the intact neighbours of a damaged family are copied a chunk at a time, so the loops
  * never read the 1-byte flags (whose type would force 64-lane vectors and a scalar tail)

@@ -54,18 +54,10 @@ static int lps_init(peri_sim *s) {
   return PERI_OK;
 }
 
-/* What the bond loops of one node read; restrict pointers let the compiler vectorize. */
-typedef struct {
-  const double *restrict x, *restrict u, *restrict V, *restrict eth, *restrict s0_bound, *restrict coef;
-  const int32_t *restrict neighbor;
-  const uint8_t *restrict broken;
-  peri_family_eval fam;
-} lps_view;
-
 /* Pass-1 sums of node i over the intact bonds to nbr[0 .. count-1]: sum w e and sum w |xi| with w = omega |xi| beta V_j
  * and e the extension less node i's thermal part; the minimum mechanical stretch; and
  * whether any bond is a candidate for breaking (as in the PMB loop). */
-static inline __attribute__((always_inline)) long lps_node_sums(const lps_view *w, int32_t i, const int32_t *restrict nbr,
+static inline __attribute__((always_inline)) long lps_node_sums(const peri_bond_view *w, int32_t i, const int32_t *restrict nbr,
                                                                 int64_t count, bool thermal, peri_influence influence,
                                                                 bool uniform,
                                                                 double *we_x_out, double *w_xx_out, double *smin_out) {
@@ -108,9 +100,9 @@ static inline __attribute__((always_inline)) long lps_node_sums(const lps_view *
  * force pass gathers two numbers per neighbour. */
 /* One function per specialization (the OpenMP region is outlined before inlining). A damaged
  * family runs the loop on its intact neighbours only, copied a chunk at a time. */
-typedef long (*lps_sums_fn)(const lps_view *, int32_t, int64_t, int64_t, double *, double *, double *);
+typedef long (*lps_sums_fn)(const peri_bond_view *, int32_t, int64_t, int64_t, double *, double *, double *);
 #define LPS_SUMS_VARIANT(NAME, THERMAL, INFLUENCE, UNIFORM)                                                  \
-  static long NAME(const lps_view *w, int32_t i, int64_t k0, int64_t k1, double *we_x, double *w_xx,          \
+  static long NAME(const peri_bond_view *w, int32_t i, int64_t k0, int64_t k1, double *we_x, double *w_xx,          \
                    double *smin) {                                                                           \
     if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                       \
       return lps_node_sums(w, i, w->neighbor + k0, k1 - k0, THERMAL, INFLUENCE, UNIFORM, we_x, w_xx, smin);  \
@@ -145,8 +137,7 @@ static long lps_dilatation(peri_sim *s) {
   if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) sums = thermal ? lps_sums_gaussian_thermal : lps_sums_gaussian;
   peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
-  const lps_view w = {p->x, p->u, p->volume, s->thermal_strain, p->s0_bound, p->coef,
-                      b->neighbor, b->broken, peri_family_eval_of(b)};
+  const peri_bond_view w = peri_bond_view_of(s);
   const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
   long n_broken = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : n_broken)
@@ -186,7 +177,7 @@ static inline double lps_half(const peri_material *mat, double theta, double P, 
 }
 
 /* Pass 2 for node i: f_i = sum_j (t_ij + t_ji) M_ij beta V_j over the intact bonds to nbr[]. */
-static inline __attribute__((always_inline)) void lps_node_force(const lps_view *w, int32_t i, const int32_t *restrict nbr,
+static inline __attribute__((always_inline)) void lps_node_force(const peri_bond_view *w, int32_t i, const int32_t *restrict nbr,
                                                                  int64_t count, peri_influence influence, bool uniform,
                                                                  double f[3]) {
   const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict coef = w->coef;
@@ -214,9 +205,9 @@ static inline __attribute__((always_inline)) void lps_node_force(const lps_view 
   f[2] = fz;
 }
 
-typedef void (*lps_force_fn)(const lps_view *, int32_t, int64_t, int64_t, double *);
+typedef void (*lps_force_fn)(const peri_bond_view *, int32_t, int64_t, int64_t, double *);
 #define LPS_FORCE_VARIANT(NAME, INFLUENCE, UNIFORM)                                                 \
-  static void NAME(const lps_view *w, int32_t i, int64_t k0, int64_t k1, double *f) {                \
+  static void NAME(const peri_bond_view *w, int32_t i, int64_t k0, int64_t k1, double *f) {                \
     if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0))) {                                             \
       lps_node_force(w, i, w->neighbor + k0, k1 - k0, INFLUENCE, UNIFORM, f);                        \
       return;                                                                                        \
@@ -242,8 +233,7 @@ static long lps_force(peri_sim *s) {
   peri_sim_exchange(s, s->p.coef, 2); /* the force pass reads D_j and B_j of ghosts (docs/parallel.md) */
   peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
-  const lps_view w = {p->x, p->u, p->volume, s->thermal_strain, p->s0_bound, p->coef,
-                      b->neighbor, b->broken, peri_family_eval_of(b)};
+  const peri_bond_view w = peri_bond_view_of(s);
   lps_force_fn node = s->family.influence == PERI_INFLUENCE_INVERSE    ? lps_force_inverse
                       : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? lps_force_gaussian
                       : peri_uniform_volume(p)                         ? lps_force_uniform
@@ -254,7 +244,7 @@ static long lps_force(peri_sim *s) {
 }
 
 /* sum_j omega (e^d)^2 beta V_j over node i's intact bonds, e^d = e - alpha_T dT_i |xi| - theta_i |xi|/3. */
-static inline __attribute__((always_inline)) double lps_node_energy(const lps_view *w, int32_t i,
+static inline __attribute__((always_inline)) double lps_node_energy(const peri_bond_view *w, int32_t i,
                                                                     const int32_t *restrict nbr, int64_t count,
                                                                     double theta, double eth_i, peri_influence influence) {
   const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V;
@@ -276,9 +266,9 @@ static inline __attribute__((always_inline)) double lps_node_energy(const lps_vi
   return sum;
 }
 
-typedef double (*lps_energy_fn)(const lps_view *, int32_t, int64_t, int64_t, double, double);
+typedef double (*lps_energy_fn)(const peri_bond_view *, int32_t, int64_t, int64_t, double, double);
 #define LPS_ENERGY_VARIANT(NAME, INFLUENCE)                                                            \
-  static double NAME(const lps_view *w, int32_t i, int64_t k0, int64_t k1, double theta, double eth_i) { \
+  static double NAME(const peri_bond_view *w, int32_t i, int64_t k0, int64_t k1, double theta, double eth_i) { \
     if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                 \
       return lps_node_energy(w, i, w->neighbor + k0, k1 - k0, theta, eth_i, INFLUENCE);                \
     int32_t intact[PERI_INTACT_CHUNK];                                                                 \
@@ -301,8 +291,7 @@ static void lps_energy(peri_sim *s, double *W) {
   s->breaking = false;
   lps_dilatation(s);
   s->breaking = breaking;
-  const lps_view w = {p->x, p->u, p->volume, s->thermal_strain, p->s0_bound, p->coef,
-                      b->neighbor, b->broken, peri_family_eval_of(b)};
+  const peri_bond_view w = peri_bond_view_of(s);
   lps_energy_fn node = s->family.influence == PERI_INFLUENCE_INVERSE    ? lps_energy_inverse
                        : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? lps_energy_gaussian
                                                                         : lps_energy_constant;

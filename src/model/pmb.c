@@ -21,26 +21,18 @@ static int pmb_init(peri_sim *s) {
   return PERI_OK;
 }
 
-/* What the bond loop of one node reads; restrict pointers let the compiler vectorize. */
-typedef struct {
-  const double *restrict x, *restrict u, *restrict V, *restrict c, *restrict eth, *restrict s0_bound;
-  const int32_t *restrict neighbor;
-  const uint8_t *restrict broken;
-  peri_family_eval fam;
-} pmb_view;
-
 /* Force density on node i from the intact bonds to nbr[0 .. count-1], their minimum
  * mechanical stretch, and whether any stretch passes the screening bound (a candidate for
  * breaking). Constant arguments (multi-material, thermal, influence) specialize the loop. */
-static inline __attribute__((always_inline)) long pmb_node(const pmb_view *w, int32_t i, const int32_t *restrict nbr,
+static inline __attribute__((always_inline)) long pmb_node(const peri_bond_view *w, int32_t i, const int32_t *restrict nbr,
                                                            int64_t count, bool multi, bool thermal,
                                                            peri_influence influence, bool uniform, double f[3],
                                                            double *smin_out) {
   const double xi0 = w->x[3 * i], xi1 = w->x[3 * i + 1], xi2 = w->x[3 * i + 2];
   const double ui0 = w->u[3 * i], ui1 = w->u[3 * i + 1], ui2 = w->u[3 * i + 2];
-  const double ci = w->c[i], eth_i = thermal ? w->eth[i] : 0.0, bound_i = w->s0_bound[i], V_i = w->V[i];
+  const double ci = w->coef[i], eth_i = thermal ? w->eth[i] : 0.0, bound_i = w->s0_bound[i], V_i = w->V[i];
   /* local copies: the loop then reads no pointer through w */
-  const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict c_node = w->c,
+  const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict c_node = w->coef,
                          *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
   const peri_family_eval fam = w->fam;
   double fx = 0.0, fy = 0.0, fz = 0.0, smin = INFINITY;
@@ -76,9 +68,9 @@ static inline __attribute__((always_inline)) long pmb_node(const pmb_view *w, in
 
 /* One function per specialization: the OpenMP region below is outlined before inlining, so
  * the constants must be fixed inside a function of their own to reach the vector loop. */
-typedef long (*pmb_node_fn)(const pmb_view *, int32_t, int64_t, int64_t, double *, double *);
+typedef long (*pmb_node_fn)(const peri_bond_view *, int32_t, int64_t, int64_t, double *, double *);
 #define PMB_NODE_VARIANT(NAME, MULTI, THERMAL, INFLUENCE, UNIFORM)                                    \
-  static long NAME(const pmb_view *w, int32_t i, int64_t k0, int64_t k1, double *f, double *smin) {     \
+  static long NAME(const peri_bond_view *w, int32_t i, int64_t k0, int64_t k1, double *f, double *smin) {     \
     if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                \
       return pmb_node(w, i, w->neighbor + k0, k1 - k0, MULTI, THERMAL, INFLUENCE, UNIFORM, f, smin);  \
     int32_t intact[PERI_INTACT_CHUNK];                                                                \
@@ -119,8 +111,7 @@ static long pmb_force(peri_sim *s) {
                            : (thermal ? pmb_node_thermal : uniform ? pmb_node_uniform : pmb_node_plain);
   if (s->family.influence == PERI_INFLUENCE_INVERSE) node = thermal ? pmb_node_inverse_thermal : pmb_node_inverse;
   if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) node = thermal ? pmb_node_gaussian_thermal : pmb_node_gaussian;
-  const pmb_view w = {p->x, p->u, p->volume, p->coef, s->thermal_strain, p->s0_bound,
-                      b->neighbor, b->broken, peri_family_eval_of(b)};
+  const peri_bond_view w = peri_bond_view_of(s);
   const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
   long n_broken = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : n_broken)
@@ -144,12 +135,12 @@ static long pmb_force(peri_sim *s) {
 }
 
 /* Sum over node i's intact bonds of w beta V_j with the micropotential w = c omega s^2 |xi| / 2. */
-static inline __attribute__((always_inline)) double pmb_node_energy(const pmb_view *w, int32_t i,
+static inline __attribute__((always_inline)) double pmb_node_energy(const peri_bond_view *w, int32_t i,
                                                                     const int32_t *restrict nbr, int64_t count,
                                                                     bool thermal, peri_influence influence) {
   const double xi0 = w->x[3 * i], xi1 = w->x[3 * i + 1], xi2 = w->x[3 * i + 2];
   const double ui0 = w->u[3 * i], ui1 = w->u[3 * i + 1], ui2 = w->u[3 * i + 2];
-  const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict c_node = w->c,
+  const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict c_node = w->coef,
                          *restrict eth = w->eth;
   const peri_family_eval fam = w->fam;
   const double ci = c_node[i], eth_i = thermal ? eth[i] : 0.0;
@@ -168,9 +159,9 @@ static inline __attribute__((always_inline)) double pmb_node_energy(const pmb_vi
   return sum;
 }
 
-typedef double (*pmb_energy_fn)(const pmb_view *, int32_t, int64_t, int64_t);
+typedef double (*pmb_energy_fn)(const peri_bond_view *, int32_t, int64_t, int64_t);
 #define PMB_ENERGY_VARIANT(NAME, THERMAL, INFLUENCE)                                           \
-  static double NAME(const pmb_view *w, int32_t i, int64_t k0, int64_t k1) {                  \
+  static double NAME(const peri_bond_view *w, int32_t i, int64_t k0, int64_t k1) {                  \
     if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                        \
       return pmb_node_energy(w, i, w->neighbor + k0, k1 - k0, THERMAL, INFLUENCE);            \
     int32_t intact[PERI_INTACT_CHUNK];                                                        \
@@ -194,8 +185,7 @@ static void pmb_energy(peri_sim *s, double *W) {
   const peri_bonds *b = &s->bonds;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->materials[p->material[i]].micromodulus;
-  const pmb_view w = {p->x, p->u, p->volume, p->coef, s->thermal_strain, p->s0_bound,
-                      b->neighbor, b->broken, peri_family_eval_of(b)};
+  const peri_bond_view w = peri_bond_view_of(s);
   const bool thermal = s->thermal_strain != NULL;
   pmb_energy_fn node = thermal ? pmb_energy_constant_thermal : pmb_energy_constant;
   if (s->family.influence == PERI_INFLUENCE_INVERSE) node = thermal ? pmb_energy_inverse_thermal : pmb_energy_inverse;

@@ -129,21 +129,11 @@ static int write_history(peri_sim *s, heat_ctx *c) {
 /* A restarted run: the checkpoint's state, then the frames and history rows the run had
  * written up to it (docs/restart.md). */
 static int resume(peri_sim *s, heat_ctx *c) {
-  peri_restart_apply(s);
-  long listed = 0, rows = 0;
-  const double *times = NULL;
-  char *const *files = NULL;
-  const long next = peri_restart_frames(s, &listed, &times, &files);
-  if (peri_frames_resume(c->frames, next, listed, times, files) != PERI_OK) return PERI_ERR_RUN;
-  int columns = 0;
-  const double *kept = peri_restart_history(s, &rows, &columns);
-  if (kept && columns != c->n_columns) {
-    peri_warning("restart: history.csv has %d columns, this run writes %d; its rows are not kept", columns,
-                 c->n_columns);
-    rows = 0;
-  }
+  long rows = 0;
+  const double *kept = peri_restart_resume(s, c->frames, c->n_columns, &rows);
+  if (rows < 0) return PERI_ERR_RUN;
   for (long r = 0; r < rows; ++r, ++c->history_rows)
-    if (peri_history_write(c->history, kept + (size_t)r * (size_t)columns) != PERI_OK) return PERI_ERR_RUN;
+    if (peri_history_write(c->history, kept + (size_t)r * (size_t)c->n_columns) != PERI_OK) return PERI_ERR_RUN;
   return PERI_OK;
 }
 

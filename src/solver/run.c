@@ -240,21 +240,11 @@ static int step_hook(peri_sim *s, void *ctx) {
 /* A restarted run: the checkpoint's state, then the frames and history rows the run had
  * written up to it (docs/restart.md). */
 static int resume(peri_sim *s, run_ctx *c) {
-  peri_restart_apply(s);
-  long listed = 0, rows = 0;
-  const double *times = NULL;
-  char *const *files = NULL;
-  const long next = peri_restart_frames(s, &listed, &times, &files);
-  if (peri_frames_resume(c->frames, next, listed, times, files) != PERI_OK) return PERI_ERR_RUN;
-  int columns = 0;
-  const double *kept = peri_restart_history(s, &rows, &columns);
-  if (kept && columns != c->n_columns) {
-    peri_warning("restart: history.csv has %d columns, this run writes %d; its rows are not kept", columns,
-                 c->n_columns);
-    rows = 0;
-  }
+  long rows = 0;
+  const double *kept = peri_restart_resume(s, c->frames, c->n_columns, &rows);
+  if (rows < 0) return PERI_ERR_RUN;
   for (long r = 0; r < rows; ++r) {
-    memcpy(c->row, kept + (size_t)r * (size_t)columns, sizeof(double) * (size_t)columns);
+    memcpy(c->row, kept + (size_t)r * (size_t)c->n_columns, sizeof(double) * (size_t)c->n_columns);
     if (record_row(c) != PERI_OK) return PERI_ERR_RUN;
   }
   return PERI_OK;
