@@ -11,6 +11,8 @@ static const char *const fixed[] = {"time", "step", "kinetic_energy", "strain_en
 bool peri_history_has_column(const peri_sim *s, const char *name) {
   for (int k = 0; fixed[k]; ++k)
     if (!strcmp(name, fixed[k])) return true;
+  if (peri_is_quasi_static(s) && s->qs.dynamic.on && (!strcmp(name, "phase") || !strcmp(name, "dynamic_time")))
+    return true; /* the switch to dynamics (docs/solvers.md 4) */
   char buf[512];
   for (int d = 0; d < s->geom.dim; ++d) {
     snprintf(buf, sizeof buf, "momentum_%c", "xyz"[d]);
