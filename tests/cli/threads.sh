@@ -9,40 +9,6 @@ cli_init "$@"
 
 TOL=1e-12
 
-# compare_histories A B: same header, same number of rows, every value equal to a
-# relative TOL (|a - b| <= TOL * max(|a|, |b|); equal text is equal). Prints the first
-# difference and returns 1 on a mismatch.
-compare_histories() {
-  awk -F, -v tol="$TOL" -v fa="$1" -v fb="$2" '
-    function abs(v) { return v < 0 ? -v : v }
-    NR == FNR { row[FNR] = $0; rows_a = FNR; next }
-    {
-      rows_b = FNR
-      if (!(FNR in row)) { printf "%s has more lines than %s\n", fb, fa; bad = 1; exit }
-      if (FNR == 1) {
-        if ($0 != row[1]) { printf "headers differ:\n  %s\n  %s\n", row[1], $0; bad = 1; exit }
-        ncol = split($0, names, ",")
-        next
-      }
-      n = split(row[FNR], a, ",")
-      if (n != NF || n != ncol) { printf "row %d: %d and %d columns (header: %d)\n", FNR, n, NF, ncol; bad = 1; exit }
-      for (c = 1; c <= n; c++) {
-        if (a[c] == $c) continue
-        x = a[c] + 0; y = $c + 0
-        scale = abs(x) > abs(y) ? abs(x) : abs(y)
-        if (abs(x - y) > tol * scale) {
-          printf "row %d, column %s: %s vs %s (relative difference %.3g > %g)\n",
-                 FNR, names[c], a[c], $c, abs(x - y) / scale, tol
-          bad = 1; exit
-        }
-      }
-    }
-    END {
-      if (bad) exit 1
-      if (rows_a != rows_b) { printf "%s has %d lines, %s has %d\n", fa, rows_a, fb, rows_b; exit 1 }
-    }' "$1" "$2"
-}
-
 # last_value FILE COLUMN: the text of COLUMN in the last row of FILE.
 last_value() {
   local c
@@ -76,7 +42,7 @@ for model in pmb lps; do
 
   for threads in 2 3; do
     other="$TMP/$model-t$threads/history.csv"
-    diff_report=$(compare_histories "$ref" "$other") ||
+    diff_report=$(compare_histories "$ref" "$other" "$TOL") ||
       fail "$model: history.csv with --threads 1 and --threads $threads differ: $diff_report"
     got=$(last_value "$other" broken_bond_fraction)
     [[ "$got" == "$final" ]] ||

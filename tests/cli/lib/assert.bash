@@ -152,3 +152,37 @@ locate() {
 csv_column() {
   head -n 1 "$1" | tr -d '\r' | tr ',' '\n' | grep -nxF -- "$2" | cut -d: -f1
 }
+
+# compare_histories A B [TOL]: same header, same number of rows, every value equal to a
+# relative TOL (default 1e-12; |a - b| <= TOL * max(|a|, |b|); equal text is equal). Prints
+# the first difference and returns 1 on a mismatch.
+compare_histories() {
+  awk -F, -v tol="${3:-1e-12}" -v fa="$1" -v fb="$2" '
+    function abs(v) { return v < 0 ? -v : v }
+    NR == FNR { row[FNR] = $0; rows_a = FNR; next }
+    {
+      rows_b = FNR
+      if (!(FNR in row)) { printf "%s has more lines than %s\n", fb, fa; bad = 1; exit }
+      if (FNR == 1) {
+        if ($0 != row[1]) { printf "headers differ:\n  %s\n  %s\n", row[1], $0; bad = 1; exit }
+        ncol = split($0, names, ",")
+        next
+      }
+      n = split(row[FNR], a, ",")
+      if (n != NF || n != ncol) { printf "row %d: %d and %d columns (header: %d)\n", FNR, n, NF, ncol; bad = 1; exit }
+      for (c = 1; c <= n; c++) {
+        if (a[c] == $c) continue
+        x = a[c] + 0; y = $c + 0
+        scale = abs(x) > abs(y) ? abs(x) : abs(y)
+        if (abs(x - y) > tol * scale) {
+          printf "row %d, column %s: %s vs %s (relative difference %.3g > %g)\n",
+                 FNR, names[c], a[c], $c, abs(x - y) / scale, tol
+          bad = 1; exit
+        }
+      }
+    }
+    END {
+      if (bad) exit 1
+      if (rows_a != rows_b) { printf "%s has %d lines, %s has %d\n", fa, rows_a, fb, rows_b; exit 1 }
+    }' "$1" "$2"
+}

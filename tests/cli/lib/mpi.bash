@@ -2,7 +2,7 @@
 #
 #   mpi_init                  # SKIP (exit 0) when peri was built without MPI
 #   run_peri_mpi N ARGS...    # mpirun -np N peri ARGS..., like run_peri
-#   compare_histories A B     # every value equal to a relative MPI_TOL
+#   compare_histories A B "$MPI_TOL"  # (lib/assert.bash) every value equal to a relative MPI_TOL
 #
 # The runs may start as root (containers) and on more ranks than cores (--oversubscribe);
 # each rank uses one OpenMP thread. These settings stay here, out of users' way.
@@ -29,38 +29,6 @@ run_peri_mpi() {
   return 0
 }
 
-# compare_histories A B: same header, same rows, every value equal to a relative MPI_TOL
-# (|a - b| <= MPI_TOL * max(|a|, |b|); equal text is equal). Prints the first difference.
-compare_histories() {
-  awk -F, -v tol="$MPI_TOL" -v fa="$1" -v fb="$2" '
-    function abs(v) { return v < 0 ? -v : v }
-    NR == FNR { row[FNR] = $0; rows_a = FNR; next }
-    {
-      rows_b = FNR
-      if (!(FNR in row)) { printf "%s has more lines than %s\n", fb, fa; bad = 1; exit }
-      if (FNR == 1) {
-        if ($0 != row[1]) { printf "headers differ:\n  %s\n  %s\n", row[1], $0; bad = 1; exit }
-        ncol = split($0, names, ",")
-        next
-      }
-      n = split(row[FNR], a, ",")
-      if (n != NF || n != ncol) { printf "row %d: %d and %d columns (header: %d)\n", FNR, n, NF, ncol; bad = 1; exit }
-      for (c = 1; c <= n; c++) {
-        if (a[c] == $c) continue
-        x = a[c] + 0; y = $c + 0
-        scale = abs(x) > abs(y) ? abs(x) : abs(y)
-        if (abs(x - y) > tol * scale) {
-          printf "row %d, column %s: %s vs %s (relative difference %.3g > %g)\n",
-                 FNR, names[c], a[c], $c, abs(x - y) / scale, tol
-          bad = 1; exit
-        }
-      }
-    }
-    END {
-      if (bad) exit 1
-      if (rows_a != rows_b) { printf "%s has %d lines, %s has %d\n", fa, rows_a, fb, rows_b; exit 1 }
-    }' "$1" "$2"
-}
 
 # broken_line: the "broken bonds N of M" line of the last run's summary.
 broken_line() { grep -E '^  broken bonds ' "$RUN_STDOUT" | head -n 1; }
@@ -85,7 +53,7 @@ mpi_same_on_ranks() {
       MPI_BROKEN=$(broken_line)
       continue
     fi
-    diff_report=$(compare_histories "$MPI_REF" "$out/history.csv") ||
+    diff_report=$(compare_histories "$MPI_REF" "$out/history.csv" "$MPI_TOL") ||
       fail "$name: history.csv on 1 and $np ranks differ: $diff_report"
     [[ "$(broken_line)" == "$MPI_BROKEN" ]] ||
       fail "$name: '$MPI_BROKEN' on 1 rank, '$(broken_line)' on $np"
