@@ -67,8 +67,9 @@ bool peri_history_has_column(const peri_sim *s, const char *name);
 void peri_print_quasi_static_summary(const peri_sim *s, FILE *out);
 
 /* Helpers shared by the solvers (src/solver/qs_common.c). */
-/* Dot product summed in fixed blocks, independent of the thread count. */
-double peri_qs_dot(const double *a, const double *b, size_t n);
+/* Dot product of two arrays of ncomp values per node over the owned nodes of every rank,
+ * summed in fixed-order blocks: independent of the numbers of threads and ranks. */
+double peri_qs_dot(const peri_sim *s, const double *a, const double *b, int ncomp);
 /* ADR fictitious density per node, Lambda_i = f_s/4 sum_j beta V_j c_eq (omega) / |xi|
  * (docs/model_reference.md 12.2), into lambda[n]. */
 void peri_qs_density(const peri_sim *s, double fs, double *lambda);

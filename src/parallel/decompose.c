@@ -226,10 +226,9 @@ static void localize_thermal(peri_sim *s, const int32_t *ids, int32_t n_local, i
 int peri_decompose_check(const peri_sim *s) {
   const int size = peri_comm_size();
   if (size == 1) return PERI_OK;
-  if (s->solver != PERI_SOLVER_EXPLICIT && s->solver != PERI_SOLVER_HEAT) {
-    peri_error("%s: only the explicit and heat solvers run on several MPI ranks (%d here); run the "
-               "quasi-static and implicit solvers in one process (without mpirun, or mpirun -np 1)",
-               s->deck_path, size);
+  if (s->solver == PERI_SOLVER_IMPLICIT) {
+    peri_error("%s: the implicit solver runs in one process (without mpirun, or mpirun -np 1); on %d ranks "
+               "use solver type adr, nlcg or dynamic_relaxation", s->deck_path, size);
     return PERI_ERR_INPUT;
   }
   if (s->restart || s->out.checkpoint_every > 0) {

@@ -44,7 +44,7 @@ peri_qs_status peri_solve_adr(peri_sim *s) {
             ku[k] = uf[k] = 0.0;
           }
         }
-      const double num = peri_qs_dot(uf, ku, n3), den = peri_qs_dot(uf, uf, n3);
+      const double num = peri_qs_dot(s, uf, ku, 3), den = peri_qs_dot(s, uf, uf, 3);
       if (num > 0.0 && den > 0.0) c = fmin(2.0 * sqrt(num / den), 1.9);
     }
 #pragma omp parallel for schedule(static) if (n > 8192)

@@ -45,7 +45,7 @@ peri_qs_status peri_solve_dynamic_relaxation(peri_sim *s) {
   const double dt = s->dt, gamma = s->damping, gb = q->bond_damping;
   double *inv_rho = peri_malloc(sizeof(double) * n);
   for (int32_t i = 0; i < n; ++i) inv_rho[i] = 1.0 / s->materials[p->material[i]].density;
-  double *vel = peri_calloc(n3, sizeof(double));
+  double *vel = peri_calloc(3 * (size_t)(p->n > 0 ? p->n : 1), sizeof(double)); /* ghosts: bond damping */
   double *r = peri_malloc(sizeof(double) * n3);
   double *fd = gb > 0.0 ? peri_calloc(n3, sizeof(double)) : NULL;
   q->solves++;
@@ -68,7 +68,10 @@ peri_qs_status peri_solve_dynamic_relaxation(peri_sim *s) {
       }
     peri_qs_forces(s);
     res = peri_qs_residual(s, r);
-    if (fd) bond_damping_force(s, gb, vel, fd);
+    if (fd) {
+      peri_sim_exchange(s, vel, 3); /* the ghosts' velocities (MPI ranks) */
+      bond_damping_force(s, gb, vel, fd);
+    }
 #pragma omp parallel for schedule(static) if (n > 8192)
     for (int32_t i = 0; i < n; ++i)
       for (int d = 0; d < dim; ++d) {

@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
+#include "peri/comm.h"
+#include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/quasistatic.h"
 
@@ -35,12 +37,13 @@ static double evaluate(cg_work *w) {
 static double potential(cg_work *w) {
   peri_sim *s = w->s;
   peri_particles *p = &s->p;
+  peri_exchange_state(s); /* ghost displacements (MPI ranks) */
   s->model->energy(s, w->wn);
   const int32_t n = p->n_owned;
   double *vb = peri_malloc(sizeof(double) * w->n3);
   for (int32_t i = 0; i < n; ++i)
     for (int d = 0; d < 3; ++d) vb[3 * (size_t)i + d] = p->volume[i] * p->b[3 * (size_t)i + d];
-  double e = peri_qs_dot(w->wn, p->volume, (size_t)n) - peri_qs_dot(vb, p->u, w->n3);
+  double e = peri_qs_dot(s, w->wn, p->volume, 1) - peri_qs_dot(s, vb, p->u, 3);
   free(vb);
   return e;
 }
@@ -50,10 +53,11 @@ static void axpy(double *y, double a, const double *x, size_t n) {
   for (size_t k = 0; k < n; ++k) y[k] += a * x[k];
 }
 
+/* max |x| over the owned values of every rank */
 static double max_abs(const double *x, size_t n) {
   double m = 0.0;
   for (size_t k = 0; k < n; ++k) m = fmax(m, fabs(x[k]));
-  return m;
+  return peri_comm_max(m);
 }
 
 peri_qs_status peri_solve_nlcg(peri_sim *s) {
@@ -87,15 +91,15 @@ peri_qs_status peri_solve_nlcg(peri_sim *s) {
   peri_qs_status status = res <= q->tolerance ? PERI_QS_CONVERGED : PERI_QS_NOT_CONVERGED;
   for (size_t k = 0; k < n3; ++k) z[k] = pre[k] * w.vr[k];
   memcpy(d, z, sizeof(double) * n3);
-  double delta_new = peri_qs_dot(w.vr, z, n3);
+  double delta_new = peri_qs_dot(s, w.vr, z, 3);
   double last_step = 1e-6 * dx; /* |alpha| max|d| of the previous iteration */
   long it = 0, k_restart = 0;
   for (; status == PERI_QS_NOT_CONVERGED && it < q->max_iterations; ++it) {
     /* eta(alpha) = dPi/dalpha = -(V r).d */
-    double eta0 = -peri_qs_dot(w.vr, d, n3);
+    double eta0 = -peri_qs_dot(s, w.vr, d, 3);
     if (!(eta0 < 0.0)) { /* not a descent direction: restart along z */
       memcpy(d, z, sizeof(double) * n3);
-      eta0 = -peri_qs_dot(w.vr, d, n3);
+      eta0 = -peri_qs_dot(s, w.vr, d, 3);
       k_restart = 0;
     }
     const double dmax = max_abs(d, n3);
@@ -105,7 +109,7 @@ peri_qs_status peri_solve_nlcg(peri_sim *s) {
     double sigma0 = fmax(1e-2 * last_step, 1e-12 * dx) / dmax;
     axpy(p->u, sigma0, d, n3);
     res = evaluate(&w);
-    double a_prev = 0.0, eta_prev = eta0, a = sigma0, eta = -peri_qs_dot(w.vr, d, n3);
+    double a_prev = 0.0, eta_prev = eta0, a = sigma0, eta = -peri_qs_dot(s, w.vr, d, 3);
     bool ok = true;
     for (int j = 0; j < jmax; ++j) {
       const double denom = eta - eta_prev;
@@ -122,7 +126,7 @@ peri_qs_status peri_solve_nlcg(peri_sim *s) {
       axpy(p->u, a_new - a, d, n3);
       a_prev = a, eta_prev = eta, a = a_new;
       res = evaluate(&w);
-      eta = -peri_qs_dot(w.vr, d, n3);
+      eta = -peri_qs_dot(s, w.vr, d, 3);
       if (fabs(eta) <= 1e-3 * fabs(eta0)) break;
     }
     if (!ok || !isfinite(res)) {
@@ -166,11 +170,11 @@ peri_qs_status peri_solve_nlcg(peri_sim *s) {
 #pragma omp parallel for schedule(static) if (n3 > 24576)
     for (size_t k = 0; k < n3; ++k) z[k] = pre[k] * w.vr[k];
     const double delta_old = delta_new;
-    const double delta_mid = peri_qs_dot(w.vr, z_old, n3);
-    delta_new = peri_qs_dot(w.vr, z, n3);
+    const double delta_mid = peri_qs_dot(s, w.vr, z_old, 3);
+    delta_new = peri_qs_dot(s, w.vr, z, 3);
     const double beta = (delta_new - delta_mid) / delta_old;
     ++k_restart;
-    if (beta <= 0.0 || k_restart >= (long)n3) {
+    if (beta <= 0.0 || k_restart >= 3 * (long)peri_global_nodes(s)) {
       memcpy(d, z, sizeof(double) * n3);
       k_restart = 0;
     } else {

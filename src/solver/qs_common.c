@@ -1,30 +1,26 @@
-/* Pieces shared by the quasi-static solvers: deterministic reductions, the ADR density,
+/* Pieces shared by the quasi-static solvers: deterministic reductions (fixed-order blocks of
+ * the global node order, the same on any number of threads and MPI ranks), the ADR density,
  * loading at a pseudo-time, forces and the out-of-balance residual. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/implicit.h"
 #include "peri/quasistatic.h"
 
-/* Fixed blocks: the partial sums and their order do not depend on the thread count. */
-enum { BLOCK = 4096 };
-
-double peri_qs_dot(const double *a, const double *b, size_t n) {
-  size_t nb = (n + BLOCK - 1) / BLOCK;
-  if (nb == 0) return 0.0;
-  double stack[64];
-  double *part = nb <= 64 ? stack : peri_malloc(sizeof(double) * nb);
-#pragma omp parallel for schedule(static) if (nb > 4)
-  for (size_t k = 0; k < nb; ++k) {
-    size_t lo = k * BLOCK, hi = lo + BLOCK < n ? lo + BLOCK : n;
+double peri_qs_dot(const peri_sim *s, const double *a, const double *b, int ncomp) {
+  const int32_t n = s->p.n_owned;
+  double *terms = peri_malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
+#pragma omp parallel for schedule(static) if (n > 8192)
+  for (int32_t i = 0; i < n; ++i) {
     double sum = 0.0;
-    for (size_t c = lo; c < hi; ++c) sum += a[c] * b[c];
-    part[k] = sum;
+    for (int c = 0; c < ncomp; ++c) sum += a[(size_t)ncomp * i + c] * b[(size_t)ncomp * i + c];
+    terms[i] = sum;
   }
-  double total = 0.0;
-  for (size_t k = 0; k < nb; ++k) total += part[k];
-  if (part != stack) free(part);
+  double total;
+  peri_sum_owned(s, terms, 1, &total); /* fixed-order blocks of the global node order */
+  free(terms);
   return total;
 }
 
@@ -59,6 +55,7 @@ void peri_qs_apply_loading(peri_sim *s, double t) {
 void peri_qs_forces(peri_sim *s) {
   const bool breaking = s->breaking;
   s->breaking = false;
+  peri_exchange_state(s); /* ghost displacements (MPI ranks) */
   if (s->indenter.on) peri_apply_loads(s, s->time);
   s->model->force(s);
   s->breaking = breaking;
@@ -70,7 +67,7 @@ double peri_qs_residual(const peri_sim *s, double *r) {
   const int dim = s->geom.dim;
   const int32_t n = p->n_owned;
   /* per-node squares, summed in node order blocks */
-  double *sq = peri_malloc(sizeof(double) * 2 * (size_t)n);
+  double *sq = peri_malloc(sizeof(double) * 2 * (size_t)(n > 0 ? n : 1));
 #pragma omp parallel for schedule(static) if (n > 8192)
   for (int32_t i = 0; i < n; ++i) {
     double res = 0.0, ref = 0.0;
@@ -88,18 +85,12 @@ double peri_qs_residual(const peri_sim *s, double *r) {
         ref += V * V * p->b[c] * p->b[c];
       }
     }
-    sq[i] = res;
-    sq[n + i] = ref;
+    sq[2 * (size_t)i] = res;
+    sq[2 * (size_t)i + 1] = ref;
   }
-  double res = 0.0, ref = 0.0;
-  /* block sums in a fixed order */
-  size_t nb = ((size_t)n + BLOCK - 1) / BLOCK;
-  for (size_t k = 0; k < nb; ++k) {
-    size_t lo = k * BLOCK, hi = lo + BLOCK < (size_t)n ? lo + BLOCK : (size_t)n;
-    double a = 0.0, b2 = 0.0;
-    for (size_t i = lo; i < hi; ++i) a += sq[i], b2 += sq[n + i];
-    res += a, ref += b2;
-  }
+  double sums[2];
+  peri_sum_owned(s, sq, 2, sums); /* fixed-order blocks: any number of threads and ranks */
+  const double res = sums[0], ref = sums[1];
   free(sq);
   peri_quasi_static *q = (peri_quasi_static *)&s->qs; /* the running reference is bookkeeping */
   q->last_reference = sqrt(ref);

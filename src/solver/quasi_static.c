@@ -5,7 +5,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/comm.h"
 #include "peri/damage.h"
+#include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/quasistatic.h"
 
@@ -38,9 +40,10 @@ void peri_print_quasi_static_summary(const peri_sim *s, FILE *out) {
 static long break_bonds(peri_sim *s) {
   if (!s->breaking) return 0;
   if (s->indenter.on) peri_apply_loads(s, s->time);
+  peri_exchange_state(s); /* ghost displacements (MPI ranks) */
   long nb = s->model->force(s);
   s->qs.force_evaluations++;
-  return nb;
+  return s->dd ? peri_comm_sum_long(nb) : nb; /* every rank takes the same branch */
 }
 
 /* After a converged solve: the reference force norm of later solves is at least this one. */

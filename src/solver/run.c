@@ -88,13 +88,22 @@ typedef struct run_ctx {
   double *plot_xs, *plot_ys;
 } run_ctx;
 
-/* Mean displacement of a region's nodes (quasi-static history: the imposed displacement). */
+/* Mean displacement of a region's nodes (quasi-static history: the imposed displacement),
+ * over the owned nodes of every rank in fixed-order sums. */
 static void region_displacement(const peri_sim *s, int region, double out[3]) {
   const peri_region *r = &s->regions[region];
-  out[0] = out[1] = out[2] = 0.0;
-  for (int32_t a = 0; a < r->count; ++a)
-    for (int d = 0; d < 3; ++d) out[d] += s->p.u[3 * (size_t)r->nodes[a] + d];
-  for (int d = 0; d < 3 && r->count > 0; ++d) out[d] /= r->count;
+  const int32_t n = s->p.n_owned;
+  double *terms = peri_calloc(4 * (size_t)(n > 0 ? n : 1), sizeof(double)); /* u, 1 */
+  for (int32_t a = 0; a < r->count; ++a) {
+    const int32_t i = r->nodes[a];
+    if (i >= n) continue; /* a ghost: its owner counts it */
+    for (int d = 0; d < 3; ++d) terms[4 * (size_t)i + d] = s->p.u[3 * (size_t)i + d];
+    terms[4 * (size_t)i + 3] = 1.0;
+  }
+  double sum[4];
+  peri_sum_owned(s, terms, 4, sum);
+  free(terms);
+  for (int d = 0; d < 3; ++d) out[d] = sum[3] > 0.0 ? sum[d] / sum[3] : 0.0;
 }
 
 static int record_row(run_ctx *c);
@@ -300,6 +309,9 @@ int peri_run(peri_sim *s) {
       printf("  finished     %ld load steps in %.3f s: %ld solves, %ld iterations, %ld force evaluations, "
              "%ld cut-backs, residual %.3g (%d threads)\n", s->step, wall, s->qs.solves, s->qs.iterations,
              s->qs.force_evaluations, s->qs.cutbacks, s->qs.residual, omp_get_max_threads());
+    if (s->solver == PERI_SOLVER_IMPLICIT) /* the iterations above are Newton's */
+      printf("  linear       %ld Krylov iterations in all, %.1f per Newton iteration\n", s->qs.linear_iterations,
+             s->qs.iterations > 0 ? (double)s->qs.linear_iterations / (double)s->qs.iterations : 0.0);
     if (qs_dynamic_columns(s))
       printf("  dynamic      %ld phase%s, %ld explicit steps, %.4g s of dynamics\n", s->qs.dynamic_phases,
              s->qs.dynamic_phases == 1 ? "" : "s", s->qs.dynamic_steps, s->qs.dynamic_time);
@@ -308,7 +320,7 @@ int peri_run(peri_sim *s) {
              wall, wall > 0 ? (s->step - c.first_step) / wall : 0.0, wall > 0 ? updates / wall : 0.0,
              omp_get_max_threads());
     printf("  broken bonds %ld of %lld\n", broken, (long long)peri_global_bonds(s));
-    if (!s->dd) peri_print_stress_summary(s, stdout); /* per-node maxima: single process */
+    peri_print_stress_summary(s, stdout); /* per-material maxima over every rank */
     printf("  output       %s/%s.pvd (%s), %s/history.csv%s%s%s%s\n", s->out.directory, s->out.basename,
            "VTU series", s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot);
   }

@@ -2,6 +2,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/comm.h"
 #include "peri/error.h"
 #include "peri/model.h"
 #include "peri/stress.h"
@@ -182,20 +183,38 @@ void peri_stress_measures(const peri_sim *s, const double *sigma, double *von_mi
 void peri_print_stress_summary(peri_sim *s, FILE *out) {
   const peri_particles *p = &s->p;
   const int32_t n = p->n_owned;
-  double *sigma = peri_malloc(sizeof(double) * 9 * (size_t)n);
-  double *vm = peri_malloc(sizeof(double) * (size_t)n);
-  if (peri_stress(s, sigma) == PERI_OK) {
+  const int size = peri_comm_size();
+  double *sigma = peri_malloc(sizeof(double) * 9 * (size_t)(n > 0 ? n : 1));
+  double *vm = peri_malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
+  int64_t *counts = peri_malloc(sizeof(int64_t) * (size_t)size);
+  for (int r = 0; r < size; ++r) counts[r] = 4;
+  double *every = peri_malloc(sizeof(double) * 4 * (size_t)size); /* value, x of each rank's largest */
+  if (peri_stress(s, sigma) == PERI_OK) { /* collective on MPI ranks (ghost dilatations) */
     peri_stress_measures(s, sigma, vm, NULL);
     for (int m = 0; m < s->n_materials; ++m) {
       int32_t best = -1;
       for (int32_t i = 0; i < n; ++i) /* first node of the largest value: deterministic */
         if (p->material[i] == m && (best < 0 || vm[i] > vm[best])) best = i;
-      if (best < 0) continue;
-      const double *x = &p->x[3 * (size_t)best];
-      fprintf(out, "  max von Mises %s: %.4g Pa at (%g, %g, %g)\n", s->materials[m].name, vm[best], x[0], x[1],
+      double mine[4] = {-INFINITY, 0.0, 0.0, 0.0};
+      if (best >= 0) {
+        mine[0] = vm[best];
+        for (int d = 0; d < 3; ++d) mine[1 + d] = p->x[3 * (size_t)best + d];
+      }
+      /* ranks own consecutive runs of the global order: the first rank with the largest
+       * value holds the first such node, as in one process */
+      peri_comm_gather_doubles(mine, 4, counts, every);
+      if (peri_comm_rank() != 0) continue;
+      int won = -1;
+      for (int r = 0; r < size; ++r)
+        if (every[4 * r] > -INFINITY && (won < 0 || every[4 * r] > every[4 * won])) won = r;
+      if (won < 0) continue;
+      const double *x = &every[4 * (size_t)won + 1];
+      fprintf(out, "  max von Mises %s: %.4g Pa at (%g, %g, %g)\n", s->materials[m].name, every[4 * won], x[0], x[1],
               x[2]);
     }
   }
+  free(every);
+  free(counts);
   free(sigma);
   free(vm);
 }

@@ -28,10 +28,10 @@ listed=$(grep -c '<Piece Source=' "$TMP/np4/wave_in_bar_000000.pvtu")
 grep -q 'wave_in_bar_000000.pvtu' "$TMP/np4/wave_in_bar.pvd" || fail "bar: the .pvd does not list the .pvtu frames"
 pass "100-node bar on 4 ranks ($pieces with nodes): the history of one process; the frames list $pieces pieces"
 
-run_peri_mpi 2 run "$DECKS/qs_bar.yaml" --output "$TMP/qs"
+run_peri_mpi 2 run "$DECKS/qs_bar.yaml" --set solver.type=implicit --output "$TMP/qs"
 expect_status 2
-expect_stderr_contains "only the explicit and heat solvers run on several MPI ranks"
+expect_stderr_contains "the implicit solver runs in one process"
 expect_stdout_empty
 expect_no_path "$TMP/qs"
-pass "a quasi-static deck on 2 ranks stops with exit status 2 and says why, before any output"
+pass "an implicit deck on 2 ranks stops with exit status 2 and says why, before any output"
 echo "PASS: $CLI_NAME"
