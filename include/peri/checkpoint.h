@@ -4,11 +4,14 @@
  *
  * Per-node arrays are stored whole, in the node order of the discretization (a
  * deterministic function of the deck), and per-bond arrays in bond order: a checkpoint
- * does not depend on how the nodes were split between processes. */
+ * does not depend on how the nodes were split between processes. On MPI ranks, rank 0
+ * gathers every rank's owned nodes and families and writes the file a single process would
+ * write; a restart on any number of ranks takes each rank's nodes and bonds from it. */
 #ifndef PERI_CHECKPOINT_H
 #define PERI_CHECKPOINT_H
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include "peri/deck.h"
 #include "peri/sim.h"
@@ -38,16 +41,23 @@ void peri_checkpoint_path(const peri_sim *s, char *out, size_t size);
 /* Summary line of the checkpoint settings (nothing without output.checkpoint_every). */
 void peri_checkpoint_print_summary(const peri_sim *s, FILE *out);
 
+/* FNV-1a hash of the bond families of nodes 0..n-1 (CSR offsets and neighbours): a
+ * checkpoint is only resumed on the same families. */
+uint64_t peri_checkpoint_bond_hash(const peri_bonds *b, int32_t n);
+
 /* Writes the state of s to path (through path.tmp and a rename, so a crash never leaves a
- * half-written file). Returns PERI_OK, or PERI_ERR_RUN with a message. */
+ * half-written file). On MPI ranks it is collective: rank 0 gathers the arrays in global
+ * order and writes, and every rank returns the same status. Returns PERI_OK, or
+ * PERI_ERR_RUN with a message. */
 int peri_checkpoint_write(const peri_sim *s, const char *path, const peri_checkpoint_progress *done);
 
 /* Writes the checkpoint when one is due after this step (every checkpoint_every steps and
- * at the last step; nothing without output.checkpoint_every). */
+ * at the last step; nothing without output.checkpoint_every). Collective on MPI ranks. */
 int peri_checkpoint_after_step(const peri_sim *s, const peri_checkpoint_progress *done);
 
 /* Reads the checkpoint `path` for the simulation s, built from the deck as usual (with the
- * output directory already final), checks that the deck builds the same discretization
+ * output directory already final; on MPI ranks every rank reads it, before peri_decompose,
+ * on the whole discretization), checks that the deck builds the same discretization
  * and solver, and keeps its state in s->restart; reads the history.csv rows and .pvd
  * frames of the output directory written up to the checkpoint. Writes nothing. Returns
  * PERI_OK, or PERI_ERR_INPUT with a message (missing, damaged or mismatched checkpoint,
@@ -58,7 +68,10 @@ int peri_restart_load(peri_sim *s, const char *path);
 void peri_restart_print(const peri_sim *s, FILE *out);
 
 /* Puts the checkpoint's state into s (after peri_apply_initial_conditions, which marks the
- * prescribed components): time, step, fields, broken bonds, solver and heat state. */
+ * prescribed components): time, step, fields, broken bonds, solver and heat state. On MPI
+ * ranks (after peri_decompose) each rank takes its local nodes, owned and ghosts, by
+ * global index, and the bonds of its families. Call it once: it then frees the
+ * checkpoint's arrays (whole-problem copies on every rank). */
 void peri_restart_apply(peri_sim *s);
 
 /* The history.csv rows kept from before the checkpoint ([rows][n_columns], row-major), or

@@ -31,6 +31,10 @@ bool peri_comm_all(bool value);
 /* Rank 0 receives the concatenation, in rank order, of `count` doubles from every rank
  * (counts[r] of rank r, known to all); `out` is used on rank 0 only. */
 void peri_comm_gather_doubles(const double *local, int64_t count, const int64_t *counts, double *out);
+/* Rank 0 receives the concatenation, in rank order, of `count` bytes from every rank
+ * (counts[r] of rank r, known to all; 64-bit counts: per-bond arrays of large problems pass
+ * 2^31); `out` is used on rank 0 only. */
+void peri_comm_gather_bytes(const uint8_t *local, int64_t count, const int64_t *counts, uint8_t *out);
 /* The same concatenation on every rank. */
 void peri_comm_allgather_doubles(const double *local, int64_t count, const int64_t *counts, double *out);
 /* Rank 0's `count` doubles to every rank. */

@@ -22,6 +22,8 @@ typedef struct peri_decomposition {
   int64_t *owned;          /* [size]: nodes owned by each rank */
   int64_t *blocks;         /* [size]: sum blocks of each rank */
   int32_t *global_id;      /* [p.n]: global (Morton order) index of each local node */
+  int64_t *bond_first;     /* [size + 1]: rank r's families are global bonds bond_first[r] .. bond_first[r+1]-1 */
+  uint64_t bond_hash;      /* of the global families, for checkpoints (0 without output.checkpoint_every) */
   peri_halo halo;
 } peri_decomposition;
 
@@ -52,5 +54,8 @@ long peri_global_broken(const peri_sim *s);
 /* Rank 0 receives ncomp values per node of every rank's owned nodes in global order
  * (`out`: ncomp * global nodes, used on rank 0 only; in a single process a copy). */
 void peri_gather_owned(const peri_sim *s, const double *local, int ncomp, double *out);
+/* Rank 0 receives a per-bond byte array (broken flags, cut flags) of every rank's families in
+ * the global bond order (`out`: global bonds, used on rank 0 only; in a single process a copy). */
+void peri_gather_owned_bonds(const peri_sim *s, const uint8_t *local, uint8_t *out);
 
 #endif

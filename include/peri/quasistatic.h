@@ -58,10 +58,6 @@ void peri_qs_dynamic_summary(const peri_sim *s, FILE *out);
  * *stop is set when the hook asks to stop. Returns PERI_OK or PERI_ERR_RUN (diverged). */
 int peri_qs_dynamic_phase(peri_sim *s, double t, peri_step_hook hook, void *ctx, bool *stop);
 
-/* output.plot: {x: COLUMN, y: COLUMN} of history.csv (src/solver/history_plot.c). */
-int peri_plot_parse(peri_sim *s, const peri_node *output);
-/* Whether history.csv has a column of that name (regions, indenter and solver known). */
-bool peri_history_has_column(const peri_sim *s, const char *name);
 
 /* Summary line(s) for the solver settings. */
 void peri_print_quasi_static_summary(const peri_sim *s, FILE *out);

@@ -16,7 +16,9 @@
  *   /thermal          attributes time, growing_next, every, substeps; T [n]; cut [n_bonds]
  *                     (only when conduction keeps its own cut flags)
  * Node arrays hold every node in the node order of the discretization, bond arrays every
- * directed bond in CSR order: both are deterministic functions of the deck. */
+ * directed bond in CSR order: both are deterministic functions of the deck. On MPI ranks
+ * rank 0 gathers them in that order and writes the same file; a restart reads it on every
+ * rank before the decomposition and takes each rank's part after it. */
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L
 #endif
@@ -27,6 +29,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/checkpoint.h"
+#include "peri/comm.h"
+#include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/thermal.h"
 
@@ -47,6 +51,7 @@ struct peri_restart {
   long growing_next, every, substeps;
   double *T;
   uint8_t *cut;
+  int64_t *growing_cut; /* global bonds of the first growing_next growing-crack cuts */
   /* output kept from before the checkpoint */
   double *history;
   long history_rows;
@@ -63,6 +68,7 @@ void peri_restart_free(struct peri_restart *r) {
   for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k) free(arrays[k]);
   free(r->broken);
   free(r->cut);
+  free(r->growing_cut);
   for (long k = 0; k < r->frames_listed; ++k) free(r->frame_files[k]);
   free(r->frame_files);
   free(r->path);
@@ -91,33 +97,77 @@ void peri_restart_print(const peri_sim *s, FILE *out) {
           r->step, r->time, r->frames_listed, r->history_rows);
 }
 
-static void copy_if(double *to, const double *from, size_t count) {
-  if (to && from) memcpy(to, from, sizeof(double) * count);
+/* A node array of the checkpoint (every node, global order) into the local nodes of s:
+ * the same order in one process; on MPI ranks the owned nodes and ghosts by global index. */
+static void copy_nodes(const peri_sim *s, double *to, const double *from, int ncomp) {
+  if (!to || !from) return;
+  const peri_decomposition *d = s->dd;
+  if (!d) {
+    memcpy(to, from, sizeof(double) * (size_t)ncomp * (size_t)s->restart->n);
+    return;
+  }
+  for (int32_t l = 0; l < s->p.n; ++l)
+    memcpy(to + (size_t)ncomp * l, from + (size_t)ncomp * d->global_id[l], sizeof(double) * (size_t)ncomp);
+}
+
+/* A bond array of the checkpoint (global CSR order) into the families of s: on MPI ranks
+ * the run of the global order that this rank's owned nodes hold. */
+static void copy_bonds(const peri_sim *s, uint8_t *to, const uint8_t *from) {
+  const int64_t first = s->dd ? s->dd->bond_first[s->dd->rank] : 0;
+  if (to && from && s->bonds.n_bonds > 0) memcpy(to, from + first, (size_t)s->bonds.n_bonds);
+}
+
+/* The growing-crack cuts already made among this rank's bonds: decomposition keeps the
+ * growing bonds of the rank's families in the global cut order, so they are those of the
+ * checkpoint's first growing_next cuts that fall in the rank's run of bonds. */
+static int64_t growing_next_local(const peri_sim *s, const struct peri_restart *r) {
+  if (!s->dd) return r->growing_next;
+  const int64_t first = s->dd->bond_first[s->dd->rank], end = first + s->bonds.n_bonds;
+  int64_t next = 0;
+  for (long a = 0; a < r->growing_next; ++a)
+    if (r->growing_cut[a] >= first && r->growing_cut[a] < end) ++next;
+  return next;
+}
+
+/* The checkpoint's arrays, once their values are in the simulation: on MPI ranks each
+ * holds the whole problem, which a rank should not keep for the rest of the run. */
+static void release_arrays(struct peri_restart *r) {
+  double **arrays[] = {&r->u, &r->v, &r->f, &r->damage, &r->theta, &r->wvol, &r->pstate, &r->smin, &r->s0,
+                       &r->thermal_strain, &r->step_load, &r->T};
+  for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k) {
+    free(*arrays[k]);
+    *arrays[k] = NULL;
+  }
+  free(r->broken);
+  free(r->cut);
+  free(r->growing_cut);
+  r->broken = r->cut = NULL;
+  r->growing_cut = NULL;
 }
 
 void peri_restart_apply(peri_sim *s) {
-  const struct peri_restart *r = s->restart;
+  struct peri_restart *r = s->restart;
   if (!r) return;
   peri_particles *p = &s->p;
-  const size_t n = (size_t)r->n, n3 = 3 * n;
+  const size_t n3 = 3 * (size_t)p->n; /* local nodes: owned and ghosts */
   s->time = r->time;
   s->step = r->step;
   s->external_work = r->external_work;
-  copy_if(p->u, r->u, n3);
-  copy_if(p->v, r->v, n3);
-  copy_if(p->f, r->f, n3);
-  copy_if(p->damage, r->damage, n);
-  copy_if(p->theta, r->theta, n);
-  copy_if(p->wvol, r->wvol, n);
-  copy_if(p->pstate, r->pstate, n);
-  copy_if(p->smin, r->smin, n);
-  copy_if(s->s0_node, r->s0, n);
-  copy_if(s->thermal_strain, r->thermal_strain, n);
+  copy_nodes(s, p->u, r->u, 3);
+  copy_nodes(s, p->v, r->v, 3);
+  copy_nodes(s, p->f, r->f, 3);
+  copy_nodes(s, p->damage, r->damage, 1);
+  copy_nodes(s, p->theta, r->theta, 1);
+  copy_nodes(s, p->wvol, r->wvol, 1);
+  copy_nodes(s, p->pstate, r->pstate, 1);
+  copy_nodes(s, p->smin, r->smin, 1);
+  copy_nodes(s, s->s0_node, r->s0, 1);
+  copy_nodes(s, s->thermal_strain, r->thermal_strain, 1);
   if (r->step_load) {
     if (!s->step_load) s->step_load = peri_calloc(n3 ? n3 : 1, sizeof(double));
-    memcpy(s->step_load, r->step_load, sizeof(double) * n3);
+    copy_nodes(s, s->step_load, r->step_load, 3);
   }
-  if (r->n_bonds > 0) memcpy(s->bonds.broken, r->broken, (size_t)r->n_bonds);
+  copy_bonds(s, s->bonds.broken, r->broken);
   memcpy(s->indenter.force, r->indenter_force, sizeof r->indenter_force);
   peri_quasi_static *q = &s->qs;
   q->reference = r->qs.reference;
@@ -133,25 +183,25 @@ void peri_restart_apply(peri_sim *s) {
   peri_thermal *th = s->thermal;
   if (th && r->thermal) {
     th->time = r->thermal_time;
-    th->growing_next = r->growing_next;
+    th->growing_next = growing_next_local(s, r);
     th->every = r->every;
     th->substeps = r->substeps;
-    copy_if(th->T, r->T, n);
+    copy_nodes(s, th->T, r->T, 1);
     /* a private copy of the cut flags (one-way coupling); otherwise they are the broken flags */
-    if (th->own_cut && r->cut && r->n_bonds > 0) memcpy(th->cut, r->cut, (size_t)r->n_bonds);
+    if (th->own_cut) copy_bonds(s, th->cut, r->cut);
   }
+  release_arrays(r);
 }
 
-/* FNV-1a over the CSR arrays, value by value least significant byte first: a checkpoint
- * is only resumed on the same bond families. */
-static uint64_t bond_hash(const peri_bonds *b, int32_t n) {
+/* FNV-1a over the CSR arrays, value by value least significant byte first. */
+uint64_t peri_checkpoint_bond_hash(const peri_bonds *b, int32_t n) {
   uint64_t h = 1469598103934665603ULL; /* FNV-1a 64-bit offset basis and prime (Fowler, Noll, Vo) */
   const uint64_t prime = 1099511628211ULL;
   for (int32_t i = 0; i <= n; ++i) {
     uint64_t v = (uint64_t)b->offset[i];
     for (int k = 0; k < 8; ++k) h = (h ^ ((v >> (8 * k)) & 0xff)) * prime;
   }
-  for (int64_t k = 0; k < b->n_bonds; ++k) {
+  for (int64_t k = 0; k < b->offset[n]; ++k) {
     uint32_t v = (uint32_t)b->neighbor[k];
     for (int c = 0; c < 4; ++c) h = (h ^ ((v >> (8 * c)) & 0xff)) * prime;
   }
@@ -286,9 +336,88 @@ static void text_put(writer *w, hid_t loc, const char *name, const char *text) {
   H5Tclose(t);
 }
 
-static void write_contents(writer *w, const peri_sim *s, const peri_checkpoint_progress *done) {
+/* The arrays a checkpoint holds, whole and in the global order: the simulation's own arrays
+ * in one process; on MPI ranks rank 0's copies gathered from every rank's owned nodes and
+ * families (NULL on the other ranks, which write nothing). A NULL array is one the run does
+ * not have; whether it has one is the same on every rank. */
+typedef struct state_view {
+  int64_t n, n_bonds;
+  uint64_t bond_hash;
+  const double *x, *u, *v, *f, *damage, *theta, *wvol, *pstate, *smin, *s0, *thermal_strain, *step_load, *T;
+  const uint8_t *broken, *cut;
+  long growing_next; /* growing-crack bonds cut, over all ranks */
+  void *gathered[16]; /* rank 0's gathered arrays, freed by view_free */
+  int n_gathered;
+} state_view;
+
+/* A per-node array of every rank's owned nodes on rank 0 (collective). */
+static const double *gather_nodes(const peri_sim *s, state_view *v, const double *local, int ncomp) {
+  if (!local) return NULL;
+  double *all = NULL;
+  if (s->dd->rank == 0) all = peri_malloc(sizeof(double) * (size_t)ncomp * (size_t)(v->n > 0 ? v->n : 1));
+  peri_gather_owned(s, local, ncomp, all);
+  if (all) v->gathered[v->n_gathered++] = all;
+  return all;
+}
+
+/* A per-bond byte array of every rank's families on rank 0 (collective). */
+static const uint8_t *gather_bonds(const peri_sim *s, state_view *v, const uint8_t *local) {
+  if (!local) return NULL;
+  uint8_t *all = NULL;
+  if (s->dd->rank == 0) all = peri_malloc((size_t)(v->n_bonds > 0 ? v->n_bonds : 1));
+  peri_gather_owned_bonds(s, local, all);
+  if (all) v->gathered[v->n_gathered++] = all;
+  return all;
+}
+
+/* The view of the state of s; on MPI ranks every rank must call it (it gathers). */
+static void view_of(const peri_sim *s, state_view *v) {
   const peri_particles *p = &s->p;
-  const size_t n = (size_t)p->n_owned;
+  const peri_thermal *th = s->thermal;
+  const uint8_t *cut = th && th->own_cut ? th->cut : NULL;
+  memset(v, 0, sizeof *v);
+  if (!s->dd) {
+    v->n = p->n_owned;
+    v->n_bonds = s->bonds.n_bonds;
+    v->bond_hash = peri_checkpoint_bond_hash(&s->bonds, p->n_owned);
+    v->x = p->x, v->u = p->u, v->v = p->v, v->f = p->f, v->damage = p->damage;
+    v->theta = p->theta, v->wvol = p->wvol, v->pstate = p->pstate, v->smin = p->smin;
+    v->s0 = s->s0_node, v->thermal_strain = s->thermal_strain, v->step_load = s->step_load;
+    v->T = th ? th->T : NULL;
+    v->broken = s->bonds.broken, v->cut = cut;
+    v->growing_next = th ? (long)th->growing_next : 0;
+    return;
+  }
+  v->n = s->dd->n_global;
+  v->n_bonds = s->dd->n_bonds_global;
+  v->bond_hash = s->dd->bond_hash; /* of the global families, computed before they were split */
+  v->x = gather_nodes(s, v, p->x, 3);
+  v->u = gather_nodes(s, v, p->u, 3);
+  v->v = gather_nodes(s, v, p->v, 3);
+  v->f = gather_nodes(s, v, p->f, 3);
+  v->damage = gather_nodes(s, v, p->damage, 1);
+  v->theta = gather_nodes(s, v, p->theta, 1);
+  v->wvol = gather_nodes(s, v, p->wvol, 1);
+  v->pstate = gather_nodes(s, v, p->pstate, 1);
+  v->smin = gather_nodes(s, v, p->smin, 1);
+  v->s0 = gather_nodes(s, v, s->s0_node, 1);
+  v->thermal_strain = gather_nodes(s, v, s->thermal_strain, 1);
+  v->step_load = gather_nodes(s, v, s->step_load, 3);
+  v->T = th ? gather_nodes(s, v, th->T, 1) : NULL;
+  v->broken = gather_bonds(s, v, s->bonds.broken);
+  v->cut = gather_bonds(s, v, cut);
+  /* each rank cuts the growing bonds of its families in the global (time) order, so the
+   * global position is the sum of the ranks' positions */
+  v->growing_next = th ? peri_comm_sum_long((long)th->growing_next) : 0;
+}
+
+static void view_free(state_view *v) {
+  for (int k = 0; k < v->n_gathered; ++k) free(v->gathered[k]);
+  v->n_gathered = 0;
+}
+
+static void write_contents(writer *w, const peri_sim *s, const state_view *v, const peri_checkpoint_progress *done) {
+  const size_t n = (size_t)v->n;
   const hid_t root = w->file;
   attr_string(w, root, "format", "peri checkpoint");
   attr_long(w, root, "format_version", PERI_CHECKPOINT_FORMAT_VERSION);
@@ -314,27 +443,27 @@ static void write_contents(writer *w, const peri_sim *s, const peri_checkpoint_p
 
   g = group_create(w, root, "discretization");
   attr_long(w, g, "n_nodes", (long)n);
-  attr_long(w, g, "n_bonds", (long)s->bonds.n_bonds);
-  attr_u64(w, g, "bond_hash", bond_hash(&s->bonds, (int32_t)n));
-  doubles_put(w, g, "x", n, 3, p->x);
+  attr_long(w, g, "n_bonds", (long)v->n_bonds);
+  attr_u64(w, g, "bond_hash", v->bond_hash);
+  doubles_put(w, g, "x", n, 3, v->x);
   group_close(g);
 
   g = group_create(w, root, "nodes");
-  doubles_put(w, g, "u", n, 3, p->u);
-  doubles_put(w, g, "v", n, 3, p->v);
-  doubles_put(w, g, "f", n, 3, p->f);
-  doubles_put(w, g, "damage", n, 1, p->damage);
-  doubles_put(w, g, "theta", n, 1, p->theta);
-  doubles_put(w, g, "wvol", n, 1, p->wvol);
-  doubles_put(w, g, "pstate", n, 1, p->pstate);
-  doubles_put(w, g, "smin", n, 1, p->smin);
-  doubles_put(w, g, "s0", n, 1, s->s0_node);
-  doubles_put(w, g, "thermal_strain", n, 1, s->thermal_strain);
-  doubles_put(w, g, "step_load", n, 3, s->step_load);
+  doubles_put(w, g, "u", n, 3, v->u);
+  doubles_put(w, g, "v", n, 3, v->v);
+  doubles_put(w, g, "f", n, 3, v->f);
+  doubles_put(w, g, "damage", n, 1, v->damage);
+  doubles_put(w, g, "theta", n, 1, v->theta);
+  doubles_put(w, g, "wvol", n, 1, v->wvol);
+  doubles_put(w, g, "pstate", n, 1, v->pstate);
+  doubles_put(w, g, "smin", n, 1, v->smin);
+  doubles_put(w, g, "s0", n, 1, v->s0);
+  doubles_put(w, g, "thermal_strain", n, 1, v->thermal_strain);
+  doubles_put(w, g, "step_load", n, 3, v->step_load);
   group_close(g);
 
   g = group_create(w, root, "bonds");
-  dataset_put(w, g, "broken", H5T_STD_U8LE, H5T_NATIVE_UINT8, (hsize_t)s->bonds.n_bonds, 0, s->bonds.broken);
+  dataset_put(w, g, "broken", H5T_STD_U8LE, H5T_NATIVE_UINT8, (hsize_t)v->n_bonds, 0, v->broken);
   group_close(g);
 
   g = group_create(w, root, "indenter");
@@ -359,17 +488,17 @@ static void write_contents(writer *w, const peri_sim *s, const peri_checkpoint_p
   if (th) {
     g = group_create(w, root, "thermal");
     attr_double(w, g, "time", th->time);
-    attr_long(w, g, "growing_next", (long)th->growing_next);
+    attr_long(w, g, "growing_next", v->growing_next);
     attr_long(w, g, "every", th->every);
     attr_long(w, g, "substeps", th->substeps);
-    doubles_put(w, g, "T", n, 1, th->T);
-    if (th->own_cut)
-      dataset_put(w, g, "cut", H5T_STD_U8LE, H5T_NATIVE_UINT8, (hsize_t)s->bonds.n_bonds, 0, th->cut);
+    doubles_put(w, g, "T", n, 1, v->T);
+    if (th->own_cut) dataset_put(w, g, "cut", H5T_STD_U8LE, H5T_NATIVE_UINT8, (hsize_t)v->n_bonds, 0, v->cut);
     group_close(g);
   }
 }
 
-int peri_checkpoint_write(const peri_sim *s, const char *path, const peri_checkpoint_progress *done) {
+/* Writes the view to path through path.tmp and a rename (one process: rank 0). */
+static int write_file(const peri_sim *s, const state_view *v, const char *path, const peri_checkpoint_progress *done) {
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* our messages, not the library's error stack */
   const size_t len = strlen(path);
   char *tmp = peri_malloc(len + sizeof ".tmp");
@@ -395,7 +524,7 @@ int peri_checkpoint_write(const peri_sim *s, const char *path, const peri_checkp
                path, tmp);
     rc = PERI_ERR_RUN;
   } else {
-    write_contents(&w, s, done);
+    write_contents(&w, s, v, done);
     if (H5Fclose(w.file) < 0) w.failed = true;
     if (!w.failed && rename(tmp, path) != 0) {
       peri_error("cannot write checkpoint '%s': %s", path, strerror(errno));
@@ -412,6 +541,14 @@ int peri_checkpoint_write(const peri_sim *s, const char *path, const peri_checkp
   H5Pclose(w.gcpl);
   free(tmp);
   return rc;
+}
+
+int peri_checkpoint_write(const peri_sim *s, const char *path, const peri_checkpoint_progress *done) {
+  state_view v;
+  view_of(s, &v); /* MPI ranks: every rank takes part in the gathers */
+  const int rc = !s->dd || s->dd->rank == 0 ? write_file(s, &v, path, done) : PERI_OK;
+  view_free(&v);
+  return s->dd ? peri_comm_max_int(rc) : rc; /* every rank returns rank 0's status */
 }
 
 /* ---------------------------------------------------------------- reading */
@@ -604,7 +741,7 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
         break;
       }
   free(x);
-  if (!r->failed && hash != bond_hash(&s->bonds, (int32_t)n))
+  if (!r->failed && hash != peri_checkpoint_bond_hash(&s->bonds, (int32_t)n))
     bad(r, "%s", "the bond families differ from the deck's (another horizon or partial-volume rule)");
   group_close(g);
 
@@ -683,6 +820,11 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
     out->cut = get_array(r, g, "cut", H5T_NATIVE_UINT8, 1, (hsize_t)s->bonds.n_bonds, 1, s->thermal->own_cut);
     if (!r->failed && (out->growing_next < 0 || out->growing_next > s->thermal->n_growing_bonds))
       bad(r, "%s", "the growing-crack position does not match the deck's growing cracks");
+    if (!r->failed) { /* which bonds those cuts were, for the ranks' shares (peri_restart_apply) */
+      const size_t cuts = (size_t)out->growing_next;
+      out->growing_cut = peri_malloc(sizeof(int64_t) * (cuts > 0 ? cuts : 1));
+      if (cuts > 0) memcpy(out->growing_cut, s->thermal->growing_bond, sizeof(int64_t) * cuts);
+    }
   }
   group_close(g);
 }
@@ -732,7 +874,7 @@ int peri_checkpoint_write(const peri_sim *s, const char *path, const peri_checkp
 }
 
 static int read_file(peri_sim *s, const char *path, struct peri_restart *out) {
-  (void)s, (void)out, (void)bond_hash, (void)solver_kind_name, (void)read_text;
+  (void)s, (void)out, (void)solver_kind_name, (void)read_text;
   peri_error("cannot restart from '%s': this peri was built without HDF5, which checkpoints need (install "
              "libhdf5-dev, e.g. with scripts/install-deps, and rebuild)", path);
   return PERI_ERR_INPUT;

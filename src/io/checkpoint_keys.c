@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/checkpoint.h"
+#include "peri/comm.h"
 #include "peri/error.h"
 #include "peri/output.h"
 
@@ -47,17 +48,14 @@ int peri_checkpoint_after_step(const peri_sim *s, const peri_checkpoint_progress
   if (every < 1 || (s->step % every != 0 && s->step != s->steps)) return PERI_OK;
   /* inside a dynamic phase the load step is not finished: its checkpoint comes at its end */
   if (s->qs.phase == PERI_QS_PHASE_DYNAMIC) return PERI_OK;
-  if (s->dd) { /* the writer stores whole arrays from one process */
-    peri_error("output.checkpoint_every: checkpoints are written by single-process runs only (run without mpirun)");
-    return PERI_ERR_RUN;
-  }
   char path[8192];
   peri_checkpoint_path(s, path, sizeof path);
   char *slash = strrchr(path, '/');
-  if (slash && slash != path) { /* checkpoint_file may name a sub-directory */
+  if (slash && slash != path) { /* checkpoint_file may name a sub-directory; rank 0 writes the file */
     *slash = '\0';
-    const int rc = peri_mkdir_p(path);
+    int rc = peri_comm_rank() == 0 ? peri_mkdir_p(path) : PERI_OK;
     *slash = '/';
+    if (s->dd) rc = peri_comm_max_int(rc); /* every rank goes on to the (collective) write, or none */
     if (rc != PERI_OK) return rc;
   }
   return peri_checkpoint_write(s, path, done);

@@ -143,7 +143,7 @@ int peri_frames_write(peri_frames *f, peri_sim *s) {
 
 int peri_frames_resume(peri_frames *f, long next, long n_listed, const double *times, char *const *files) {
   f->count = (int)next;
-  for (long k = 0; k < n_listed; ++k)
+  for (long k = 0; f->pvd && k < n_listed; ++k) /* MPI ranks: rank 0 keeps the .pvd */
     if (peri_pvd_add(f->pvd, times[k], files[k]) != PERI_OK) return PERI_ERR_RUN;
   return PERI_OK;
 }

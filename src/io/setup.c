@@ -13,6 +13,7 @@
 #include "peri/error.h"
 #include "peri/sim.h"
 #include "peri/solver.h"
+#include "peri/history.h"
 #include "peri/quasistatic.h"
 #include "peri/overrides.h"
 #include "peri/thermal.h"
@@ -756,6 +757,7 @@ static int build(parse_ctx *c) {
   TRY(parse_solver(c));
   TRY(parse_output(c));
   TRY(peri_setup_thermal(s, root)); /* heat conduction, thermal strain (docs/heat.md) */
+  TRY(peri_plot_check(s, peri_deck_get(root, "output"))); /* the columns, thermal ones included */
 
   /* lammps-form critical stretch: s0 starts unbounded (no breaking in the first step) */
   bool lammps = false;

@@ -112,6 +112,29 @@ void peri_comm_gather_doubles(const double *local, int64_t count, const int64_t 
   free(displ);
 }
 
+/* Point-to-point messages of at most 2^30 bytes, received by rank 0 in rank order: the
+ * counts and offsets of MPI_Gatherv are ints, and the bond arrays of a large problem hold
+ * more than 2^31 bytes. */
+void peri_comm_gather_bytes(const uint8_t *local, int64_t count, const int64_t *counts, uint8_t *out) {
+  enum { CHUNK = 1 << 30, TAG = 18 }; /* a tag of its own, apart from the halo's */
+  if (comm_rank > 0) {
+    for (int64_t at = 0; at < count; at += CHUNK) {
+      const int64_t part = count - at < CHUNK ? count - at : CHUNK;
+      MPI_Send(local + at, (int)part, MPI_UNSIGNED_CHAR, 0, TAG, MPI_COMM_WORLD);
+    }
+    return;
+  }
+  if (count > 0) memcpy(out, local, (size_t)count);
+  int64_t offset = counts[0];
+  for (int r = 1; r < comm_size; ++r) {
+    for (int64_t at = 0; at < counts[r]; at += CHUNK) {
+      const int64_t part = counts[r] - at < CHUNK ? counts[r] - at : CHUNK;
+      MPI_Recv(out + offset + at, (int)part, MPI_UNSIGNED_CHAR, r, TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    }
+    offset += counts[r];
+  }
+}
+
 void peri_comm_allgather_doubles(const double *local, int64_t count, const int64_t *counts, double *out) {
   if (comm_size == 1) {
     if (count > 0) memcpy(out, local, sizeof(double) * (size_t)count);
@@ -170,6 +193,10 @@ bool peri_comm_all(bool value) { return value; }
 void peri_comm_gather_doubles(const double *local, int64_t count, const int64_t *counts, double *out) {
   (void)counts;
   if (count > 0) memcpy(out, local, sizeof(double) * (size_t)count);
+}
+void peri_comm_gather_bytes(const uint8_t *local, int64_t count, const int64_t *counts, uint8_t *out) {
+  (void)counts;
+  if (count > 0) memcpy(out, local, (size_t)count);
 }
 void peri_comm_allgather_doubles(const double *local, int64_t count, const int64_t *counts, double *out) {
   (void)counts;

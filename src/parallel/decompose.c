@@ -6,6 +6,7 @@
  * bit for bit. */
 #include <stdlib.h>
 #include <string.h>
+#include "peri/checkpoint.h"
 #include "peri/comm.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
@@ -231,11 +232,6 @@ int peri_decompose_check(const peri_sim *s) {
                "use solver type adr, nlcg or dynamic_relaxation", s->deck_path, size);
     return PERI_ERR_INPUT;
   }
-  if (s->restart || s->out.checkpoint_every > 0) {
-    peri_error("%s: checkpoints and --restart run in a single process (without mpirun, or mpirun -np 1); "
-               "remove output.checkpoint_every to run on %d ranks", s->deck_path, size);
-    return PERI_ERR_INPUT;
-  }
   return PERI_OK;
 }
 
@@ -259,6 +255,11 @@ int peri_decompose(peri_sim *s) {
     d->owned[r] = d->first[r + 1] - d->first[r];
     d->blocks[r] = (d->owned[r] + PERI_SUM_BLOCK - 1) / PERI_SUM_BLOCK;
   }
+  /* checkpoints (docs/restart.md) hold the global bond order: each rank's families are one
+   * run of it, and the file's bond hash is that of the global families */
+  d->bond_first = peri_malloc(sizeof(int64_t) * ((size_t)size + 1));
+  for (int r = 0; r <= size; ++r) d->bond_first[r] = b->offset[d->first[r]];
+  if (s->out.checkpoint_every > 0) d->bond_hash = peri_checkpoint_bond_hash(b, p->n);
   const int64_t g0 = d->first[rank], g1 = d->first[rank + 1];
   const int32_t n_owned = (int32_t)(g1 - g0);
 
@@ -341,5 +342,6 @@ void peri_decomposition_free(peri_decomposition *d) {
   free(d->owned);
   free(d->blocks);
   free(d->global_id);
+  free(d->bond_first);
   free(d);
 }

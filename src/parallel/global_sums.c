@@ -63,3 +63,16 @@ void peri_gather_owned(const peri_sim *s, const double *local, int ncomp, double
   peri_comm_gather_doubles(local, (int64_t)s->p.n_owned * ncomp, counts, out);
   free(counts);
 }
+
+void peri_gather_owned_bonds(const peri_sim *s, const uint8_t *local, uint8_t *out) {
+  const peri_decomposition *d = s->dd;
+  if (!d) {
+    if (s->bonds.n_bonds > 0) memcpy(out, local, (size_t)s->bonds.n_bonds);
+    return;
+  }
+  /* each rank's families are one contiguous run of the global bond order, in rank order */
+  int64_t *counts = peri_malloc(sizeof(int64_t) * (size_t)d->size);
+  for (int r = 0; r < d->size; ++r) counts[r] = d->bond_first[r + 1] - d->bond_first[r];
+  peri_comm_gather_bytes(local, s->bonds.n_bonds, counts, out);
+  free(counts);
+}

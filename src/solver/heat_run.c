@@ -13,6 +13,7 @@
 #include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/frames.h"
+#include "peri/history.h"
 #include "peri/output.h"
 #include "peri/run.h"
 #include "peri/thermal.h"
@@ -65,31 +66,28 @@ typedef struct heat_ctx {
   int n_columns;
   double *row;
   long history_rows;  /* rows in history.csv (a checkpoint records it) */
+  peri_plot_series plot; /* the columns of output.plot */
 } heat_ctx;
 
 static int open_history(peri_sim *s, heat_ctx *c) {
-  int n = 6 + 2 * (s->n_regions - 1);
-  char **names = peri_calloc((size_t)n, sizeof(char *));
-  const char *fixed[] = {"time", "step", "total_heat", "min_temperature", "max_temperature",
-                         "broken_bond_fraction"};
-  int k = 0;
-  for (; k < 6; ++k) names[k] = peri_strdup(fixed[k]);
-  char buf[300];
-  for (int r = 1; r < s->n_regions; ++r) {
-    snprintf(buf, sizeof buf, "mean_temperature_%s", s->regions[r].name);
-    names[k++] = peri_strdup(buf);
-    snprintf(buf, sizeof buf, "heat_inflow_%s", s->regions[r].name);
-    names[k++] = peri_strdup(buf);
-  }
+  int n = 0;
+  char **names = peri_history_columns(s, &n); /* the order write_history fills */
+  peri_plot_series_init(&c->plot, s, names, n);
   c->n_columns = n;
   c->row = peri_calloc((size_t)n, sizeof(double));
   if (peri_comm_rank() > 0) { /* rank 0 writes history.csv (docs/parallel.md) */
-    for (int j = 0; j < n; ++j) free(names[j]);
-    free(names);
+    peri_history_columns_free(names, n);
     return PERI_OK;
   }
   c->history = peri_history_open_in(s->out.directory, n, names);
   return c->history ? PERI_OK : PERI_ERR_RUN;
+}
+
+/* Adds c->row to history.csv (rank 0) and to the series of output.plot. */
+static int record_row(heat_ctx *c) {
+  c->history_rows++;
+  peri_plot_series_add(&c->plot, c->row);
+  return c->history ? peri_history_write(c->history, c->row) : PERI_OK;
 }
 
 static int write_history(peri_sim *s, heat_ctx *c) {
@@ -122,8 +120,7 @@ static int write_history(peri_sim *s, heat_ctx *c) {
     c->row[k++] = peri_thermal_region_inflow(s, r);
   }
   free(terms);
-  c->history_rows++;
-  return c->history ? peri_history_write(c->history, c->row) : PERI_OK;
+  return record_row(c);
 }
 
 /* A restarted run: the checkpoint's state, then the frames and history rows the run had
@@ -132,8 +129,10 @@ static int resume(peri_sim *s, heat_ctx *c) {
   long rows = 0;
   const double *kept = peri_restart_resume(s, c->frames, c->n_columns, &rows);
   if (rows < 0) return PERI_ERR_RUN;
-  for (long r = 0; r < rows; ++r, ++c->history_rows)
-    if (peri_history_write(c->history, kept + (size_t)r * (size_t)c->n_columns) != PERI_OK) return PERI_ERR_RUN;
+  for (long r = 0; r < rows; ++r) {
+    memcpy(c->row, kept + (size_t)r * (size_t)c->n_columns, sizeof(double) * (size_t)c->n_columns);
+    if (record_row(c) != PERI_OK) return PERI_ERR_RUN;
+  }
   return PERI_OK;
 }
 
@@ -155,8 +154,8 @@ int peri_run_heat(peri_sim *s) {
     s->time = th->time;
     rc = peri_frames_write(c.frames, s);
     if (rc == PERI_OK) rc = write_history(s, &c);
-    rc = peri_comm_max_int(rc);
   }
+  rc = peri_comm_max_int(rc); /* every rank starts, or none */
   const double t_start = now();
   const long first_step = s->step; /* a restart's checkpoint, else 0 */
   double t_last = t_start;
@@ -184,7 +183,9 @@ int peri_run_heat(peri_sim *s) {
   }
   const double wall = now() - t_start;
   if (progress) fprintf(stderr, "\r%80s\r", "");
-  char picture[4300] = "";
+  char picture[4300] = "", plot[4400] = "";
+  /* drawn even when the run failed: the curve so far */
+  if (peri_plot_series_write(&c.plot, s, plot, sizeof plot) != PERI_OK) rc = PERI_ERR_RUN;
   if (rc == PERI_OK && s->out.picture && s->geom.dim == 2 &&
       peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) {
     rc = PERI_ERR_RUN;
@@ -194,11 +195,12 @@ int peri_run_heat(peri_sim *s) {
     printf("  finished     %ld steps in %.3f s: %.1f steps/s (%d threads)\n", s->step, wall,
            wall > 0 ? (s->step - first_step) / wall : 0.0, omp_get_max_threads());
     printf("  total heat   %.10g J\n", peri_thermal_total_heat(s));
-    printf("  output       %s/%s.pvd (VTU series), %s/history.csv%s%s\n", s->out.directory, s->out.basename,
-           s->out.directory, picture[0] ? ", " : "", picture);
+    printf("  output       %s/%s.pvd (VTU series), %s/history.csv%s%s%s%s\n", s->out.directory, s->out.basename,
+           s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot);
   }
   peri_history_close(c.history);
   peri_frames_close(c.frames);
   free(c.row);
+  peri_plot_series_free(&c.plot);
   return rc;
 }

@@ -12,12 +12,12 @@
 #include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/frames.h"
+#include "peri/history.h"
 #include "peri/output.h"
 #include "peri/run.h"
 #include "peri/solver.h"
 #include "peri/quasistatic.h"
 #include "peri/stress.h"
-#include "peri/plot.h"
 #include "peri/thermal.h"
 
 static double now(void) {
@@ -81,11 +81,9 @@ typedef struct run_ctx {
   double t_start, t_last_progress;
   bool progress;
   int failed;
-  int plot_x, plot_y;           /* history columns of output.plot, -1: none */
+  peri_plot_series plot;        /* the columns of output.plot */
   long history_rows;            /* rows in history.csv (a checkpoint records it) */
   long first_step;              /* step the solver started from (a restart's checkpoint) */
-  size_t plot_n, plot_cap;
-  double *plot_xs, *plot_ys;
 } run_ctx;
 
 /* Mean displacement of a region's nodes (quasi-static history: the imposed displacement),
@@ -150,64 +148,18 @@ static int write_history(peri_sim *s, run_ctx *c) {
 /* Adds c->row to history.csv and to the series of output.plot. */
 static int record_row(run_ctx *c) {
   c->history_rows++;
-  if (c->plot_x >= 0) { /* the series of output.plot */
-    if (c->plot_n == c->plot_cap) {
-      c->plot_cap = c->plot_cap ? 2 * c->plot_cap : 256;
-      c->plot_xs = peri_realloc(c->plot_xs, sizeof(double) * c->plot_cap);
-      c->plot_ys = peri_realloc(c->plot_ys, sizeof(double) * c->plot_cap);
-    }
-    c->plot_xs[c->plot_n] = c->row[c->plot_x];
-    c->plot_ys[c->plot_n++] = c->row[c->plot_y];
-  }
+  peri_plot_series_add(&c->plot, c->row);
   return c->history ? peri_history_write(c->history, c->row) : PERI_OK; /* rank 0 writes */
 }
 
 static int open_history(peri_sim *s, run_ctx *c) {
-  static const char axis[] = "xyz";
-  const bool qs = peri_is_quasi_static(s);
-  int n = 7 + s->geom.dim + (s->indenter.on ? s->geom.dim : 0) + (qs ? 2 : 1) * (s->n_regions - 1) * s->geom.dim;
-  n += (qs_dynamic_columns(s) ? 2 : 0) + peri_thermal_history_count(s);
-  char **names = peri_calloc(n, sizeof(char *));
-  const char *fixed[] = {"time", "step", "kinetic_energy", "strain_energy", "external_work",
-                         "energy_balance", "broken_bond_fraction"};
-  int k = 0;
-  for (; k < 7; ++k) names[k] = peri_strdup(fixed[k]);
-  char buf[256];
-  for (int d = 0; d < s->geom.dim; ++d) {
-    snprintf(buf, sizeof buf, "momentum_%c", axis[d]);
-    names[k++] = peri_strdup(buf);
-  }
-  if (s->indenter.on)
-    for (int d = 0; d < s->geom.dim; ++d) {
-      snprintf(buf, sizeof buf, "indenter_force_%c", axis[d]);
-      names[k++] = peri_strdup(buf);
-    }
-  for (int r = 1; r < s->n_regions; ++r)
-    for (int d = 0; d < s->geom.dim; ++d) {
-      snprintf(buf, sizeof buf, "reaction_%s_%c", s->regions[r].name, axis[d]);
-      names[k++] = peri_strdup(buf);
-    }
-  for (int r = 1; qs && r < s->n_regions; ++r) /* quasi-static: the imposed displacements */
-    for (int d = 0; d < s->geom.dim; ++d) {
-      snprintf(buf, sizeof buf, "displacement_%s_%c", s->regions[r].name, axis[d]);
-      names[k++] = peri_strdup(buf);
-    }
-  if (qs_dynamic_columns(s)) {
-    names[k++] = peri_strdup("phase");
-    names[k++] = peri_strdup("dynamic_time");
-  }
-  peri_thermal_history_names(s, names + k);
-  c->plot_x = c->plot_y = -1;
-  for (int j = 0; j < n && s->out.plot_x; ++j) {
-    if (!strcmp(names[j], s->out.plot_x)) c->plot_x = j;
-    if (!strcmp(names[j], s->out.plot_y)) c->plot_y = j;
-  }
-  if (c->plot_y < 0) c->plot_x = -1;
+  int n = 0;
+  char **names = peri_history_columns(s, &n); /* the order write_history fills */
+  peri_plot_series_init(&c->plot, s, names, n);
   c->n_columns = n;
-  c->row = peri_calloc(n, sizeof(double));
+  c->row = peri_calloc((size_t)n, sizeof(double));
   if (peri_comm_rank() > 0) { /* rank 0 writes history.csv */
-    for (int j = 0; j < n; ++j) free(names[j]);
-    free(names);
+    peri_history_columns_free(names, n);
     return PERI_OK;
   }
   c->history = peri_history_open_in(s->out.directory, n, names);
@@ -224,6 +176,8 @@ static int step_hook(peri_sim *s, void *ctx) {
   const bool history = s->step % s->out.history_every == 0 || last;
   const bool frame = (s->out.every > 0 && s->step % s->out.every == 0) || last;
   if (history && write_history(s, c) != PERI_OK) c->failed = 1;
+  /* only rank 0 writes history.csv: the ranks agree before the collective frame write */
+  if (history) c->failed = peri_comm_max_int(c->failed);
   if (!c->failed && frame && peri_frames_write(c->frames, s) != PERI_OK) c->failed = 1;
   const peri_checkpoint_progress done = {peri_frames_written(c->frames), c->history_rows};
   if (!c->failed && peri_checkpoint_after_step(s, &done) != PERI_OK) { /* docs/restart.md */
@@ -290,14 +244,8 @@ int peri_run(peri_sim *s) {
   double wall = now() - c.t_start;
   if (c.progress) fprintf(stderr, "\r%80s\r", "");
   char picture[4300] = "", plot[4400] = "";
-  if (c.plot_x >= 0 && c.plot_n > 0 && peri_comm_rank() == 0) { /* drawn even when the run failed: the curve so far */
-    snprintf(plot, sizeof plot, "%s/%s_vs_%s.png", s->out.directory, s->out.plot_y, s->out.plot_x);
-    if (peri_plot_write(plot, c.plot_xs, c.plot_ys, c.plot_n, s->out.plot_x, s->out.plot_y, s->out.basename, 1200,
-                        800) != PERI_OK) {
-      rc = PERI_ERR_RUN;
-      plot[0] = 0;
-    }
-  }
+  /* drawn even when the run failed: the curve so far */
+  if (peri_plot_series_write(&c.plot, s, plot, sizeof plot) != PERI_OK) rc = PERI_ERR_RUN;
   if (rc == PERI_OK && s->out.picture && s->geom.dim == 2) {
     if (peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) rc = PERI_ERR_RUN, picture[0] = 0;
   }
@@ -327,7 +275,6 @@ int peri_run(peri_sim *s) {
   peri_history_close(c.history);
   peri_frames_close(c.frames);
   free(c.row);
-  free(c.plot_xs);
-  free(c.plot_ys);
+  peri_plot_series_free(&c.plot);
   return rc;
 }

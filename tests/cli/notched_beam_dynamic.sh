@@ -88,7 +88,7 @@ pass "dynamic_switch keys are checked with positions"
 # the columns of the switch can be plotted, and only when the switch is on
 run_peri check "$deck" --set output.plot.x=dynamic_time --set output.plot.y=phase
 expect_status 0
-run_peri check examples/plate_with_hole.yaml --set output.plot.x=dynamic_time
+run_peri check examples/plate_with_hole.yaml --set output.plot.x=dynamic_time --set output.plot.y=time
 expect_status 2
 expect_stderr_contains "history.csv has no column 'dynamic_time'"
 pass "output.plot takes phase and dynamic_time with a dynamic switch"

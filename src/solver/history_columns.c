@@ -1,0 +1,101 @@
+/* The columns of history.csv: the one list behind the file's header, output.plot and the
+ * deck checks (include/peri/history.h). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/error.h"
+#include "peri/history.h"
+#include "peri/quasistatic.h"
+#include "peri/thermal.h"
+
+typedef struct column_list {
+  char **names;
+  int count, capacity;
+} column_list;
+
+static void add(column_list *c, const char *name) {
+  if (c->count == c->capacity) {
+    c->capacity = c->capacity ? 2 * c->capacity : 32;
+    c->names = peri_realloc(c->names, sizeof(char *) * (size_t)c->capacity);
+  }
+  c->names[c->count++] = peri_strdup(name);
+}
+
+/* name_<region>_<axis> for every named region (region 0 is the whole body) and axis */
+static void add_per_region_axis(column_list *c, const peri_sim *s, const char *what) {
+  char buf[300];
+  for (int r = 1; r < s->n_regions; ++r)
+    for (int d = 0; d < s->geom.dim; ++d) {
+      snprintf(buf, sizeof buf, "%s_%s_%c", what, s->regions[r].name, "xyz"[d]);
+      add(c, buf);
+    }
+}
+
+/* Conduction only (src/solver/heat_run.c). */
+static void heat_columns(column_list *c, const peri_sim *s) {
+  static const char *const fixed[] = {"time", "step", "total_heat", "min_temperature", "max_temperature",
+                                      "broken_bond_fraction"};
+  for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; ++k) add(c, fixed[k]);
+  char buf[300];
+  for (int r = 1; r < s->n_regions; ++r) {
+    snprintf(buf, sizeof buf, "mean_temperature_%s", s->regions[r].name);
+    add(c, buf);
+    snprintf(buf, sizeof buf, "heat_inflow_%s", s->regions[r].name);
+    add(c, buf);
+  }
+}
+
+/* Mechanical runs, explicit and quasi-static (src/solver/run.c). */
+static void mechanical_columns(column_list *c, const peri_sim *s) {
+  static const char *const fixed[] = {"time", "step", "kinetic_energy", "strain_energy", "external_work",
+                                      "energy_balance", "broken_bond_fraction"};
+  for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; ++k) add(c, fixed[k]);
+  char buf[64];
+  for (int d = 0; d < s->geom.dim; ++d) {
+    snprintf(buf, sizeof buf, "momentum_%c", "xyz"[d]);
+    add(c, buf);
+  }
+  for (int d = 0; s->indenter.on && d < s->geom.dim; ++d) {
+    snprintf(buf, sizeof buf, "indenter_force_%c", "xyz"[d]);
+    add(c, buf);
+  }
+  add_per_region_axis(c, s, "reaction");
+  const bool qs = peri_is_quasi_static(s);
+  if (qs) add_per_region_axis(c, s, "displacement"); /* the imposed displacements */
+  if (qs && s->qs.dynamic.on) { /* the switch to dynamics (docs/solvers.md section 4) */
+    add(c, "phase");
+    add(c, "dynamic_time");
+  }
+  const int n_thermal = peri_thermal_history_count(s); /* thermomechanics (docs/heat.md) */
+  if (n_thermal > 0) {
+    char **thermal = peri_calloc((size_t)n_thermal, sizeof(char *));
+    peri_thermal_history_names(s, thermal);
+    for (int k = 0; k < n_thermal; ++k) {
+      add(c, thermal[k]);
+      free(thermal[k]);
+    }
+    free(thermal);
+  }
+}
+
+char **peri_history_columns(const peri_sim *s, int *count) {
+  column_list c = {0};
+  if (s->solver == PERI_SOLVER_HEAT) heat_columns(&c, s);
+  else mechanical_columns(&c, s);
+  *count = c.count;
+  return c.names;
+}
+
+void peri_history_columns_free(char **names, int count) {
+  for (int k = 0; k < count; ++k) free(names[k]);
+  free(names);
+}
+
+bool peri_history_has_column(const peri_sim *s, const char *name) {
+  int n = 0;
+  char **names = peri_history_columns(s, &n);
+  bool found = false;
+  for (int k = 0; k < n && !found; ++k) found = !strcmp(names[k], name);
+  peri_history_columns_free(names, n);
+  return found;
+}
