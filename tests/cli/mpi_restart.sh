@@ -10,6 +10,7 @@
 #   - the LPS plate (3 ranks -> 2), a heat deck with a growing crack (3 ranks -> 2; the
 #     growing-crack position is split between the ranks) and a one-way coupled thermal
 #     shock (2 ranks -> 3; conduction keeps its own cut flags) likewise to 1e-12;
+#   - the quasi-static bar pulled to failure through a dynamic phase (2 ranks -> 3) likewise;
 #   - a checkpoint of another deck is refused on 2 ranks with exit status 2, one message and
 #     no output.
 # Skipped when peri was built without MPI or without HDF5.
@@ -146,6 +147,20 @@ run_peri_mpi 3 run "$DECKS/restart_thermal_shock.yaml" --output "$TMP/shock-r3" 
 expect_status 0
 restarted_same shock "$TMP/shock" "$TMP/shock-r3" 2 3
 pass "one-way thermal shock: checkpoint of 2 ranks restarted on 3, the same history"
+
+# --- quasi-static: the bar pulled to failure by nlcg, breaking through in a dynamic phase
+# (solver.dynamic_switch) after load step 21; written on 2 ranks at load step 14, restarted on 3
+qs=(--set output.checkpoint_every=7 --set 'output.checkpoint_file=checkpoint_{step}.h5'
+  --set 'solver.dynamic_switch={when_broken_exceeds: 10, damping: 1.0e5, history_every: 5}')
+run_peri_mpi 2 run "$DECKS/qs_bar.yaml" --output "$TMP/qs" "${qs[@]}"
+expect_status 0
+interrupted "$TMP/qs" checkpoint_000014.h5 "$TMP/qs-r3"
+run_peri_mpi 3 run "$DECKS/qs_bar.yaml" --output "$TMP/qs-r3" "${qs[@]}" --restart "$TMP/qs-r3/checkpoint_000014.h5"
+expect_status 0
+restarted_same quasi_static "$TMP/qs" "$TMP/qs-r3" 2 3
+after=$(column_at "$TMP/qs/history.csv" 40 broken_bond_fraction)
+awk -v b="$after" 'BEGIN { exit !(b > 0) }' || fail "quasi-static: the bar did not break after load step 14"
+pass "quasi-static bar (nlcg, a dynamic phase): checkpoint of 2 ranks restarted on 3, the same history"
 
 # --- a checkpoint of another deck: refused on 2 ranks before any output, one message
 run_peri_mpi 2 run "$plate" --output "$TMP/refused" --restart "$TMP/lps/checkpoint_000150.h5"
