@@ -45,6 +45,11 @@ peri_qs_status peri_solve_implicit(peri_sim *s);
  * up to max of them into out and returns how many there were. */
 int peri_implicit_residual_history(double *out, int max);
 
+/* Before a run on `ranks` MPI ranks: PERI_OK, or PERI_ERR_INPUT with a message when the
+ * deck asks for an LU factorization (linear_solver direct, petsc_preconditioner lu) and this
+ * PETSc has no parallel one (MUMPS, SuperLU_dist). Called by peri_decompose_check. */
+int peri_implicit_check_ranks(const peri_sim *s, int ranks);
+
 /* Finalizes PETSc if this process initialized it (also registered with atexit; safe to
  * call more than once). */
 void peri_implicit_finalize(void);

@@ -6,9 +6,10 @@
 
 typedef struct peri_sim peri_sim;
 
-/* Receives row i of the tangent stiffness: for each of the count columns j = cols[c] the
- * 3x3 block K_ij = d f_i / d u_j (row-major, N/m^3 per m; f_i is the internal force
- * density of node i) at blocks[9c .. 9c+8]. Each row is given once, each column once in it.
+/* Receives (part of) row i of the tangent stiffness: for each of the count columns
+ * j = cols[c] the 3x3 block K_ij = d f_i / d u_j (row-major, N/m^3 per m; f_i is the internal
+ * force density of node i) at blocks[9c .. 9c+8], to be added to the row. i and j are local
+ * node indices (owned nodes, then ghosts on MPI ranks). Each column appears once in a call.
  * In 1D and 2D only the dim x dim part of a block is used. */
 typedef void (*peri_tangent_add_fn)(void *ctx, int32_t i, int32_t count, const int32_t *cols, const double *blocks);
 
@@ -32,9 +33,13 @@ typedef struct peri_model_ops {
    * deformed length is r, at the state of the last force() call (dilatation, thermal
    * strain). The force on i is pair * beta V_j * (y_j - y_i)/r. Used by stress recovery. */
   double (*pair_force)(const peri_sim *s, int32_t i, int64_t k, double r);
-  /* Tangent stiffness at the current displacement (intact bonds, no breaking): calls add once
-   * for every row of an owned node, one call at a time (from any thread). Used by the
-   * implicit solver; NULL when the model has none. */
+  /* Tangent stiffness at the current displacement (intact bonds, no breaking), one add call
+   * at a time (from any thread). In a single process add is called once for every row. On
+   * MPI ranks (collective: every rank calls it; ghost displacements current) a model may
+   * also give parts of rows of ghost nodes (terms that need an owned family, for the
+   * ghost's owner) and so give a row in several calls, which add up; it must then make those
+   * calls in an order that does not depend on the threads (the sums are in that order).
+   * Used by the implicit solver; NULL when the model has none. */
   void (*tangent)(const peri_sim *s, peri_tangent_add_fn add, void *ctx);
   /* Reach of the tangent in bonds: 1 when K_ij != 0 only for bonded i, j (bond-based), 2 when
    * neighbours of neighbours couple (state-based). The solver preallocates from it. */

@@ -19,7 +19,15 @@
  *   S_j       (i,k) += g_j w_ij n_ij (x) w_jk n_jk for k in the family of j (k = i included),
  *             (i,j) -= g_j w_ij n_ij (x) s_j
  * so row i reaches the neighbours of its neighbours (2 delta). V_i K_ij is symmetric (the
- * force derives from an energy). */
+ * force derives from an energy).
+ *
+ * On MPI ranks only owned nodes have families. Row i of an owned node needs, of a ghost
+ * neighbour j, the scalars alpha_j, g_j, S_j (exchanged) for the pair term, and j's family
+ * for the S_j terms: those are added by the rank that owns j instead, in a pass over the
+ * ghosts i of that rank, each row gathered from i's owned neighbours j (rows of ghosts, which
+ * PETSc sends to their owners). Each pair (i, j) is counted once: by the row pass when j is
+ * owned here, by the ghost pass of j's owner when i is a ghost there. In a single process
+ * there are no ghosts and no ghost pass: the rows are exactly those of the serial code. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -129,7 +137,9 @@ static void row(const peri_sim *s, const node_state *st, const double *wn, int32
     for (int e = 0; e < 9; ++e) dij[e] += pair[e], dii[e] -= pair[e];
     /* own dilatation: d S_i / d u_j = w_ij n_ij */
     add_outer(dij, si->g * w_ij, si->svec, n);
-    /* the neighbour's dilatation: d S_j / d u_k = w_jk n_jk, d S_j / d u_j = -s_j */
+    /* the neighbour's dilatation: d S_j / d u_k = w_jk n_jk, d S_j / d u_j = -s_j; a ghost
+     * j has no family here: its owner adds these (ghost_row) */
+    if (j >= p->n_owned) continue;
     const double coef = sj->g * w_ij;
     add_outer(dij, -coef, n, sj->svec);
     /* the hot loop (neighbours of neighbours): only the dim x dim part is nonzero */
@@ -145,15 +155,94 @@ static void row(const peri_sim *s, const node_state *st, const double *wn, int32
   }
 }
 
+/* alpha, g and S of the ghosts from their owners (the pair term of row i reads them). */
+static void exchange_states(const peri_sim *s, node_state *st) {
+  const peri_particles *p = &s->p;
+  double *field = peri_malloc(sizeof(double) * 3 * (size_t)p->n);
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    field[3 * (size_t)i] = st[i].alpha;
+    field[3 * (size_t)i + 1] = st[i].g;
+    field[3 * (size_t)i + 2] = st[i].S;
+  }
+  /* the exchange writes only this scratch field's ghost slots; the simulation is unchanged */
+  peri_sim_exchange((peri_sim *)s, field, 3);
+  for (int32_t i = p->n_owned; i < p->n; ++i) {
+    st[i].alpha = field[3 * (size_t)i];
+    st[i].g = field[3 * (size_t)i + 1];
+    st[i].S = field[3 * (size_t)i + 2];
+  }
+  free(field);
+}
+
+/* The owned centres j bonded (intact) to each ghost: ghost g = i - n_owned has the centres
+ * centre[start[g] .. start[g+1]-1], ascending. */
+typedef struct ghost_bonds {
+  int64_t *start;
+  int32_t *centre;
+} ghost_bonds;
+
+static ghost_bonds find_ghost_bonds(const peri_sim *s) {
+  const peri_particles *p = &s->p;
+  const peri_bonds *b = &s->bonds;
+  const int32_t n_ghosts = p->n - p->n_owned;
+  ghost_bonds gb = {.start = peri_calloc((size_t)n_ghosts + 1, sizeof(int64_t))};
+  for (int32_t j = 0; j < p->n_owned; ++j)
+    for (int64_t l = b->offset[j]; l < b->offset[j + 1]; ++l)
+      if (!b->broken[l] && b->neighbor[l] >= p->n_owned) gb.start[b->neighbor[l] - p->n_owned + 1]++;
+  for (int32_t g = 0; g < n_ghosts; ++g) gb.start[g + 1] += gb.start[g];
+  int64_t *next = peri_malloc(sizeof(int64_t) * ((size_t)n_ghosts + 1));
+  memcpy(next, gb.start, sizeof(int64_t) * ((size_t)n_ghosts + 1));
+  gb.centre = peri_malloc(sizeof(int32_t) * (size_t)(gb.start[n_ghosts] > 0 ? gb.start[n_ghosts] : 1));
+  for (int32_t j = 0; j < p->n_owned; ++j)
+    for (int64_t l = b->offset[j]; l < b->offset[j + 1]; ++l) {
+      const int32_t i = b->neighbor[l];
+      if (b->broken[l] || i < p->n_owned) continue;
+      gb.centre[next[i - p->n_owned]++] = j;
+    }
+  free(next);
+  return gb;
+}
+
+/* The S_j terms of the row of ghost i from its owned neighbours j, into rb:
+ * (i,j) -= g_j w_ij n_ij (x) s_j and (i,k) += g_j w_ij n_ij (x) w_jk n_jk for the intact k of
+ * j's family. The centres in ascending order: the sums do not depend on the threads. */
+static void ghost_row(const peri_sim *s, const node_state *st, const double *wn, const ghost_bonds *gb, int32_t i,
+                      row_blocks *rb) {
+  const peri_particles *p = &s->p;
+  const peri_bonds *b = &s->bonds;
+  const int dim = s->geom.dim;
+  const int32_t g = i - p->n_owned;
+  for (int64_t at = gb->start[g]; at < gb->start[g + 1]; ++at) {
+    const int32_t j = gb->centre[at];
+    const node_state *sj = &st[j];
+    double dy[3], n[3];
+    const double r = peri_deformed_bond(p->x, p->u, i, j, dy); /* y_j - y_i */
+    if (r <= 0.0) continue;
+    for (int d = 0; d < 3; ++d) n[d] = dy[d] / r;
+    const double L = peri_bond_length(p->x, i, j);
+    const double coef = sj->g * peri_bonds_omega(b, L) * L * peri_bonds_beta(b, L) * p->volume[j];
+    add_outer(block_of(rb, j), -coef, n, sj->svec);
+    double a[3];
+    for (int d = 0; d < 3; ++d) a[d] = coef * n[d];
+    for (int64_t m = b->offset[j]; m < b->offset[j + 1]; ++m) {
+      if (b->broken[m]) continue;
+      const double *wnm = &wn[3 * (size_t)m];
+      double *blk = block_of(rb, b->neighbor[m]);
+      for (int r1 = 0; r1 < dim; ++r1)
+        for (int c1 = 0; c1 < dim; ++c1) blk[3 * r1 + c1] += a[r1] * wnm[c1];
+    }
+  }
+}
+
 void peri_lps_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
   const peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
-  /* serial runs only: every neighbour is owned (ghost states would need an exchange) */
   node_state *st = peri_calloc((size_t)(p->n > 0 ? p->n : 1), sizeof(node_state));
   double *wn = peri_malloc(sizeof(double) * 3 * (size_t)(b->n_bonds > 0 ? b->n_bonds : 1));
   compute_states(s, st, wn);
-  /* Rows in parallel, each gathered in its thread's buffer; add() is called for one row at
-   * a time. Every block is added once per row, so the sums do not depend on the threads. */
+  if (s->exchange) exchange_states(s, st); /* on every rank: the exchange is collective */
+  /* Rows of owned nodes in parallel, each gathered in its thread's buffer; add() is called
+   * for one row at a time, once per row, so the sums do not depend on the threads. */
 #pragma omp parallel
   {
     row_blocks rb = {.slot = peri_malloc(sizeof(int32_t) * (size_t)(p->n > 0 ? p->n : 1))};
@@ -169,6 +258,30 @@ void peri_lps_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
     free(rb.slot);
     free(rb.cols);
     free(rb.blk);
+  }
+  if (p->n > p->n_owned) {
+    /* Rows of ghosts (the S_j terms of their owned neighbours j), each gathered whole and
+     * added once, like the rows above: their owner adds one such part per rank. */
+    ghost_bonds gb = find_ghost_bonds(s);
+#pragma omp parallel
+    {
+      row_blocks rb = {.slot = peri_malloc(sizeof(int32_t) * (size_t)p->n)};
+      for (int32_t i = 0; i < p->n; ++i) rb.slot[i] = -1;
+#pragma omp for schedule(dynamic, 16)
+      for (int32_t i = p->n_owned; i < p->n; ++i) {
+        ghost_row(s, st, wn, &gb, i, &rb);
+        if (rb.count == 0) continue;
+#pragma omp critical(peri_lps_tangent_add)
+        add(ctx, i, rb.count, rb.cols, rb.blk);
+        for (int32_t c = 0; c < rb.count; ++c) rb.slot[rb.cols[c]] = -1;
+        rb.count = 0;
+      }
+      free(rb.slot);
+      free(rb.cols);
+      free(rb.blk);
+    }
+    free(gb.start);
+    free(gb.centre);
   }
   free(wn);
   free(st);

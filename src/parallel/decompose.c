@@ -10,6 +10,7 @@
 #include "peri/comm.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
+#include "peri/implicit.h"
 #include "peri/thermal.h"
 
 /* out[k] = src[ids[k]] for elements of `size` bytes; NULL stays NULL. */
@@ -227,11 +228,7 @@ static void localize_thermal(peri_sim *s, const int32_t *ids, int32_t n_local, i
 int peri_decompose_check(const peri_sim *s) {
   const int size = peri_comm_size();
   if (size == 1) return PERI_OK;
-  if (s->solver == PERI_SOLVER_IMPLICIT) {
-    peri_error("%s: the implicit solver runs in one process (without mpirun, or mpirun -np 1); on %d ranks "
-               "use solver type adr, nlcg or dynamic_relaxation", s->deck_path, size);
-    return PERI_ERR_INPUT;
-  }
+  if (s->solver == PERI_SOLVER_IMPLICIT) return peri_implicit_check_ranks(s, size); /* a parallel LU */
   return PERI_OK;
 }
 
