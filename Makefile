@@ -2,7 +2,7 @@
 BUILD ?= build
 JOBS  ?= $(shell nproc)
 
-.PHONY: all deps configure build run test bench clean
+.PHONY: all deps configure build run test bench bench-plate clean
 
 all: build
 
@@ -25,6 +25,10 @@ test: build
 bench: build
 	@scripts/install-deps --bench
 	@bench/run
+
+# quasi-static solvers on the plate with a hole at ~10^6 unknowns (over an hour; not in `make test`)
+bench-plate: build
+	@PERI=$(BUILD)/peri bench/plate_solvers
 
 clean:
 	rm -rf $(BUILD) output
