@@ -94,24 +94,8 @@ expect_stderr_contains "PETSc option -snes_monitr was not used"
 pass "--petsc-options: monitor printed, unused option reported"
 
 # thread invariance through fracture
-cat >"$TMP/crack.yaml" <<'DECK'
-dimension: 2
-plane: stress
-materials:
-  glass: {model: lps, density: 2440, youngs_modulus: 72.0e9, poisson_ratio: 0.22, fracture_energy: 3.8}
-discretization: {spacing: 1.0e-3, m: 3, thickness: 1.0e-3, fill: [{shape: rectangle, min: [0, 0], max: [0.016, 0.010]}]}
-precracks: [{from: [-0.001, 0.005], to: [0.007, 0.005]}]
-regions:
-  top: {shape: rectangle, min: [-0.001, 0.007], max: [0.017, 0.011]}
-  bottom: {shape: rectangle, min: [-0.001, -0.001], max: [0.017, 0.003]}
-boundary_conditions:
-  - {type: displacement, region: top, y: "1.2e-5*t"}
-  - {type: displacement, region: bottom, x: 0, y: 0}
-solver: {type: implicit, load_steps: 4}
-output: {picture: false, fields: [displacement, damage]}
-DECK
 for threads in 1 2; do
-  run_peri run "$TMP/crack.yaml" --quiet --threads "$threads" --output "$TMP/crack$threads"
+  run_peri run "$DECKS/implicit_crack.yaml" --quiet --threads "$threads" --output "$TMP/crack$threads"
   expect_status 0
 done
 cmp -s "$TMP/crack1/history.csv" "$TMP/crack2/history.csv" ||

@@ -135,26 +135,10 @@ pass "PMB bar pulled to failure by implicit on 1 and 2 ranks: history.csv within
 
 # (3) thread invariance on ranks: the LPS rows (of owned nodes and of ghosts) are computed in
 # parallel, each summed in a fixed order and added once, so a pre-cracked LPS plate torn apart
-# in load steps (the deck of tests/cli/implicit.sh) gives the same history.csv, byte for byte,
+# in load steps (tests/cli/decks/implicit_crack.yaml) gives the same history.csv, byte for byte,
 # with 1 and 2 threads per rank
-cat >"$TMP/crack.yaml" <<'DECK'
-dimension: 2
-plane: stress
-materials:
-  glass: {model: lps, density: 2440, youngs_modulus: 72.0e9, poisson_ratio: 0.22, fracture_energy: 3.8}
-discretization: {spacing: 1.0e-3, m: 3, thickness: 1.0e-3, fill: [{shape: rectangle, min: [0, 0], max: [0.016, 0.010]}]}
-precracks: [{from: [-0.001, 0.005], to: [0.007, 0.005]}]
-regions:
-  top: {shape: rectangle, min: [-0.001, 0.007], max: [0.017, 0.011]}
-  bottom: {shape: rectangle, min: [-0.001, -0.001], max: [0.017, 0.003]}
-boundary_conditions:
-  - {type: displacement, region: top, y: "1.2e-5*t"}
-  - {type: displacement, region: bottom, x: 0, y: 0}
-solver: {type: implicit, load_steps: 4}
-output: {picture: false, fields: [damage]}
-DECK
 for threads in 1 2; do
-  run_peri_mpi 2 run "$TMP/crack.yaml" --threads "$threads" --output "$TMP/crack$threads"
+  run_peri_mpi 2 run "$DECKS/implicit_crack.yaml" --threads "$threads" --output "$TMP/crack$threads"
   expect_status 0
 done
 broken=$(broken_line | sed 's/^  *//')
@@ -186,7 +170,7 @@ first_matrix_difference() { # FILE_A FILE_B: "entries_a entries_b max|a-b|/max|a
 }
 one_step=(--set solver.load_steps=1 --set solver.end_time=0.25 --set solver.breaking=false)
 for np in 1 2 3; do
-  run_peri_mpi "$np" run "$TMP/crack.yaml" "${one_step[@]}" --output "$TMP/matrix$np" \
+  run_peri_mpi "$np" run "$DECKS/implicit_crack.yaml" "${one_step[@]}" --output "$TMP/matrix$np" \
     --petsc-options "-ksp_view_mat ascii:$TMP/matrix$np.m:ascii_matlab"
   expect_status 0
   expect_nonempty_file "$TMP/matrix$np.m"
