@@ -234,6 +234,29 @@ static void ghost_row(const peri_sim *s, const node_state *st, const double *wn,
   }
 }
 
+/* A thread's row buffer over the n local nodes. */
+static row_blocks row_blocks_new(int32_t n) {
+  row_blocks rb = {.slot = peri_malloc(sizeof(int32_t) * (size_t)(n > 0 ? n : 1))};
+  for (int32_t i = 0; i < n; ++i) rb.slot[i] = -1;
+  return rb;
+}
+
+/* Hands the gathered row i to add() (one row at a time) and empties the buffer. */
+static void emit_row(row_blocks *rb, int32_t i, peri_tangent_add_fn add, void *ctx) {
+  if (rb->count > 0) {
+#pragma omp critical(peri_lps_tangent_add)
+    add(ctx, i, rb->count, rb->cols, rb->blk);
+  }
+  for (int32_t c = 0; c < rb->count; ++c) rb->slot[rb->cols[c]] = -1;
+  rb->count = 0;
+}
+
+static void row_blocks_free(row_blocks *rb) {
+  free(rb->slot);
+  free(rb->cols);
+  free(rb->blk);
+}
+
 void peri_lps_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
   const peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
@@ -245,19 +268,13 @@ void peri_lps_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
    * for one row at a time, once per row, so the sums do not depend on the threads. */
 #pragma omp parallel
   {
-    row_blocks rb = {.slot = peri_malloc(sizeof(int32_t) * (size_t)(p->n > 0 ? p->n : 1))};
-    for (int32_t i = 0; i < p->n; ++i) rb.slot[i] = -1;
+    row_blocks rb = row_blocks_new(p->n);
 #pragma omp for schedule(dynamic, 64)
     for (int32_t i = 0; i < p->n_owned; ++i) {
       row(s, st, wn, i, &rb);
-#pragma omp critical(peri_lps_tangent_add)
-      add(ctx, i, rb.count, rb.cols, rb.blk);
-      for (int32_t c = 0; c < rb.count; ++c) rb.slot[rb.cols[c]] = -1;
-      rb.count = 0;
+      emit_row(&rb, i, add, ctx);
     }
-    free(rb.slot);
-    free(rb.cols);
-    free(rb.blk);
+    row_blocks_free(&rb);
   }
   if (p->n > p->n_owned) {
     /* Rows of ghosts (the S_j terms of their owned neighbours j), each gathered whole and
@@ -265,20 +282,13 @@ void peri_lps_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
     ghost_bonds gb = find_ghost_bonds(s);
 #pragma omp parallel
     {
-      row_blocks rb = {.slot = peri_malloc(sizeof(int32_t) * (size_t)p->n)};
-      for (int32_t i = 0; i < p->n; ++i) rb.slot[i] = -1;
+      row_blocks rb = row_blocks_new(p->n);
 #pragma omp for schedule(dynamic, 16)
       for (int32_t i = p->n_owned; i < p->n; ++i) {
         ghost_row(s, st, wn, &gb, i, &rb);
-        if (rb.count == 0) continue;
-#pragma omp critical(peri_lps_tangent_add)
-        add(ctx, i, rb.count, rb.cols, rb.blk);
-        for (int32_t c = 0; c < rb.count; ++c) rb.slot[rb.cols[c]] = -1;
-        rb.count = 0;
+        emit_row(&rb, i, add, ctx);
       }
-      free(rb.slot);
-      free(rb.cols);
-      free(rb.blk);
+      row_blocks_free(&rb);
     }
     free(gb.start);
     free(gb.centre);
