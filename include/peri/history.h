@@ -38,4 +38,25 @@ void peri_plot_series_add(peri_plot_series *p, const double *row);
 int peri_plot_series_write(const peri_plot_series *p, const peri_sim *s, char *path, size_t size);
 void peri_plot_series_free(peri_plot_series *p);
 
+/* The history.csv of a run, shared by the mechanical and heat drivers: the driver fills
+ * `row` (in the order of peri_history_columns) and records it. */
+struct peri_frames;
+typedef struct peri_history_log {
+  struct peri_history *file; /* rank 0 only */
+  double *row;               /* [n_columns], filled by the driver */
+  int n_columns;
+  long rows;                 /* rows recorded (a checkpoint records it) */
+  peri_plot_series plot;     /* the columns of output.plot */
+} peri_history_log;
+
+/* Opens <directory>/history.csv on rank 0 and the plot series; PERI_OK or PERI_ERR_RUN
+ * with a message (on rank 0: agree on the status with peri_comm_max_int). */
+int peri_history_log_open(peri_history_log *h, const peri_sim *s);
+/* Adds h->row to the file and to the plot series. */
+int peri_history_log_record(peri_history_log *h);
+/* A restarted run: puts the checkpoint's state into s, continues the .pvd series in frames
+ * and records again the rows written before the checkpoint (peri_restart_resume). */
+int peri_history_log_resume(peri_history_log *h, peri_sim *s, struct peri_frames *frames);
+void peri_history_log_close(peri_history_log *h);
+
 #endif

@@ -62,33 +62,8 @@ void peri_thermal_print_summary(const peri_sim *s, FILE *out) {
 
 typedef struct heat_ctx {
   peri_frames *frames;
-  peri_history *history;
-  int n_columns;
-  double *row;
-  long history_rows;  /* rows in history.csv (a checkpoint records it) */
-  peri_plot_series plot; /* the columns of output.plot */
+  peri_history_log log; /* history.csv and the output.plot series */
 } heat_ctx;
-
-static int open_history(peri_sim *s, heat_ctx *c) {
-  int n = 0;
-  char **names = peri_history_columns(s, &n); /* the order write_history fills */
-  peri_plot_series_init(&c->plot, s, names, n);
-  c->n_columns = n;
-  c->row = peri_calloc((size_t)n, sizeof(double));
-  if (peri_comm_rank() > 0) { /* rank 0 writes history.csv (docs/parallel.md) */
-    peri_history_columns_free(names, n);
-    return PERI_OK;
-  }
-  c->history = peri_history_open_in(s->out.directory, n, names);
-  return c->history ? PERI_OK : PERI_ERR_RUN;
-}
-
-/* Adds c->row to history.csv (rank 0) and to the series of output.plot. */
-static int record_row(heat_ctx *c) {
-  c->history_rows++;
-  peri_plot_series_add(&c->plot, c->row);
-  return c->history ? peri_history_write(c->history, c->row) : PERI_OK;
-}
 
 static int write_history(peri_sim *s, heat_ctx *c) {
   const peri_thermal *th = s->thermal;
@@ -98,13 +73,13 @@ static int write_history(peri_sim *s, heat_ctx *c) {
     if (th->T[i] < lo) lo = th->T[i];
     if (th->T[i] > hi) hi = th->T[i];
   }
-  c->row[k++] = s->time;
-  c->row[k++] = (double)s->step;
-  c->row[k++] = peri_thermal_total_heat(s);
-  c->row[k++] = peri_comm_min(lo); /* all ranks */
-  c->row[k++] = peri_comm_max(hi);
+  c->log.row[k++] = s->time;
+  c->log.row[k++] = (double)s->step;
+  c->log.row[k++] = peri_thermal_total_heat(s);
+  c->log.row[k++] = peri_comm_min(lo); /* all ranks */
+  c->log.row[k++] = peri_comm_max(hi);
   const int64_t n_bonds = peri_global_bonds(s);
-  c->row[k++] = n_bonds ? (double)peri_global_broken(s) / (double)n_bonds : 0.0;
+  c->log.row[k++] = n_bonds ? (double)peri_global_broken(s) / (double)n_bonds : 0.0;
   double *terms = peri_calloc(2 * (size_t)(th->n > 0 ? th->n : 1), sizeof(double));
   for (int r = 1; r < s->n_regions; ++r) {
     const peri_region *reg = &s->regions[r];
@@ -116,24 +91,11 @@ static int write_history(peri_sim *s, heat_ctx *c) {
     double sums[2]; /* fixed-order blocks: independent of threads and ranks */
     peri_sum_owned(s, terms, 2, sums);
     const double sum = sums[0], vol = sums[1];
-    c->row[k++] = vol > 0.0 ? sum / vol : 0.0;
-    c->row[k++] = peri_thermal_region_inflow(s, r);
+    c->log.row[k++] = vol > 0.0 ? sum / vol : 0.0;
+    c->log.row[k++] = peri_thermal_region_inflow(s, r);
   }
   free(terms);
-  return record_row(c);
-}
-
-/* A restarted run: the checkpoint's state, then the frames and history rows the run had
- * written up to it (docs/restart.md). */
-static int resume(peri_sim *s, heat_ctx *c) {
-  long rows = 0;
-  const double *kept = peri_restart_resume(s, c->frames, c->n_columns, &rows);
-  if (rows < 0) return PERI_ERR_RUN;
-  for (long r = 0; r < rows; ++r) {
-    memcpy(c->row, kept + (size_t)r * (size_t)c->n_columns, sizeof(double) * (size_t)c->n_columns);
-    if (record_row(c) != PERI_OK) return PERI_ERR_RUN;
-  }
-  return PERI_OK;
+  return peri_history_log_record(&c->log);
 }
 
 int peri_run_heat(peri_sim *s) {
@@ -141,15 +103,15 @@ int peri_run_heat(peri_sim *s) {
   heat_ctx c = {0};
   c.frames = peri_frames_open(s);
   if (!c.frames) return PERI_ERR_RUN;
-  if (peri_comm_max_int(open_history(s, &c))) { /* collective: rank 0 opens the file */
+  if (peri_comm_max_int(peri_history_log_open(&c.log, s))) { /* collective: rank 0 opens the file */
     peri_frames_close(c.frames);
-    free(c.row);
+    peri_history_log_close(&c.log);
     return PERI_ERR_RUN;
   }
   const bool progress = !s->quiet && isatty(STDERR_FILENO);
   int rc = PERI_OK;
   if (s->restart) { /* continue from a checkpoint (docs/restart.md) */
-    rc = resume(s, &c);
+    rc = peri_history_log_resume(&c.log, s, c.frames);
   } else {
     s->time = th->time;
     rc = peri_frames_write(c.frames, s);
@@ -169,7 +131,7 @@ int peri_run_heat(peri_sim *s) {
       rc = PERI_ERR_RUN; /* every rank stops together */
     if (rc == PERI_OK && ((s->out.every > 0 && s->step % s->out.every == 0) || last))
       rc = peri_frames_write(c.frames, s);
-    const peri_checkpoint_progress done = {peri_frames_written(c.frames), c.history_rows};
+    const peri_checkpoint_progress done = {peri_frames_written(c.frames), c.log.rows};
     if (rc == PERI_OK) rc = peri_checkpoint_after_step(s, &done); /* docs/restart.md */
     if (progress) {
       double t = now();
@@ -185,7 +147,7 @@ int peri_run_heat(peri_sim *s) {
   if (progress) fprintf(stderr, "\r%80s\r", "");
   char picture[4300] = "", plot[4400] = "";
   /* drawn even when the run failed: the curve so far */
-  if (peri_plot_series_write(&c.plot, s, plot, sizeof plot) != PERI_OK) rc = PERI_ERR_RUN;
+  if (peri_plot_series_write(&c.log.plot, s, plot, sizeof plot) != PERI_OK) rc = PERI_ERR_RUN;
   if (rc == PERI_OK && s->out.picture && s->geom.dim == 2 &&
       peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) {
     rc = PERI_ERR_RUN;
@@ -198,9 +160,7 @@ int peri_run_heat(peri_sim *s) {
     printf("  output       %s/%s.pvd (VTU series), %s/history.csv%s%s%s%s\n", s->out.directory, s->out.basename,
            s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot);
   }
-  peri_history_close(c.history);
   peri_frames_close(c.frames);
-  free(c.row);
-  peri_plot_series_free(&c.plot);
+  peri_history_log_close(&c.log);
   return rc;
 }

@@ -75,14 +75,10 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
 
 typedef struct run_ctx {
   peri_frames *frames;
-  peri_history *history;
-  int n_columns;
-  double *row;
+  peri_history_log log;         /* history.csv and the output.plot series */
   double t_start, t_last_progress;
   bool progress;
   int failed;
-  peri_plot_series plot;        /* the columns of output.plot */
-  long history_rows;            /* rows in history.csv (a checkpoint records it) */
   long first_step;              /* step the solver started from (a restart's checkpoint) */
 } run_ctx;
 
@@ -104,8 +100,6 @@ static void region_displacement(const peri_sim *s, int region, double out[3]) {
   for (int d = 0; d < 3; ++d) out[d] = sum[3] > 0.0 ? sum[d] / sum[3] : 0.0;
 }
 
-static int record_row(run_ctx *c);
-
 /* A quasi-static run that may switch to dynamics has the columns phase and dynamic_time. */
 static bool qs_dynamic_columns(const peri_sim *s) { return peri_is_quasi_static(s) && s->qs.dynamic.on; }
 
@@ -113,57 +107,36 @@ static int write_history(peri_sim *s, run_ctx *c) {
   int k = 0;
   double ke = peri_kinetic_energy(s);
   double se = peri_strain_energy(s);
-  c->row[k++] = s->time;
-  c->row[k++] = (double)s->step;
-  c->row[k++] = ke;
-  c->row[k++] = se;
-  c->row[k++] = s->external_work;
-  c->row[k++] = ke + se - s->external_work;
+  c->log.row[k++] = s->time;
+  c->log.row[k++] = (double)s->step;
+  c->log.row[k++] = ke;
+  c->log.row[k++] = se;
+  c->log.row[k++] = s->external_work;
+  c->log.row[k++] = ke + se - s->external_work;
   const int64_t n_bonds = peri_global_bonds(s); /* all ranks (docs/parallel.md) */
-  c->row[k++] = n_bonds ? (double)peri_global_broken(s) / (double)n_bonds : 0.0;
+  c->log.row[k++] = n_bonds ? (double)peri_global_broken(s) / (double)n_bonds : 0.0;
   double momentum[3];
   peri_linear_momentum(s, momentum);
-  for (int d = 0; d < s->geom.dim; ++d) c->row[k++] = momentum[d];
+  for (int d = 0; d < s->geom.dim; ++d) c->log.row[k++] = momentum[d];
   if (s->indenter.on)
-    for (int d = 0; d < s->geom.dim; ++d) c->row[k++] = s->indenter.force[d];
+    for (int d = 0; d < s->geom.dim; ++d) c->log.row[k++] = s->indenter.force[d];
   for (int r = 1; r < s->n_regions; ++r) {
     double reaction[3];
     peri_region_reaction(s, r, reaction);
-    for (int d = 0; d < s->geom.dim; ++d) c->row[k++] = reaction[d];
+    for (int d = 0; d < s->geom.dim; ++d) c->log.row[k++] = reaction[d];
   }
   if (peri_is_quasi_static(s)) /* quasi-static: the imposed displacements */
     for (int r = 1; r < s->n_regions; ++r) {
       double disp[3];
       region_displacement(s, r, disp);
-      for (int d = 0; d < s->geom.dim; ++d) c->row[k++] = disp[d];
+      for (int d = 0; d < s->geom.dim; ++d) c->log.row[k++] = disp[d];
     }
   if (qs_dynamic_columns(s)) { /* static (0) or dynamic (1) phase, time in dynamics (docs/solvers.md) */
-    c->row[k++] = (double)s->qs.phase;
-    c->row[k++] = s->qs.dynamic_time;
+    c->log.row[k++] = (double)s->qs.phase;
+    c->log.row[k++] = s->qs.dynamic_time;
   }
-  peri_thermal_history_values(s, c->row + k); /* total heat, temperature range (docs/heat.md) */
-  return record_row(c);
-}
-
-/* Adds c->row to history.csv and to the series of output.plot. */
-static int record_row(run_ctx *c) {
-  c->history_rows++;
-  peri_plot_series_add(&c->plot, c->row);
-  return c->history ? peri_history_write(c->history, c->row) : PERI_OK; /* rank 0 writes */
-}
-
-static int open_history(peri_sim *s, run_ctx *c) {
-  int n = 0;
-  char **names = peri_history_columns(s, &n); /* the order write_history fills */
-  peri_plot_series_init(&c->plot, s, names, n);
-  c->n_columns = n;
-  c->row = peri_calloc((size_t)n, sizeof(double));
-  if (peri_comm_rank() > 0) { /* rank 0 writes history.csv */
-    peri_history_columns_free(names, n);
-    return PERI_OK;
-  }
-  c->history = peri_history_open_in(s->out.directory, n, names);
-  return c->history ? PERI_OK : PERI_ERR_RUN;
+  peri_thermal_history_values(s, c->log.row + k); /* total heat, temperature range (docs/heat.md) */
+  return peri_history_log_record(&c->log);
 }
 
 static int step_hook(peri_sim *s, void *ctx) {
@@ -179,7 +152,7 @@ static int step_hook(peri_sim *s, void *ctx) {
   /* only rank 0 writes history.csv: the ranks agree before the collective frame write */
   if (history) c->failed = peri_comm_max_int(c->failed);
   if (!c->failed && frame && peri_frames_write(c->frames, s) != PERI_OK) c->failed = 1;
-  const peri_checkpoint_progress done = {peri_frames_written(c->frames), c->history_rows};
+  const peri_checkpoint_progress done = {peri_frames_written(c->frames), c->log.rows};
   if (!c->failed && peri_checkpoint_after_step(s, &done) != PERI_OK) { /* docs/restart.md */
     c->failed = 1;
     return 1;
@@ -200,27 +173,14 @@ static int step_hook(peri_sim *s, void *ctx) {
   return 0;
 }
 
-/* A restarted run: the checkpoint's state, then the frames and history rows the run had
- * written up to it (docs/restart.md). */
-static int resume(peri_sim *s, run_ctx *c) {
-  long rows = 0;
-  const double *kept = peri_restart_resume(s, c->frames, c->n_columns, &rows);
-  if (rows < 0) return PERI_ERR_RUN;
-  for (long r = 0; r < rows; ++r) {
-    memcpy(c->row, kept + (size_t)r * (size_t)c->n_columns, sizeof(double) * (size_t)c->n_columns);
-    if (record_row(c) != PERI_OK) return PERI_ERR_RUN;
-  }
-  return PERI_OK;
-}
-
 int peri_run(peri_sim *s) {
   if (s->solver == PERI_SOLVER_HEAT) return peri_run_heat(s); /* conduction only (docs/heat.md) */
   run_ctx c = {0};
   c.frames = peri_frames_open(s);
   if (!c.frames) return PERI_ERR_RUN;
-  if (peri_comm_max_int(open_history(s, &c))) { /* collective: rank 0 opens the file */
+  if (peri_comm_max_int(peri_history_log_open(&c.log, s))) { /* collective: rank 0 opens the file */
     peri_frames_close(c.frames);
-    free(c.row);
+    peri_history_log_close(&c.log);
     return PERI_ERR_RUN;
   }
   c.progress = !s->quiet && isatty(STDERR_FILENO);
@@ -229,7 +189,7 @@ int peri_run(peri_sim *s) {
   peri_exchange_state(s); /* ghost displacements (MPI ranks, docs/parallel.md) */
   int rc = PERI_OK;
   if (s->restart) { /* continue from a checkpoint (docs/restart.md) */
-    rc = resume(s, &c);
+    rc = peri_history_log_resume(&c.log, s, c.frames);
   } else {
     s->model->force(s);
     rc = peri_frames_write(c.frames, s);
@@ -245,7 +205,7 @@ int peri_run(peri_sim *s) {
   if (c.progress) fprintf(stderr, "\r%80s\r", "");
   char picture[4300] = "", plot[4400] = "";
   /* drawn even when the run failed: the curve so far */
-  if (peri_plot_series_write(&c.plot, s, plot, sizeof plot) != PERI_OK) rc = PERI_ERR_RUN;
+  if (peri_plot_series_write(&c.log.plot, s, plot, sizeof plot) != PERI_OK) rc = PERI_ERR_RUN;
   if (rc == PERI_OK && s->out.picture && s->geom.dim == 2) {
     if (peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) rc = PERI_ERR_RUN, picture[0] = 0;
   }
@@ -272,9 +232,7 @@ int peri_run(peri_sim *s) {
     printf("  output       %s/%s.pvd (%s), %s/history.csv%s%s%s%s\n", s->out.directory, s->out.basename,
            "VTU series", s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot);
   }
-  peri_history_close(c.history);
   peri_frames_close(c.frames);
-  free(c.row);
-  peri_plot_series_free(&c.plot);
+  peri_history_log_close(&c.log);
   return rc;
 }

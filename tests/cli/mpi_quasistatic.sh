@@ -12,6 +12,7 @@
 # Usage: bash tests/cli/mpi_quasistatic.sh PATH_TO_PERI   (from the repository root)
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
+source "$(dirname "${BASH_SOURCE[0]}")/lib/beam.bash"
 source "$(dirname "${BASH_SOURCE[0]}")/lib/mpi.bash"
 cli_init "$@"
 mpi_init
@@ -52,10 +53,7 @@ MPI_RANKS="1 3" mpi_same_on_ranks bar_dr "$DECKS/qs_bar.yaml" --set solver.type=
   --set solver.damping=2e5 --set solver.max_iterations=200000
 pass "bar by damped dynamic relaxation: the same history on 1 and 3 ranks"
 
-beam=(--set discretization.spacing=2.5e-3
-  --set "regions.left_support.min=[-0.0495, -1]" --set "regions.left_support.max=[-0.048, 0.0014]"
-  --set "regions.right_support.min=[0.048, -1]" --set "regions.right_support.max=[0.0495, 0.0014]"
-  --set "regions.load.min=[-0.0013, 0.023]" --set "regions.load.max=[0.0013, 1]"
+beam=("${BEAM_COARSE[@]}"
   --set solver.load_steps=12 --set "boundary_conditions.2.y=-0.6e-3*t"
   --set solver.dynamic_switch.when_broken_exceeds=40 --set solver.dynamic_switch.history_every=50
   --set output.picture=false)

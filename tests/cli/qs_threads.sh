@@ -8,15 +8,11 @@
 # Usage: bash tests/cli/qs_threads.sh PATH_TO_PERI   (from the repository root)
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
+source "$(dirname "${BASH_SOURCE[0]}")/lib/beam.bash"
 cli_init "$@"
 
-deck=examples/notched_beam_3pb.yaml
-[[ -f "$deck" ]] || fail "run from the repository root ($deck not found)"
-# coarse grid: one support node on each side, the two load nodes next to the midline
-coarse=(--set discretization.spacing=2.5e-3
-  --set "regions.left_support.min=[-0.0495, -1]" --set "regions.left_support.max=[-0.048, 0.0014]"
-  --set "regions.right_support.min=[0.048, -1]" --set "regions.right_support.max=[0.0495, 0.0014]"
-  --set "regions.load.min=[-0.0013, 0.023]" --set "regions.load.max=[0.0013, 1]"
+deck=$BEAM_DECK
+coarse=("${BEAM_COARSE[@]}"
   --set solver.load_steps=16 --set "boundary_conditions.2.y=-0.8e-3*t"
   --set "solver.dynamic_switch={when_broken_exceeds: 40, damping: 2.0e4}")
 
