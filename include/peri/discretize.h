@@ -43,8 +43,9 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g);
 int peri_nodefile_read(peri_particles *p, const char *path, int dim,
                        const int32_t *block_to_material, int n_blocks);
 
-/* Permutation that orders nodes along a Morton (Z-order) curve of the reference
- * positions, ties broken by index (deterministic). perm has n entries. */
-void peri_sfc_order(const peri_particles *p, int32_t *perm);
+/* Permutation that orders nodes in rows along the axis with the longest rows (rows one
+ * `spacing` wide), the rows along a Morton (Z-order) curve of the other two axes; ties
+ * broken by index (deterministic). perm has n entries. */
+void peri_sfc_order(const peri_particles *p, double spacing, int32_t *perm);
 
 #endif

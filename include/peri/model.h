@@ -50,6 +50,10 @@ typedef struct peri_model_ops {
 void peri_pmb_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx);
 void peri_lps_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx);
 
+/* Frees the bond loops' work items (peri_sim.node_blocks). */
+struct peri_node_blocks;
+void peri_node_blocks_free(struct peri_node_blocks *nb);
+
 /* The model table. */
 const peri_model_ops *peri_model_find(const char *name);
 /* NULL-terminated list of model names (for deck choices). */

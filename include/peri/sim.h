@@ -157,6 +157,9 @@ typedef struct peri_sim {
   /* copies the owners' values of a per-node field (ncomp doubles per node) into the ghost
    * slots; NULL in a single process. Call it through peri_sim_exchange. */
   void (*exchange)(struct peri_sim *s, double *field, int ncomp);
+  /* work items of the bond loops (src/model/node_blocks.c), built on first use */
+  struct peri_node_blocks *node_blocks;
+  bool generic_bond_loops; /* tests: every node by the one-node path */
 } peri_sim;
 
 /* Ghost values of a per-node field from their owners (a no-op in a single process). A

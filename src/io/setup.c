@@ -425,7 +425,7 @@ static int parse_discretization(parse_ctx *c) {
 
   /* order along a space-filling curve so that neighbours are near in memory */
   int32_t *perm = peri_malloc(sizeof(int32_t) * p->n);
-  peri_sfc_order(p, perm);
+  peri_sfc_order(p, g->spacing, perm);
   peri_particles_permute(p, perm);
   free(perm);
   peri_particles_alloc_state(p);
@@ -821,6 +821,7 @@ void peri_sim_free(peri_sim *s) {
   peri_decomposition_free(s->dd); /* distributed runs (src/parallel/decompose.c) */
   peri_particles_free(&s->p);
   peri_bonds_free(&s->bonds);
+  peri_node_blocks_free(s->node_blocks);
   for (int m = 0; m < s->n_materials; ++m) free(s->materials[m].name);
   free(s->materials);
   free(s->pair_s0);

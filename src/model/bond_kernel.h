@@ -63,14 +63,27 @@ static inline double peri_eval_omega(const peri_family_eval *e, peri_influence i
  * (p->coef), thermal strain (NULL without), the breaking bounds, and the bonds. */
 typedef struct peri_bond_view {
   const double *restrict x, *restrict u, *restrict V, *restrict coef, *restrict eth, *restrict s0_bound;
+  const int64_t *restrict offset;
   const int32_t *restrict neighbor;
   const uint8_t *restrict broken;
   peri_family_eval fam;
+  /* structure-of-arrays copies of x and u (node_blocks.h), for the force loops */
+  const double *restrict x0, *restrict x1, *restrict x2, *restrict u0, *restrict u1, *restrict u2;
+  int32_t n; /* nodes (owned and ghosts): the stride of per-node fields with several parts */
 } peri_bond_view;
 
 static inline peri_bond_view peri_bond_view_of(const peri_sim *s) {
   const peri_bond_view w = {s->p.x, s->p.u, s->p.volume, s->p.coef, s->thermal_strain, s->p.s0_bound,
-                            s->bonds.neighbor, s->bonds.broken, peri_family_eval_of(&s->bonds)};
+                            s->bonds.offset, s->bonds.neighbor, s->bonds.broken, peri_family_eval_of(&s->bonds),
+                            NULL, NULL, NULL, NULL, NULL, NULL, s->p.n};
+  return w;
+}
+
+/* The view with the structure-of-arrays copies of `soa` (6 n doubles: x0 x1 x2 u0 u1 u2). */
+static inline peri_bond_view peri_bond_view_soa(const peri_sim *s, const double *soa) {
+  peri_bond_view w = peri_bond_view_of(s);
+  const size_t n = (size_t)s->p.n;
+  w.x0 = soa, w.x1 = soa + n, w.x2 = soa + 2 * n, w.u0 = soa + 3 * n, w.u1 = soa + 4 * n, w.u2 = soa + 5 * n;
   return w;
 }
 
@@ -91,6 +104,22 @@ static inline int peri_next_intact(const int32_t *neighbor, const uint8_t *broke
   }
   *k = kk;
   return n;
+}
+
+/* The next chunk of node i's intact neighbours (bonds k .. k1-1 of the family): the family
+ * itself when it is intact (`damaged` false), else copied into `intact`. Returns the chunk,
+ * sets *count (at most PERI_INTACT_CHUNK) and advances *k. */
+static inline const int32_t *peri_next_chunk(const peri_bond_view *w, bool damaged, int64_t *k, int64_t k1,
+                                             int32_t *intact, int *count) {
+  if (damaged) {
+    *count = peri_next_intact(w->neighbor, w->broken, k, k1, intact);
+    return intact;
+  }
+  const int n = (int)(k1 - *k < PERI_INTACT_CHUNK ? k1 - *k : PERI_INTACT_CHUNK);
+  const int32_t *chunk = w->neighbor + *k;
+  *count = n;
+  *k += n;
+  return chunk;
 }
 
 /* Bonds whose mechanical stretch is within this margin of the screening bound are re-checked

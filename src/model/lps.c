@@ -12,6 +12,7 @@
 #include "peri/error.h"
 #include "peri/model.h"
 #include "bond_kernel.h"
+#include "node_blocks.h"
 
 static int lps_init(peri_sim *s) {
   peri_particles *p = &s->p;
@@ -54,105 +55,271 @@ static int lps_init(peri_sim *s) {
   return PERI_OK;
 }
 
-/* Pass-1 sums of node i over the intact bonds to nbr[0 .. count-1]: sum w e and sum w |xi| with w = omega |xi| beta V_j
- * and e the extension less node i's thermal part; the minimum mechanical stretch; and
- * whether any bond is a candidate for breaking (as in the PMB loop). */
-static inline __attribute__((always_inline)) long lps_node_sums(const peri_bond_view *w, int32_t i, const int32_t *restrict nbr,
-                                                                int64_t count, bool thermal, peri_influence influence,
-                                                                bool uniform,
-                                                                double *we_x_out, double *w_xx_out, double *smin_out) {
-  const double xi0 = w->x[3 * i], xi1 = w->x[3 * i + 1], xi2 = w->x[3 * i + 2];
-  const double ui0 = w->u[3 * i], ui1 = w->u[3 * i + 1], ui2 = w->u[3 * i + 2];
-  const double eth_i = thermal ? w->eth[i] : 0.0, bound_i = w->s0_bound[i], V_i = w->V[i];
-  const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict eth = w->eth,
-                         *restrict s0_bound = w->s0_bound;
-  const peri_family_eval fam = w->fam;
-  double we_x = 0.0, w_xx = 0.0, smin = INFINITY;
-  double excess = -INFINITY; /* largest stretch above the screening bound */
-#pragma omp simd reduction(+ : we_x, w_xx) reduction(min : smin) reduction(max : excess)
-  for (int64_t a = 0; a < count; ++a) {
-    const int32_t j = nbr[a];
-    const double x0 = x[3 * j] - xi0, x1 = x[3 * j + 1] - xi1, x2 = x[3 * j + 2] - xi2;
-    const double y0 = x0 + (u[3 * j] - ui0), y1 = x1 + (u[3 * j + 1] - ui1),
-                 y2 = x2 + (u[3 * j + 2] - ui2);
-    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
-    const double e_total = sqrt(y0 * y0 + y1 * y1 + y2 * y2) - r0;
-    double s_mech = e_total / r0;
-    if (thermal) s_mech -= 0.5 * (eth_i + eth[j]); /* symmetric in i, j */
-    const double bound = peri_min(bound_i, s0_bound[j]) - PERI_S0_SCREEN_MARGIN;
-    excess = peri_max(excess, s_mech - bound);
-    smin = peri_min(smin, s_mech);
-    const double wt = peri_eval_omega(&fam, influence, r0) * r0 * peri_eval_beta(&fam, r0) * (uniform ? V_i : V[j]);
-    we_x += wt * (e_total - eth_i * r0);
-    w_xx += wt * r0;
-  }
-  *we_x_out = we_x;
-  *w_xx_out = w_xx;
-  *smin_out = smin;
-  return excess > 0.0;
+/* Node i's own data, read once per family; D and B are the force pass's coefficients. */
+typedef struct lps_centre {
+  double x0, x1, x2, u0, u1, u2, eth, bound, V, D, B;
+} lps_centre;
+
+static inline lps_centre lps_centre_of(const peri_bond_view *w, int32_t i, bool thermal, bool force) {
+  const size_t n = (size_t)w->n;
+  const lps_centre c = {w->x0[i], w->x1[i], w->x2[i], w->u0[i], w->u1[i], w->u2[i], thermal ? w->eth[i] : 0.0,
+                        w->s0_bound[i], w->V[i], force ? w->coef[i] : 0.0, force ? w->coef[n + (size_t)i] : 0.0};
+  return c;
 }
+
+/* Pass 1, bond i-j: the weight w = omega |xi| beta V_j of the sums sum w (e - eth_i |xi|) and
+ * sum w |xi| (returned in *q and *r0_out), the mechanical stretch and its margin above the
+ * screening bound. Both loops below evaluate every bond through this one function. */
+static inline __attribute__((always_inline)) double lps_bond_sums(const lps_centre ci_value,
+                                                                  const peri_family_eval *fam, double xj0,
+                                                                  double xj1, double xj2, double uj0, double uj1,
+                                                                  double uj2, double eth_j, double bound_j,
+                                                                  double V_j, bool thermal, peri_influence influence,
+                                                                  bool uniform, double *q, double *r0_out,
+                                                                  double *stretch_out, double *excess_out) {
+  const lps_centre *ci = &ci_value;
+  const double x0 = xj0 - ci->x0, x1 = xj1 - ci->x1, x2 = xj2 - ci->x2;
+  const double y0 = x0 + (uj0 - ci->u0), y1 = x1 + (uj1 - ci->u1), y2 = x2 + (uj2 - ci->u2);
+  const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+  const double e_total = sqrt(y0 * y0 + y1 * y1 + y2 * y2) - r0;
+  double s_mech = e_total / r0;
+  if (thermal) s_mech -= 0.5 * (ci->eth + eth_j); /* symmetric in i, j */
+  *excess_out = s_mech - (peri_min(ci->bound, bound_j) - PERI_S0_SCREEN_MARGIN);
+  *stretch_out = s_mech;
+  *q = e_total - ci->eth * r0;
+  *r0_out = r0;
+  return peri_eval_omega(fam, influence, r0) * r0 * peri_eval_beta(fam, r0) * (uniform ? ci->V : V_j);
+}
+
+/* Pass 2, bond i-j: the factor g of the force density g (y_j - y_i) on i, with t_ij + t_ji =
+ * omega (|xi| (D_i + D_j) + e (B_i + B_j)). */
+static inline __attribute__((always_inline)) double lps_bond_force(const lps_centre ci_value,
+                                                                   const peri_family_eval *fam, double xj0,
+                                                                   double xj1, double xj2, double uj0, double uj1,
+                                                                   double uj2, double D_j, double B_j, double V_j,
+                                                                   peri_influence influence, bool uniform, double *y0,
+                                                                   double *y1, double *y2) {
+  const lps_centre *ci = &ci_value;
+  const double x0 = xj0 - ci->x0, x1 = xj1 - ci->x1, x2 = xj2 - ci->x2;
+  const double d0 = x0 + (uj0 - ci->u0), d1 = x1 + (uj1 - ci->u1), d2 = x2 + (uj2 - ci->u2);
+  *y0 = d0, *y1 = d1, *y2 = d2;
+  const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+  const double r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+  const double t = peri_eval_omega(fam, influence, r0) * (r0 * (ci->D + D_j) + (r - r0) * (ci->B + B_j));
+  const double scale = t * peri_eval_beta(fam, r0) * (uniform ? ci->V : V_j) / r;
+  return r > 0.0 ? scale : 0.0;
+}
+
+/* What a loop returns per node: pass 1 the two sums, the minimum mechanical stretch and
+ * whether a bond is a candidate for breaking; pass 2 the force density in sum[0..2]. */
+typedef struct lps_sums {
+  double sum[3], smin;
+  bool candidate;
+} lps_sums;
+
+/* Node i alone, pass 1 or 2, over its intact bonds in family order (the bond values by a
+ * vector loop, their sums in order). */
+static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_view *w, int32_t i, bool force,
+                                                               bool thermal, peri_influence influence,
+                                                               bool uniform) {
+  const lps_centre ci = lps_centre_of(w, i, thermal, force);
+  const size_t n_nodes = (size_t)w->n;
+  const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
+                         *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict D = w->coef,
+                         *restrict B = w->coef + n_nodes, *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
+  const peri_family_eval fam = w->fam;
+  const int64_t k0 = w->offset[i], k1 = w->offset[i + 1];
+  const bool damaged = memchr(w->broken + k0, 1, (size_t)(k1 - k0)) != NULL;
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0, smin = INFINITY, excess = -INFINITY;
+  int32_t intact[PERI_INTACT_CHUNK];
+  double g[PERI_INTACT_CHUNK], v0[PERI_INTACT_CHUNK], v1[PERI_INTACT_CHUNK], v2[PERI_INTACT_CHUNK];
+  for (int64_t k = k0; k < k1;) {
+    int n;
+    const int32_t *restrict nbr = peri_next_chunk(w, damaged, &k, k1, intact, &n);
+    if (force) {
+#pragma omp simd
+      for (int a = 0; a < n; ++a) {
+        const int32_t j = nbr[a];
+        g[a] = lps_bond_force(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], D[j], B[j],
+                              uniform ? 0.0 : V[j], influence, uniform, &v0[a], &v1[a], &v2[a]);
+      }
+      for (int a = 0; a < n; ++a) {
+        s0 = fma(g[a], v0[a], s0);
+        s1 = fma(g[a], v1[a], s1);
+        s2 = fma(g[a], v2[a], s2);
+      }
+    } else {
+#pragma omp simd reduction(min : smin) reduction(max : excess)
+      for (int a = 0; a < n; ++a) {
+        const int32_t j = nbr[a];
+        double s, e;
+        g[a] = lps_bond_sums(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], thermal ? eth[j] : 0.0,
+                             s0_bound[j], uniform ? 0.0 : V[j], thermal, influence, uniform, &v0[a], &v1[a], &s,
+                             &e);
+        smin = peri_min(smin, s);
+        excess = peri_max(excess, e);
+      }
+      for (int a = 0; a < n; ++a) {
+        s0 = fma(g[a], v0[a], s0);
+        s1 = fma(g[a], v1[a], s1);
+      }
+    }
+  }
+  const lps_sums r = {{s0, s1, s2}, smin, excess > 0.0};
+  return r;
+}
+
+/* The block of nodes i0 .. i0+7 (node_blocks.h), intact, pass 1 or 2: lane l is node i0 + l
+ * and takes template entry a, neighbour tj[a] + l, when bit l of lanes[a] is set; every read
+ * is contiguous. Same sums as lps_node. */
+static inline __attribute__((always_inline)) void lps_block(const peri_bond_view *w, int32_t i0,
+                                                            const int32_t *restrict tj,
+                                                            const uint8_t *restrict lanes, int64_t count,
+                                                            bool force, bool thermal, peri_influence influence,
+                                                            bool uniform, lps_sums out[PERI_BLOCK]) {
+  const size_t n_nodes = (size_t)w->n;
+  const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
+                         *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict D = w->coef,
+                         *restrict B = w->coef + n_nodes, *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
+  const peri_family_eval fam = w->fam;
+  /* the eight centres as arrays (one vector each), s0 .. excess the lanes' running sums */
+  double c0[PERI_BLOCK], c1[PERI_BLOCK], c2[PERI_BLOCK], cu0[PERI_BLOCK], cu1[PERI_BLOCK], cu2[PERI_BLOCK],
+      ceth[PERI_BLOCK], cbound[PERI_BLOCK], cV[PERI_BLOCK], cD[PERI_BLOCK], cB[PERI_BLOCK];
+  double s0[PERI_BLOCK], s1[PERI_BLOCK], s2[PERI_BLOCK], smin[PERI_BLOCK], excess[PERI_BLOCK];
+  for (int l = 0; l < PERI_BLOCK; ++l) {
+    const lps_centre c = lps_centre_of(w, i0 + l, thermal, force);
+    c0[l] = c.x0, c1[l] = c.x1, c2[l] = c.x2, cu0[l] = c.u0, cu1[l] = c.u1, cu2[l] = c.u2;
+    ceth[l] = c.eth, cbound[l] = c.bound, cV[l] = c.V, cD[l] = c.D, cB[l] = c.B;
+    s0[l] = s1[l] = s2[l] = 0.0, smin[l] = INFINITY, excess[l] = -INFINITY;
+  }
+  for (int64_t a = 0; a < count; ++a) {
+    const int64_t j = tj[a];
+    /* (a second exit keeps GCC from versioning this loop for outer-loop vectorization, which
+     * would leave the lane loop below without if-conversion) */
+    if (j < 0) break;
+    const double *restrict on_lanes = peri_lane_on[lanes[a]];
+    /* the next blocks of a row read the same entries shifted by 8 nodes: fetch them ahead */
+    __builtin_prefetch(X0 + j + 2 * PERI_BLOCK), __builtin_prefetch(X1 + j + 2 * PERI_BLOCK);
+    __builtin_prefetch(X2 + j + 2 * PERI_BLOCK), __builtin_prefetch(U0 + j + 2 * PERI_BLOCK);
+    __builtin_prefetch(U1 + j + 2 * PERI_BLOCK), __builtin_prefetch(U2 + j + 2 * PERI_BLOCK);
+    const double *restrict A0 = X0 + j, *restrict A1 = X1 + j, *restrict A2 = X2 + j, *restrict E0 = U0 + j,
+                           *restrict E1 = U1 + j, *restrict E2 = U2 + j, *restrict Vj = V + j;
+    if (force) {
+      const double *restrict Dj = D + j, *restrict Bj = B + j;
+#pragma omp simd
+      for (int l = 0; l < PERI_BLOCK; ++l) {
+        const lps_centre c = {c0[l], c1[l], c2[l], cu0[l], cu1[l], cu2[l], 0.0, 0.0, cV[l], cD[l], cB[l]};
+        double y0, y1, y2;
+        const double g = lps_bond_force(c, &fam, A0[l], A1[l], A2[l], E0[l], E1[l], E2[l], Dj[l], Bj[l],
+                                        uniform ? 0.0 : Vj[l], influence, uniform, &y0, &y1, &y2);
+        const bool on = on_lanes[l] != 0.0;
+        s0[l] = on ? fma(g, y0, s0[l]) : s0[l];
+        s1[l] = on ? fma(g, y1, s1[l]) : s1[l];
+        s2[l] = on ? fma(g, y2, s2[l]) : s2[l];
+      }
+    } else {
+      const double *restrict Ej = thermal ? eth + j : eth, *restrict Sj = s0_bound + j;
+#pragma omp simd
+      for (int l = 0; l < PERI_BLOCK; ++l) {
+        const lps_centre c = {c0[l], c1[l], c2[l], cu0[l], cu1[l], cu2[l], ceth[l], cbound[l], cV[l], 0.0, 0.0};
+        double q, r0, s, e;
+        const double wt = lps_bond_sums(c, &fam, A0[l], A1[l], A2[l], E0[l], E1[l], E2[l], thermal ? Ej[l] : 0.0,
+                                        Sj[l], uniform ? 0.0 : Vj[l], thermal, influence, uniform, &q, &r0, &s, &e);
+        const bool on = on_lanes[l] != 0.0;
+        s0[l] = on ? fma(wt, q, s0[l]) : s0[l];
+        s1[l] = on ? fma(wt, r0, s1[l]) : s1[l];
+        smin[l] = on ? peri_min(smin[l], s) : smin[l];
+        excess[l] = on ? peri_max(excess[l], e) : excess[l];
+      }
+    }
+  }
+  for (int l = 0; l < PERI_BLOCK; ++l) {
+    const lps_sums r = {{s0[l], s1[l], s2[l]}, smin[l], excess[l] > 0.0};
+    out[l] = r;
+  }
+}
+
+/* One pair of functions per pass and specialization: the OpenMP regions below are outlined
+ * before inlining, so the constants must be fixed inside functions of their own to reach the
+ * vector loops. */
+typedef struct lps_loops {
+  lps_sums (*node)(const peri_bond_view *, int32_t);
+  void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, lps_sums *);
+} lps_loops;
+#define LPS_VARIANT(NAME, FORCE, THERMAL, INFLUENCE, UNIFORM)                                              \
+  static lps_sums NAME##_node(const peri_bond_view *w, int32_t i) {                                       \
+    return lps_node(w, i, FORCE, THERMAL, INFLUENCE, UNIFORM);                                             \
+  }                                                                                                        \
+  static void NAME##_block(const peri_bond_view *w, int32_t i0, const int32_t *tj, const uint8_t *lanes,   \
+                           int64_t count, lps_sums *out) {                                                 \
+    lps_block(w, i0, tj, lanes, count, FORCE, THERMAL, INFLUENCE, UNIFORM, out);                           \
+  }                                                                                                        \
+  static const lps_loops NAME = {NAME##_node, NAME##_block};
+/* "uniform": every node has the same volume (a grid), so the loop does not gather it */
+LPS_VARIANT(lps_sums_uniform, false, false, PERI_INFLUENCE_CONSTANT, true)
+LPS_VARIANT(lps_sums_plain, false, false, PERI_INFLUENCE_CONSTANT, false)
+LPS_VARIANT(lps_sums_thermal, false, true, PERI_INFLUENCE_CONSTANT, false)
+LPS_VARIANT(lps_sums_inverse, false, false, PERI_INFLUENCE_INVERSE, false)
+LPS_VARIANT(lps_sums_inverse_thermal, false, true, PERI_INFLUENCE_INVERSE, false)
+LPS_VARIANT(lps_sums_gaussian, false, false, PERI_INFLUENCE_GAUSSIAN, false)
+LPS_VARIANT(lps_sums_gaussian_thermal, false, true, PERI_INFLUENCE_GAUSSIAN, false)
+LPS_VARIANT(lps_force_uniform, true, false, PERI_INFLUENCE_CONSTANT, true)
+LPS_VARIANT(lps_force_constant, true, false, PERI_INFLUENCE_CONSTANT, false)
+LPS_VARIANT(lps_force_inverse, true, false, PERI_INFLUENCE_INVERSE, false)
+LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false)
+
+/* Runs `loops` over every owned node (a block at a time where the node blocks allow, node
+ * by node otherwise), then the body (the last argument) for each node i with its sums in *r;
+ * the body may add
+ * to n_broken. */
+#define LPS_FOR_EACH_NODE(items, bonds, loops, w, ...)                                              \
+  _Pragma("omp parallel for schedule(dynamic, 32) reduction(+ : n_broken)")                               \
+  for (int32_t item = 0; item < (items)->n_items; ++item) {                                               \
+    const int32_t i0 = (items)->first[item], i1 = (items)->first[item + 1];                               \
+    lps_sums sums[PERI_BLOCK];                                                                             \
+    if (peri_item_is_block(items, item) && !peri_block_damaged(bonds, i0)) {                              \
+      const int64_t t0 = (items)->tpl[item];                                                              \
+      (loops)->block(&(w), i0, (items)->tpl_node + t0, (items)->tpl_lanes + t0, (items)->tpl[item + 1] - t0, \
+                     sums);                                                                                \
+    } else {                                                                                               \
+      for (int32_t i = i0; i < i1; ++i) sums[i - i0] = (loops)->node(&(w), i);                            \
+    }                                                                                                      \
+    for (int32_t i = i0; i < i1; ++i) {                                                                   \
+      lps_sums *r = &sums[i - i0];                                                                         \
+      __VA_ARGS__                                                                                          \
+    }                                                                                                      \
+  }
 
 /* Pass 1 for every owned node: break bonds beyond their critical stretch, then the dilatation
  * theta, P and the two per-node coefficients of the force pass. With
  *   A_i = n_theta (K_theta theta_i - alpha_i P_i/3)/m_i,  B_i = alpha_i = (alpha m)/m_i,
  *   D_i = A_i - B_i (alpha_T dT_i + theta_i/3),
  * the pair force of the header is t_ij + t_ji = omega (|xi| (D_i + D_j) + e (B_i + B_j)), so the
- * force pass gathers two numbers per neighbour. */
-/* One function per specialization (the OpenMP region is outlined before inlining). A damaged
- * family runs the loop on its intact neighbours only, copied a chunk at a time. */
-typedef long (*lps_sums_fn)(const peri_bond_view *, int32_t, int64_t, int64_t, double *, double *, double *);
-#define LPS_SUMS_VARIANT(NAME, THERMAL, INFLUENCE, UNIFORM)                                                  \
-  static long NAME(const peri_bond_view *w, int32_t i, int64_t k0, int64_t k1, double *we_x, double *w_xx,          \
-                   double *smin) {                                                                           \
-    if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                       \
-      return lps_node_sums(w, i, w->neighbor + k0, k1 - k0, THERMAL, INFLUENCE, UNIFORM, we_x, w_xx, smin);  \
-    int32_t intact[PERI_INTACT_CHUNK];                                                                       \
-    long candidate = 0;                                                                                      \
-    *we_x = *w_xx = 0.0;                                                                                     \
-    *smin = INFINITY;                                                                                        \
-    for (int64_t k = k0; k < k1;) {                                                                          \
-      const int n = peri_next_intact(w->neighbor, w->broken, &k, k1, intact);                                \
-      double a, b, c;                                                                                        \
-      candidate |= lps_node_sums(w, i, intact, n, THERMAL, INFLUENCE, UNIFORM, &a, &b, &c);                  \
-      *we_x += a;                                                                                            \
-      *w_xx += b;                                                                                            \
-      *smin = peri_min(*smin, c);                                                                            \
-    }                                                                                                        \
-    return candidate;                                                                                        \
-  }
-/* "uniform": every node has the same volume (a grid), so the loop does not gather it */
-LPS_SUMS_VARIANT(lps_sums_uniform, false, PERI_INFLUENCE_CONSTANT, true)
-LPS_SUMS_VARIANT(lps_sums_plain, false, PERI_INFLUENCE_CONSTANT, false)
-LPS_SUMS_VARIANT(lps_sums_thermal, true, PERI_INFLUENCE_CONSTANT, false)
-LPS_SUMS_VARIANT(lps_sums_inverse, false, PERI_INFLUENCE_INVERSE, false)
-LPS_SUMS_VARIANT(lps_sums_inverse_thermal, true, PERI_INFLUENCE_INVERSE, false)
-LPS_SUMS_VARIANT(lps_sums_gaussian, false, PERI_INFLUENCE_GAUSSIAN, false)
-LPS_SUMS_VARIANT(lps_sums_gaussian_thermal, true, PERI_INFLUENCE_GAUSSIAN, false)
-
+ * force pass reads two numbers per neighbour (D in coef[0 .. n-1], B in coef[n .. 2n-1]). */
 static long lps_dilatation(peri_sim *s) {
   peri_update_s0_bound(s);
   const bool thermal = s->thermal_strain != NULL;
-  lps_sums_fn sums = thermal ? lps_sums_thermal : peri_uniform_volume(&s->p) ? lps_sums_uniform : lps_sums_plain;
-  if (s->family.influence == PERI_INFLUENCE_INVERSE) sums = thermal ? lps_sums_inverse_thermal : lps_sums_inverse;
-  if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) sums = thermal ? lps_sums_gaussian_thermal : lps_sums_gaussian;
+  const lps_loops *loops = thermal ? &lps_sums_thermal : peri_uniform_volume(&s->p) ? &lps_sums_uniform : &lps_sums_plain;
+  if (s->family.influence == PERI_INFLUENCE_INVERSE) loops = thermal ? &lps_sums_inverse_thermal : &lps_sums_inverse;
+  if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) loops = thermal ? &lps_sums_gaussian_thermal : &lps_sums_gaussian;
   peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
-  const peri_bond_view w = peri_bond_view_of(s);
+  const peri_node_blocks *items = peri_node_blocks_refresh(s);
+  const peri_bond_view w = peri_bond_view_soa(s, items->soa);
   const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
+  const size_t n = (size_t)p->n;
   long n_broken = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : n_broken)
-  for (int32_t i = 0; i < p->n_owned; ++i) {
-    const int64_t k0 = b->offset[i], k1 = b->offset[i + 1];
-    double we_x, w_xx, smin;
-    const long candidates = sums(&w, i, k0, k1, &we_x, &w_xx, &smin);
-    if (breaking && candidates > 0) {
+  LPS_FOR_EACH_NODE(items, b, loops, w, {
+    if (breaking && r->candidate) {
       const long nb = peri_break_family(s, i);
       if (nb > 0) {
         n_broken += nb;
-        double unused;
-        sums(&w, i, k0, k1, &we_x, &w_xx, &unused);
+        const double smin = r->smin; /* of the bonds as they were at the test */
+        *r = loops->node(&w, i);
+        r->smin = smin;
       }
     }
+    const double we_x = r->sum[0], w_xx = r->sum[1];
     const peri_material *mat = &s->materials[p->material[i]];
     const double m = p->wvol[i];
     const double theta = mat->n_theta * we_x / m;
@@ -161,10 +328,10 @@ static long lps_dilatation(peri_sim *s) {
     const double eth_i = thermal ? s->thermal_strain[i] : 0.0;
     p->theta[i] = theta;
     p->pstate[i] = P;
-    p->coef[2 * i] = mat->n_theta * (mat->K_theta * theta - alpha * P / 3.0) / m - alpha * (eth_i + theta / 3.0);
-    p->coef[2 * i + 1] = alpha;
-    if (track_smin) p->smin[i] = smin;
-  }
+    p->coef[i] = mat->n_theta * (mat->K_theta * theta - alpha * P / 3.0) / m - alpha * (eth_i + theta / 3.0);
+    p->coef[n + (size_t)i] = alpha;
+    if (track_smin) p->smin[i] = r->smin;
+  })
   return n_broken;
 }
 
@@ -176,71 +343,26 @@ static inline double lps_half(const peri_material *mat, double theta, double P, 
          alpha * omega * (e - theta * L / 3.0);
 }
 
-/* Pass 2 for node i: f_i = sum_j (t_ij + t_ji) M_ij beta V_j over the intact bonds to nbr[]. */
-static inline __attribute__((always_inline)) void lps_node_force(const peri_bond_view *w, int32_t i, const int32_t *restrict nbr,
-                                                                 int64_t count, peri_influence influence, bool uniform,
-                                                                 double f[3]) {
-  const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict coef = w->coef;
-  const peri_family_eval fam = w->fam;
-  const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
-  const double ui0 = u[3 * i], ui1 = u[3 * i + 1], ui2 = u[3 * i + 2];
-  const double Di = coef[2 * i], Bi = coef[2 * i + 1];
-  double fx = 0.0, fy = 0.0, fz = 0.0;
-#pragma omp simd reduction(+ : fx, fy, fz)
-  for (int64_t a = 0; a < count; ++a) {
-    const int32_t j = nbr[a];
-    const double x0 = x[3 * j] - xi0, x1 = x[3 * j + 1] - xi1, x2 = x[3 * j + 2] - xi2;
-    const double y0 = x0 + (u[3 * j] - ui0), y1 = x1 + (u[3 * j + 1] - ui1), y2 = x2 + (u[3 * j + 2] - ui2);
-    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
-    const double r = sqrt(y0 * y0 + y1 * y1 + y2 * y2);
-    const double t = peri_eval_omega(&fam, influence, r0) * (r0 * (Di + coef[2 * j]) + (r - r0) * (Bi + coef[2 * j + 1]));
-    const double scale = t * peri_eval_beta(&fam, r0) * (uniform ? V[i] : V[j]) / r;
-    const double g = r > 0.0 ? scale : 0.0;
-    fx += g * y0;
-    fy += g * y1;
-    fz += g * y2;
-  }
-  f[0] = fx;
-  f[1] = fy;
-  f[2] = fz;
-}
-
-typedef void (*lps_force_fn)(const peri_bond_view *, int32_t, int64_t, int64_t, double *);
-#define LPS_FORCE_VARIANT(NAME, INFLUENCE, UNIFORM)                                                 \
-  static void NAME(const peri_bond_view *w, int32_t i, int64_t k0, int64_t k1, double *f) {                \
-    if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0))) {                                             \
-      lps_node_force(w, i, w->neighbor + k0, k1 - k0, INFLUENCE, UNIFORM, f);                        \
-      return;                                                                                        \
-    }                                                                                                \
-    int32_t intact[PERI_INTACT_CHUNK];                                                               \
-    double sum[3] = {0.0, 0.0, 0.0};                                                                 \
-    for (int64_t k = k0; k < k1;) {                                                                  \
-      const int n = peri_next_intact(w->neighbor, w->broken, &k, k1, intact);                        \
-      double fc[3];                                                                                  \
-      lps_node_force(w, i, intact, n, INFLUENCE, UNIFORM, fc);                                       \
-      for (int d = 0; d < 3; ++d) sum[d] += fc[d];                                                   \
-    }                                                                                                \
-    for (int d = 0; d < 3; ++d) f[d] = sum[d];                                                       \
-  }
-LPS_FORCE_VARIANT(lps_force_uniform, PERI_INFLUENCE_CONSTANT, true)
-LPS_FORCE_VARIANT(lps_force_constant, PERI_INFLUENCE_CONSTANT, false)
-LPS_FORCE_VARIANT(lps_force_inverse, PERI_INFLUENCE_INVERSE, false)
-LPS_FORCE_VARIANT(lps_force_gaussian, PERI_INFLUENCE_GAUSSIAN, false)
-
 static long lps_force(peri_sim *s) {
-  long n_broken = lps_dilatation(s);
+  const long broken = lps_dilatation(s);
   if (s->s0_node) peri_update_lammps_s0(s);
-  peri_sim_exchange(s, s->p.coef, 2); /* the force pass reads D_j and B_j of ghosts (docs/parallel.md) */
   peri_particles *p = &s->p;
+  const size_t n = (size_t)p->n;
+  /* the force pass reads D_j and B_j of ghosts (docs/parallel.md) */
+  peri_sim_exchange(s, s->p.coef, 1);
+  peri_sim_exchange(s, s->p.coef + n, 1);
   const peri_bonds *b = &s->bonds;
-  const peri_bond_view w = peri_bond_view_of(s);
-  lps_force_fn node = s->family.influence == PERI_INFLUENCE_INVERSE    ? lps_force_inverse
-                      : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? lps_force_gaussian
-                      : peri_uniform_volume(p)                         ? lps_force_uniform
-                                                                       : lps_force_constant;
-#pragma omp parallel for schedule(dynamic, 256)
-  for (int32_t i = 0; i < p->n_owned; ++i) node(&w, i, b->offset[i], b->offset[i + 1], &p->f[3 * (size_t)i]);
-  return n_broken;
+  const peri_node_blocks *items = s->node_blocks; /* refreshed by the dilatation pass */
+  const peri_bond_view w = peri_bond_view_soa(s, items->soa);
+  const lps_loops *loops = s->family.influence == PERI_INFLUENCE_INVERSE    ? &lps_force_inverse
+                           : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? &lps_force_gaussian
+                           : peri_uniform_volume(p)                         ? &lps_force_uniform
+                                                                            : &lps_force_constant;
+  long n_broken = 0; /* (the force pass breaks nothing) */
+  LPS_FOR_EACH_NODE(items, b, loops, w, {
+    for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = r->sum[d];
+  })
+  return broken + n_broken;
 }
 
 /* sum_j omega (e^d)^2 beta V_j over node i's intact bonds, e^d = e - alpha_T dT_i |xi| - theta_i |xi|/3. */

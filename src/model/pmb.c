@@ -7,6 +7,7 @@
 #include "peri/error.h"
 #include "peri/model.h"
 #include "bond_kernel.h"
+#include "node_blocks.h"
 
 static int pmb_init(peri_sim *s) {
   double calibration = peri_influence_calibration(s->family.influence, s->geom.dim, s->geom.horizon);
@@ -21,81 +22,171 @@ static int pmb_init(peri_sim *s) {
   return PERI_OK;
 }
 
-/* Force density on node i from the intact bonds to nbr[0 .. count-1], their minimum
- * mechanical stretch, and whether any stretch passes the screening bound (a candidate for
- * breaking). Constant arguments (multi-material, thermal, influence) specialize the loop. */
-static inline __attribute__((always_inline)) long pmb_node(const peri_bond_view *w, int32_t i, const int32_t *restrict nbr,
-                                                           int64_t count, bool multi, bool thermal,
-                                                           peri_influence influence, bool uniform, double f[3],
-                                                           double *smin_out) {
-  const double xi0 = w->x[3 * i], xi1 = w->x[3 * i + 1], xi2 = w->x[3 * i + 2];
-  const double ui0 = w->u[3 * i], ui1 = w->u[3 * i + 1], ui2 = w->u[3 * i + 2];
-  const double ci = w->coef[i], eth_i = thermal ? w->eth[i] : 0.0, bound_i = w->s0_bound[i], V_i = w->V[i];
-  /* local copies: the loop then reads no pointer through w */
-  const double *restrict x = w->x, *restrict u = w->u, *restrict V = w->V, *restrict c_node = w->coef,
-                         *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
-  const peri_family_eval fam = w->fam;
-  double fx = 0.0, fy = 0.0, fz = 0.0, smin = INFINITY;
-  double excess = -INFINITY; /* largest stretch above the screening bound */
-#pragma omp simd reduction(+ : fx, fy, fz) reduction(min : smin) reduction(max : excess)
-  for (int64_t a = 0; a < count; ++a) {
-    const int32_t j = nbr[a];
-    const double x0 = x[3 * j] - xi0, x1 = x[3 * j + 1] - xi1, x2 = x[3 * j + 2] - xi2;
-    const double y0 = x0 + (u[3 * j] - ui0), y1 = x1 + (u[3 * j + 1] - ui1),
-                 y2 = x2 + (u[3 * j + 2] - ui2);
-    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
-    const double r = sqrt(y0 * y0 + y1 * y1 + y2 * y2);
-    const double inv_r0_r = 1.0 / (r0 * r); /* the loop's one division */
-    double stretch = (r - r0) * r * inv_r0_r;
-    if (thermal) stretch -= 0.5 * (eth_i + eth[j]);
-    const double bound = peri_min(bound_i, s0_bound[j]) - PERI_S0_SCREEN_MARGIN;
-    excess = peri_max(excess, stretch - bound);
-    smin = peri_min(smin, stretch);
-    const double c = multi ? 0.5 * (ci + c_node[j]) : ci;
-    const double scale = c * stretch * peri_eval_omega(&fam, influence, r0) * peri_eval_beta(&fam, r0) *
-                         (uniform ? V_i : V[j]) * r0 * inv_r0_r;
-    const double g = r > 0.0 ? scale : 0.0;
-    fx += g * y0;
-    fy += g * y1;
-    fz += g * y2;
-  }
-  f[0] = fx;
-  f[1] = fy;
-  f[2] = fz;
-  *smin_out = smin;
-  return excess > 0.0;
+/* Node i's own data, read once per family. */
+typedef struct pmb_centre {
+  double x0, x1, x2, u0, u1, u2, c, eth, bound, V;
+} pmb_centre;
+
+static inline pmb_centre pmb_centre_of(const peri_bond_view *w, int32_t i, bool thermal) {
+  const pmb_centre c = {w->x0[i], w->x1[i], w->x2[i], w->u0[i], w->u1[i], w->u2[i],
+                        w->coef[i], thermal ? w->eth[i] : 0.0, w->s0_bound[i], w->V[i]};
+  return c;
 }
 
-/* One function per specialization: the OpenMP region below is outlined before inlining, so
- * the constants must be fixed inside a function of their own to reach the vector loop. */
-typedef long (*pmb_node_fn)(const peri_bond_view *, int32_t, int64_t, int64_t, double *, double *);
-#define PMB_NODE_VARIANT(NAME, MULTI, THERMAL, INFLUENCE, UNIFORM)                                    \
-  static long NAME(const peri_bond_view *w, int32_t i, int64_t k0, int64_t k1, double *f, double *smin) {     \
-    if (!memchr(w->broken + k0, 1, (size_t)(k1 - k0)))                                                \
-      return pmb_node(w, i, w->neighbor + k0, k1 - k0, MULTI, THERMAL, INFLUENCE, UNIFORM, f, smin);  \
-    int32_t intact[PERI_INTACT_CHUNK];                                                                \
-    long candidate = 0;                                                                               \
-    f[0] = f[1] = f[2] = 0.0;                                                                         \
-    *smin = INFINITY;                                                                                 \
-    for (int64_t k = k0; k < k1;) {                                                                   \
-      const int n = peri_next_intact(w->neighbor, w->broken, &k, k1, intact);                         \
-      double fc[3], sc;                                                                               \
-      candidate |= pmb_node(w, i, intact, n, MULTI, THERMAL, INFLUENCE, UNIFORM, fc, &sc);            \
-      for (int d = 0; d < 3; ++d) f[d] += fc[d];                                                      \
-      *smin = peri_min(*smin, sc);                                                                    \
-    }                                                                                                 \
-    return candidate;                                                                                 \
+/* Bond i-j: the factor g of the pair force density g (y_j - y_i) on i, with (y0, y1, y2) =
+ * y_j - y_i, the mechanical stretch, and its margin above the screening bound. Both loops
+ * below evaluate every bond through this one function, so a node's bonds give the same
+ * numbers whichever loop runs them. */
+static inline __attribute__((always_inline)) double pmb_bond(const pmb_centre ci_value, const peri_family_eval *fam,
+                                                             double xj0, double xj1, double xj2, double uj0,
+                                                             double uj1, double uj2, double cj, double eth_j,
+                                                             double bound_j, double V_j, bool multi, bool thermal,
+                                                             peri_influence influence, bool uniform, double *y0,
+                                                             double *y1, double *y2, double *stretch_out,
+                                                             double *excess_out) {
+  const pmb_centre *ci = &ci_value;
+  const double x0 = xj0 - ci->x0, x1 = xj1 - ci->x1, x2 = xj2 - ci->x2;
+  const double d0 = x0 + (uj0 - ci->u0), d1 = x1 + (uj1 - ci->u1), d2 = x2 + (uj2 - ci->u2);
+  *y0 = d0, *y1 = d1, *y2 = d2;
+  const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+  const double r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+  const double inv_r0_r = 1.0 / (r0 * r); /* the loop's one division */
+  double stretch = (r - r0) * r * inv_r0_r;
+  if (thermal) stretch -= 0.5 * (ci->eth + eth_j);
+  *excess_out = stretch - (peri_min(ci->bound, bound_j) - PERI_S0_SCREEN_MARGIN);
+  *stretch_out = stretch;
+  const double c = multi ? 0.5 * (ci->c + cj) : ci->c;
+  const double scale = c * stretch * peri_eval_omega(fam, influence, r0) * peri_eval_beta(fam, r0) *
+                       (uniform ? ci->V : V_j) * r0 * inv_r0_r;
+  return r > 0.0 ? scale : 0.0;
+}
+
+/* What the force loops return per node: the force density, the minimum mechanical stretch
+ * and whether a stretch passes the screening bound (a candidate for breaking). */
+typedef struct pmb_sums {
+  double f[3], smin;
+  bool candidate;
+} pmb_sums;
+
+/* Node i alone, over its intact bonds in family order (the bond values by a vector loop,
+ * their sum in order). */
+static inline __attribute__((always_inline)) pmb_sums pmb_node(const peri_bond_view *w, int32_t i, int64_t k0,
+                                                               int64_t k1, bool multi, bool thermal,
+                                                               peri_influence influence, bool uniform) {
+  const pmb_centre ci = pmb_centre_of(w, i, thermal);
+  const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
+                         *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict c_node = w->coef,
+                         *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
+  const peri_family_eval fam = w->fam;
+  const bool damaged = memchr(w->broken + k0, 1, (size_t)(k1 - k0)) != NULL;
+  double fx = 0.0, fy = 0.0, fz = 0.0, smin = INFINITY, excess = -INFINITY;
+  int32_t intact[PERI_INTACT_CHUNK];
+  double g[PERI_INTACT_CHUNK], y0[PERI_INTACT_CHUNK], y1[PERI_INTACT_CHUNK], y2[PERI_INTACT_CHUNK];
+  for (int64_t k = k0; k < k1;) {
+    int n;
+    const int32_t *restrict nbr = peri_next_chunk(w, damaged, &k, k1, intact, &n);
+#pragma omp simd reduction(min : smin) reduction(max : excess)
+    for (int a = 0; a < n; ++a) {
+      const int32_t j = nbr[a];
+      double s, e;
+      g[a] = pmb_bond(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], multi ? c_node[j] : 0.0,
+                      thermal ? eth[j] : 0.0, s0_bound[j], uniform ? 0.0 : V[j], multi, thermal, influence, uniform,
+                      &y0[a], &y1[a], &y2[a], &s, &e);
+      smin = peri_min(smin, s);
+      excess = peri_max(excess, e);
+    }
+    for (int a = 0; a < n; ++a) {
+      fx = fma(g[a], y0[a], fx);
+      fy = fma(g[a], y1[a], fy);
+      fz = fma(g[a], y2[a], fz);
+    }
   }
+  const pmb_sums r = {{fx, fy, fz}, smin, excess > 0.0};
+  return r;
+}
+
+/* The block of nodes i0 .. i0+7 (node_blocks.h), intact: lane l is node i0 + l and takes
+ * template entry a, neighbour tj[a] + l, when bit l of lanes[a] is set; every read is
+ * contiguous. Same sums as pmb_node. */
+static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view *w, int32_t i0,
+                                                            const int32_t *restrict tj,
+                                                            const uint8_t *restrict lanes, int64_t count,
+                                                            bool multi, bool thermal, peri_influence influence,
+                                                            bool uniform, pmb_sums out[PERI_BLOCK]) {
+  const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
+                         *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict c_node = w->coef,
+                         *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
+  const peri_family_eval fam = w->fam;
+  /* the eight centres as arrays (one vector each), fx .. excess the lanes' running sums */
+  double c0[PERI_BLOCK], c1[PERI_BLOCK], c2[PERI_BLOCK], cu0[PERI_BLOCK], cu1[PERI_BLOCK], cu2[PERI_BLOCK],
+      cc[PERI_BLOCK], ceth[PERI_BLOCK], cbound[PERI_BLOCK], cV[PERI_BLOCK];
+  double fx[PERI_BLOCK], fy[PERI_BLOCK], fz[PERI_BLOCK], smin[PERI_BLOCK], excess[PERI_BLOCK];
+  for (int l = 0; l < PERI_BLOCK; ++l) {
+    const pmb_centre c = pmb_centre_of(w, i0 + l, thermal);
+    c0[l] = c.x0, c1[l] = c.x1, c2[l] = c.x2, cu0[l] = c.u0, cu1[l] = c.u1, cu2[l] = c.u2;
+    cc[l] = c.c, ceth[l] = c.eth, cbound[l] = c.bound, cV[l] = c.V;
+    fx[l] = fy[l] = fz[l] = 0.0, smin[l] = INFINITY, excess[l] = -INFINITY;
+  }
+  for (int64_t a = 0; a < count; ++a) {
+    const int64_t j = tj[a];
+    const double *restrict on_lanes = peri_lane_on[lanes[a]];
+    /* the next blocks of a row read the same entries shifted by 8 nodes: fetch them ahead */
+    __builtin_prefetch(X0 + j + 2 * PERI_BLOCK), __builtin_prefetch(X1 + j + 2 * PERI_BLOCK);
+    __builtin_prefetch(X2 + j + 2 * PERI_BLOCK), __builtin_prefetch(U0 + j + 2 * PERI_BLOCK);
+    __builtin_prefetch(U1 + j + 2 * PERI_BLOCK), __builtin_prefetch(U2 + j + 2 * PERI_BLOCK);
+    /* (a second exit keeps GCC from versioning this loop for outer-loop vectorization, which
+     * would leave the lane loop below without if-conversion) */
+    if (j < 0) break;
+    const double *restrict A0 = X0 + j, *restrict A1 = X1 + j, *restrict A2 = X2 + j, *restrict B0 = U0 + j,
+                           *restrict B1 = U1 + j, *restrict B2 = U2 + j, *restrict Cj = c_node + j,
+                           *restrict Ej = thermal ? eth + j : eth, *restrict Sj = s0_bound + j, *restrict Vj = V + j;
+#pragma omp simd
+    for (int l = 0; l < PERI_BLOCK; ++l) {
+      const pmb_centre c = {c0[l], c1[l], c2[l], cu0[l], cu1[l], cu2[l], cc[l], ceth[l], cbound[l], cV[l]};
+      double y0, y1, y2, s, e;
+      const double g = pmb_bond(c, &fam, A0[l], A1[l], A2[l], B0[l], B1[l], B2[l], multi ? Cj[l] : 0.0,
+                                thermal ? Ej[l] : 0.0, Sj[l], uniform ? 0.0 : Vj[l], multi, thermal, influence,
+                                uniform, &y0, &y1, &y2, &s, &e);
+      const bool on = on_lanes[l] != 0.0;
+      fx[l] = on ? fma(g, y0, fx[l]) : fx[l];
+      fy[l] = on ? fma(g, y1, fy[l]) : fy[l];
+      fz[l] = on ? fma(g, y2, fz[l]) : fz[l];
+      smin[l] = on ? peri_min(smin[l], s) : smin[l];
+      excess[l] = on ? peri_max(excess[l], e) : excess[l];
+    }
+  }
+  for (int l = 0; l < PERI_BLOCK; ++l) {
+    const pmb_sums r = {{fx[l], fy[l], fz[l]}, smin[l], excess[l] > 0.0};
+    out[l] = r;
+  }
+}
+
+/* One pair of functions per specialization: the OpenMP region below is outlined before
+ * inlining, so the constants must be fixed inside functions of their own to reach the
+ * vector loops. */
+typedef struct pmb_loops {
+  pmb_sums (*node)(const peri_bond_view *, int32_t);
+  void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, pmb_sums *);
+} pmb_loops;
+#define PMB_VARIANT(NAME, MULTI, THERMAL, INFLUENCE, UNIFORM)                                              \
+  static pmb_sums NAME##_node(const peri_bond_view *w, int32_t i) {                                       \
+    return pmb_node(w, i, w->offset[i], w->offset[i + 1], MULTI, THERMAL, INFLUENCE, UNIFORM);             \
+  }                                                                                                        \
+  static void NAME##_block(const peri_bond_view *w, int32_t i0, const int32_t *tj, const uint8_t *lanes,   \
+                           int64_t count, pmb_sums *out) {                                                 \
+    pmb_block(w, i0, tj, lanes, count, MULTI, THERMAL, INFLUENCE, UNIFORM, out);                           \
+  }                                                                                                        \
+  static const pmb_loops NAME = {NAME##_node, NAME##_block};
 /* "uniform": every node has the same volume (a grid), so the loop does not gather it */
-PMB_NODE_VARIANT(pmb_node_uniform, false, false, PERI_INFLUENCE_CONSTANT, true)
-PMB_NODE_VARIANT(pmb_node_plain, false, false, PERI_INFLUENCE_CONSTANT, false)
-PMB_NODE_VARIANT(pmb_node_multi, true, false, PERI_INFLUENCE_CONSTANT, false)
-PMB_NODE_VARIANT(pmb_node_thermal, false, true, PERI_INFLUENCE_CONSTANT, false)
-PMB_NODE_VARIANT(pmb_node_multi_thermal, true, true, PERI_INFLUENCE_CONSTANT, false)
-PMB_NODE_VARIANT(pmb_node_inverse, true, false, PERI_INFLUENCE_INVERSE, false)
-PMB_NODE_VARIANT(pmb_node_inverse_thermal, true, true, PERI_INFLUENCE_INVERSE, false)
-PMB_NODE_VARIANT(pmb_node_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false)
-PMB_NODE_VARIANT(pmb_node_gaussian_thermal, true, true, PERI_INFLUENCE_GAUSSIAN, false)
+PMB_VARIANT(pmb_uniform, false, false, PERI_INFLUENCE_CONSTANT, true)
+PMB_VARIANT(pmb_plain, false, false, PERI_INFLUENCE_CONSTANT, false)
+PMB_VARIANT(pmb_multi, true, false, PERI_INFLUENCE_CONSTANT, false)
+PMB_VARIANT(pmb_thermal, false, true, PERI_INFLUENCE_CONSTANT, false)
+PMB_VARIANT(pmb_multi_thermal, true, true, PERI_INFLUENCE_CONSTANT, false)
+PMB_VARIANT(pmb_inverse, true, false, PERI_INFLUENCE_INVERSE, false)
+PMB_VARIANT(pmb_inverse_thermal, true, true, PERI_INFLUENCE_INVERSE, false)
+PMB_VARIANT(pmb_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false)
+PMB_VARIANT(pmb_gaussian_thermal, true, true, PERI_INFLUENCE_GAUSSIAN, false)
 
 static long pmb_force(peri_sim *s) {
   peri_particles *p = &s->p;
@@ -107,28 +198,38 @@ static long pmb_force(peri_sim *s) {
   peri_update_s0_bound(s);
   const bool uniform = peri_uniform_volume(p);
   const bool multi = s->n_materials > 1, thermal = s->thermal_strain != NULL;
-  pmb_node_fn node = multi ? (thermal ? pmb_node_multi_thermal : pmb_node_multi)
-                           : (thermal ? pmb_node_thermal : uniform ? pmb_node_uniform : pmb_node_plain);
-  if (s->family.influence == PERI_INFLUENCE_INVERSE) node = thermal ? pmb_node_inverse_thermal : pmb_node_inverse;
-  if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) node = thermal ? pmb_node_gaussian_thermal : pmb_node_gaussian;
-  const peri_bond_view w = peri_bond_view_of(s);
+  const pmb_loops *loops = multi ? (thermal ? &pmb_multi_thermal : &pmb_multi)
+                                 : (thermal ? &pmb_thermal : uniform ? &pmb_uniform : &pmb_plain);
+  if (s->family.influence == PERI_INFLUENCE_INVERSE) loops = thermal ? &pmb_inverse_thermal : &pmb_inverse;
+  if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) loops = thermal ? &pmb_gaussian_thermal : &pmb_gaussian;
+  const peri_node_blocks *items = peri_node_blocks_refresh(s);
+  const peri_bond_view w = peri_bond_view_soa(s, items->soa);
   const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
   long n_broken = 0;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : n_broken)
-  for (int32_t i = 0; i < p->n_owned; ++i) {
-    const int64_t k0 = b->offset[i], k1 = b->offset[i + 1];
-    double f[3], smin;
-    const long candidates = node(&w, i, k0, k1, f, &smin);
-    if (breaking && candidates > 0) {
-      const long nb = peri_break_family(s, i);
-      if (nb > 0) {
-        n_broken += nb;
-        double unused;
-        node(&w, i, k0, k1, f, &unused);
-      }
+#pragma omp parallel for schedule(dynamic, 32) reduction(+ : n_broken)
+  for (int32_t item = 0; item < items->n_items; ++item) {
+    const int32_t i0 = items->first[item], i1 = items->first[item + 1];
+    pmb_sums sums[PERI_BLOCK];
+    if (peri_item_is_block(items, item) && !peri_block_damaged(b, i0)) {
+      const int64_t t0 = items->tpl[item];
+      loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, items->tpl[item + 1] - t0, sums);
+    } else {
+      for (int32_t i = i0; i < i1; ++i) sums[i - i0] = loops->node(&w, i);
     }
-    for (int d = 0; d < 3; ++d) p->f[3 * i + d] = f[d];
-    if (track_smin) p->smin[i] = smin;
+    for (int32_t i = i0; i < i1; ++i) {
+      pmb_sums *r = &sums[i - i0];
+      if (breaking && r->candidate) {
+        const long nb = peri_break_family(s, i);
+        if (nb > 0) {
+          n_broken += nb;
+          const double smin = r->smin; /* of the bonds as they were at the test */
+          *r = loops->node(&w, i);
+          r->smin = smin;
+        }
+      }
+      for (int d = 0; d < 3; ++d) p->f[3 * i + d] = r->f[d];
+      if (track_smin) p->smin[i] = r->smin;
+    }
   }
   if (s->s0_node) peri_update_lammps_s0(s);
   return n_broken;

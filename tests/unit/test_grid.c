@@ -204,7 +204,7 @@ Test(sfc, morton_is_local_permutation) {
   peri_particles_alloc_state(&p);
   for (int32_t i = 0; i < p.n; i++) p.damage[i] = i;
   int32_t *perm = malloc(sizeof(int32_t) * (size_t)p.n);
-  peri_sfc_order(&p, perm);
+  peri_sfc_order(&p, dx, perm);
   char *seen = calloc((size_t)p.n, 1);
   for (int32_t k = 0; k < p.n; k++) {
     cr_assert(perm[k] >= 0 && perm[k] < p.n);
@@ -224,12 +224,36 @@ Test(sfc, morton_is_local_permutation) {
   cr_assert_lt(mean, 3 * dx, "mean step %g dx", mean / dx);
   /* deterministic */
   int32_t *perm2 = malloc(sizeof(int32_t) * (size_t)p.n);
-  peri_sfc_order(&p, perm2);
-  peri_sfc_order(&p, perm);
+  peri_sfc_order(&p, dx, perm2);
+  peri_sfc_order(&p, dx, perm);
   cr_assert(!memcmp(perm, perm2, sizeof(int32_t) * (size_t)p.n));
   free(perm2);
   free(x0);
   free(seen);
+  free(perm);
+  peri_particles_free(&p);
+}
+
+/* Rows along the longest axis: on a 30 x 6 x 4 lattice every node but the last of a row
+ * is followed by its +x neighbour, so the kernels find runs of translated families. */
+Test(sfc, rows_along_longest_axis) {
+  const double dx = 1e-3;
+  peri_particles p;
+  peri_particles_init(&p, 720);
+  for (int k = 0; k < 4; k++)
+    for (int j = 0; j < 6; j++)
+      for (int i = 0; i < 30; i++) {
+        const double c[3] = {j * dx, i * dx, k * dx}; /* the long axis is y */
+        peri_particles_add(&p, c, 1, 0, 1);
+      }
+  int32_t *perm = malloc(sizeof(int32_t) * (size_t)p.n);
+  peri_sfc_order(&p, dx, perm);
+  int steps_along_row = 0;
+  for (int32_t k = 1; k < p.n; k++) {
+    const double *a = &p.x[3 * perm[k - 1]], *b = &p.x[3 * perm[k]];
+    if (a[0] == b[0] && a[2] == b[2] && fabs(b[1] - a[1] - dx) < 1e-12) steps_along_row++;
+  }
+  cr_assert_eq(steps_along_row, 24 * 29);
   free(perm);
   peri_particles_free(&p);
 }
@@ -242,7 +266,7 @@ Test(sfc, ties_by_index) {
   peri_particles_add(&p, a, 1, 0, 1);
   peri_particles_add(&p, b, 1, 0, 1);
   int32_t perm[3];
-  peri_sfc_order(&p, perm);
+  peri_sfc_order(&p, 1.0, perm);
   cr_assert_eq(perm[0], 2);
   cr_assert_eq(perm[1], 0);
   cr_assert_eq(perm[2], 1);

@@ -1,0 +1,137 @@
+/* Work items of the bond loops (see node_blocks.h). */
+#include <stdio.h>
+#include <stdlib.h>
+#include "peri/error.h"
+#include "peri/model.h"
+#include "node_blocks.h"
+
+#define LANES_1(m) {(m) & 1, (m) >> 1 & 1, (m) >> 2 & 1, (m) >> 3 & 1, (m) >> 4 & 1, (m) >> 5 & 1, (m) >> 6 & 1, (m) >> 7 & 1}
+#define LANES_4(m) LANES_1(m), LANES_1((m) + 1), LANES_1((m) + 2), LANES_1((m) + 3)
+#define LANES_16(m) LANES_4(m), LANES_4((m) + 4), LANES_4((m) + 8), LANES_4((m) + 12)
+#define LANES_64(m) LANES_16(m), LANES_16((m) + 16), LANES_16((m) + 32), LANES_16((m) + 48)
+const double peri_lane_on[256][PERI_BLOCK] = {LANES_64(0), LANES_64(64), LANES_64(128), LANES_64(192)};
+
+/* A template may have at most this many entries per bond of the largest family in it: the
+ * lanes without the entry idle, and beyond this the block costs more than its nodes alone. */
+#define PERI_TEMPLATE_SLACK 1.25
+
+/* Builds in tj/lanes (capacity cap) the template of nodes i0 .. i0+7: the sorted union of
+ * their families shifted by the lane. Returns its length, or -1 when the nodes do not form
+ * a block: a family is not increasing (MPI ghosts numbered after the owned nodes), a lane's
+ * shifted neighbour leaves 0 .. n-8, or the union is too long. */
+static int64_t build_template(const peri_bonds *b, int32_t n, int32_t i0, int32_t *tj, uint8_t *lanes,
+                              int32_t *merged_j, uint8_t *merged_lanes, int64_t cap) {
+  int64_t len = 0, largest = 0;
+  for (int l = 0; l < PERI_BLOCK; ++l) {
+    const int64_t k0 = b->offset[i0 + l], count = b->offset[i0 + l + 1] - k0;
+    if (count > largest) largest = count;
+    /* merge the shifted family into the template */
+    int64_t a = 0, c = 0, m = 0;
+    while (a < len || c < count) {
+      const int64_t shifted = c < count ? (int64_t)b->neighbor[k0 + c] - l : INT64_MAX;
+      if (c < count) {
+        if (shifted < 0 || shifted + PERI_BLOCK > n) return -1;
+        if (c > 0 && b->neighbor[k0 + c] <= b->neighbor[k0 + c - 1]) return -1;
+      }
+      if (m >= cap) return -1;
+      if (a < len && tj[a] < shifted) {
+        merged_j[m] = tj[a], merged_lanes[m++] = lanes[a++];
+      } else if (a < len && tj[a] == shifted) {
+        merged_j[m] = tj[a], merged_lanes[m++] = (uint8_t)(lanes[a++] | 1u << l), ++c;
+      } else {
+        merged_j[m] = (int32_t)shifted, merged_lanes[m++] = (uint8_t)(1u << l), ++c;
+      }
+    }
+    memcpy(tj, merged_j, sizeof(int32_t) * (size_t)m);
+    memcpy(lanes, merged_lanes, (size_t)m);
+    len = m;
+  }
+  if (largest == 0 || (double)len > PERI_TEMPLATE_SLACK * (double)largest) return -1;
+  return len;
+}
+
+static void build(peri_node_blocks *nb, const peri_sim *s) {
+  const peri_bonds *b = &s->bonds;
+  const int32_t n_owned = s->p.n_owned, n = s->p.n;
+  free(nb->first);
+  free(nb->tpl);
+  free(nb->tpl_node);
+  free(nb->tpl_lanes);
+  int64_t largest = 0;
+  for (int32_t i = 0; i < n_owned; ++i)
+    if (b->offset[i + 1] - b->offset[i] > largest) largest = b->offset[i + 1] - b->offset[i];
+  const int64_t cap = (int64_t)(PERI_TEMPLATE_SLACK * (double)largest) + 1;
+  int32_t *tj = peri_malloc(sizeof(int32_t) * (size_t)cap * 2);
+  uint8_t *lanes = peri_malloc((size_t)cap * 2);
+  nb->first = peri_malloc(sizeof(int32_t) * ((size_t)n_owned + 1));
+  nb->tpl = peri_malloc(sizeof(int64_t) * ((size_t)n_owned + 1));
+  /* templates take at most the slack times the block's bonds */
+  const int64_t tpl_cap = (int64_t)(PERI_TEMPLATE_SLACK * (double)b->offset[n_owned]) / PERI_BLOCK + cap + 1;
+  nb->tpl_node = peri_malloc(sizeof(int32_t) * (size_t)tpl_cap);
+  nb->tpl_lanes = peri_malloc((size_t)tpl_cap);
+  int32_t items = 0;
+  int64_t used = 0;
+  nb->block_bonds = 0;
+  for (int32_t i = 0; i < n_owned;) {
+    int64_t len = -1;
+    if (!s->generic_bond_loops && i + PERI_BLOCK <= n_owned && used + cap <= tpl_cap)
+      len = build_template(b, n, i, tj, lanes, tj + cap, lanes + cap, cap);
+    nb->first[items] = i;
+    nb->tpl[items++] = used;
+    if (len > 0) {
+      memcpy(nb->tpl_node + used, tj, sizeof(int32_t) * (size_t)len);
+      memcpy(nb->tpl_lanes + used, lanes, (size_t)len);
+      used += len;
+      nb->block_bonds += b->offset[i + PERI_BLOCK] - b->offset[i];
+      i += PERI_BLOCK;
+    } else {
+      i += 1;
+    }
+  }
+  nb->first[items] = n_owned;
+  nb->tpl[items] = used;
+  nb->n_items = items;
+  nb->tpl_entries = used;
+  free(tj);
+  free(lanes);
+  nb->offset = b->offset;
+  nb->neighbor = b->neighbor;
+  nb->n_owned = n_owned;
+  nb->generic = s->generic_bond_loops;
+  if (getenv("PERI_DEBUG_BLOCKS"))
+    fprintf(stderr, "blocks: %d items, %.3f of %ld bonds in blocks, lane use %.3f\n", items,
+            (double)nb->block_bonds / (double)(b->offset[n_owned] > 0 ? b->offset[n_owned] : 1),
+            (long)b->offset[n_owned], (double)nb->block_bonds / (double)(PERI_BLOCK * (used > 0 ? used : 1)));
+}
+
+const peri_node_blocks *peri_node_blocks_refresh(peri_sim *s) {
+  const peri_particles *p = &s->p;
+  if (!s->node_blocks) s->node_blocks = peri_calloc(1, sizeof(peri_node_blocks));
+  peri_node_blocks *nb = s->node_blocks;
+  if (nb->offset != s->bonds.offset || nb->neighbor != s->bonds.neighbor || nb->n_owned != p->n_owned ||
+      nb->n != p->n || nb->generic != s->generic_bond_loops) {
+    build(nb, s);
+    free(nb->soa);
+    nb->soa = peri_malloc(sizeof(double) * 6 * (size_t)(p->n > 0 ? p->n : 1));
+    nb->n = p->n;
+  }
+  const size_t n = (size_t)p->n;
+  double *restrict soa = nb->soa;
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n; ++i)
+    for (int c = 0; c < 3; ++c) {
+      soa[c * n + (size_t)i] = p->x[3 * i + c];
+      soa[(3 + c) * n + (size_t)i] = p->u[3 * i + c];
+    }
+  return nb;
+}
+
+void peri_node_blocks_free(struct peri_node_blocks *nb) {
+  if (!nb) return;
+  free(nb->first);
+  free(nb->tpl);
+  free(nb->tpl_node);
+  free(nb->tpl_lanes);
+  free(nb->soa);
+  free(nb);
+}

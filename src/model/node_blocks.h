@@ -1,0 +1,56 @@
+/* The bond loops' work items. A block is eight consecutive owned nodes whose families,
+ * shifted by the lane (neighbour j of node i0 + l read as j - l), fit one short template:
+ * the loops run the template once for the eight nodes, lane l taking entry a when bit l of
+ * its mask is set, and read the neighbours j + l of a template entry j with contiguous
+ * loads instead of gathers. On a lattice in row order (src/core/sfc_order.c) the interior
+ * nodes of a row have identical shifted families (all bits set) and the nodes near a
+ * surface nearly so. Other nodes are items of one node. Both paths add each node's bonds in
+ * family order, so a node's force does not depend on which path it takes (nor on threads
+ * or ranks). */
+#ifndef PERI_NODE_BLOCKS_H
+#define PERI_NODE_BLOCKS_H
+#include <stdbool.h>
+#include <stdint.h>
+#include <string.h>
+#include "peri/sim.h"
+
+#define PERI_BLOCK 8 /* nodes per block: one 512-bit vector of doubles */
+
+typedef struct peri_node_blocks {
+  int32_t n_items;
+  int32_t *first;      /* [n_items + 1] first node of each item (then n_owned) */
+  int64_t *tpl;        /* [n_items + 1] a block's template entries are tpl[b] .. tpl[b+1]-1
+                          (none for an item of one node) */
+  int32_t *tpl_node;   /* template entries: neighbour of lane 0 (lane l reads tpl_node + l) */
+  uint8_t *tpl_lanes;  /* template entries: bit l set when node i0 + l has that bond */
+  int64_t block_bonds, tpl_entries;
+  /* what the items were built for (rebuilt when the bonds change) */
+  const int64_t *offset;
+  const int32_t *neighbor;
+  int32_t n, n_owned;
+  bool generic;
+  /* structure-of-arrays copies the loops read: x0 x1 x2 u0 u1 u2, n each */
+  double *soa;
+} peri_node_blocks;
+
+/* The work items of s (built on first use, and again when the bonds change), with the
+ * structure-of-arrays copies of the reference positions and displacements refreshed. With
+ * s->generic_bond_loops set every item is a single node (tests compare the two paths). */
+const peri_node_blocks *peri_node_blocks_refresh(peri_sim *s);
+
+/* peri_lane_on[m][l] = 1.0 when bit l of m is set, else 0.0: the lane masks as doubles, so
+ * that the lane loops keep the width of their double vectors */
+extern const double peri_lane_on[256][PERI_BLOCK];
+
+/* Whether item `item` is a block (else a single node). */
+static inline bool peri_item_is_block(const peri_node_blocks *nb, int32_t item) {
+  return nb->tpl[item + 1] > nb->tpl[item];
+}
+
+/* Whether the block starting at node i0 has a broken bond (it then runs node by node). */
+static inline bool peri_block_damaged(const peri_bonds *b, int32_t i0) {
+  const int64_t k0 = b->offset[i0];
+  return memchr(b->broken + k0, 1, (size_t)(b->offset[i0 + PERI_BLOCK] - k0)) != NULL;
+}
+
+#endif
