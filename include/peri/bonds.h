@@ -34,6 +34,10 @@ typedef struct peri_bonds {
   int64_t *offset;  /* [n_nodes+1] */
   int32_t *neighbor;/* [n_bonds] */
   uint8_t *broken;  /* 0 intact, 1 broken */
+  /* incremented by every change of the broken flags other than the models' force loops
+   * (pre-cracks, growing thermal cracks, restarts, undone load steps), so that the loops'
+   * copies of them (src/model/node_blocks.c) follow */
+  uint64_t broken_edits;
   peri_family_params family; /* what the per-bond reference data are evaluated from */
 } peri_bonds;
 

@@ -74,5 +74,6 @@ long peri_precracks_apply(peri_sim *s) {
       }
     }
   }
+  ++b->broken_edits;
   return cut;
 }

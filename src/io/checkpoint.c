@@ -168,6 +168,7 @@ void peri_restart_apply(peri_sim *s) {
     copy_nodes(s, s->step_load, r->step_load, 3);
   }
   copy_bonds(s, s->bonds.broken, r->broken);
+  ++s->bonds.broken_edits;
   memcpy(s->indenter.force, r->indenter_force, sizeof r->indenter_force);
   peri_quasi_static *q = &s->qs;
   q->reference = r->qs.reference;

@@ -272,12 +272,13 @@ LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false)
  * by node otherwise), then the body (the last argument) for each node i with its sums in *r;
  * the body may add
  * to n_broken. */
-#define LPS_FOR_EACH_NODE(items, bonds, loops, w, ...)                                              \
+#define LPS_FOR_EACH_NODE(items, loops, w, ...)                                                   \
   _Pragma("omp parallel for schedule(dynamic, 32) reduction(+ : n_broken)")                               \
   for (int32_t item = 0; item < (items)->n_items; ++item) {                                               \
     const int32_t i0 = (items)->first[item], i1 = (items)->first[item + 1];                               \
     lps_sums sums[PERI_BLOCK];                                                                             \
-    if (peri_item_is_block(items, item) && !peri_block_damaged(bonds, i0)) {                              \
+    const bool block = peri_item_is_block(items, item);                                                    \
+    if (block) {                                                                                           \
       const int64_t t0 = (items)->tpl[item];                                                              \
       (loops)->block(&(w), i0, (items)->tpl_node + t0, (items)->tpl_lanes + t0, (items)->tpl[item + 1] - t0, \
                      sums);                                                                                \
@@ -304,16 +305,17 @@ static long lps_dilatation(peri_sim *s) {
   if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) loops = thermal ? &lps_sums_gaussian_thermal : &lps_sums_gaussian;
   peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
-  const peri_node_blocks *items = peri_node_blocks_refresh(s);
+  peri_node_blocks *items = peri_node_blocks_refresh(s);
   const peri_bond_view w = peri_bond_view_soa(s, items->soa);
   const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
   const size_t n = (size_t)p->n;
   long n_broken = 0;
-  LPS_FOR_EACH_NODE(items, b, loops, w, {
+  LPS_FOR_EACH_NODE(items, loops, w, {
     if (breaking && r->candidate) {
       const long nb = peri_break_family(s, i);
       if (nb > 0) {
         n_broken += nb;
+        if (block) peri_node_blocks_break(items, b, item, i);
         const double smin = r->smin; /* of the bonds as they were at the test */
         *r = loops->node(&w, i);
         r->smin = smin;
@@ -351,7 +353,6 @@ static long lps_force(peri_sim *s) {
   /* the force pass reads D_j and B_j of ghosts (docs/parallel.md) */
   peri_sim_exchange(s, s->p.coef, 1);
   peri_sim_exchange(s, s->p.coef + n, 1);
-  const peri_bonds *b = &s->bonds;
   const peri_node_blocks *items = s->node_blocks; /* refreshed by the dilatation pass */
   const peri_bond_view w = peri_bond_view_soa(s, items->soa);
   const lps_loops *loops = s->family.influence == PERI_INFLUENCE_INVERSE    ? &lps_force_inverse
@@ -359,7 +360,7 @@ static long lps_force(peri_sim *s) {
                            : peri_uniform_volume(p)                         ? &lps_force_uniform
                                                                             : &lps_force_constant;
   long n_broken = 0; /* (the force pass breaks nothing) */
-  LPS_FOR_EACH_NODE(items, b, loops, w, {
+  LPS_FOR_EACH_NODE(items, loops, w, {
     for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = r->sum[d];
   })
   return broken + n_broken;

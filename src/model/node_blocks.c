@@ -50,6 +50,35 @@ static int64_t build_template(const peri_bonds *b, int32_t n, int32_t i0, int32_
   return len;
 }
 
+/* Template entry of block `item` for bond k of its node i (lane i - i0): the entries are
+ * increasing, so a binary search. */
+static int64_t template_entry(const peri_node_blocks *nb, const peri_bonds *b, int32_t item, int32_t i, int64_t k) {
+  const int32_t want = b->neighbor[k] - (i - nb->first[item]);
+  int64_t lo = nb->tpl[item], hi = nb->tpl[item + 1] - 1;
+  while (lo < hi) {
+    const int64_t mid = lo + (hi - lo) / 2;
+    if (nb->tpl_node[mid] < want) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo;
+}
+
+void peri_node_blocks_break(peri_node_blocks *nb, const peri_bonds *b, int32_t item, int32_t i) {
+  if (!peri_item_is_block(nb, item)) return;
+  const unsigned lane = (unsigned)(i - nb->first[item]);
+  for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
+    if (b->broken[k]) nb->tpl_lanes[template_entry(nb, b, item, i, k)] &= (uint8_t)~(1u << lane);
+}
+
+/* Lane masks from the structure and the broken flags. */
+static void sync_broken(peri_node_blocks *nb, const peri_bonds *b) {
+  memcpy(nb->tpl_lanes, nb->tpl_bonds, (size_t)nb->tpl_entries);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (int32_t item = 0; item < nb->n_items; ++item)
+    for (int32_t i = nb->first[item]; i < nb->first[item + 1]; ++i) peri_node_blocks_break(nb, b, item, i);
+  nb->broken_edits = b->broken_edits;
+}
+
 static void build(peri_node_blocks *nb, const peri_sim *s) {
   const peri_bonds *b = &s->bonds;
   const int32_t n_owned = s->p.n_owned, n = s->p.n;
@@ -57,6 +86,7 @@ static void build(peri_node_blocks *nb, const peri_sim *s) {
   free(nb->tpl);
   free(nb->tpl_node);
   free(nb->tpl_lanes);
+  free(nb->tpl_bonds);
   int64_t largest = 0;
   for (int32_t i = 0; i < n_owned; ++i)
     if (b->offset[i + 1] - b->offset[i] > largest) largest = b->offset[i + 1] - b->offset[i];
@@ -92,6 +122,8 @@ static void build(peri_node_blocks *nb, const peri_sim *s) {
   nb->tpl[items] = used;
   nb->n_items = items;
   nb->tpl_entries = used;
+  nb->tpl_bonds = peri_malloc((size_t)(used > 0 ? used : 1));
+  memcpy(nb->tpl_bonds, nb->tpl_lanes, (size_t)used);
   free(tj);
   free(lanes);
   nb->offset = b->offset;
@@ -104,7 +136,7 @@ static void build(peri_node_blocks *nb, const peri_sim *s) {
             (long)b->offset[n_owned], (double)nb->block_bonds / (double)(PERI_BLOCK * (used > 0 ? used : 1)));
 }
 
-const peri_node_blocks *peri_node_blocks_refresh(peri_sim *s) {
+peri_node_blocks *peri_node_blocks_refresh(peri_sim *s) {
   const peri_particles *p = &s->p;
   if (!s->node_blocks) s->node_blocks = peri_calloc(1, sizeof(peri_node_blocks));
   peri_node_blocks *nb = s->node_blocks;
@@ -114,7 +146,9 @@ const peri_node_blocks *peri_node_blocks_refresh(peri_sim *s) {
     free(nb->soa);
     nb->soa = peri_malloc(sizeof(double) * 6 * (size_t)(p->n > 0 ? p->n : 1));
     nb->n = p->n;
+    sync_broken(nb, &s->bonds);
   }
+  if (nb->broken_edits != s->bonds.broken_edits) sync_broken(nb, &s->bonds);
   const size_t n = (size_t)p->n;
   double *restrict soa = nb->soa;
 #pragma omp parallel for schedule(static)
@@ -132,6 +166,7 @@ void peri_node_blocks_free(struct peri_node_blocks *nb) {
   free(nb->tpl);
   free(nb->tpl_node);
   free(nb->tpl_lanes);
+  free(nb->tpl_bonds);
   free(nb->soa);
   free(nb);
 }

@@ -22,8 +22,10 @@ typedef struct peri_node_blocks {
   int64_t *tpl;        /* [n_items + 1] a block's template entries are tpl[b] .. tpl[b+1]-1
                           (none for an item of one node) */
   int32_t *tpl_node;   /* template entries: neighbour of lane 0 (lane l reads tpl_node + l) */
-  uint8_t *tpl_lanes;  /* template entries: bit l set when node i0 + l has that bond */
+  uint8_t *tpl_lanes;  /* template entries: bit l set when node i0 + l has that bond, intact */
+  uint8_t *tpl_bonds;  /* the same with broken bonds too (the structure) */
   int64_t block_bonds, tpl_entries;
+  uint64_t broken_edits; /* bonds.broken_edits when tpl_lanes last followed the flags */
   /* what the items were built for (rebuilt when the bonds change) */
   const int64_t *offset;
   const int32_t *neighbor;
@@ -34,9 +36,15 @@ typedef struct peri_node_blocks {
 } peri_node_blocks;
 
 /* The work items of s (built on first use, and again when the bonds change), with the
- * structure-of-arrays copies of the reference positions and displacements refreshed. With
- * s->generic_bond_loops set every item is a single node (tests compare the two paths). */
-const peri_node_blocks *peri_node_blocks_refresh(peri_sim *s);
+ * structure-of-arrays copies of the reference positions and displacements refreshed and the
+ * lane masks following the broken flags (rebuilt from them after an edit outside the force
+ * loops, peri_bonds.broken_edits). With s->generic_bond_loops set every item is a single
+ * node (tests compare the two paths). */
+peri_node_blocks *peri_node_blocks_refresh(peri_sim *s);
+
+/* Clears from the lane masks the broken bonds of node i (in item `item`), after the force
+ * loop broke some. */
+void peri_node_blocks_break(peri_node_blocks *nb, const peri_bonds *b, int32_t item, int32_t i);
 
 /* peri_lane_on[m][l] = 1.0 when bit l of m is set, else 0.0: the lane masks as doubles, so
  * that the lane loops keep the width of their double vectors */
@@ -47,10 +55,5 @@ static inline bool peri_item_is_block(const peri_node_blocks *nb, int32_t item) 
   return nb->tpl[item + 1] > nb->tpl[item];
 }
 
-/* Whether the block starting at node i0 has a broken bond (it then runs node by node). */
-static inline bool peri_block_damaged(const peri_bonds *b, int32_t i0) {
-  const int64_t k0 = b->offset[i0];
-  return memchr(b->broken + k0, 1, (size_t)(b->offset[i0 + PERI_BLOCK] - k0)) != NULL;
-}
 
 #endif

@@ -202,7 +202,7 @@ static long pmb_force(peri_sim *s) {
                                  : (thermal ? &pmb_thermal : uniform ? &pmb_uniform : &pmb_plain);
   if (s->family.influence == PERI_INFLUENCE_INVERSE) loops = thermal ? &pmb_inverse_thermal : &pmb_inverse;
   if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) loops = thermal ? &pmb_gaussian_thermal : &pmb_gaussian;
-  const peri_node_blocks *items = peri_node_blocks_refresh(s);
+  peri_node_blocks *items = peri_node_blocks_refresh(s);
   const peri_bond_view w = peri_bond_view_soa(s, items->soa);
   const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
   long n_broken = 0;
@@ -210,7 +210,8 @@ static long pmb_force(peri_sim *s) {
   for (int32_t item = 0; item < items->n_items; ++item) {
     const int32_t i0 = items->first[item], i1 = items->first[item + 1];
     pmb_sums sums[PERI_BLOCK];
-    if (peri_item_is_block(items, item) && !peri_block_damaged(b, i0)) {
+    const bool block = peri_item_is_block(items, item);
+    if (block) {
       const int64_t t0 = items->tpl[item];
       loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, items->tpl[item + 1] - t0, sums);
     } else {
@@ -222,6 +223,7 @@ static long pmb_force(peri_sim *s) {
         const long nb = peri_break_family(s, i);
         if (nb > 0) {
           n_broken += nb;
+          if (block) peri_node_blocks_break(items, b, item, i);
           const double smin = r->smin; /* of the bonds as they were at the test */
           *r = loops->node(&w, i);
           r->smin = smin;

@@ -144,6 +144,7 @@ long peri_thermal_grow_cracks(peri_sim *s, double t) {
     th->cut[k] = 1;
     s->bonds.broken[k] = 1;
   }
+  if (n > 0) ++s->bonds.broken_edits;
   return n;
 }
 

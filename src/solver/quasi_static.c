@@ -101,6 +101,7 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
           /* too many at once: undo and take half the increment */
           memcpy(p->u, u_save, sizeof(double) * n3);
           memcpy(s->bonds.broken, broken_save, nbonds);
+          ++s->bonds.broken_edits;
           inc *= 0.5;
           ++cut;
           ++q->cutbacks;
