@@ -13,7 +13,7 @@ const double peri_lane_on[256][PERI_BLOCK] = {LANES_64(0), LANES_64(64), LANES_6
 
 /* A template may have at most this many entries per bond of the largest family in it: the
  * lanes without the entry idle, and beyond this the block costs more than its nodes alone. */
-#define PERI_TEMPLATE_SLACK 1.25
+#define PERI_TEMPLATE_SLACK 1.5
 
 /* Builds in tj/lanes (capacity cap) the template of nodes i0 .. i0+7: the sorted union of
  * their families shifted by the lane. Returns its length, or -1 when the nodes do not form
