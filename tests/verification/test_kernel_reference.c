@@ -3,12 +3,15 @@
  * docs/model_reference.md (PMB section 2, LPS section 3.3), on a damaged two-material body
  * with a random displacement field: forces agree to 1e-12 of the largest force, and
  * breaking by the optimized loops breaks exactly the bonds whose stretch exceeds their
- * critical stretch, from both ends. */
+ * critical stretch, from both ends. The loops' two paths (eight nodes at a time on node
+ * blocks, one node at a time otherwise) give bit-identical forces, also after bonds break
+ * inside the loops and outside them. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "model/node_blocks.h"
 #include "peri/damage.h"
 #include "support.h"
 
@@ -211,3 +214,57 @@ static void check_breaking(const char *model) {
 
 Test(kernel_reference, pmb_breaking) { check_breaking("pmb"); }
 Test(kernel_reference, lps_breaking) { check_breaking("lps"); }
+
+/* Forces by the block path and by the one-node path (s->generic_bond_loops) into a and b. */
+static double forces_both_paths(peri_sim *s, double *a, double *b) {
+  const size_t bytes = sizeof(double) * 3 * (size_t)s->p.n_owned;
+  s->generic_bond_loops = false;
+  s->model->force(s);
+  memcpy(a, s->p.f, bytes);
+  const double in_blocks = (double)s->node_blocks->block_bonds / (double)s->bonds.offset[s->p.n_owned];
+  s->generic_bond_loops = true;
+  s->model->force(s);
+  memcpy(b, s->p.f, bytes);
+  s->generic_bond_loops = false;
+  return in_blocks;
+}
+
+static void check_paths(int dim, const char *model, const char *influence, const char *pv) {
+  peri_sim s;
+  build(&s, dim, model, influence, pv);
+  damage_and_deform(&s);
+  const size_t n3 = 3 * (size_t)s.p.n_owned, bytes = sizeof(double) * n3;
+  double *a = malloc(bytes), *b = malloc(bytes);
+  /* 1. damaged before the first evaluation */
+  s.breaking = false;
+  const double in_blocks = forces_both_paths(&s, a, b);
+  cr_log_info("%s %dD %s %s: %.3f of the bonds in node blocks", model, dim, influence, pv, in_blocks);
+  cr_assert_gt(in_blocks, 0.5, "the test needs node blocks");
+  cr_expect(memcmp(a, b, bytes) == 0, "%s %dD %s: the block and one-node paths differ", model, dim, influence);
+  /* 2. bonds broken by the force loop on the block path */
+  for (size_t k = 0; k < 3 * (size_t)s.p.n; ++k) s.p.u[k] *= 1.6;
+  s.breaking = true;
+  const long broken = s.model->force(&s);
+  s.breaking = false;
+  cr_assert_gt(broken, 100, "the test must break bonds");
+  forces_both_paths(&s, a, b);
+  cr_expect(memcmp(a, b, bytes) == 0, "%s %dD %s: the paths differ after the loop broke %ld bonds", model, dim,
+            influence, broken);
+  /* 3. bonds broken outside the loops (as by a thermal crack or a restart) */
+  peri_bonds *bonds = &s.bonds;
+  for (int64_t k = 0; k < bonds->n_bonds; k += 5) bonds->broken[k] = 1;
+  ++bonds->broken_edits;
+  forces_both_paths(&s, a, b);
+  cr_expect(memcmp(a, b, bytes) == 0, "%s %dD %s: the paths differ after bonds broke outside the loops", model, dim,
+            influence);
+  free(a);
+  free(b);
+  peri_sim_free(&s);
+}
+
+Test(kernel_paths, pmb_2d) { check_paths(2, "pmb", "constant", "linear"); }
+Test(kernel_paths, pmb_3d_inverse) { check_paths(3, "pmb", "inverse", "lammps"); }
+Test(kernel_paths, pmb_3d_gaussian) { check_paths(3, "pmb", "gaussian", "none"); }
+Test(kernel_paths, lps_2d) { check_paths(2, "lps", "constant", "linear"); }
+Test(kernel_paths, lps_3d_inverse) { check_paths(3, "lps", "inverse", "linear"); }
+Test(kernel_paths, lps_3d_gaussian) { check_paths(3, "lps", "gaussian", "lammps"); }
