@@ -1,5 +1,4 @@
 /* Work items of the bond loops (see node_blocks.h). */
-#include <stdio.h>
 #include <stdlib.h>
 #include "peri/error.h"
 #include "peri/model.h"
@@ -130,11 +129,20 @@ static void build(peri_node_blocks *nb, const peri_sim *s) {
   nb->neighbor = b->neighbor;
   nb->n_owned = n_owned;
   nb->generic = s->generic_bond_loops;
-  if (getenv("PERI_DEBUG_BLOCKS"))
-    fprintf(stderr, "blocks: %d items, %.3f of %ld bonds in blocks, lane use %.3f\n", items,
-            (double)nb->block_bonds / (double)(b->offset[n_owned] > 0 ? b->offset[n_owned] : 1),
-            (long)b->offset[n_owned], (double)nb->block_bonds / (double)(PERI_BLOCK * (used > 0 ? used : 1)));
 }
+
+/* a template entry: the neighbour (int32) and two lane masks */
+#define TEMPLATE_ENTRY_BYTES (sizeof(int32_t) + 2)
+
+double peri_node_blocks_share(const peri_sim *s, double *template_bytes_per_bond) {
+  const peri_node_blocks *nb = s->node_blocks;
+  if (!nb || !nb->offset) return -1.0;
+  const double bonds = (double)(nb->offset[nb->n_owned] > 0 ? nb->offset[nb->n_owned] : 1);
+  if (template_bytes_per_bond) *template_bytes_per_bond = (double)nb->tpl_entries * TEMPLATE_ENTRY_BYTES / bonds;
+  return (double)nb->block_bonds / bonds;
+}
+
+double peri_node_blocks_bytes_bound(void) { return PERI_TEMPLATE_SLACK * TEMPLATE_ENTRY_BYTES / PERI_BLOCK; }
 
 peri_node_blocks *peri_node_blocks_refresh(peri_sim *s) {
   const peri_particles *p = &s->p;

@@ -13,6 +13,7 @@
 #include "peri/error.h"
 #include "peri/frames.h"
 #include "peri/history.h"
+#include "peri/model.h"
 #include "peri/output.h"
 #include "peri/run.h"
 #include "peri/solver.h"
@@ -32,7 +33,8 @@ double peri_memory_estimate(const peri_sim *s) {
   double per_node = 15 * 8 + 8 + 8 + 4 + 4 + 1 + 3;
   if (s->p.theta) per_node += 3 * 8;
   if (s->s0_node) per_node += 2 * 8;
-  return n * per_node + (n + 1) * 8 + nb * peri_bonds_bytes_per_bond(&s->bonds);
+  per_node += 6 * 8; /* the bond loops' copies of x and u (src/model/node_blocks.c) */
+  return n * per_node + (n + 1) * 8 + nb * (peri_bonds_bytes_per_bond(&s->bonds) + peri_node_blocks_bytes_bound());
 }
 
 static const char *model_plane(const peri_sim *s) {
@@ -57,8 +59,8 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
     return;
   }
   peri_print_discretization(s, out, s->model->name, "broken");
-  fprintf(out, "  memory       %.1f MB estimated (%.1f bytes per directed bond)\n",
-          peri_memory_estimate(s) / 1e6, peri_bonds_bytes_per_bond(&s->bonds));
+  fprintf(out, "  memory       %.1f MB estimated (%.1f bytes per directed bond, node blocks at most %.2f more)\n",
+          peri_memory_estimate(s) / 1e6, peri_bonds_bytes_per_bond(&s->bonds), peri_node_blocks_bytes_bound());
   for (int m = 0; m < s->n_materials; ++m) {
     const peri_material *mat = &s->materials[m];
     fprintf(out, "  material     %s: rho %g, E %g, nu %.4g, K %g, critical stretch %g%s\n", mat->name,
@@ -228,6 +230,11 @@ int peri_run(peri_sim *s) {
              wall, wall > 0 ? (s->step - c.first_step) / wall : 0.0, wall > 0 ? updates / wall : 0.0,
              omp_get_max_threads());
     printf("  broken bonds %ld of %lld\n", broken, (long long)peri_global_bonds(s));
+    double tpl_bytes = 0.0;
+    const double in_blocks = peri_node_blocks_share(s, &tpl_bytes);
+    if (in_blocks >= 0.0) /* of this rank's bonds (rank 0's on MPI ranks) */
+      printf("  bond loops   %.1f%% of the bonds eight nodes at a time (node blocks, %.2f bytes per bond)\n",
+             100.0 * in_blocks, tpl_bytes);
     peri_print_stress_summary(s, stdout); /* per-material maxima over every rank */
     printf("  output       %s/%s.pvd (%s), %s/history.csv%s%s%s%s\n", s->out.directory, s->out.basename,
            "VTU series", s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot);

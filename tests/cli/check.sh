@@ -43,7 +43,7 @@ deck=examples/quickstart.yaml
 check_deck "$deck"
 expect_stdout_contains "nodes        36000"
 expect_stdout_matches "^  model +pmb, 2D, plane stress$"
-expect_stdout_matches "^  memory +[0-9.]+ MB estimated \([0-9.]+ bytes per directed bond\)"
+expect_stdout_matches "^  memory +[0-9.]+ MB estimated \([0-9.]+ bytes per directed bond, node blocks at most [0-9.]+ more\)"
 # the memory estimate is positive and plausible for 36,000 nodes and ~1.3 M bonds
 mb=$(sed -nE 's/^  memory +([0-9.]+) MB.*/\1/p' "$RUN_STDOUT")
 awk -v mb="$mb" 'BEGIN { exit !(mb > 1 && mb < 1000) }' || fail "memory estimate $mb MB is not plausible"
