@@ -299,13 +299,13 @@ LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false)
  * force pass reads two numbers per neighbour (D in coef[0 .. n-1], B in coef[n .. 2n-1]). */
 static long lps_dilatation(peri_sim *s) {
   peri_update_s0_bound(s);
+  peri_node_blocks *items = peri_node_blocks_refresh(s);
   const bool thermal = s->thermal_strain != NULL;
-  const lps_loops *loops = thermal ? &lps_sums_thermal : peri_uniform_volume(&s->p) ? &lps_sums_uniform : &lps_sums_plain;
+  const lps_loops *loops = thermal ? &lps_sums_thermal : items->uniform_volume ? &lps_sums_uniform : &lps_sums_plain;
   if (s->family.influence == PERI_INFLUENCE_INVERSE) loops = thermal ? &lps_sums_inverse_thermal : &lps_sums_inverse;
   if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) loops = thermal ? &lps_sums_gaussian_thermal : &lps_sums_gaussian;
   peri_particles *p = &s->p;
   const peri_bonds *b = &s->bonds;
-  peri_node_blocks *items = peri_node_blocks_refresh(s);
   const peri_bond_view w = peri_bond_view_soa(s, items->soa);
   const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
   const size_t n = (size_t)p->n;
@@ -357,7 +357,7 @@ static long lps_force(peri_sim *s) {
   const peri_bond_view w = peri_bond_view_soa(s, items->soa);
   const lps_loops *loops = s->family.influence == PERI_INFLUENCE_INVERSE    ? &lps_force_inverse
                            : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? &lps_force_gaussian
-                           : peri_uniform_volume(p)                         ? &lps_force_uniform
+                           : items->uniform_volume                          ? &lps_force_uniform
                                                                             : &lps_force_constant;
   long n_broken = 0; /* (the force pass breaks nothing) */
   LPS_FOR_EACH_NODE(items, loops, w, {

@@ -2,6 +2,7 @@
 #include <stdlib.h>
 #include "peri/error.h"
 #include "peri/model.h"
+#include "bond_kernel.h"
 #include "node_blocks.h"
 
 #define LANES_1(m) {(m) & 1, (m) >> 1 & 1, (m) >> 2 & 1, (m) >> 3 & 1, (m) >> 4 & 1, (m) >> 5 & 1, (m) >> 6 & 1, (m) >> 7 & 1}
@@ -148,23 +149,25 @@ peri_node_blocks *peri_node_blocks_refresh(peri_sim *s) {
   const peri_particles *p = &s->p;
   if (!s->node_blocks) s->node_blocks = peri_calloc(1, sizeof(peri_node_blocks));
   peri_node_blocks *nb = s->node_blocks;
+  const size_t n = (size_t)p->n;
   if (nb->offset != s->bonds.offset || nb->neighbor != s->bonds.neighbor || nb->n_owned != p->n_owned ||
-      nb->n != p->n || nb->generic != s->generic_bond_loops) {
+      nb->n != p->n || nb->x != p->x || nb->volume != p->volume || nb->generic != s->generic_bond_loops) {
     build(nb, s);
     free(nb->soa);
-    nb->soa = peri_malloc(sizeof(double) * 6 * (size_t)(p->n > 0 ? p->n : 1));
+    nb->soa = peri_malloc(sizeof(double) * 6 * (n > 0 ? n : 1));
     nb->n = p->n;
+    nb->x = p->x;
+    nb->volume = p->volume;
+    nb->uniform_volume = peri_uniform_volume(p);
+    for (size_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) nb->soa[c * n + i] = p->x[3 * i + (size_t)c];
     sync_broken(nb, &s->bonds);
   }
   if (nb->broken_edits != s->bonds.broken_edits) sync_broken(nb, &s->bonds);
-  const size_t n = (size_t)p->n;
-  double *restrict soa = nb->soa;
+  double *restrict u_soa = nb->soa + 3 * n;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n; ++i)
-    for (int c = 0; c < 3; ++c) {
-      soa[c * n + (size_t)i] = p->x[3 * i + c];
-      soa[(3 + c) * n + (size_t)i] = p->u[3 * i + c];
-    }
+    for (int c = 0; c < 3; ++c) u_soa[c * n + (size_t)i] = p->u[3 * i + c];
   return nb;
 }
 

@@ -26,9 +26,12 @@ typedef struct peri_node_blocks {
   uint8_t *tpl_bonds;  /* the same with broken bonds too (the structure) */
   int64_t block_bonds, tpl_entries;
   uint64_t broken_edits; /* bonds.broken_edits when tpl_lanes last followed the flags */
-  /* what the items were built for (rebuilt when the bonds change) */
+  /* what the items were built for (rebuilt when the bonds or the nodes change; the reference
+   * positions and volumes of the nodes do not change after set-up) */
   const int64_t *offset;
   const int32_t *neighbor;
+  const double *x, *volume;
+  bool uniform_volume; /* every node has the same volume */
   int32_t n, n_owned;
   bool generic;
   /* structure-of-arrays copies the loops read: x0 x1 x2 u0 u1 u2, n each */
@@ -36,7 +39,7 @@ typedef struct peri_node_blocks {
 } peri_node_blocks;
 
 /* The work items of s (built on first use, and again when the bonds change), with the
- * structure-of-arrays copies of the reference positions and displacements refreshed and the
+ * structure-of-arrays copy of the displacements refreshed and the
  * lane masks following the broken flags (rebuilt from them after an edit outside the force
  * loops, peri_bonds.broken_edits). With s->generic_bond_loops set every item is a single
  * node (tests compare the two paths). */

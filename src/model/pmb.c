@@ -196,13 +196,13 @@ static long pmb_force(peri_sim *s) {
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->materials[p->material[i]].micromodulus;
   peri_update_s0_bound(s);
-  const bool uniform = peri_uniform_volume(p);
+  peri_node_blocks *items = peri_node_blocks_refresh(s);
+  const bool uniform = items->uniform_volume;
   const bool multi = s->n_materials > 1, thermal = s->thermal_strain != NULL;
   const pmb_loops *loops = multi ? (thermal ? &pmb_multi_thermal : &pmb_multi)
                                  : (thermal ? &pmb_thermal : uniform ? &pmb_uniform : &pmb_plain);
   if (s->family.influence == PERI_INFLUENCE_INVERSE) loops = thermal ? &pmb_inverse_thermal : &pmb_inverse;
   if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) loops = thermal ? &pmb_gaussian_thermal : &pmb_gaussian;
-  peri_node_blocks *items = peri_node_blocks_refresh(s);
   const peri_bond_view w = peri_bond_view_soa(s, items->soa);
   const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
   long n_broken = 0;

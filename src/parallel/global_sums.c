@@ -13,6 +13,7 @@ void peri_sum_owned(const peri_sim *s, const double *terms, int ncomp, double *o
   const int32_t n = s->p.n_owned;
   const int64_t n_blocks = (n + PERI_SUM_BLOCK - 1) / PERI_SUM_BLOCK;
   double *block = peri_calloc((size_t)(n_blocks > 0 ? n_blocks : 1) * (size_t)ncomp, sizeof(double));
+#pragma omp parallel for schedule(static) if (n_blocks > 16)
   for (int64_t k = 0; k < n_blocks; ++k) {
     const int32_t a = (int32_t)(k * PERI_SUM_BLOCK), e = a + PERI_SUM_BLOCK < n ? a + PERI_SUM_BLOCK : n;
     for (int c = 0; c < ncomp; ++c) {

@@ -75,10 +75,17 @@ static void apply_indenter(peri_sim *s, double t) {
     if (ind->center[d]) c[d] = peri_expr_eval(ind->center[d], 0.0, 0.0, 0.0, t);
   const double R = ind->radius, k = ind->stiffness;
   /* per-node reactions summed in fixed-order blocks: independent of threads and ranks */
-  double *terms = peri_calloc(3 * (size_t)(p->n_owned > 0 ? p->n_owned : 1), sizeof(double));
+  if (ind->terms_n != p->n_owned) {
+    free(ind->terms);
+    ind->terms = peri_malloc(sizeof(double) * 3 * (size_t)(p->n_owned > 0 ? p->n_owned : 1));
+    ind->terms_n = p->n_owned;
+  }
+  double *terms = ind->terms;
+#pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double d[3], r2 = 0.0;
     for (int a = 0; a < 3; ++a) {
+      terms[3 * i + a] = 0.0;
       d[a] = p->x[3 * i + a] + p->u[3 * i + a] - c[a];
       r2 += d[a] * d[a];
     }
@@ -92,7 +99,6 @@ static void apply_indenter(peri_sim *s, double t) {
     for (int a = 0; a < 3; ++a) terms[3 * i + a] = -mag * d[a] * p->volume[i];
   }
   peri_sum_owned(s, terms, 3, ind->force);
-  free(terms);
 }
 
 void peri_apply_loads(peri_sim *s, double t) {
