@@ -50,24 +50,17 @@ static int64_t build_template(const peri_bonds *b, int32_t n, int32_t i0, int32_
   return len;
 }
 
-/* Template entry of block `item` for bond k of its node i (lane i - i0): the entries are
- * increasing, so a binary search. */
-static int64_t template_entry(const peri_node_blocks *nb, const peri_bonds *b, int32_t item, int32_t i, int64_t k) {
-  const int32_t want = b->neighbor[k] - (i - nb->first[item]);
-  int64_t lo = nb->tpl[item], hi = nb->tpl[item + 1] - 1;
-  while (lo < hi) {
-    const int64_t mid = lo + (hi - lo) / 2;
-    if (nb->tpl_node[mid] < want) lo = mid + 1;
-    else hi = mid;
-  }
-  return lo;
-}
-
 void peri_node_blocks_break(peri_node_blocks *nb, const peri_bonds *b, int32_t item, int32_t i) {
   if (!peri_item_is_block(nb, item)) return;
-  const unsigned lane = (unsigned)(i - nb->first[item]);
-  for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
-    if (b->broken[k]) nb->tpl_lanes[template_entry(nb, b, item, i, k)] &= (uint8_t)~(1u << lane);
+  const int32_t lane = i - nb->first[item];
+  const uint8_t clear = (uint8_t) ~(1u << lane);
+  /* the template and the shifted family are both increasing: one merge */
+  int64_t a = nb->tpl[item];
+  for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+    const int32_t shifted = b->neighbor[k] - lane;
+    while (nb->tpl_node[a] < shifted) ++a;
+    if (b->broken[k]) nb->tpl_lanes[a] &= clear;
+  }
 }
 
 /* Lane masks from the structure and the broken flags. */
