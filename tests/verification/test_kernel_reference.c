@@ -4,8 +4,8 @@
  * with a random displacement field: forces agree to 1e-12 of the largest force, and
  * breaking by the optimized loops breaks exactly the bonds whose stretch exceeds their
  * critical stretch, from both ends. The loops' two paths (eight nodes at a time on node
- * blocks, one node at a time otherwise) give bit-identical forces, also after bonds break
- * inside the loops and outside them. */
+ * blocks, one node at a time otherwise) give bit-identical forces and strain energies, also
+ * after bonds break inside the loops and outside them. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>
@@ -229,6 +229,23 @@ static double forces_both_paths(peri_sim *s, double *a, double *b) {
   return in_blocks;
 }
 
+/* Strain energy densities by both paths: whether they agree bit for bit. */
+static bool energies_agree(peri_sim *s) {
+  const size_t n = (size_t)s->p.n_owned;
+  double *a = calloc(n, sizeof(double)), *b = calloc(n, sizeof(double));
+  s->generic_bond_loops = false;
+  s->model->energy(s, a);
+  s->generic_bond_loops = true;
+  s->model->energy(s, b);
+  s->generic_bond_loops = false;
+  double largest = 0.0;
+  for (size_t i = 0; i < n; ++i) largest = fmax(largest, fabs(a[i]));
+  const bool same = largest > 0.0 && memcmp(a, b, sizeof(double) * n) == 0;
+  free(a);
+  free(b);
+  return same;
+}
+
 static void check_paths(int dim, const char *model, const char *influence, const char *pv) {
   peri_sim s;
   build(&s, dim, model, influence, pv);
@@ -241,6 +258,7 @@ static void check_paths(int dim, const char *model, const char *influence, const
   cr_log_info("%s %dD %s %s: %.3f of the bonds in node blocks", model, dim, influence, pv, in_blocks);
   cr_assert_gt(in_blocks, 0.5, "the test needs node blocks");
   cr_expect(memcmp(a, b, bytes) == 0, "%s %dD %s: the block and one-node paths differ", model, dim, influence);
+  cr_expect(energies_agree(&s), "%s %dD %s: the energies of the two paths differ", model, dim, influence);
   /* 2. bonds broken by the force loop on the block path */
   for (size_t k = 0; k < 3 * (size_t)s.p.n; ++k) s.p.u[k] *= 1.6;
   s.breaking = true;
@@ -257,6 +275,7 @@ static void check_paths(int dim, const char *model, const char *influence, const
   forces_both_paths(&s, a, b);
   cr_expect(memcmp(a, b, bytes) == 0, "%s %dD %s: the paths differ after bonds broke outside the loops", model, dim,
             influence);
+  cr_expect(energies_agree(&s), "%s %dD %s: the energies differ after bonds broke", model, dim, influence);
   free(a);
   free(b);
   peri_sim_free(&s);
