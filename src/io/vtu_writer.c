@@ -67,21 +67,26 @@ static int write_zlib_payload(FILE *out, const void *data, size_t nbytes) {
   header[1] = VTU_BLOCK_BYTES;
   header[2] = nblocks ? nbytes - (nblocks - 1) * (size_t)VTU_BLOCK_BYTES : 0;
 
-  unsigned char *packed = peri_malloc(nblocks * compressBound(VTU_BLOCK_BYTES));
-  size_t packed_len = 0;
+  /* the blocks are independent: compressed in parallel, each into its own slot, then packed
+   * in order (the same bytes on any number of threads) */
+  const size_t slot = compressBound(VTU_BLOCK_BYTES);
+  unsigned char *packed = peri_malloc(nblocks * slot + 1);
   int status = 0;
+#pragma omp parallel for schedule(dynamic, 4) reduction(| : status)
   for (size_t b = 0; b < nblocks; b++) {
     size_t offset = b * (size_t)VTU_BLOCK_BYTES;
     size_t block_len = nbytes - offset < VTU_BLOCK_BYTES ? nbytes - offset : VTU_BLOCK_BYTES;
-    uLongf dest_len = compressBound(VTU_BLOCK_BYTES);
+    uLongf dest_len = slot;
     /* Level 1: output is written every few steps, so speed matters more than a few %. */
-    if (compress2(packed + packed_len, &dest_len, (const Bytef *)data + offset, block_len,
-                  Z_BEST_SPEED) != Z_OK) {
-      status = -1;
-      break;
-    }
+    if (compress2(packed + b * slot, &dest_len, (const Bytef *)data + offset, block_len, Z_BEST_SPEED) != Z_OK)
+      status |= 1;
     header[3 + b] = dest_len;
-    packed_len += dest_len;
+  }
+  status = status ? -1 : 0;
+  size_t packed_len = 0;
+  for (size_t b = 0; status == 0 && b < nblocks; b++) {
+    memmove(packed + packed_len, packed + b * slot, header[3 + b]);
+    packed_len += header[3 + b];
   }
   if (status == 0) {
     base64_write(out, (const unsigned char *)header, (3 + nblocks) * sizeof *header);

@@ -198,10 +198,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
      * would leave the lane loop below without if-conversion) */
     if (j < 0) break;
     const double *restrict on_lanes = peri_lane_on[lanes[a]];
-    /* the next blocks of a row read the same entries shifted by 8 nodes: fetch them ahead */
-    __builtin_prefetch(X0 + j + 2 * PERI_BLOCK), __builtin_prefetch(X1 + j + 2 * PERI_BLOCK);
-    __builtin_prefetch(X2 + j + 2 * PERI_BLOCK), __builtin_prefetch(U0 + j + 2 * PERI_BLOCK);
-    __builtin_prefetch(U1 + j + 2 * PERI_BLOCK), __builtin_prefetch(U2 + j + 2 * PERI_BLOCK);
+    peri_prefetch_next_blocks(w, j);
     const double *restrict A0 = X0 + j, *restrict A1 = X1 + j, *restrict A2 = X2 + j, *restrict E0 = U0 + j,
                            *restrict E1 = U1 + j, *restrict E2 = U2 + j, *restrict Vj = V + j;
     if (force) {

@@ -130,10 +130,7 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const double *restrict on_lanes = peri_lane_on[lanes[a]];
-    /* the next blocks of a row read the same entries shifted by 8 nodes: fetch them ahead */
-    __builtin_prefetch(X0 + j + 2 * PERI_BLOCK), __builtin_prefetch(X1 + j + 2 * PERI_BLOCK);
-    __builtin_prefetch(X2 + j + 2 * PERI_BLOCK), __builtin_prefetch(U0 + j + 2 * PERI_BLOCK);
-    __builtin_prefetch(U1 + j + 2 * PERI_BLOCK), __builtin_prefetch(U2 + j + 2 * PERI_BLOCK);
+    peri_prefetch_next_blocks(w, j);
     /* (a second exit keeps GCC from versioning this loop for outer-loop vectorization, which
      * would leave the lane loop below without if-conversion) */
     if (j < 0) break;
