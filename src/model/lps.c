@@ -302,17 +302,15 @@ static long lps_dilatation(peri_sim *s) {
   if (s->family.influence == PERI_INFLUENCE_INVERSE) loops = thermal ? &lps_sums_inverse_thermal : &lps_sums_inverse;
   if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) loops = thermal ? &lps_sums_gaussian_thermal : &lps_sums_gaussian;
   peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
   const peri_bond_view w = peri_bond_view_soa(s, items->soa);
   const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
   const size_t n = (size_t)p->n;
   long n_broken = 0;
   LPS_FOR_EACH_NODE(items, loops, w, {
     if (breaking && r->candidate) {
-      const long nb = peri_break_family(s, i);
+      const long nb = peri_node_blocks_break_family(s, items, item, i);
       if (nb > 0) {
         n_broken += nb;
-        if (block) peri_node_blocks_break(items, b, item, i);
         const double smin = r->smin; /* of the bonds as they were at the test */
         *r = loops->node(&w, i);
         r->smin = smin;

@@ -50,7 +50,8 @@ static int64_t build_template(const peri_bonds *b, int32_t n, int32_t i0, int32_
   return len;
 }
 
-void peri_node_blocks_break(peri_node_blocks *nb, const peri_bonds *b, int32_t item, int32_t i) {
+/* Clears from the lane masks the broken bonds of node i (in item `item`). */
+static void clear_broken_lanes(peri_node_blocks *nb, const peri_bonds *b, int32_t item, int32_t i) {
   if (!peri_item_is_block(nb, item)) return;
   const int32_t lane = i - nb->first[item];
   const uint8_t clear = (uint8_t) ~(1u << lane);
@@ -63,12 +64,18 @@ void peri_node_blocks_break(peri_node_blocks *nb, const peri_bonds *b, int32_t i
   }
 }
 
+long peri_node_blocks_break_family(peri_sim *s, peri_node_blocks *nb, int32_t item, int32_t i) {
+  const long n = peri_break_family(s, i);
+  if (n > 0) clear_broken_lanes(nb, &s->bonds, item, i);
+  return n;
+}
+
 /* Lane masks from the structure and the broken flags. */
 static void sync_broken(peri_node_blocks *nb, const peri_bonds *b) {
   memcpy(nb->tpl_lanes, nb->tpl_bonds, (size_t)nb->tpl_entries);
 #pragma omp parallel for schedule(dynamic, 64)
   for (int32_t item = 0; item < nb->n_items; ++item)
-    for (int32_t i = nb->first[item]; i < nb->first[item + 1]; ++i) peri_node_blocks_break(nb, b, item, i);
+    for (int32_t i = nb->first[item]; i < nb->first[item + 1]; ++i) clear_broken_lanes(nb, b, item, i);
   nb->broken_edits = b->broken_edits;
 }
 

@@ -45,9 +45,10 @@ typedef struct peri_node_blocks {
  * node (tests compare the two paths). */
 peri_node_blocks *peri_node_blocks_refresh(peri_sim *s);
 
-/* Clears from the lane masks the broken bonds of node i (in item `item`), after the force
- * loop broke some. */
-void peri_node_blocks_break(peri_node_blocks *nb, const peri_bonds *b, int32_t item, int32_t i);
+/* Breaks, in node i's family (node i of item `item`), every intact bond beyond its critical
+ * stretch (peri_break_family) and clears the broken bonds from the item's lane masks; returns
+ * the number broken. For the force loops, from the thread that runs the item. */
+long peri_node_blocks_break_family(peri_sim *s, peri_node_blocks *nb, int32_t item, int32_t i);
 
 /* peri_lane_on[m][l] = 1.0 when bit l of m is set, else 0.0: the lane masks as doubles, so
  * that the lane loops keep the width of their double vectors */

@@ -187,7 +187,6 @@ PMB_VARIANT(pmb_gaussian_thermal, true, true, PERI_INFLUENCE_GAUSSIAN, false)
 
 static long pmb_force(peri_sim *s) {
   peri_particles *p = &s->p;
-  peri_bonds *b = &s->bonds;
   /* per-node copies of the material data the loop gathers (O(n), refreshed so that they
    * follow any change of the materials) */
 #pragma omp parallel for schedule(static)
@@ -217,10 +216,9 @@ static long pmb_force(peri_sim *s) {
     for (int32_t i = i0; i < i1; ++i) {
       pmb_sums *r = &sums[i - i0];
       if (breaking && r->candidate) {
-        const long nb = peri_break_family(s, i);
+        const long nb = peri_node_blocks_break_family(s, items, item, i);
         if (nb > 0) {
           n_broken += nb;
-          if (block) peri_node_blocks_break(items, b, item, i);
           const double smin = r->smin; /* of the bonds as they were at the test */
           *r = loops->node(&w, i);
           r->smin = smin;
