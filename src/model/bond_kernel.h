@@ -59,23 +59,26 @@ static inline double peri_eval_omega(const peri_family_eval *e, peri_influence i
 }
 
 /* What the bond loops of the models read, as restrict pointers so that the compiler
- * vectorizes: positions, displacements, volumes, the model's per-node coefficients
- * (p->coef), thermal strain (NULL without), the breaking bounds, and the bonds. */
+ * vectorizes: structure-of-arrays copies of the positions and displacements (node_blocks.h),
+ * volumes, the model's per-node coefficients (p->coef), thermal strain (NULL without), the
+ * breaking bounds, and the bonds. */
 typedef struct peri_bond_view {
-  const double *restrict x, *restrict u, *restrict V, *restrict coef, *restrict eth, *restrict s0_bound;
+  const double *restrict x0, *restrict x1, *restrict x2, *restrict u0, *restrict u1, *restrict u2;
+  const double *restrict V, *restrict coef, *restrict eth, *restrict s0_bound;
   const int64_t *restrict offset;
   const int32_t *restrict neighbor;
   const uint8_t *restrict broken;
   peri_family_eval fam;
-  /* structure-of-arrays copies of x and u (node_blocks.h), for the force loops */
-  const double *restrict x0, *restrict x1, *restrict x2, *restrict u0, *restrict u1, *restrict u2;
   int32_t n; /* nodes (owned and ghosts): the stride of per-node fields with several parts */
 } peri_bond_view;
 
-static inline peri_bond_view peri_bond_view_of(const peri_sim *s) {
-  const peri_bond_view w = {s->p.x, s->p.u, s->p.volume, s->p.coef, s->thermal_strain, s->p.s0_bound,
+/* The view of s with the copies in `soa` (6 n doubles: x0 x1 x2 u0 u1 u2). */
+static inline peri_bond_view peri_bond_view_of(const peri_sim *s, const double *soa) {
+  const size_t n = (size_t)s->p.n;
+  const peri_bond_view w = {soa, soa + n, soa + 2 * n, soa + 3 * n, soa + 4 * n, soa + 5 * n,
+                            s->p.volume, s->p.coef, s->thermal_strain, s->p.s0_bound,
                             s->bonds.offset, s->bonds.neighbor, s->bonds.broken, peri_family_eval_of(&s->bonds),
-                            NULL, NULL, NULL, NULL, NULL, NULL, s->p.n};
+                            s->p.n};
   return w;
 }
 
@@ -86,14 +89,6 @@ static inline void peri_prefetch_next_blocks(const peri_bond_view *w, int64_t j)
   const int64_t ahead = j + 16;
   __builtin_prefetch(w->x0 + ahead), __builtin_prefetch(w->x1 + ahead), __builtin_prefetch(w->x2 + ahead);
   __builtin_prefetch(w->u0 + ahead), __builtin_prefetch(w->u1 + ahead), __builtin_prefetch(w->u2 + ahead);
-}
-
-/* The view with the structure-of-arrays copies of `soa` (6 n doubles: x0 x1 x2 u0 u1 u2). */
-static inline peri_bond_view peri_bond_view_soa(const peri_sim *s, const double *soa) {
-  peri_bond_view w = peri_bond_view_of(s);
-  const size_t n = (size_t)s->p.n;
-  w.x0 = soa, w.x1 = soa + n, w.x2 = soa + 2 * n, w.u0 = soa + 3 * n, w.u1 = soa + 4 * n, w.u2 = soa + 5 * n;
-  return w;
 }
 
 /* The bond loops run on lists of intact neighbours: a family without broken bonds is its own

@@ -302,7 +302,7 @@ static long lps_dilatation(peri_sim *s) {
   if (s->family.influence == PERI_INFLUENCE_INVERSE) loops = thermal ? &lps_sums_inverse_thermal : &lps_sums_inverse;
   if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) loops = thermal ? &lps_sums_gaussian_thermal : &lps_sums_gaussian;
   peri_particles *p = &s->p;
-  const peri_bond_view w = peri_bond_view_soa(s, items->soa);
+  const peri_bond_view w = peri_bond_view_of(s, items->soa);
   const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
   const size_t n = (size_t)p->n;
   long n_broken = 0;
@@ -349,7 +349,7 @@ static long lps_force(peri_sim *s) {
   peri_sim_exchange(s, s->p.coef, 1);
   peri_sim_exchange(s, s->p.coef + n, 1);
   const peri_node_blocks *items = s->node_blocks; /* refreshed by the dilatation pass */
-  const peri_bond_view w = peri_bond_view_soa(s, items->soa);
+  const peri_bond_view w = peri_bond_view_of(s, items->soa);
   const lps_loops *loops = s->family.influence == PERI_INFLUENCE_INVERSE    ? &lps_force_inverse
                            : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? &lps_force_gaussian
                            : items->uniform_volume                          ? &lps_force_uniform
@@ -461,7 +461,7 @@ static void lps_energy(peri_sim *s, double *W) {
   lps_dilatation(s);
   s->breaking = breaking;
   const peri_node_blocks *items = s->node_blocks; /* refreshed by the dilatation pass */
-  const peri_bond_view w = peri_bond_view_soa(s, items->soa);
+  const peri_bond_view w = peri_bond_view_of(s, items->soa);
   const lps_energy_loops *loops = s->family.influence == PERI_INFLUENCE_INVERSE    ? &lps_energy_inverse
                                   : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? &lps_energy_gaussian
                                                                                    : &lps_energy_constant;

@@ -199,7 +199,7 @@ static long pmb_force(peri_sim *s) {
                                  : (thermal ? &pmb_thermal : uniform ? &pmb_uniform : &pmb_plain);
   if (s->family.influence == PERI_INFLUENCE_INVERSE) loops = thermal ? &pmb_inverse_thermal : &pmb_inverse;
   if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) loops = thermal ? &pmb_gaussian_thermal : &pmb_gaussian;
-  const peri_bond_view w = peri_bond_view_soa(s, items->soa);
+  const peri_bond_view w = peri_bond_view_of(s, items->soa);
   const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
   long n_broken = 0;
 #pragma omp parallel for schedule(dynamic, 32) reduction(+ : n_broken)
@@ -342,7 +342,7 @@ static void pmb_energy(peri_sim *s, double *W) {
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->materials[p->material[i]].micromodulus;
   const peri_node_blocks *items = peri_node_blocks_refresh(s);
-  const peri_bond_view w = peri_bond_view_soa(s, items->soa);
+  const peri_bond_view w = peri_bond_view_of(s, items->soa);
   const bool thermal = s->thermal_strain != NULL;
   const pmb_energy_loops *loops = thermal ? &pmb_energy_constant_thermal : &pmb_energy_constant;
   if (s->family.influence == PERI_INFLUENCE_INVERSE) loops = thermal ? &pmb_energy_inverse_thermal : &pmb_energy_inverse;
