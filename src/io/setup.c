@@ -790,7 +790,8 @@ static int build(parse_ctx *c) {
   if (s->out.every < 0) {
     long frames = -s->out.every;
     s->out.every = frames > 0 ? (s->steps + frames - 1) / frames : 0;
-  } else if (s->out.every == 0 && !peri_deck_get(peri_deck_get(root, "output"), "every")) {
+  } else if (s->out.every == 0 && !peri_deck_get(peri_deck_get(root, "output"), "every") &&
+             !peri_deck_get(peri_deck_get(root, "output"), "frames")) { /* (frames: 0, the first and last only) */
     s->out.every = s->steps >= 10 ? s->steps / 10 : 1;
   }
   if (s->out.history_every == 0)  /* quasi-static: a row per load step */
