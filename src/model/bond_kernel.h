@@ -12,6 +12,9 @@ static inline double peri_deformed_bond(const double *x, const double *u, int32_
   return sqrt(dy[0] * dy[0] + dy[1] * dy[1] + dy[2] * dy[2]);
 }
 
+/* |(a, b, c)|: the one expression of a bond's reference length in the bond loops */
+static inline double peri_length3(double a, double b, double c) { return sqrt(a * a + b * b + c * c); }
+
 /* Critical stretch of bond i-j: LAMMPS form min(s0_i, s0_j), else the pair table.
  * INFINITY when either end is a no-fail node. */
 static inline double peri_bond_s0(const peri_sim *s, int32_t i, int32_t j) {

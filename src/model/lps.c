@@ -68,27 +68,32 @@ static inline lps_centre lps_centre_of(const peri_bond_view *w, int32_t i, bool 
 }
 
 /* Pass 1, bond i-j: the weight w = omega |xi| beta V_j of the sums sum w (e - eth_i |xi|) and
- * sum w |xi| (returned in *q and *r0_out), the mechanical stretch and its margin above the
- * screening bound. Both loops below evaluate every bond through this one function. */
+ * sum w |xi| (returned in *q and *r0_out), the mechanical stretch when `smin` (else 0) and,
+ * in *excess_out, a number positive when the stretch passes the screening bound. Both loops
+ * below evaluate every bond through this one function. No division unless the stretch
+ * itself is asked for (the LAMMPS-form critical stretch). */
 static inline __attribute__((always_inline)) double lps_bond_sums(const lps_centre ci_value,
                                                                   const peri_family_eval *fam, double xj0,
                                                                   double xj1, double xj2, double uj0, double uj1,
                                                                   double uj2, double eth_j, double bound_j,
                                                                   double V_j, bool thermal, peri_influence influence,
-                                                                  bool uniform, double *q, double *r0_out,
+                                                                  bool uniform, bool smin, double *q, double *r0_out,
                                                                   double *stretch_out, double *excess_out) {
   const lps_centre *ci = &ci_value;
   const double x0 = xj0 - ci->x0, x1 = xj1 - ci->x1, x2 = xj2 - ci->x2;
   const double y0 = x0 + (uj0 - ci->u0), y1 = x1 + (uj1 - ci->u1), y2 = x2 + (uj2 - ci->u2);
-  const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+  const double r0 = peri_length3(x0, x1, x2);
   const double e_total = sqrt(y0 * y0 + y1 * y1 + y2 * y2) - r0;
-  double s_mech = e_total / r0;
-  if (thermal) s_mech -= 0.5 * (ci->eth + eth_j); /* symmetric in i, j */
-  *excess_out = s_mech - (peri_min(ci->bound, bound_j) - PERI_S0_SCREEN_MARGIN);
-  *stretch_out = s_mech;
+  /* the mechanical extension: the stretch times r0 */
+  double e_mech = e_total;
+  if (thermal) e_mech -= 0.5 * (ci->eth + eth_j) * r0; /* symmetric in i, j */
+  *excess_out = e_mech - (peri_min(ci->bound, bound_j) - PERI_S0_SCREEN_MARGIN) * r0;
+  *stretch_out = smin ? e_mech / r0 : 0.0;
   *q = e_total - ci->eth * r0;
   *r0_out = r0;
-  return peri_eval_omega(fam, influence, r0) * r0 * peri_eval_beta(fam, r0) * (uniform ? ci->V : V_j);
+  /* omega |xi| = 1 for the inverse influence */
+  const double omega_r0 = influence == PERI_INFLUENCE_INVERSE ? 1.0 : peri_eval_omega(fam, influence, r0) * r0;
+  return omega_r0 * peri_eval_beta(fam, r0) * (uniform ? ci->V : V_j);
 }
 
 /* Pass 2, bond i-j: the factor g of the force density g (y_j - y_i) on i, with t_ij + t_ji =
@@ -103,10 +108,13 @@ static inline __attribute__((always_inline)) double lps_bond_force(const lps_cen
   const double x0 = xj0 - ci->x0, x1 = xj1 - ci->x1, x2 = xj2 - ci->x2;
   const double d0 = x0 + (uj0 - ci->u0), d1 = x1 + (uj1 - ci->u1), d2 = x2 + (uj2 - ci->u2);
   *y0 = d0, *y1 = d1, *y2 = d2;
-  const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+  const double r0 = peri_length3(x0, x1, x2);
   const double r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-  const double t = peri_eval_omega(fam, influence, r0) * (r0 * (ci->D + D_j) + (r - r0) * (ci->B + B_j));
-  const double scale = t * peri_eval_beta(fam, r0) * (uniform ? ci->V : V_j) / r;
+  const double t = r0 * (ci->D + D_j) + (r - r0) * (ci->B + B_j);
+  const double bv = peri_eval_beta(fam, r0) * (uniform ? ci->V : V_j);
+  /* omega = 1/|xi| for the inverse influence: one division for both */
+  const double scale = influence == PERI_INFLUENCE_INVERSE ? t * bv / (r0 * r)
+                                                           : peri_eval_omega(fam, influence, r0) * t * bv / r;
   return r > 0.0 ? scale : 0.0;
 }
 
@@ -121,7 +129,7 @@ typedef struct lps_sums {
  * vector loop, their sums in order). */
 static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_view *w, int32_t i, bool force,
                                                                bool thermal, peri_influence influence,
-                                                               bool uniform) {
+                                                               bool uniform, bool track_smin) {
   const lps_centre ci = lps_centre_of(w, i, thermal, force);
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
@@ -154,9 +162,9 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
         const int32_t j = nbr[a];
         double s, e;
         g[a] = lps_bond_sums(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], thermal ? eth[j] : 0.0,
-                             s0_bound[j], uniform ? 0.0 : V[j], thermal, influence, uniform, &v0[a], &v1[a], &s,
-                             &e);
-        smin = peri_min(smin, s);
+                             s0_bound[j], uniform ? 0.0 : V[j], thermal, influence, uniform, track_smin, &v0[a],
+                             &v1[a], &s, &e);
+        if (track_smin) smin = peri_min(smin, s);
         excess = peri_max(excess, e);
       }
       for (int a = 0; a < n; ++a) {
@@ -176,7 +184,8 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
                                                             const int32_t *restrict tj,
                                                             const uint8_t *restrict lanes, int64_t count,
                                                             bool force, bool thermal, peri_influence influence,
-                                                            bool uniform, lps_sums out[PERI_BLOCK]) {
+                                                            bool uniform, bool track_smin,
+                                                            lps_sums out[PERI_BLOCK]) {
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict D = w->coef,
@@ -221,11 +230,12 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
         const lps_centre c = {c0[l], c1[l], c2[l], cu0[l], cu1[l], cu2[l], ceth[l], cbound[l], cV[l], 0.0, 0.0};
         double q, r0, s, e;
         const double wt = lps_bond_sums(c, &fam, A0[l], A1[l], A2[l], E0[l], E1[l], E2[l], thermal ? Ej[l] : 0.0,
-                                        Sj[l], uniform ? 0.0 : Vj[l], thermal, influence, uniform, &q, &r0, &s, &e);
+                                        Sj[l], uniform ? 0.0 : Vj[l], thermal, influence, uniform, track_smin, &q, &r0,
+                                        &s, &e);
         const bool on = on_lanes[l] != 0.0;
         s0[l] = on ? fma(wt, q, s0[l]) : s0[l];
         s1[l] = on ? fma(wt, r0, s1[l]) : s1[l];
-        smin[l] = on ? peri_min(smin[l], s) : smin[l];
+        if (track_smin) smin[l] = on ? peri_min(smin[l], s) : smin[l];
         excess[l] = on ? peri_max(excess[l], e) : excess[l];
       }
     }
@@ -243,27 +253,37 @@ typedef struct lps_loops {
   lps_sums (*node)(const peri_bond_view *, int32_t);
   void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, lps_sums *);
 } lps_loops;
-#define LPS_VARIANT(NAME, FORCE, THERMAL, INFLUENCE, UNIFORM)                                              \
+#define LPS_VARIANT(NAME, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN)                                        \
   static lps_sums NAME##_node(const peri_bond_view *w, int32_t i) {                                       \
-    return lps_node(w, i, FORCE, THERMAL, INFLUENCE, UNIFORM);                                             \
+    return lps_node(w, i, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN);                                       \
   }                                                                                                        \
   static void NAME##_block(const peri_bond_view *w, int32_t i0, const int32_t *tj, const uint8_t *lanes,   \
                            int64_t count, lps_sums *out) {                                                 \
-    lps_block(w, i0, tj, lanes, count, FORCE, THERMAL, INFLUENCE, UNIFORM, out);                           \
+    lps_block(w, i0, tj, lanes, count, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, out);                     \
   }                                                                                                        \
   static const lps_loops NAME = {NAME##_node, NAME##_block};
-/* "uniform": every node has the same volume (a grid), so the loop does not gather it */
-LPS_VARIANT(lps_sums_uniform, false, false, PERI_INFLUENCE_CONSTANT, true)
-LPS_VARIANT(lps_sums_plain, false, false, PERI_INFLUENCE_CONSTANT, false)
-LPS_VARIANT(lps_sums_thermal, false, true, PERI_INFLUENCE_CONSTANT, false)
-LPS_VARIANT(lps_sums_inverse, false, false, PERI_INFLUENCE_INVERSE, false)
-LPS_VARIANT(lps_sums_inverse_thermal, false, true, PERI_INFLUENCE_INVERSE, false)
-LPS_VARIANT(lps_sums_gaussian, false, false, PERI_INFLUENCE_GAUSSIAN, false)
-LPS_VARIANT(lps_sums_gaussian_thermal, false, true, PERI_INFLUENCE_GAUSSIAN, false)
-LPS_VARIANT(lps_force_uniform, true, false, PERI_INFLUENCE_CONSTANT, true)
-LPS_VARIANT(lps_force_constant, true, false, PERI_INFLUENCE_CONSTANT, false)
-LPS_VARIANT(lps_force_inverse, true, false, PERI_INFLUENCE_INVERSE, false)
-LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false)
+/* Pass 1 by influence function (constant on a grid, constant, inverse, Gaussian), without
+ * and with thermal strain, without and with the minimum stretch (the LAMMPS-form critical
+ * stretch); "uniform": every node has the same volume, so the loop does not gather it */
+#define LPS_SUMS_VARIANTS(SUFFIX, SMIN)                                                                    \
+  LPS_VARIANT(lps_sums_uniform##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, true, SMIN)                 \
+  LPS_VARIANT(lps_sums_constant##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, false, SMIN)               \
+  LPS_VARIANT(lps_sums_inverse##SUFFIX, false, false, PERI_INFLUENCE_INVERSE, false, SMIN)                 \
+  LPS_VARIANT(lps_sums_gaussian##SUFFIX, false, false, PERI_INFLUENCE_GAUSSIAN, false, SMIN)               \
+  LPS_VARIANT(lps_sums_thermal##SUFFIX, false, true, PERI_INFLUENCE_CONSTANT, false, SMIN)                 \
+  LPS_VARIANT(lps_sums_inverse_thermal##SUFFIX, false, true, PERI_INFLUENCE_INVERSE, false, SMIN)          \
+  LPS_VARIANT(lps_sums_gaussian_thermal##SUFFIX, false, true, PERI_INFLUENCE_GAUSSIAN, false, SMIN)        \
+  static const lps_loops *const lps_sums_table##SUFFIX[2][4] = {                                         \
+      {&lps_sums_uniform##SUFFIX, &lps_sums_constant##SUFFIX, &lps_sums_inverse##SUFFIX,                   \
+       &lps_sums_gaussian##SUFFIX},                                                                        \
+      {&lps_sums_thermal##SUFFIX, &lps_sums_thermal##SUFFIX, &lps_sums_inverse_thermal##SUFFIX,            \
+       &lps_sums_gaussian_thermal##SUFFIX}};
+LPS_SUMS_VARIANTS(, false)
+LPS_SUMS_VARIANTS(_smin, true)
+LPS_VARIANT(lps_force_uniform, true, false, PERI_INFLUENCE_CONSTANT, true, false)
+LPS_VARIANT(lps_force_constant, true, false, PERI_INFLUENCE_CONSTANT, false, false)
+LPS_VARIANT(lps_force_inverse, true, false, PERI_INFLUENCE_INVERSE, false, false)
+LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false, false)
 
 /* Runs `loops` over every owned node (a block at a time where the node blocks allow, node
  * by node otherwise), then the body (the last argument) for each node i with its sums in *r;
@@ -297,13 +317,14 @@ LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false)
 static long lps_dilatation(peri_sim *s) {
   peri_update_s0_bound(s);
   peri_node_blocks *items = peri_node_blocks_refresh(s);
-  const bool thermal = s->thermal_strain != NULL;
-  const lps_loops *loops = thermal ? &lps_sums_thermal : items->uniform_volume ? &lps_sums_uniform : &lps_sums_plain;
-  if (s->family.influence == PERI_INFLUENCE_INVERSE) loops = thermal ? &lps_sums_inverse_thermal : &lps_sums_inverse;
-  if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) loops = thermal ? &lps_sums_gaussian_thermal : &lps_sums_gaussian;
+  const bool thermal = s->thermal_strain != NULL, track_smin = s->s0_node != NULL, breaking = s->breaking;
+  const int kind = s->family.influence == PERI_INFLUENCE_INVERSE    ? 2
+                   : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? 3
+                   : items->uniform_volume                          ? 0
+                                                                    : 1;
+  const lps_loops *loops = (track_smin ? lps_sums_table_smin : lps_sums_table)[thermal][kind];
   peri_particles *p = &s->p;
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
-  const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
   const size_t n = (size_t)p->n;
   long n_broken = 0;
   LPS_FOR_EACH_NODE(items, loops, w, {
