@@ -139,9 +139,6 @@ static inline const int32_t *peri_next_chunk(const peri_bond_view *w, bool damag
 void peri_update_s0_bound(peri_sim *s);
 /* Whether every node (owned and ghost) has the same volume. */
 bool peri_uniform_volume(const peri_particles *p);
-/* Breaks, in node i's family, every intact bond beyond its critical stretch (exact scalar
- * test, symmetric in i and j); returns the number broken. */
-long peri_break_family(peri_sim *s, int32_t i);
 
 /* Publishes the LAMMPS-form critical stretches for the next step, s0_i = s00 - alpha *
  * (min stretch of i's bonds this step), computed in p->smin by the force pass. */

@@ -64,8 +64,48 @@ static void clear_broken_lanes(peri_node_blocks *nb, const peri_bonds *b, int32_
   }
 }
 
+/* The exact breaking test of node i's family, on the structure-of-arrays copies: the
+ * stretches of a chunk of the family by a vector loop (the same operations from either end of
+ * a bond, so both directions break together), then the exact critical stretch for the bonds
+ * beyond the lower bound of theirs. */
+static long break_family_vector(peri_sim *s, const peri_node_blocks *nb, int32_t i) {
+  peri_bonds *b = &s->bonds;
+  const size_t n_nodes = (size_t)nb->n;
+  const double *restrict X0 = nb->soa, *restrict X1 = X0 + n_nodes, *restrict X2 = X1 + n_nodes,
+                         *restrict U0 = X2 + n_nodes, *restrict U1 = U0 + n_nodes, *restrict U2 = U1 + n_nodes;
+  const double *restrict eth = s->thermal_strain, *restrict bound = s->p.s0_bound;
+  const int32_t *restrict neighbor = b->neighbor;
+  const double xi0 = X0[i], xi1 = X1[i], xi2 = X2[i], ui0 = U0[i], ui1 = U1[i], ui2 = U2[i];
+  const double eth_i = eth ? eth[i] : 0.0, bound_i = bound[i];
+  double stretch[PERI_INTACT_CHUNK];
+  bool beyond[PERI_INTACT_CHUNK];
+  long broken = 0;
+  for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PERI_INTACT_CHUNK) {
+    const int count = (int)(b->offset[i + 1] - k0 < PERI_INTACT_CHUNK ? b->offset[i + 1] - k0 : PERI_INTACT_CHUNK);
+#pragma omp simd
+    for (int a = 0; a < count; ++a) {
+      const int32_t j = neighbor[k0 + a];
+      const double x0 = X0[j] - xi0, x1 = X1[j] - xi1, x2 = X2[j] - xi2;
+      const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+      const double d0 = x0 + (U0[j] - ui0), d1 = x1 + (U1[j] - ui1), d2 = x2 + (U2[j] - ui2);
+      const double r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+      const double st = (r - r0) / r0 - (eth ? 0.5 * (eth_i + eth[j]) : 0.0);
+      stretch[a] = st;
+      beyond[a] = st > peri_min(bound_i, bound[j]);
+    }
+    for (int a = 0; a < count; ++a) {
+      const int64_t k = k0 + a;
+      if (beyond[a] && !b->broken[k] && stretch[a] > peri_bond_s0(s, i, neighbor[k])) {
+        b->broken[k] = 1;
+        ++broken;
+      }
+    }
+  }
+  return broken;
+}
+
 long peri_node_blocks_break_family(peri_sim *s, peri_node_blocks *nb, int32_t item, int32_t i) {
-  const long n = peri_break_family(s, i);
+  const long n = break_family_vector(s, nb, i);
   if (n > 0) clear_broken_lanes(nb, &s->bonds, item, i);
   return n;
 }

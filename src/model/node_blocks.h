@@ -46,8 +46,8 @@ typedef struct peri_node_blocks {
 peri_node_blocks *peri_node_blocks_refresh(peri_sim *s);
 
 /* Breaks, in node i's family (node i of item `item`), every intact bond beyond its critical
- * stretch (peri_break_family) and clears the broken bonds from the item's lane masks; returns
- * the number broken. For the force loops, from the thread that runs the item. */
+ * stretch (exact test, symmetric in i and j) and clears the broken bonds from the item's lane
+ * masks; returns the number broken. For the force loops, from the thread that runs the item. */
 long peri_node_blocks_break_family(peri_sim *s, peri_node_blocks *nb, int32_t item, int32_t i);
 
 /* peri_lane_on[m][l] = 1.0 when bit l of m is set, else 0.0: the lane masks as doubles, so
