@@ -83,7 +83,7 @@ static inline __attribute__((always_inline)) double lps_bond_sums(const lps_cent
   const double x0 = xj0 - ci->x0, x1 = xj1 - ci->x1, x2 = xj2 - ci->x2;
   const double y0 = x0 + (uj0 - ci->u0), y1 = x1 + (uj1 - ci->u1), y2 = x2 + (uj2 - ci->u2);
   const double r0 = peri_length3(x0, x1, x2);
-  const double e_total = sqrt(y0 * y0 + y1 * y1 + y2 * y2) - r0;
+  const double e_total = peri_length3(y0, y1, y2) - r0;
   /* the mechanical extension: the stretch times r0 */
   double e_mech = e_total;
   if (thermal) e_mech -= 0.5 * (ci->eth + eth_j) * r0; /* symmetric in i, j */
@@ -109,8 +109,8 @@ static inline __attribute__((always_inline)) double lps_bond_force(const lps_cen
   const double d0 = x0 + (uj0 - ci->u0), d1 = x1 + (uj1 - ci->u1), d2 = x2 + (uj2 - ci->u2);
   *y0 = d0, *y1 = d1, *y2 = d2;
   const double r0 = peri_length3(x0, x1, x2);
-  const double r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-  const double t = r0 * (ci->D + D_j) + (r - r0) * (ci->B + B_j);
+  const double r = peri_length3(d0, d1, d2);
+  const double t = fma(r0, ci->D + D_j, (r - r0) * (ci->B + B_j));
   const double bv = peri_eval_beta(fam, r0) * (uniform ? ci->V : V_j);
   /* omega = 1/|xi| for the inverse influence: one division for both */
   const double scale = influence == PERI_INFLUENCE_INVERSE ? t * bv / (r0 * r)
