@@ -194,12 +194,12 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
   /* the eight centres as arrays (one vector each), s0 .. excess the lanes' running sums */
   double c0[PERI_BLOCK], c1[PERI_BLOCK], c2[PERI_BLOCK], cu0[PERI_BLOCK], cu1[PERI_BLOCK], cu2[PERI_BLOCK],
       ceth[PERI_BLOCK], cbound[PERI_BLOCK], cV[PERI_BLOCK], cD[PERI_BLOCK], cB[PERI_BLOCK];
-  double s0[PERI_BLOCK], s1[PERI_BLOCK], s2[PERI_BLOCK], smin[PERI_BLOCK], excess[PERI_BLOCK];
+  double s0[PERI_BLOCK], s1[PERI_BLOCK], s2[PERI_BLOCK], smin[PERI_BLOCK], beyond[PERI_BLOCK];
   for (int l = 0; l < PERI_BLOCK; ++l) {
     const lps_centre c = lps_centre_of(w, i0 + l, thermal, force);
     c0[l] = c.x0, c1[l] = c.x1, c2[l] = c.x2, cu0[l] = c.u0, cu1[l] = c.u1, cu2[l] = c.u2;
     ceth[l] = c.eth, cbound[l] = c.bound, cV[l] = c.V, cD[l] = c.D, cB[l] = c.B;
-    s0[l] = s1[l] = s2[l] = 0.0, smin[l] = INFINITY, excess[l] = -INFINITY;
+    s0[l] = s1[l] = s2[l] = 0.0, smin[l] = INFINITY, beyond[l] = 0.0;
   }
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
@@ -218,10 +218,13 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
         double y0, y1, y2;
         const double g = lps_bond_force(c, &fam, A0[l], A1[l], A2[l], E0[l], E1[l], E2[l], Dj[l], Bj[l],
                                         uniform ? 0.0 : Vj[l], influence, uniform, &y0, &y1, &y2);
-        const bool on = on_lanes[l] != 0.0;
-        s0[l] = on ? fma(g, y0, s0[l]) : s0[l];
-        s1[l] = on ? fma(g, y1, s1[l]) : s1[l];
-        s2[l] = on ? fma(g, y2, s2[l]) : s2[l];
+        /* (a lane without the bond adds exactly 0, the sums starting at +0: an unconditional
+         * update keeps the sums in registers, where a conditional one would store them to
+         * memory at every entry and stall on the reload at the next) */
+        const double g_on = on_lanes[l] != 0.0 ? g : 0.0;
+        s0[l] = fma(g_on, y0, s0[l]);
+        s1[l] = fma(g_on, y1, s1[l]);
+        s2[l] = fma(g_on, y2, s2[l]);
       }
     } else {
       const double *restrict Ej = thermal ? eth + j : eth, *restrict Sj = s0_bound + j;
@@ -233,15 +236,21 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
                                         Sj[l], uniform ? 0.0 : Vj[l], thermal, influence, uniform, track_smin, &q, &r0,
                                         &s, &e);
         const bool on = on_lanes[l] != 0.0;
-        s0[l] = on ? fma(wt, q, s0[l]) : s0[l];
-        s1[l] = on ? fma(wt, r0, s1[l]) : s1[l];
-        if (track_smin) smin[l] = on ? peri_min(smin[l], s) : smin[l];
-        excess[l] = on ? peri_max(excess[l], e) : excess[l];
+        if (track_smin) { /* (GCC stores a conditional minimum to memory whatever its form) */
+          s0[l] = on ? fma(wt, q, s0[l]) : s0[l];
+          s1[l] = on ? fma(wt, r0, s1[l]) : s1[l];
+          smin[l] = on ? peri_min(smin[l], s) : smin[l];
+        } else { /* unconditional updates, as in the force pass */
+          const double wt_on = on ? wt : 0.0;
+          s0[l] = fma(wt_on, q, s0[l]);
+          s1[l] = fma(wt_on, r0, s1[l]);
+        }
+        beyond[l] += on && e > 0.0 ? 1.0 : 0.0; /* the bonds beyond the screening bound */
       }
     }
   }
   for (int l = 0; l < PERI_BLOCK; ++l) {
-    const lps_sums r = {{s0[l], s1[l], s2[l]}, smin[l], excess[l] > 0.0};
+    const lps_sums r = {{s0[l], s1[l], s2[l]}, smin[l], beyond[l] > 0.0};
     out[l] = r;
   }
 }
