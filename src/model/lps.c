@@ -459,7 +459,7 @@ static inline __attribute__((always_inline)) void lps_block_energy(const peri_bo
     for (int l = 0; l < PERI_BLOCK; ++l) {
       const double e = lps_bond_energy(c0[l], c1[l], c2[l], cu0[l], cu1[l], cu2[l], csh[l], &fam, A0[l], A1[l], A2[l],
                                        E0[l], E1[l], E2[l], Vj[l], influence);
-      sum[l] = on_lanes[l] != 0.0 ? sum[l] + e : sum[l];
+      sum[l] += on_lanes[l] != 0.0 ? e : 0.0; /* (unconditional: see lps_block) */
     }
   }
   for (int l = 0; l < PERI_BLOCK; ++l) out[l] = sum[l];

@@ -72,7 +72,8 @@ typedef struct pmb_sums {
  * their sum in order). */
 static inline __attribute__((always_inline)) pmb_sums pmb_node(const peri_bond_view *w, int32_t i, int64_t k0,
                                                                int64_t k1, bool multi, bool thermal,
-                                                               peri_influence influence, bool uniform) {
+                                                               peri_influence influence, bool uniform,
+                                                               bool track_smin) {
   const pmb_centre ci = pmb_centre_of(w, i, thermal);
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict c_node = w->coef,
@@ -92,7 +93,7 @@ static inline __attribute__((always_inline)) pmb_sums pmb_node(const peri_bond_v
       g[a] = pmb_bond(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], multi ? c_node[j] : 0.0,
                       thermal ? eth[j] : 0.0, s0_bound[j], uniform ? 0.0 : V[j], multi, thermal, influence, uniform,
                       &y0[a], &y1[a], &y2[a], &s, &e);
-      smin = peri_min(smin, s);
+      if (track_smin) smin = peri_min(smin, s);
       excess = peri_max(excess, e);
     }
     for (int a = 0; a < n; ++a) {
@@ -112,7 +113,8 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
                                                             const int32_t *restrict tj,
                                                             const uint8_t *restrict lanes, int64_t count,
                                                             bool multi, bool thermal, peri_influence influence,
-                                                            bool uniform, pmb_sums out[PERI_BLOCK]) {
+                                                            bool uniform, bool track_smin,
+                                                            pmb_sums out[PERI_BLOCK]) {
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict c_node = w->coef,
                          *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
@@ -120,12 +122,12 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
   /* the eight centres as arrays (one vector each), fx .. excess the lanes' running sums */
   double c0[PERI_BLOCK], c1[PERI_BLOCK], c2[PERI_BLOCK], cu0[PERI_BLOCK], cu1[PERI_BLOCK], cu2[PERI_BLOCK],
       cc[PERI_BLOCK], ceth[PERI_BLOCK], cbound[PERI_BLOCK], cV[PERI_BLOCK];
-  double fx[PERI_BLOCK], fy[PERI_BLOCK], fz[PERI_BLOCK], smin[PERI_BLOCK], excess[PERI_BLOCK];
+  double fx[PERI_BLOCK], fy[PERI_BLOCK], fz[PERI_BLOCK], smin[PERI_BLOCK], beyond[PERI_BLOCK];
   for (int l = 0; l < PERI_BLOCK; ++l) {
     const pmb_centre c = pmb_centre_of(w, i0 + l, thermal);
     c0[l] = c.x0, c1[l] = c.x1, c2[l] = c.x2, cu0[l] = c.u0, cu1[l] = c.u1, cu2[l] = c.u2;
     cc[l] = c.c, ceth[l] = c.eth, cbound[l] = c.bound, cV[l] = c.V;
-    fx[l] = fy[l] = fz[l] = 0.0, smin[l] = INFINITY, excess[l] = -INFINITY;
+    fx[l] = fy[l] = fz[l] = 0.0, smin[l] = INFINITY, beyond[l] = 0.0;
   }
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
@@ -145,15 +147,25 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
                                 thermal ? Ej[l] : 0.0, Sj[l], uniform ? 0.0 : Vj[l], multi, thermal, influence,
                                 uniform, &y0, &y1, &y2, &s, &e);
       const bool on = on_lanes[l] != 0.0;
-      fx[l] = on ? fma(g, y0, fx[l]) : fx[l];
-      fy[l] = on ? fma(g, y1, fy[l]) : fy[l];
-      fz[l] = on ? fma(g, y2, fz[l]) : fz[l];
-      smin[l] = on ? peri_min(smin[l], s) : smin[l];
-      excess[l] = on ? peri_max(excess[l], e) : excess[l];
+      if (track_smin) { /* (GCC stores a conditional minimum to memory whatever its form) */
+        fx[l] = on ? fma(g, y0, fx[l]) : fx[l];
+        fy[l] = on ? fma(g, y1, fy[l]) : fy[l];
+        fz[l] = on ? fma(g, y2, fz[l]) : fz[l];
+        smin[l] = on ? peri_min(smin[l], s) : smin[l];
+      } else {
+        /* a lane without the bond adds exactly 0 (the sums start at +0, so are never -0):
+         * unconditional updates keep the sums in registers, where conditional ones would
+         * be stored to memory and reloaded at every template entry */
+        const double g_on = on ? g : 0.0;
+        fx[l] = fma(g_on, y0, fx[l]);
+        fy[l] = fma(g_on, y1, fy[l]);
+        fz[l] = fma(g_on, y2, fz[l]);
+      }
+      beyond[l] += on && e > 0.0 ? 1.0 : 0.0; /* the bonds beyond the screening bound */
     }
   }
   for (int l = 0; l < PERI_BLOCK; ++l) {
-    const pmb_sums r = {{fx[l], fy[l], fz[l]}, smin[l], excess[l] > 0.0};
+    const pmb_sums r = {{fx[l], fy[l], fz[l]}, smin[l], beyond[l] > 0.0};
     out[l] = r;
   }
 }
@@ -165,25 +177,43 @@ typedef struct pmb_loops {
   pmb_sums (*node)(const peri_bond_view *, int32_t);
   void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, pmb_sums *);
 } pmb_loops;
-#define PMB_VARIANT(NAME, MULTI, THERMAL, INFLUENCE, UNIFORM)                                              \
+#define PMB_VARIANT(NAME, MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN)                                        \
   static pmb_sums NAME##_node(const peri_bond_view *w, int32_t i) {                                       \
-    return pmb_node(w, i, w->offset[i], w->offset[i + 1], MULTI, THERMAL, INFLUENCE, UNIFORM);             \
+    return pmb_node(w, i, w->offset[i], w->offset[i + 1], MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN);       \
   }                                                                                                        \
   static void NAME##_block(const peri_bond_view *w, int32_t i0, const int32_t *tj, const uint8_t *lanes,   \
                            int64_t count, pmb_sums *out) {                                                 \
-    pmb_block(w, i0, tj, lanes, count, MULTI, THERMAL, INFLUENCE, UNIFORM, out);                           \
+    pmb_block(w, i0, tj, lanes, count, MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN, out);                     \
   }                                                                                                        \
   static const pmb_loops NAME = {NAME##_node, NAME##_block};
-/* "uniform": every node has the same volume (a grid), so the loop does not gather it */
-PMB_VARIANT(pmb_uniform, false, false, PERI_INFLUENCE_CONSTANT, true)
-PMB_VARIANT(pmb_plain, false, false, PERI_INFLUENCE_CONSTANT, false)
-PMB_VARIANT(pmb_multi, true, false, PERI_INFLUENCE_CONSTANT, false)
-PMB_VARIANT(pmb_thermal, false, true, PERI_INFLUENCE_CONSTANT, false)
-PMB_VARIANT(pmb_multi_thermal, true, true, PERI_INFLUENCE_CONSTANT, false)
-PMB_VARIANT(pmb_inverse, true, false, PERI_INFLUENCE_INVERSE, false)
-PMB_VARIANT(pmb_inverse_thermal, true, true, PERI_INFLUENCE_INVERSE, false)
-PMB_VARIANT(pmb_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false)
-PMB_VARIANT(pmb_gaussian_thermal, true, true, PERI_INFLUENCE_GAUSSIAN, false)
+/* The specializations, without and with the minimum stretch (the LAMMPS-form critical
+ * stretch), in the order of pmb_loops_for; "uniform": every node has the same volume (a
+ * grid), so the loop does not gather it */
+#define PMB_VARIANTS(SUFFIX, SMIN)                                                                         \
+  PMB_VARIANT(pmb_uniform##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, true, SMIN)                      \
+  PMB_VARIANT(pmb_plain##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, false, SMIN)                       \
+  PMB_VARIANT(pmb_multi##SUFFIX, true, false, PERI_INFLUENCE_CONSTANT, false, SMIN)                        \
+  PMB_VARIANT(pmb_thermal##SUFFIX, false, true, PERI_INFLUENCE_CONSTANT, false, SMIN)                      \
+  PMB_VARIANT(pmb_multi_thermal##SUFFIX, true, true, PERI_INFLUENCE_CONSTANT, false, SMIN)                  \
+  PMB_VARIANT(pmb_inverse##SUFFIX, true, false, PERI_INFLUENCE_INVERSE, false, SMIN)                       \
+  PMB_VARIANT(pmb_inverse_thermal##SUFFIX, true, true, PERI_INFLUENCE_INVERSE, false, SMIN)                 \
+  PMB_VARIANT(pmb_gaussian##SUFFIX, true, false, PERI_INFLUENCE_GAUSSIAN, false, SMIN)                     \
+  PMB_VARIANT(pmb_gaussian_thermal##SUFFIX, true, true, PERI_INFLUENCE_GAUSSIAN, false, SMIN)              \
+  static const pmb_loops *const pmb_set##SUFFIX[9] = {                                                    \
+      &pmb_uniform##SUFFIX,  &pmb_plain##SUFFIX,         &pmb_multi##SUFFIX,                               \
+      &pmb_thermal##SUFFIX,  &pmb_multi_thermal##SUFFIX, &pmb_inverse##SUFFIX,                             \
+      &pmb_inverse_thermal##SUFFIX, &pmb_gaussian##SUFFIX, &pmb_gaussian_thermal##SUFFIX};
+PMB_VARIANTS(, false)
+PMB_VARIANTS(_smin, true)
+
+/* The loops of a problem from a set of PMB_VARIANTS. */
+static const pmb_loops *pmb_loops_for(const pmb_loops *const set[9], bool multi, bool thermal, bool uniform,
+                                      peri_influence influence) {
+  if (influence == PERI_INFLUENCE_INVERSE) return set[thermal ? 6 : 5];
+  if (influence == PERI_INFLUENCE_GAUSSIAN) return set[thermal ? 8 : 7];
+  if (multi) return set[thermal ? 4 : 2];
+  return set[thermal ? 3 : uniform ? 0 : 1];
+}
 
 static long pmb_force(peri_sim *s) {
   peri_particles *p = &s->p;
@@ -195,12 +225,9 @@ static long pmb_force(peri_sim *s) {
   peri_node_blocks *items = peri_node_blocks_refresh(s);
   const bool uniform = items->uniform_volume;
   const bool multi = s->n_materials > 1, thermal = s->thermal_strain != NULL;
-  const pmb_loops *loops = multi ? (thermal ? &pmb_multi_thermal : &pmb_multi)
-                                 : (thermal ? &pmb_thermal : uniform ? &pmb_uniform : &pmb_plain);
-  if (s->family.influence == PERI_INFLUENCE_INVERSE) loops = thermal ? &pmb_inverse_thermal : &pmb_inverse;
-  if (s->family.influence == PERI_INFLUENCE_GAUSSIAN) loops = thermal ? &pmb_gaussian_thermal : &pmb_gaussian;
-  const peri_bond_view w = peri_bond_view_of(s, items->soa);
   const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
+  const pmb_loops *loops = pmb_loops_for(track_smin ? pmb_set_smin : pmb_set, multi, thermal, uniform, s->family.influence);
+  const peri_bond_view w = peri_bond_view_of(s, items->soa);
   long n_broken = 0;
 #pragma omp parallel for schedule(dynamic, 32) reduction(+ : n_broken)
   for (int32_t item = 0; item < items->n_items; ++item) {
@@ -309,7 +336,7 @@ static inline __attribute__((always_inline)) void pmb_block_energy(const peri_bo
       const pmb_centre c = {c0[l], c1[l], c2[l], cu0[l], cu1[l], cu2[l], cc[l], ceth[l], 0.0, 0.0};
       const double e = pmb_bond_energy(c, &fam, A0[l], A1[l], A2[l], B0[l], B1[l], B2[l], Cj[l],
                                        thermal ? Ej[l] : 0.0, Vj[l], thermal, influence);
-      sum[l] = on_lanes[l] != 0.0 ? sum[l] + e : sum[l];
+      sum[l] += on_lanes[l] != 0.0 ? e : 0.0; /* (unconditional: see pmb_block) */
     }
   }
   for (int l = 0; l < PERI_BLOCK; ++l) out[l] = sum[l];
