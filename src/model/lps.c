@@ -194,7 +194,8 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
   /* the eight centres as arrays (one vector each), s0 .. excess the lanes' running sums */
   double c0[PERI_BLOCK], c1[PERI_BLOCK], c2[PERI_BLOCK], cu0[PERI_BLOCK], cu1[PERI_BLOCK], cu2[PERI_BLOCK],
       ceth[PERI_BLOCK], cbound[PERI_BLOCK], cV[PERI_BLOCK], cD[PERI_BLOCK], cB[PERI_BLOCK];
-  double s0[PERI_BLOCK], s1[PERI_BLOCK], s2[PERI_BLOCK], smin[PERI_BLOCK], beyond[PERI_BLOCK];
+  double s0[PERI_BLOCK], s1[PERI_BLOCK], s2[PERI_BLOCK], smin[PERI_BLOCK], beyond[PERI_BLOCK],
+      stretch_on[PERI_BLOCK];
   for (int l = 0; l < PERI_BLOCK; ++l) {
     const lps_centre c = lps_centre_of(w, i0 + l, thermal, force);
     c0[l] = c.x0, c1[l] = c.x1, c2[l] = c.x2, cu0[l] = c.u0, cu1[l] = c.u1, cu2[l] = c.u2;
@@ -235,17 +236,17 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
         const double wt = lps_bond_sums(c, &fam, A0[l], A1[l], A2[l], E0[l], E1[l], E2[l], thermal ? Ej[l] : 0.0,
                                         Sj[l], uniform ? 0.0 : Vj[l], thermal, influence, uniform, track_smin, &q, &r0,
                                         &s, &e);
+        /* unconditional updates, as in the force pass */
         const bool on = on_lanes[l] != 0.0;
-        if (track_smin) { /* (GCC stores a conditional minimum to memory whatever its form) */
-          s0[l] = on ? fma(wt, q, s0[l]) : s0[l];
-          s1[l] = on ? fma(wt, r0, s1[l]) : s1[l];
-          smin[l] = on ? peri_min(smin[l], s) : smin[l];
-        } else { /* unconditional updates, as in the force pass */
-          const double wt_on = on ? wt : 0.0;
-          s0[l] = fma(wt_on, q, s0[l]);
-          s1[l] = fma(wt_on, r0, s1[l]);
-        }
+        const double wt_on = on ? wt : 0.0;
+        s0[l] = fma(wt_on, q, s0[l]);
+        s1[l] = fma(wt_on, r0, s1[l]);
+        stretch_on[l] = on ? s : INFINITY;
         beyond[l] += on && e > 0.0 ? 1.0 : 0.0; /* the bonds beyond the screening bound */
+      }
+      if (track_smin) { /* (in a loop of its own, the minimum too stays in a register) */
+#pragma omp simd
+        for (int l = 0; l < PERI_BLOCK; ++l) smin[l] = peri_min(smin[l], stretch_on[l]);
       }
     }
   }
