@@ -145,6 +145,9 @@ typedef struct peri_sim {
   /* state */
   double time;
   long step;
+  bool forces_current;          /* p->f holds the forces of the present state (set by a caller
+                                   that evaluated them; the explicit solver then does not
+                                   evaluate them again at its first step, and clears it) */
   uint8_t *prescribed;          /* [3n] component has a prescribed displacement/velocity */
   double external_work;
   double *step_load;            /* explicit: [3n] external load density of the last step, the left

@@ -41,9 +41,10 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
   peri_apply_loads(s, s->time);
   peri_exchange_state(s); /* ghost displacements (MPI ranks, docs/parallel.md) */
   if (s->step == 0) { /* a restart resumes with the checkpoint's forces and load */
-    s->model->force(s);
+    if (!s->forces_current) s->model->force(s);
     external_load(s, p->v, dt, load_old);
   }
+  s->forces_current = false;
   /* accelerations at t = 0 live in f + b */
   int status = PERI_OK;
   for (long step = s->step; step < s->steps; ++step) {

@@ -196,6 +196,8 @@ int peri_run(peri_sim *s) {
     s->model->force(s);
     rc = peri_frames_write(c.frames, s);
     if (rc == PERI_OK) rc = write_history(s, &c);
+    /* (writing reads the forces and leaves them: the explicit solver starts from them) */
+    s->forces_current = !peri_is_quasi_static(s);
   }
   rc = peri_comm_max_int(rc);
   c.t_start = c.t_last_progress = now();
