@@ -191,7 +191,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict D = w->coef,
                          *restrict B = w->coef + n_nodes, *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
   const peri_family_eval fam = w->fam;
-  /* the eight centres as arrays (one vector each), s0 .. excess the lanes' running sums */
+  /* the eight centres as arrays (one vector each), s0 .. beyond the lanes' running sums */
   double c0[PERI_BLOCK], c1[PERI_BLOCK], c2[PERI_BLOCK], cu0[PERI_BLOCK], cu1[PERI_BLOCK], cu2[PERI_BLOCK],
       ceth[PERI_BLOCK], cbound[PERI_BLOCK], cV[PERI_BLOCK], cD[PERI_BLOCK], cB[PERI_BLOCK];
   double s0[PERI_BLOCK], s1[PERI_BLOCK], s2[PERI_BLOCK], smin[PERI_BLOCK], beyond[PERI_BLOCK],
@@ -302,7 +302,7 @@ LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false, fal
  * dealt out in turn made each core reload the rows the other had just read), and small
  * chunks at the end balance the load. */
 #define LPS_FOR_EACH_NODE(items, loops, w, ...)                                                   \
-  _Pragma("omp parallel for schedule(guided) reduction(+ : n_broken)")                               \
+  _Pragma("omp parallel for schedule(guided) reduction(+ : n_broken)")                                    \
   for (int32_t item = 0; item < (items)->n_items; ++item) {                                               \
     const int32_t i0 = (items)->first[item], i1 = (items)->first[item + 1];                               \
     lps_sums sums[PERI_BLOCK];                                                                             \

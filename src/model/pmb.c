@@ -119,7 +119,7 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict c_node = w->coef,
                          *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
   const peri_family_eval fam = w->fam;
-  /* the eight centres as arrays (one vector each), fx .. excess the lanes' running sums */
+  /* the eight centres as arrays (one vector each), fx .. beyond the lanes' running sums */
   double c0[PERI_BLOCK], c1[PERI_BLOCK], c2[PERI_BLOCK], cu0[PERI_BLOCK], cu1[PERI_BLOCK], cu2[PERI_BLOCK],
       cc[PERI_BLOCK], ceth[PERI_BLOCK], cbound[PERI_BLOCK], cV[PERI_BLOCK];
   double fx[PERI_BLOCK], fy[PERI_BLOCK], fz[PERI_BLOCK], smin[PERI_BLOCK], beyond[PERI_BLOCK];
