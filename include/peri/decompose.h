@@ -47,6 +47,11 @@ void peri_exchange_state(peri_sim *s);
  * fixed-order blocks (PERI_SUM_BLOCK): independent of the number of ranks and threads.
  * Every rank gets the result. */
 void peri_sum_owned(const peri_sim *s, const double *terms, int ncomp, double *out);
+/* The same sum from the caller's block sums: block[ncomp * k + c] is the sum, from 0.0 in node
+ * order, of component c over owned nodes k * PERI_SUM_BLOCK .. (k + 1) * PERI_SUM_BLOCK - 1
+ * (peri_sum_blocks_owned of them). For a pass over the nodes that sums as it goes. */
+void peri_sum_blocks(const peri_sim *s, const double *block, int ncomp, double *out);
+int64_t peri_sum_blocks_owned(const peri_sim *s);
 /* Global counts: nodes, directed bonds, broken directed bonds. */
 int64_t peri_global_nodes(const peri_sim *s);
 int64_t peri_global_bonds(const peri_sim *s);

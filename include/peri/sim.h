@@ -33,8 +33,8 @@ typedef struct peri_indenter {
   double radius, stiffness;
   peri_expr *center[3];
   double force[3];              /* total force on the indenter in the last evaluation */
-  double *terms;                /* per-node reactions of the last evaluation (3 n_owned) */
-  int32_t terms_n;
+  double *block_force;          /* reactions summed per block of nodes (3 per PERI_SUM_BLOCK) */
+  int64_t blocks;
 } peri_indenter;
 
 typedef struct peri_precrack {

@@ -836,7 +836,7 @@ void peri_sim_free(peri_sim *s) {
   free(s->bcs);
   free(s->precracks);
   for (int d = 0; d < 3; ++d) peri_expr_free(s->indenter.center[d]);
-  free(s->indenter.terms);
+  free(s->indenter.block_force);
   free(s->prescribed);
   for (int k = 0; k < s->out.n_fields; ++k) free(s->out.fields[k]);
   free(s->out.fields);

@@ -9,9 +9,11 @@
 
 enum { MAX_COMPONENTS = 9 };
 
+int64_t peri_sum_blocks_owned(const peri_sim *s) { return (s->p.n_owned + PERI_SUM_BLOCK - 1) / PERI_SUM_BLOCK; }
+
 void peri_sum_owned(const peri_sim *s, const double *terms, int ncomp, double *out) {
   const int32_t n = s->p.n_owned;
-  const int64_t n_blocks = (n + PERI_SUM_BLOCK - 1) / PERI_SUM_BLOCK;
+  const int64_t n_blocks = peri_sum_blocks_owned(s);
   double *block = peri_calloc((size_t)(n_blocks > 0 ? n_blocks : 1) * (size_t)ncomp, sizeof(double));
 #pragma omp parallel for schedule(static) if (n_blocks > 16)
   for (int64_t k = 0; k < n_blocks; ++k) {
@@ -22,6 +24,12 @@ void peri_sum_owned(const peri_sim *s, const double *terms, int ncomp, double *o
       block[k * ncomp + c] = sum;
     }
   }
+  peri_sum_blocks(s, block, ncomp, out);
+  free(block);
+}
+
+void peri_sum_blocks(const peri_sim *s, const double *block, int ncomp, double *out) {
+  const int64_t n_blocks = peri_sum_blocks_owned(s);
   const peri_decomposition *d = s->dd;
   double total[MAX_COMPONENTS] = {0};
   if (!d) {
@@ -43,7 +51,6 @@ void peri_sum_owned(const peri_sim *s, const double *terms, int ncomp, double *o
     free(counts);
   }
   for (int c = 0; c < ncomp; ++c) out[c] = total[c];
-  free(block);
 }
 
 int64_t peri_global_nodes(const peri_sim *s) { return s->dd ? s->dd->n_global : s->p.n_owned; }

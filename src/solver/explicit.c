@@ -22,21 +22,56 @@ static void external_load(const peri_sim *s, const double *v_old, double dt, dou
   }
 }
 
+/* The nodes with a prescribed component: their per-node mask (bit d for component d) and,
+ * for those nodes only, a slot of the state at the start of the step (u then v), which the
+ * reaction and the work of the prescribed motion need. Free components need no copy: their
+ * displacement increment is dt times the half-step velocity. */
+typedef struct {
+  uint8_t *mask;    /* [n] */
+  int32_t *slot;    /* [n], valid where mask != 0 */
+  int32_t *node;    /* [count] */
+  double *old;      /* [count][6] */
+  int32_t count;
+} held_nodes;
+
+static held_nodes held_nodes_of(const peri_sim *s) {
+  const int32_t n = s->p.n_owned;
+  held_nodes h = {peri_calloc(n > 0 ? (size_t)n : 1, 1), peri_malloc(sizeof(int32_t) * (n > 0 ? (size_t)n : 1)),
+                  NULL, NULL, 0};
+  for (int32_t i = 0; i < n; ++i) {
+    for (int d = 0; d < 3; ++d)
+      if (s->prescribed[3 * (size_t)i + d]) h.mask[i] |= (uint8_t)(1u << d);
+    if (h.mask[i]) h.slot[i] = h.count++;
+  }
+  h.node = peri_malloc(sizeof(int32_t) * (h.count > 0 ? (size_t)h.count : 1));
+  h.old = peri_malloc(sizeof(double) * 6 * (h.count > 0 ? (size_t)h.count : 1));
+  for (int32_t i = 0; i < n; ++i)
+    if (h.mask[i]) h.node[h.slot[i]] = i;
+  return h;
+}
+
+static void held_nodes_free(held_nodes *h) {
+  free(h->mask);
+  free(h->slot);
+  free(h->node);
+  free(h->old);
+}
+
 int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
   peri_particles *p = &s->p;
   const double dt = s->dt;
   const int32_t n = p->n_owned;
   const size_t n3 = 3 * (size_t)n;
-  double *inv_rho = peri_malloc(sizeof(double) * n);
+  double *inv_rho = peri_malloc(sizeof(double) * (n > 0 ? (size_t)n : 1));
   for (int32_t i = 0; i < n; ++i) inv_rho[i] = 1.0 / s->materials[p->material[i]].density;
-  double *u_old = peri_malloc(sizeof(double) * n3);
-  double *v_old = peri_malloc(sizeof(double) * n3);
+  held_nodes held = held_nodes_of(s);
   /* the last step's load stays in the sim: a checkpoint carries it (docs/restart.md) */
   if (!s->step_load) s->step_load = peri_calloc(n3 > 0 ? n3 : 1, sizeof(double));
   double *load_old = s->step_load;
   const double damping = s->damping;
-  const uint8_t *fixed = s->prescribed;
-  double *node_work = peri_malloc(sizeof(double) * (n > 0 ? n : 1));
+  /* the step's external work summed per block of nodes as the pass goes (peri_sum_blocks) */
+  const int64_t n_blocks = peri_sum_blocks_owned(s);
+  double *block_work = peri_malloc(sizeof(double) * (n_blocks > 0 ? (size_t)n_blocks : 1));
 
   peri_apply_loads(s, s->time);
   peri_exchange_state(s); /* ghost displacements (MPI ranks, docs/parallel.md) */
@@ -48,13 +83,17 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
   /* accelerations at t = 0 live in f + b */
   int status = PERI_OK;
   for (long step = s->step; step < s->steps; ++step) {
+#pragma omp parallel for schedule(static) if (held.count > 4096)
+    for (int32_t k = 0; k < held.count; ++k)
+      for (int d = 0; d < 3; ++d) {
+        held.old[6 * (size_t)k + d] = p->u[3 * (size_t)held.node[k] + d];
+        held.old[6 * (size_t)k + 3 + d] = p->v[3 * (size_t)held.node[k] + d];
+      }
 #pragma omp parallel for schedule(static)
     for (int32_t i = 0; i < n; ++i) {
       for (int d = 0; d < 3; ++d) {
         size_t c = 3 * (size_t)i + d;
-        u_old[c] = p->u[c];
-        v_old[c] = p->v[c];
-        if (fixed[c]) continue;
+        if (held.mask[i] & (1u << d)) continue;
         double a = (p->f[c] + p->b[c]) * inv_rho[i] - damping * p->v[c];
         p->v[c] += 0.5 * dt * a;
         p->u[c] += dt * p->v[c];
@@ -76,25 +115,35 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
      * trapezoid rule, and the finiteness check */
     bool finite = true;
 #pragma omp parallel for schedule(static) reduction(&& : finite)
-    for (int32_t i = 0; i < n; ++i) {
-      const double rho = s->materials[p->material[i]].density;
-      double work = 0.0;
-      for (int d = 0; d < 3; ++d) {
-        size_t c = 3 * (size_t)i + d;
-        if (!fixed[c]) {
-          double a = (p->f[c] + p->b[c]) * inv_rho[i];
-          /* damping is implicit in the half-step velocity (docs/model_reference.md 12.1 erratum) */
-          p->v[c] = (p->v[c] + 0.5 * dt * a) / (1.0 + 0.5 * dt * damping);
+    for (int64_t k = 0; k < n_blocks; ++k) {
+      const int32_t i0 = (int32_t)(k * PERI_SUM_BLOCK), i1 = i0 + PERI_SUM_BLOCK < n ? i0 + PERI_SUM_BLOCK : n;
+      double work_sum = 0.0;
+      for (int32_t i = i0; i < i1; ++i) {
+        const double *old = held.mask[i] ? &held.old[6 * (size_t)held.slot[i]] : NULL;
+        double work = 0.0;
+        for (int d = 0; d < 3; ++d) {
+          size_t c = 3 * (size_t)i + d;
+          double load, du;
+          if (!(held.mask[i] & (1u << d))) {
+            const double v_half = p->v[c], a = (p->f[c] + p->b[c]) * inv_rho[i];
+            /* damping is implicit in the half-step velocity (docs/model_reference.md 12.1 erratum) */
+            p->v[c] = (v_half + 0.5 * dt * a) / (1.0 + 0.5 * dt * damping);
+            load = p->b[c];
+            du = dt * v_half;
+          } else {
+            load = s->materials[p->material[i]].density * (p->v[c] - old[3 + d]) / dt - p->f[c];
+            du = p->u[c] - old[d];
+          }
+          work += 0.5 * (load_old[c] + load) * du * p->volume[i];
+          load_old[c] = load;
+          finite = finite && fabs(p->u[c]) < 1e100 && fabs(p->v[c]) < 1e100;
         }
-        const double load = fixed[c] ? rho * (p->v[c] - v_old[c]) / dt - p->f[c] : p->b[c];
-        work += 0.5 * (load_old[c] + load) * (p->u[c] - u_old[c]) * p->volume[i];
-        load_old[c] = load;
-        finite = finite && fabs(p->u[c]) < 1e100 && fabs(p->v[c]) < 1e100;
+        work_sum += work;
       }
-      node_work[i] = work;
+      block_work[k] = work_sum;
     }
     double step_total = 0.0; /* in fixed-order blocks: the same on any number of ranks */
-    peri_sum_owned(s, node_work, 1, &step_total);
+    peri_sum_blocks(s, block_work, 1, &step_total);
     s->external_work += step_total;
     finite = peri_comm_all(finite); /* every rank stops together */
     /* NaN fails the comparison; the bound catches a blow-up before energies overflow */
@@ -107,8 +156,7 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
     if (hook && hook(s, ctx)) break;
   }
   free(inv_rho);
-  free(node_work);
-  free(u_old);
-  free(v_old);
+  free(block_work);
+  held_nodes_free(&held);
   return status;
 }
