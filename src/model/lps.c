@@ -297,13 +297,12 @@ LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false, fal
 
 /* Runs `loops` over every owned node (a block at a time where the node blocks allow, node
  * by node otherwise), then the body (the last argument) for each node i with its sums in *r;
- * the body may add to n_broken. Guided scheduling: each thread first takes a long run of
- * consecutive items, whose neighbour rows stay in its core's own cache (small chunks
- * dealt out in turn made each core reload the rows the other had just read), and small
- * chunks at the end balance the load. */
+ * the body may add to n_broken. The items are shared as PERI_FOR_EACH_ITEM shares them: both
+ * passes give a thread the same run of nodes, whose rows stay in its core's cache (small
+ * chunks dealt out in turn made each core reload the rows the other had just read). */
 #define LPS_FOR_EACH_NODE(items, loops, w, ...)                                                   \
-  _Pragma("omp parallel for schedule(guided) reduction(+ : n_broken)")                                    \
-  for (int32_t item = 0; item < (items)->n_items; ++item) {                                               \
+  _Pragma("omp parallel reduction(+ : n_broken)")                                                         \
+  PERI_FOR_EACH_ITEM(items, item) {                                                                       \
     const int32_t i0 = (items)->first[item], i1 = (items)->first[item + 1];                               \
     lps_sums sums[PERI_BLOCK];                                                                             \
     const bool block = peri_item_is_block(items, item);                                                    \
@@ -498,8 +497,8 @@ static void lps_energy(peri_sim *s, double *W) {
   const lps_energy_loops *loops = s->family.influence == PERI_INFLUENCE_INVERSE    ? &lps_energy_inverse
                                   : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? &lps_energy_gaussian
                                                                                    : &lps_energy_constant;
-#pragma omp parallel for schedule(guided)
-  for (int32_t item = 0; item < items->n_items; ++item) {
+#pragma omp parallel
+  PERI_FOR_EACH_ITEM(items, item) {
     const int32_t i0 = items->first[item], i1 = items->first[item + 1];
     double sums[PERI_BLOCK];
     if (peri_item_is_block(items, item)) {

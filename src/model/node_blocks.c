@@ -162,6 +162,11 @@ static void build(peri_node_blocks *nb, const peri_sim *s) {
   nb->tpl[items] = used;
   nb->n_items = items;
   nb->tpl_entries = used;
+  /* the items' cost for sharing them among threads: their bonds */
+  free(nb->cost);
+  nb->cost = peri_malloc(sizeof(int64_t) * ((size_t)items + 1));
+  for (int32_t k = 0; k <= items; ++k) nb->cost[k] = b->offset[nb->first[k]] - b->offset[0];
+  if (!nb->share) nb->share = peri_work_share_new();
   nb->tpl_bonds = peri_malloc((size_t)(used > 0 ? used : 1));
   memcpy(nb->tpl_bonds, nb->tpl_lanes, (size_t)used);
   free(tj);
@@ -219,5 +224,7 @@ void peri_node_blocks_free(struct peri_node_blocks *nb) {
   free(nb->tpl_lanes);
   free(nb->tpl_bonds);
   free(nb->soa);
+  free(nb->cost);
+  peri_work_share_free(nb->share);
   free(nb);
 }

@@ -13,6 +13,7 @@
 #include <stdint.h>
 #include <string.h>
 #include "peri/sim.h"
+#include "peri/work_share.h"
 
 #define PERI_BLOCK 8 /* nodes per block: one 512-bit vector of doubles */
 
@@ -25,6 +26,8 @@ typedef struct peri_node_blocks {
   uint8_t *tpl_lanes;  /* template entries: bit l set when node i0 + l has that bond, intact */
   uint8_t *tpl_bonds;  /* the same with broken bonds too (the structure) */
   int64_t block_bonds, tpl_entries;
+  int64_t *cost;             /* [n_items + 1] bonds of items 0 .. k-1 */
+  peri_work_share *share;    /* the items among the threads (peri_work_share_start) */
   uint64_t broken_edits; /* bonds.broken_edits when tpl_lanes last followed the flags */
   /* what the items were built for (rebuilt when the bonds or the nodes change; the reference
    * positions and volumes of the nodes do not change after set-up) */
@@ -53,6 +56,17 @@ long peri_node_blocks_break_family(peri_sim *s, peri_node_blocks *nb, int32_t it
 /* peri_lane_on[m][l] = 1.0 when bit l of m is set, else 0.0: the lane masks as doubles, so
  * that the lane loops keep the width of their double vectors */
 extern const double peri_lane_on[256][PERI_BLOCK];
+
+/* Runs the statement that follows for each item of nb, the items shared among the threads
+ * of the enclosing parallel region (include/peri/work_share.h: each thread one long run of
+ * consecutive items, its neighbour rows in its own core's cache, the same run in every pass;
+ * small chunks at the end balance the load). One statement, so that it can follow an omp
+ * parallel directive; every thread of the team must reach it. */
+#define PERI_FOR_EACH_ITEM(nb, item)                                                                  \
+  for (int32_t item##_begin = (peri_work_share_start((nb)->share, (nb)->cost, (nb)->n_items), 0),       \
+               item##_end = 0;                                                                         \
+       peri_work_share_next((nb)->share, &item##_begin, &item##_end);)                                 \
+    for (int32_t item = item##_begin; item < item##_end; ++item)
 
 /* Whether item `item` is a block (else a single node). */
 static inline bool peri_item_is_block(const peri_node_blocks *nb, int32_t item) {

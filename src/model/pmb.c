@@ -229,9 +229,8 @@ static long pmb_force(peri_sim *s) {
   const pmb_loops *loops = pmb_loops_for(track_smin ? pmb_set_smin : pmb_set, multi, thermal, uniform, s->family.influence);
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
   long n_broken = 0;
-  /* guided: long runs of consecutive items per thread first (cache locality, see lps.c) */
-#pragma omp parallel for schedule(guided) reduction(+ : n_broken)
-  for (int32_t item = 0; item < items->n_items; ++item) {
+#pragma omp parallel reduction(+ : n_broken)
+  PERI_FOR_EACH_ITEM(items, item) {
     const int32_t i0 = items->first[item], i1 = items->first[item + 1];
     pmb_sums sums[PERI_BLOCK];
     const bool block = peri_item_is_block(items, item);
@@ -376,8 +375,8 @@ static void pmb_energy(peri_sim *s, double *W) {
   if (s->family.influence == PERI_INFLUENCE_INVERSE) loops = thermal ? &pmb_energy_inverse_thermal : &pmb_energy_inverse;
   if (s->family.influence == PERI_INFLUENCE_GAUSSIAN)
     loops = thermal ? &pmb_energy_gaussian_thermal : &pmb_energy_gaussian;
-#pragma omp parallel for schedule(guided)
-  for (int32_t item = 0; item < items->n_items; ++item) {
+#pragma omp parallel
+  PERI_FOR_EACH_ITEM(items, item) {
     const int32_t i0 = items->first[item], i1 = items->first[item + 1];
     if (peri_item_is_block(items, item)) {
       double sums[PERI_BLOCK];
