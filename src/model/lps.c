@@ -296,23 +296,28 @@ LPS_VARIANT(lps_force_inverse, true, false, PERI_INFLUENCE_INVERSE, false, false
 LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false, false)
 
 /* Runs `loops` over every owned node (a block at a time where the node blocks allow, node
- * by node otherwise), then the body (the last argument) for each node i with its sums in *r;
- * the body may add to n_broken. The items are shared as PERI_FOR_EACH_ITEM shares them: both
- * passes give a thread the same run of nodes, whose rows stay in its core's cache (small
- * chunks dealt out in turn made each core reload the rows the other had just read). */
-#define LPS_FOR_EACH_NODE(items, loops, w, ...)                                                   \
+ * by node otherwise), with the breaking test when `breaking` (PERI_BREAK_AND_RECOMPUTE), then
+ * the body (the last argument) for each node i with its sums in *r. The items are shared as
+ * PERI_FOR_EACH_ITEM shares them: both passes give a thread the same run of nodes, whose rows
+ * stay in its core's cache (small chunks dealt out in turn made each core reload the rows the
+ * other had just read). */
+#define LPS_FOR_EACH_NODE(items, loops, w, breaking, ...)                                                \
   _Pragma("omp parallel reduction(+ : n_broken)")                                                         \
   PERI_FOR_EACH_ITEM(items, item) {                                                                       \
     const int32_t i0 = (items)->first[item], i1 = (items)->first[item + 1];                               \
     lps_sums sums[PERI_BLOCK];                                                                             \
     const bool block = peri_item_is_block(items, item);                                                    \
+    const int64_t t0 = (items)->tpl[item], entries = (items)->tpl[item + 1] - t0;                         \
     if (block) {                                                                                           \
-      const int64_t t0 = (items)->tpl[item];                                                              \
-      (loops)->block(&(w), i0, (items)->tpl_node + t0, (items)->tpl_lanes + t0, (items)->tpl[item + 1] - t0, \
-                     sums);                                                                                \
+      (loops)->block(&(w), i0, (items)->tpl_node + t0, (items)->tpl_lanes + t0, entries, sums);           \
     } else {                                                                                               \
       for (int32_t i = i0; i < i1; ++i) sums[i - i0] = (loops)->node(&(w), i);                            \
     }                                                                                                      \
+    if (breaking)                                                                                          \
+      PERI_BREAK_AND_RECOMPUTE(s, items, item, i0, i1, sums, block, n_broken,                              \
+                               (loops)->block(&(w), i0, (items)->tpl_node + t0, (items)->tpl_lanes + t0,   \
+                                              entries, sums),                                              \
+                               sums[i - i0] = (loops)->node(&(w), i));                                     \
     for (int32_t i = i0; i < i1; ++i) {                                                                   \
       lps_sums *r = &sums[i - i0];                                                                         \
       __VA_ARGS__                                                                                          \
@@ -338,16 +343,7 @@ static long lps_dilatation(peri_sim *s) {
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
   const size_t n = (size_t)p->n;
   long n_broken = 0;
-  LPS_FOR_EACH_NODE(items, loops, w, {
-    if (breaking && r->candidate) {
-      const long nb = peri_node_blocks_break_family(s, items, item, i);
-      if (nb > 0) {
-        n_broken += nb;
-        const double smin = r->smin; /* of the bonds as they were at the test */
-        *r = loops->node(&w, i);
-        r->smin = smin;
-      }
-    }
+  LPS_FOR_EACH_NODE(items, loops, w, breaking, {
     const double we_x = r->sum[0], w_xx = r->sum[1];
     const peri_material *mat = &s->materials[p->material[i]];
     const double m = p->wvol[i];
@@ -380,14 +376,14 @@ static long lps_force(peri_sim *s) {
   /* the force pass reads D_j and B_j of ghosts (docs/parallel.md) */
   peri_sim_exchange(s, s->p.coef, 1);
   peri_sim_exchange(s, s->p.coef + n, 1);
-  const peri_node_blocks *items = s->node_blocks; /* refreshed by the dilatation pass */
+  peri_node_blocks *items = s->node_blocks; /* refreshed by the dilatation pass */
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
   const lps_loops *loops = s->family.influence == PERI_INFLUENCE_INVERSE    ? &lps_force_inverse
                            : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? &lps_force_gaussian
                            : items->uniform_volume                          ? &lps_force_uniform
                                                                             : &lps_force_constant;
   long n_broken = 0; /* (the force pass breaks nothing) */
-  LPS_FOR_EACH_NODE(items, loops, w, {
+  LPS_FOR_EACH_NODE(items, loops, w, false, {
     for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = r->sum[d];
   })
   return broken + n_broken;

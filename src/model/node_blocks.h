@@ -53,6 +53,35 @@ peri_node_blocks *peri_node_blocks_refresh(peri_sim *s);
  * masks; returns the number broken. For the force loops, from the thread that runs the item. */
 long peri_node_blocks_break_family(peri_sim *s, peri_node_blocks *nb, int32_t item, int32_t i);
 
+/* After the sums of item `item` (nodes i0 .. i1-1, sums[] with fields candidate and smin):
+ * the exact breaking test of each candidate node, adding the bonds broken to n_broken, then
+ * the sums again for the nodes that lost bonds: the whole block at once (RERUN_BLOCK) when
+ * two or more did, a block pass costing about what two single-node passes with gathers do,
+ * else each such node alone (RERUN_NODE, with i the node). Both paths give the same sums bit
+ * for bit. smin stays that of the bonds as they were at the test. (The exact test of a
+ * block's candidates all at once on its template measured slower than node by node.) */
+#define PERI_BREAK_AND_RECOMPUTE(s, items, item, i0, i1, sums, is_block, n_broken, RERUN_BLOCK, RERUN_NODE) \
+  do {                                                                                                      \
+    unsigned lost_lanes = 0;                                                                                \
+    for (int32_t i = (i0); i < (i1); ++i)                                                                   \
+      if ((sums)[i - (i0)].candidate) {                                                                     \
+        const long broken_here = peri_node_blocks_break_family((s), (items), (item), i);                    \
+        (n_broken) += broken_here;                                                                          \
+        if (broken_here > 0) lost_lanes |= 1u << (i - (i0));                                                \
+      }                                                                                                     \
+    if (lost_lanes) {                                                                                       \
+      double smin_at_test[PERI_BLOCK];                                                                      \
+      for (int32_t i = (i0); i < (i1); ++i) smin_at_test[i - (i0)] = (sums)[i - (i0)].smin;                 \
+      if ((is_block) && __builtin_popcount(lost_lanes) >= 2) {                                              \
+        RERUN_BLOCK;                                                                                        \
+      } else {                                                                                              \
+        for (int32_t i = (i0); i < (i1); ++i)                                                               \
+          if (lost_lanes >> (i - (i0)) & 1u) RERUN_NODE;                                                    \
+      }                                                                                                     \
+      for (int32_t i = (i0); i < (i1); ++i) (sums)[i - (i0)].smin = smin_at_test[i - (i0)];                 \
+    }                                                                                                       \
+  } while (0)
+
 /* peri_lane_on[m][l] = 1.0 when bit l of m is set, else 0.0: the lane masks as doubles, so
  * that the lane loops keep the width of their double vectors */
 extern const double peri_lane_on[256][PERI_BLOCK];

@@ -234,23 +234,18 @@ static long pmb_force(peri_sim *s) {
     const int32_t i0 = items->first[item], i1 = items->first[item + 1];
     pmb_sums sums[PERI_BLOCK];
     const bool block = peri_item_is_block(items, item);
+    const int64_t t0 = items->tpl[item], entries = items->tpl[item + 1] - t0;
     if (block) {
-      const int64_t t0 = items->tpl[item];
-      loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, items->tpl[item + 1] - t0, sums);
+      loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums);
     } else {
       for (int32_t i = i0; i < i1; ++i) sums[i - i0] = loops->node(&w, i);
     }
+    if (breaking)
+      PERI_BREAK_AND_RECOMPUTE(s, items, item, i0, i1, sums, block, n_broken,
+                               loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums),
+                               sums[i - i0] = loops->node(&w, i));
     for (int32_t i = i0; i < i1; ++i) {
       pmb_sums *r = &sums[i - i0];
-      if (breaking && r->candidate) {
-        const long nb = peri_node_blocks_break_family(s, items, item, i);
-        if (nb > 0) {
-          n_broken += nb;
-          const double smin = r->smin; /* of the bonds as they were at the test */
-          *r = loops->node(&w, i);
-          r->smin = smin;
-        }
-      }
       for (int d = 0; d < 3; ++d) p->f[3 * i + d] = r->f[d];
       if (track_smin) p->smin[i] = r->smin;
     }

@@ -259,17 +259,36 @@ static void check_paths(int dim, const char *model, const char *influence, const
   cr_assert_gt(in_blocks, 0.5, "the test needs node blocks");
   cr_expect(memcmp(a, b, bytes) == 0, "%s %dD %s: the block and one-node paths differ", model, dim, influence);
   cr_expect(energies_agree(&s), "%s %dD %s: the energies of the two paths differ", model, dim, influence);
-  /* 2. bonds broken by the force loop on the block path */
+  /* 2. bonds broken by the force loop: the evaluation that breaks them gives the same forces
+   * and breaks the same bonds on both paths (the block path recomputes a block whose nodes
+   * lost bonds as a block, the other path node by node) */
   for (size_t k = 0; k < 3 * (size_t)s.p.n; ++k) s.p.u[k] *= 1.6;
+  peri_bonds *bonds = &s.bonds;
+  uint8_t *intact_before = malloc((size_t)bonds->n_bonds), *broken_generic_flags = malloc((size_t)bonds->n_bonds);
+  memcpy(intact_before, bonds->broken, (size_t)bonds->n_bonds);
   s.breaking = true;
+  s.generic_bond_loops = true;
+  const long broken_generic = s.model->force(&s);
+  memcpy(b, s.p.f, bytes);
+  memcpy(broken_generic_flags, bonds->broken, (size_t)bonds->n_bonds);
+  memcpy(bonds->broken, intact_before, (size_t)bonds->n_bonds);
+  ++bonds->broken_edits;
+  s.generic_bond_loops = false;
   const long broken = s.model->force(&s);
+  memcpy(a, s.p.f, bytes);
   s.breaking = false;
   cr_assert_gt(broken, 100, "the test must break bonds");
+  cr_expect_eq(broken, broken_generic);
+  cr_expect(memcmp(bonds->broken, broken_generic_flags, (size_t)bonds->n_bonds) == 0,
+            "%s %dD %s: the paths break different bonds", model, dim, influence);
+  cr_expect(memcmp(a, b, bytes) == 0, "%s %dD %s: the paths differ in the evaluation that broke %ld bonds", model,
+            dim, influence, broken);
+  free(intact_before);
+  free(broken_generic_flags);
   forces_both_paths(&s, a, b);
   cr_expect(memcmp(a, b, bytes) == 0, "%s %dD %s: the paths differ after the loop broke %ld bonds", model, dim,
             influence, broken);
   /* 3. bonds broken outside the loops (as by a thermal crack or a restart) */
-  peri_bonds *bonds = &s.bonds;
   for (int64_t k = 0; k < bonds->n_bonds; k += 5) bonds->broken[k] = 1;
   ++bonds->broken_edits;
   forces_both_paths(&s, a, b);
