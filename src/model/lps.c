@@ -118,8 +118,10 @@ static inline __attribute__((always_inline)) double lps_bond_force(const lps_cen
   return r > 0.0 ? scale : 0.0;
 }
 
-/* What a loop returns per node: pass 1 the two sums, the minimum mechanical stretch and
- * whether a bond is a candidate for breaking; pass 2 the force density in sum[0..2]. */
+/* What a loop returns per node: pass 1 the two sums sum w q and sum w |xi| (w = omega |xi|
+ * beta V_j, q = e - alpha_T dT_i |xi|), for the energy also sum omega beta V_j q^2 in sum[2],
+ * the minimum mechanical stretch and whether a bond is a candidate for breaking; pass 2 the
+ * force density in sum[0..2]. */
 typedef struct lps_sums {
   double sum[3], smin;
   bool candidate;
@@ -129,7 +131,7 @@ typedef struct lps_sums {
  * vector loop, their sums in order). */
 static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_view *w, int32_t i, bool force,
                                                                bool thermal, peri_influence influence,
-                                                               bool uniform, bool track_smin) {
+                                                               bool uniform, bool track_smin, bool energy) {
   const lps_centre ci = lps_centre_of(w, i, thermal, force);
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
@@ -164,12 +166,14 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
         g[a] = lps_bond_sums(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], thermal ? eth[j] : 0.0,
                              s0_bound[j], uniform ? 0.0 : V[j], thermal, influence, uniform, track_smin, &v0[a],
                              &v1[a], &s, &e);
+        if (energy) v2[a] = v0[a] * v0[a] / v1[a];
         if (track_smin) smin = peri_min(smin, s);
         excess = peri_max(excess, e);
       }
       for (int a = 0; a < n; ++a) {
         s0 = fma(g[a], v0[a], s0);
         s1 = fma(g[a], v1[a], s1);
+        if (energy) s2 = fma(g[a], v2[a], s2);
       }
     }
   }
@@ -184,7 +188,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
                                                             const int32_t *restrict tj,
                                                             const uint8_t *restrict lanes, int64_t count,
                                                             bool force, bool thermal, peri_influence influence,
-                                                            bool uniform, bool track_smin,
+                                                            bool uniform, bool track_smin, bool energy,
                                                             lps_sums out[PERI_BLOCK]) {
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
@@ -241,6 +245,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
         const double wt_on = on ? wt : 0.0;
         s0[l] = fma(wt_on, q, s0[l]);
         s1[l] = fma(wt_on, r0, s1[l]);
+        if (energy) s2[l] = fma(wt_on, q * q / r0, s2[l]);
         stretch_on[l] = on ? s : INFINITY;
         beyond[l] += on && e > 0.0 ? 1.0 : 0.0; /* the bonds beyond the screening bound */
       }
@@ -263,37 +268,49 @@ typedef struct lps_loops {
   lps_sums (*node)(const peri_bond_view *, int32_t);
   void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, lps_sums *);
 } lps_loops;
-#define LPS_VARIANT(NAME, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN)                                        \
+#define LPS_VARIANT(NAME, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY)                                \
   static lps_sums NAME##_node(const peri_bond_view *w, int32_t i) {                                       \
-    return lps_node(w, i, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN);                                       \
+    return lps_node(w, i, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY);                               \
   }                                                                                                        \
   static void NAME##_block(const peri_bond_view *w, int32_t i0, const int32_t *tj, const uint8_t *lanes,   \
                            int64_t count, lps_sums *out) {                                                 \
-    lps_block(w, i0, tj, lanes, count, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, out);                     \
+    lps_block(w, i0, tj, lanes, count, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, out);             \
   }                                                                                                        \
   static const lps_loops NAME = {NAME##_node, NAME##_block};
 /* Pass 1 by influence function (constant on a grid, constant, inverse, Gaussian), without
- * and with thermal strain, without and with the minimum stretch (the LAMMPS-form critical
- * stretch); "uniform": every node has the same volume, so the loop does not gather it */
-#define LPS_SUMS_VARIANTS(SUFFIX, SMIN)                                                                    \
-  LPS_VARIANT(lps_sums_uniform##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, true, SMIN)                 \
-  LPS_VARIANT(lps_sums_constant##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, false, SMIN)               \
-  LPS_VARIANT(lps_sums_inverse##SUFFIX, false, false, PERI_INFLUENCE_INVERSE, false, SMIN)                 \
-  LPS_VARIANT(lps_sums_gaussian##SUFFIX, false, false, PERI_INFLUENCE_GAUSSIAN, false, SMIN)               \
-  LPS_VARIANT(lps_sums_thermal##SUFFIX, false, true, PERI_INFLUENCE_CONSTANT, false, SMIN)                 \
-  LPS_VARIANT(lps_sums_inverse_thermal##SUFFIX, false, true, PERI_INFLUENCE_INVERSE, false, SMIN)          \
-  LPS_VARIANT(lps_sums_gaussian_thermal##SUFFIX, false, true, PERI_INFLUENCE_GAUSSIAN, false, SMIN)        \
+ * and with thermal strain; without and with the minimum stretch (the LAMMPS-form critical
+ * stretch), and for the energy; "uniform": every node has the same volume, so the loop does
+ * not gather it */
+#define LPS_SUMS_VARIANTS(SUFFIX, SMIN, ENERGY)                                                            \
+  LPS_VARIANT(lps_sums_uniform##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, true, SMIN, ENERGY)         \
+  LPS_VARIANT(lps_sums_constant##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, false, SMIN, ENERGY)       \
+  LPS_VARIANT(lps_sums_inverse##SUFFIX, false, false, PERI_INFLUENCE_INVERSE, false, SMIN, ENERGY)         \
+  LPS_VARIANT(lps_sums_gaussian##SUFFIX, false, false, PERI_INFLUENCE_GAUSSIAN, false, SMIN, ENERGY)       \
+  LPS_VARIANT(lps_sums_thermal##SUFFIX, false, true, PERI_INFLUENCE_CONSTANT, false, SMIN, ENERGY)         \
+  LPS_VARIANT(lps_sums_inverse_thermal##SUFFIX, false, true, PERI_INFLUENCE_INVERSE, false, SMIN, ENERGY)  \
+  LPS_VARIANT(lps_sums_gaussian_thermal##SUFFIX, false, true, PERI_INFLUENCE_GAUSSIAN, false, SMIN, ENERGY) \
   static const lps_loops *const lps_sums_table##SUFFIX[2][4] = {                                         \
       {&lps_sums_uniform##SUFFIX, &lps_sums_constant##SUFFIX, &lps_sums_inverse##SUFFIX,                   \
        &lps_sums_gaussian##SUFFIX},                                                                        \
       {&lps_sums_thermal##SUFFIX, &lps_sums_thermal##SUFFIX, &lps_sums_inverse_thermal##SUFFIX,            \
        &lps_sums_gaussian_thermal##SUFFIX}};
-LPS_SUMS_VARIANTS(, false)
-LPS_SUMS_VARIANTS(_smin, true)
-LPS_VARIANT(lps_force_uniform, true, false, PERI_INFLUENCE_CONSTANT, true, false)
-LPS_VARIANT(lps_force_constant, true, false, PERI_INFLUENCE_CONSTANT, false, false)
-LPS_VARIANT(lps_force_inverse, true, false, PERI_INFLUENCE_INVERSE, false, false)
-LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false, false)
+LPS_SUMS_VARIANTS(, false, false)
+LPS_SUMS_VARIANTS(_smin, true, false)
+LPS_SUMS_VARIANTS(_energy, false, true)
+LPS_VARIANT(lps_force_uniform, true, false, PERI_INFLUENCE_CONSTANT, true, false, false)
+LPS_VARIANT(lps_force_constant, true, false, PERI_INFLUENCE_CONSTANT, false, false, false)
+LPS_VARIANT(lps_force_inverse, true, false, PERI_INFLUENCE_INVERSE, false, false, false)
+LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false, false, false)
+
+/* Pass 1's table for the deck's influence function, volumes and thermal strain. */
+static const lps_loops *lps_pass1_loops(const peri_sim *s, const peri_node_blocks *items,
+                                        const lps_loops *const table[2][4]) {
+  const int kind = s->family.influence == PERI_INFLUENCE_INVERSE    ? 2
+                   : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? 3
+                   : items->uniform_volume                          ? 0
+                                                                    : 1;
+  return table[s->thermal_strain != NULL][kind];
+}
 
 /* Runs `loops` over every owned node (a block at a time where the node blocks allow, node
  * by node otherwise), with the breaking test when `breaking` (PERI_BREAK_AND_RECOMPUTE), then
@@ -334,11 +351,7 @@ static long lps_dilatation(peri_sim *s) {
   peri_update_s0_bound(s);
   peri_node_blocks *items = peri_node_blocks_refresh(s);
   const bool thermal = s->thermal_strain != NULL, track_smin = s->s0_node != NULL, breaking = s->breaking;
-  const int kind = s->family.influence == PERI_INFLUENCE_INVERSE    ? 2
-                   : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? 3
-                   : items->uniform_volume                          ? 0
-                                                                    : 1;
-  const lps_loops *loops = (track_smin ? lps_sums_table_smin : lps_sums_table)[thermal][kind];
+  const lps_loops *loops = lps_pass1_loops(s, items, track_smin ? lps_sums_table_smin : lps_sums_table);
   peri_particles *p = &s->p;
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
   const size_t n = (size_t)p->n;
@@ -389,128 +402,25 @@ static long lps_force(peri_sim *s) {
   return broken + n_broken;
 }
 
-/* Bond i-j: omega (e^d)^2 beta V_j, e^d = e - shift_i |xi|, shift_i = alpha_T dT_i + theta_i/3. */
-static inline __attribute__((always_inline)) double lps_bond_energy(double xi0, double xi1, double xi2, double ui0,
-                                                                    double ui1, double ui2, double shift,
-                                                                    const peri_family_eval *fam, double xj0,
-                                                                    double xj1, double xj2, double uj0, double uj1,
-                                                                    double uj2, double V_j, peri_influence influence) {
-  const double x0 = xj0 - xi0, x1 = xj1 - xi1, x2 = xj2 - xi2;
-  const double y0 = x0 + (uj0 - ui0), y1 = x1 + (uj1 - ui1), y2 = x2 + (uj2 - ui2);
-  const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
-  const double ed = sqrt(y0 * y0 + y1 * y1 + y2 * y2) - r0 - shift * r0;
-  return peri_eval_omega(fam, influence, r0) * ed * ed * peri_eval_beta(fam, r0) * V_j;
-}
-
-/* The energy's shift of node i (after the dilatation pass). */
-static inline double lps_energy_shift(const peri_sim *s, int32_t i) {
-  return (s->thermal_strain ? s->thermal_strain[i] : 0.0) + s->p.theta[i] / 3.0;
-}
-
-/* Node i alone: sum_j omega (e^d)^2 beta V_j over its intact bonds in family order. */
-static inline __attribute__((always_inline)) double lps_node_energy(const peri_bond_view *w, int32_t i, double shift,
-                                                                    peri_influence influence) {
-  const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
-                         *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V;
-  const double xi0 = X0[i], xi1 = X1[i], xi2 = X2[i], ui0 = U0[i], ui1 = U1[i], ui2 = U2[i];
-  const peri_family_eval fam = w->fam;
-  const int64_t k0 = w->offset[i], k1 = w->offset[i + 1];
-  const bool damaged = memchr(w->broken + k0, 1, (size_t)(k1 - k0)) != NULL;
-  int32_t intact[PERI_INTACT_CHUNK];
-  double e[PERI_INTACT_CHUNK], sum = 0.0;
-  for (int64_t k = k0; k < k1;) {
-    int n;
-    const int32_t *restrict nbr = peri_next_chunk(w, damaged, &k, k1, intact, &n);
-#pragma omp simd
-    for (int a = 0; a < n; ++a) {
-      const int32_t j = nbr[a];
-      e[a] = lps_bond_energy(xi0, xi1, xi2, ui0, ui1, ui2, shift, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], V[j],
-                             influence);
-    }
-    for (int a = 0; a < n; ++a) sum += e[a];
-  }
-  return sum;
-}
-
-/* The block of nodes i0 .. i0+7 (as lps_block): the same sums, eight at a time. */
-static inline __attribute__((always_inline)) void lps_block_energy(const peri_bond_view *w, int32_t i0,
-                                                                   const double *shift, const int32_t *restrict tj,
-                                                                   const uint8_t *restrict lanes, int64_t count,
-                                                                   peri_influence influence, double out[PERI_BLOCK]) {
-  const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
-                         *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V;
-  const peri_family_eval fam = w->fam;
-  double c0[PERI_BLOCK], c1[PERI_BLOCK], c2[PERI_BLOCK], cu0[PERI_BLOCK], cu1[PERI_BLOCK], cu2[PERI_BLOCK],
-      csh[PERI_BLOCK], sum[PERI_BLOCK];
-  for (int l = 0; l < PERI_BLOCK; ++l) {
-    c0[l] = X0[i0 + l], c1[l] = X1[i0 + l], c2[l] = X2[i0 + l];
-    cu0[l] = U0[i0 + l], cu1[l] = U1[i0 + l], cu2[l] = U2[i0 + l];
-    csh[l] = shift[l], sum[l] = 0.0;
-  }
-  for (int64_t a = 0; a < count; ++a) {
-    const int64_t j = tj[a];
-    if (j < 0) break; /* (see lps_block) */
-    const double *restrict on_lanes = peri_lane_on[lanes[a]];
-    const double *restrict A0 = X0 + j, *restrict A1 = X1 + j, *restrict A2 = X2 + j, *restrict E0 = U0 + j,
-                           *restrict E1 = U1 + j, *restrict E2 = U2 + j, *restrict Vj = V + j;
-#pragma omp simd
-    for (int l = 0; l < PERI_BLOCK; ++l) {
-      const double e = lps_bond_energy(c0[l], c1[l], c2[l], cu0[l], cu1[l], cu2[l], csh[l], &fam, A0[l], A1[l], A2[l],
-                                       E0[l], E1[l], E2[l], Vj[l], influence);
-      sum[l] += on_lanes[l] != 0.0 ? e : 0.0; /* (unconditional: see lps_block) */
-    }
-  }
-  for (int l = 0; l < PERI_BLOCK; ++l) out[l] = sum[l];
-}
-
-typedef struct lps_energy_loops {
-  double (*node)(const peri_bond_view *, int32_t, double);
-  void (*block)(const peri_bond_view *, int32_t, const double *, const int32_t *, const uint8_t *, int64_t, double *);
-} lps_energy_loops;
-#define LPS_ENERGY_VARIANT(NAME, INFLUENCE)                                                                   \
-  static double NAME##_node(const peri_bond_view *w, int32_t i, double shift) {                              \
-    return lps_node_energy(w, i, shift, INFLUENCE);                                                           \
-  }                                                                                                           \
-  static void NAME##_block(const peri_bond_view *w, int32_t i0, const double *shift, const int32_t *tj,      \
-                           const uint8_t *lanes, int64_t count, double *out) {                                \
-    lps_block_energy(w, i0, shift, tj, lanes, count, INFLUENCE, out);                                         \
-  }                                                                                                           \
-  static const lps_energy_loops NAME = {NAME##_node, NAME##_block};
-LPS_ENERGY_VARIANT(lps_energy_constant, PERI_INFLUENCE_CONSTANT)
-LPS_ENERGY_VARIANT(lps_energy_inverse, PERI_INFLUENCE_INVERSE)
-LPS_ENERGY_VARIANT(lps_energy_gaussian, PERI_INFLUENCE_GAUSSIAN)
-
-/* W_i = K_theta theta_i^2/2 + (alpha_i/2) sum_j w (e^d)^2 W_ij, on the node blocks like the
- * force. Not on the time-step path. */
+/* W_i = K_theta theta_i^2/2 + (alpha_m/m_i)/2 sum_j omega (e^d)^2 beta V_j with e^d = q - theta_i
+ * |xi|/3 (q = e - alpha_T dT_i |xi|), in one pass: theta_i = n_theta (sum w q)/m_i comes from
+ * node i's own bonds, and sum omega beta V (q - theta |xi|/3)^2 = sum omega beta V q^2 - (2 theta/3)
+ * sum w q + (theta^2/9) sum w |xi| (w = omega |xi| beta V). Not on the time-step path. */
 static void lps_energy(peri_sim *s, double *W) {
-  peri_particles *p = &s->p;
-  bool breaking = s->breaking;
-  s->breaking = false;
-  lps_dilatation(s);
-  s->breaking = breaking;
-  const peri_node_blocks *items = s->node_blocks; /* refreshed by the dilatation pass */
+  peri_update_s0_bound(s); /* (read by the pass's screening, unused here) */
+  peri_node_blocks *items = peri_node_blocks_refresh(s);
+  const lps_loops *loops = lps_pass1_loops(s, items, lps_sums_table_energy);
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
-  const lps_energy_loops *loops = s->family.influence == PERI_INFLUENCE_INVERSE    ? &lps_energy_inverse
-                                  : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? &lps_energy_gaussian
-                                                                                   : &lps_energy_constant;
-#pragma omp parallel
-  PERI_FOR_EACH_ITEM(items, item) {
-    const int32_t i0 = items->first[item], i1 = items->first[item + 1];
-    double sums[PERI_BLOCK];
-    if (peri_item_is_block(items, item)) {
-      double shift[PERI_BLOCK];
-      for (int l = 0; l < PERI_BLOCK; ++l) shift[l] = lps_energy_shift(s, i0 + l);
-      const int64_t t0 = items->tpl[item];
-      loops->block(&w, i0, shift, items->tpl_node + t0, items->tpl_lanes + t0, items->tpl[item + 1] - t0, sums);
-    } else {
-      for (int32_t i = i0; i < i1; ++i) sums[i - i0] = loops->node(&w, i, lps_energy_shift(s, i));
-    }
-    for (int32_t i = i0; i < i1; ++i) {
-      const peri_material *mat = &s->materials[p->material[i]];
-      const double theta = p->theta[i];
-      W[i] = 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / p->wvol[i]) * sums[i - i0];
-    }
-  }
+  const peri_particles *p = &s->p;
+  long n_broken = 0; /* (the energy breaks nothing) */
+  LPS_FOR_EACH_NODE(items, loops, w, false, {
+    const peri_material *mat = &s->materials[p->material[i]];
+    const double m = p->wvol[i];
+    const double theta = mat->n_theta * r->sum[0] / m;
+    const double deviatoric = r->sum[2] - (2.0 * theta / 3.0) * r->sum[0] + (theta * theta / 9.0) * r->sum[1];
+    W[i] = 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * deviatoric;
+  })
+  (void)n_broken;
 }
 
 static double lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
