@@ -16,7 +16,9 @@ void peri_work_share_free(peri_work_share *ws);
 
 /* Inside a parallel region, called by every thread of the team before its first
  * peri_work_share_next (a barrier: one thread sets the shares). cost_prefix[k] is the
- * cumulative cost of items 0 .. k-1 (n + 1 entries, non-decreasing). */
+ * cumulative cost of items 0 .. k-1 (n + 1 entries, non-decreasing). One pass per parallel
+ * region and sharer: a second start in the same region could reset the shares while a
+ * thread still takes chunks of the first. */
 void peri_work_share_start(peri_work_share *ws, const int64_t *cost_prefix, int32_t n);
 
 /* The calling thread's next chunk [*begin, *end); false when no item is left. */

@@ -66,17 +66,13 @@ Test(work_share, one_thread_runs_items_in_order) {
   peri_work_share_free(ws);
 }
 
-/* Before any stealing a thread's first chunk is the front of its own share, and the shares
- * split the cost evenly: with equal costs, thread t of T starts at t n / T. */
-Test(work_share, first_chunks_start_the_equal_cost_shares) {
-  enum { N = 4000, T = 4 };
-  static int64_t prefix[N + 1];
-  fill_prefix(prefix, N, 0);
+/* The first item each of `threads` threads gets (first[t]), before any thread can steal:
+ * each takes one chunk, then all wait, then the rest of the pass is drained. */
+static void first_chunks(const int64_t *prefix, int32_t n, int threads, int32_t *first) {
   peri_work_share *ws = peri_work_share_new();
-  int32_t first[T];
-#pragma omp parallel num_threads(T)
+#pragma omp parallel num_threads(threads)
   {
-    peri_work_share_start(ws, prefix, N);
+    peri_work_share_start(ws, prefix, n);
     int32_t begin, end;
     cr_expect(peri_work_share_next(ws, &begin, &end));
     first[omp_get_thread_num()] = begin;
@@ -84,8 +80,18 @@ Test(work_share, first_chunks_start_the_equal_cost_shares) {
     while (peri_work_share_next(ws, &begin, &end)) {
     }
   }
-  for (int t = 0; t < T; ++t) cr_assert_eq(first[t], t * N / T, "thread %d starts at %d", t, first[t]);
   peri_work_share_free(ws);
+}
+
+/* Before any stealing a thread's first chunk is the front of its own share, and the shares
+ * split the cost evenly: with equal costs, thread t of T starts at t n / T. */
+Test(work_share, first_chunks_start_the_equal_cost_shares) {
+  enum { N = 4000, T = 4 };
+  static int64_t prefix[N + 1];
+  fill_prefix(prefix, N, 0);
+  int32_t first[T];
+  first_chunks(prefix, N, T, first);
+  for (int t = 0; t < T; ++t) cr_assert_eq(first[t], t * N / T, "thread %d starts at %d", t, first[t]);
 }
 
 /* With costs on a ramp (item k costs k) the two shares of two threads hold half the cost
@@ -94,21 +100,10 @@ Test(work_share, shares_split_by_cost) {
   enum { N = 1000 };
   static int64_t prefix[N + 1];
   fill_prefix(prefix, N, 2);
-  peri_work_share *ws = peri_work_share_new();
   int32_t first[2];
-#pragma omp parallel num_threads(2)
-  {
-    peri_work_share_start(ws, prefix, N);
-    int32_t begin, end;
-    cr_expect(peri_work_share_next(ws, &begin, &end));
-    first[omp_get_thread_num()] = begin;
-#pragma omp barrier
-    while (peri_work_share_next(ws, &begin, &end)) {
-    }
-  }
+  first_chunks(prefix, N, 2, first);
   int32_t k = 0;
   while ((int64_t)k * (k - 1) / 2 < (int64_t)N * (N - 1) / 4) ++k;
   cr_assert_eq(first[0], 0);
   cr_assert_eq(first[1], k, "second share starts at %d, expected %d (about %.0f)", first[1], k, N / 1.41421356);
-  peri_work_share_free(ws);
 }
