@@ -1,7 +1,6 @@
 /* Boundary and initial conditions on regions, and external loads. */
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 #include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/solver.h"

@@ -2,7 +2,6 @@
  * viscous damping, prescribed motion and external loads. */
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 #include "peri/comm.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
