@@ -55,15 +55,18 @@ static int lps_init(peri_sim *s) {
   return PERI_OK;
 }
 
-/* Node i's own data, read once per family; D and B are the force pass's coefficients. */
+/* Node i's own data, read once per family; D and B are the force pass's coefficients, the
+ * bound only for the breaking screen of the dilatation pass (`screen`). */
 typedef struct lps_centre {
   double x0, x1, x2, u0, u1, u2, eth, bound, V, D, B;
 } lps_centre;
 
-static inline lps_centre lps_centre_of(const peri_bond_view *w, int32_t i, bool thermal, bool force) {
+static inline lps_centre lps_centre_of(const peri_bond_view *w, int32_t i, bool thermal, bool force,
+                                       bool screen) {
   const size_t n = (size_t)w->n;
   const lps_centre c = {w->x0[i], w->x1[i], w->x2[i], w->u0[i], w->u1[i], w->u2[i], thermal ? w->eth[i] : 0.0,
-                        w->s0_bound[i], w->V[i], force ? w->coef[i] : 0.0, force ? w->coef[n + (size_t)i] : 0.0};
+                        screen ? w->s0_bound[i] : 0.0, w->V[i], force ? w->coef[i] : 0.0,
+                        force ? w->coef[n + (size_t)i] : 0.0};
   return c;
 }
 
@@ -132,7 +135,7 @@ typedef struct lps_sums {
 static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_view *w, int32_t i, bool force,
                                                                bool thermal, peri_influence influence,
                                                                bool uniform, bool track_smin, bool energy) {
-  const lps_centre ci = lps_centre_of(w, i, thermal, force);
+  const lps_centre ci = lps_centre_of(w, i, thermal, force, !force && !energy);
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict D = w->coef,
@@ -164,8 +167,8 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
         const int32_t j = nbr[a];
         double s, e;
         g[a] = lps_bond_sums(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], thermal ? eth[j] : 0.0,
-                             s0_bound[j], uniform ? 0.0 : V[j], thermal, influence, uniform, track_smin, &v0[a],
-                             &v1[a], &s, &e);
+                             energy ? 0.0 : s0_bound[j], uniform ? 0.0 : V[j], thermal, influence, uniform,
+                             track_smin, &v0[a], &v1[a], &s, &e);
         if (energy) v2[a] = v0[a] * v0[a] / v1[a];
         if (track_smin) smin = peri_min(smin, s);
         excess = peri_max(excess, e);
@@ -201,7 +204,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
   double s0[PERI_BLOCK], s1[PERI_BLOCK], s2[PERI_BLOCK], smin[PERI_BLOCK], beyond[PERI_BLOCK],
       stretch_on[PERI_BLOCK];
   for (int l = 0; l < PERI_BLOCK; ++l) {
-    const lps_centre c = lps_centre_of(w, i0 + l, thermal, force);
+    const lps_centre c = lps_centre_of(w, i0 + l, thermal, force, !force && !energy);
     c0[l] = c.x0, c1[l] = c.x1, c2[l] = c.x2, cu0[l] = c.u0, cu1[l] = c.u1, cu2[l] = c.u2;
     ceth[l] = c.eth, cbound[l] = c.bound, cV[l] = c.V, cD[l] = c.D, cB[l] = c.B;
     s0[l] = s1[l] = s2[l] = 0.0, smin[l] = INFINITY, beyond[l] = 0.0;
@@ -232,14 +235,14 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
         s2[l] = fma(g_on, y2, s2[l]);
       }
     } else {
-      const double *restrict Ej = thermal ? eth + j : eth, *restrict Sj = s0_bound + j;
+      const double *restrict Ej = thermal ? eth + j : eth, *restrict Sj = energy ? s0_bound : s0_bound + j;
 #pragma omp simd
       for (int l = 0; l < PERI_BLOCK; ++l) {
         const lps_centre c = {c0[l], c1[l], c2[l], cu0[l], cu1[l], cu2[l], ceth[l], cbound[l], cV[l], 0.0, 0.0};
         double q, r0, s, e;
         const double wt = lps_bond_sums(c, &fam, A0[l], A1[l], A2[l], E0[l], E1[l], E2[l], thermal ? Ej[l] : 0.0,
-                                        Sj[l], uniform ? 0.0 : Vj[l], thermal, influence, uniform, track_smin, &q, &r0,
-                                        &s, &e);
+                                        energy ? 0.0 : Sj[l], uniform ? 0.0 : Vj[l], thermal, influence, uniform,
+                                        track_smin, &q, &r0, &s, &e);
         /* unconditional updates, as in the force pass */
         const bool on = on_lanes[l] != 0.0;
         const double wt_on = on ? wt : 0.0;
@@ -407,7 +410,6 @@ static long lps_force(peri_sim *s) {
  * node i's own bonds, and sum omega beta V (q - theta |xi|/3)^2 = sum omega beta V q^2 - (2 theta/3)
  * sum w q + (theta^2/9) sum w |xi| (w = omega |xi| beta V). Not on the time-step path. */
 static void lps_energy(peri_sim *s, double *W) {
-  peri_update_s0_bound(s); /* (read by the pass's screening, unused here) */
   peri_node_blocks *items = peri_node_blocks_refresh(s);
   const lps_loops *loops = lps_pass1_loops(s, items, lps_sums_table_energy);
   const peri_bond_view w = peri_bond_view_of(s, items->soa);

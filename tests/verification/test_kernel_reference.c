@@ -264,14 +264,14 @@ static void check_paths(int dim, const char *model, const char *influence, const
    * lost bonds as a block, the other path node by node) */
   for (size_t k = 0; k < 3 * (size_t)s.p.n; ++k) s.p.u[k] *= 1.6;
   peri_bonds *bonds = &s.bonds;
-  uint8_t *intact_before = malloc((size_t)bonds->n_bonds), *broken_generic_flags = malloc((size_t)bonds->n_bonds);
-  memcpy(intact_before, bonds->broken, (size_t)bonds->n_bonds);
+  uint8_t *broken_before = malloc((size_t)bonds->n_bonds), *broken_generic_flags = malloc((size_t)bonds->n_bonds);
+  memcpy(broken_before, bonds->broken, (size_t)bonds->n_bonds);
   s.breaking = true;
   s.generic_bond_loops = true;
   const long broken_generic = s.model->force(&s);
   memcpy(b, s.p.f, bytes);
   memcpy(broken_generic_flags, bonds->broken, (size_t)bonds->n_bonds);
-  memcpy(bonds->broken, intact_before, (size_t)bonds->n_bonds);
+  memcpy(bonds->broken, broken_before, (size_t)bonds->n_bonds);
   ++bonds->broken_edits;
   s.generic_bond_loops = false;
   const long broken = s.model->force(&s);
@@ -283,7 +283,7 @@ static void check_paths(int dim, const char *model, const char *influence, const
             "%s %dD %s: the paths break different bonds", model, dim, influence);
   cr_expect(memcmp(a, b, bytes) == 0, "%s %dD %s: the paths differ in the evaluation that broke %ld bonds", model,
             dim, influence, broken);
-  free(intact_before);
+  free(broken_before);
   free(broken_generic_flags);
   forces_both_paths(&s, a, b);
   cr_expect(memcmp(a, b, bytes) == 0, "%s %dD %s: the paths differ after the loop broke %ld bonds", model, dim,
