@@ -296,7 +296,7 @@ static int command(int argc, char **argv) {
         sim.out.directory = strdup(output);
       }
       if (restart) rc = peri_restart_load(&sim, restart); /* checked before any output (docs/restart.md) */
-      if (rc == PERI_OK && !strcmp(command, "run")) rc = peri_decompose_check(&sim); /* MPI ranks */
+      if (rc == PERI_OK && !strcmp(command, "run")) rc = peri_solver_check_ranks(&sim, peri_comm_size()); /* MPI ranks */
       if (rc == PERI_OK && (!quiet || !strcmp(command, "check"))) peri_print_summary(&sim, stdout);
       if (rc == PERI_OK && restart && !quiet) peri_restart_print(&sim, stdout);
       if (rc == PERI_OK && !strcmp(command, "run")) {

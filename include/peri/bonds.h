@@ -83,5 +83,10 @@ int64_t peri_bonds_find(const peri_bonds *b, int32_t i, int32_t j);
 /* Bytes used by all per-bond arrays, divided by n_bonds. */
 double peri_bonds_bytes_per_bond(const peri_bonds *b);
 void peri_bonds_free(peri_bonds *b);
+/* Number of broken directed bonds. */
+long peri_broken_count(const peri_bonds *b);
+/* FNV-1a hash of the bond families of nodes 0..n-1 (CSR offsets and neighbours): a
+ * checkpoint is only resumed on the same families. */
+uint64_t peri_bonds_hash(const peri_bonds *b, int32_t n);
 
 #endif

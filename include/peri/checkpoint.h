@@ -41,10 +41,6 @@ void peri_checkpoint_path(const peri_sim *s, char *out, size_t size);
 /* Summary line of the checkpoint settings (nothing without output.checkpoint_every). */
 void peri_checkpoint_print_summary(const peri_sim *s, FILE *out);
 
-/* FNV-1a hash of the bond families of nodes 0..n-1 (CSR offsets and neighbours): a
- * checkpoint is only resumed on the same families. */
-uint64_t peri_checkpoint_bond_hash(const peri_bonds *b, int32_t n);
-
 /* Writes the state of s to path (through path.tmp and a rename, so a crash never leaves a
  * half-written file). On MPI ranks it is collective: rank 0 gathers the arrays in global
  * order and writes, and every rank returns the same status. Returns PERI_OK, or

@@ -29,12 +29,9 @@ typedef struct peri_decomposition {
 
 /* Splits the built simulation over the ranks (nothing in a single process): keeps this
  * rank's nodes and ghosts, families with local indices, regions, conditions and the heat
- * operator, and installs the halo exchange as s->exchange. Returns 0 or PERI_ERR_INPUT
- * (with a message) for solvers that do not run distributed. */
+ * operator, and installs the halo exchange as s->exchange. Returns 0. Whether the solver
+ * runs on this many ranks is checked before (peri_solver_check_ranks). */
 int peri_decompose(peri_sim *s);
-/* The check peri_decompose starts with, alone: 0, or PERI_ERR_INPUT with a message when the
- * simulation cannot run on the current number of ranks (always 0 in a single process). */
-int peri_decompose_check(const peri_sim *s);
 void peri_decomposition_free(peri_decomposition *d);
 /* Rank 0 prints, for the ranks together, the nodes owned, ghosts, neighbour ranks and the
  * values one exchange of a scalar field sends (the halo volume); every rank must call it. */

@@ -47,7 +47,7 @@ int peri_implicit_residual_history(double *out, int max);
 
 /* Before a run on `ranks` MPI ranks: PERI_OK, or PERI_ERR_INPUT with a message when the
  * deck asks for an LU factorization (linear_solver direct, petsc_preconditioner lu) and this
- * PETSc has no parallel one (MUMPS, SuperLU_dist). Called by peri_decompose_check. */
+ * PETSc has no parallel one (MUMPS, SuperLU_dist). Its entry in the solver table (src/solver/qs_solvers.c). */
 int peri_implicit_check_ranks(const peri_sim *s, int ranks);
 
 /* Finalizes PETSc if this process initialized it (also registered with atexit; safe to

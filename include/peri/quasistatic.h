@@ -36,8 +36,21 @@ typedef enum { PERI_QS_CONVERGED = 0, PERI_QS_NOT_CONVERGED = 1, PERI_QS_DIVERGE
 peri_qs_status peri_solve_adr(peri_sim *s);
 peri_qs_status peri_solve_dynamic_relaxation(peri_sim *s);
 peri_qs_status peri_solve_nlcg(peri_sim *s);
+/* A quasi-static solver in the table of src/solver/qs_solvers.c. */
+typedef struct peri_qs_solver_ops {
+  peri_solver_kind kind;
+  const char *name;                               /* solver.type in the deck */
+  peri_qs_status (*solve)(peri_sim *s);           /* equilibrium at the present loads */
+  int (*check_ranks)(const peri_sim *s, int ranks); /* PERI_ERR_INPUT with a message when it cannot
+                                                     run on this many MPI ranks; NULL: any number */
+} peri_qs_solver_ops;
+/* The table entry of a solver kind, NULL for explicit and heat. */
+const peri_qs_solver_ops *peri_qs_solver(peri_solver_kind kind);
 /* The solver of s->solver. */
 peri_qs_status peri_solve_equilibrium(peri_sim *s);
+/* Whether the solver of s runs on `ranks` MPI ranks (a message and PERI_ERR_INPUT if not);
+ * checked before the decomposition. */
+int peri_solver_check_ranks(const peri_sim *s, int ranks);
 
 /* Load steps with fracture (docs/model_reference.md 12.4): for n = 1..load_steps sets the loads at
  * t_n, solves, breaks every bond beyond its critical stretch and re-solves until none

@@ -241,3 +241,25 @@ void peri_bonds_free(peri_bonds *b) {
   free(b->broken);
   memset(b, 0, sizeof *b);
 }
+
+long peri_broken_count(const peri_bonds *b) {
+  long count = 0;
+#pragma omp parallel for reduction(+ : count) schedule(static)
+  for (int64_t k = 0; k < b->n_bonds; ++k) count += b->broken[k];
+  return count;
+}
+
+/* FNV-1a over the CSR arrays, value by value least significant byte first. */
+uint64_t peri_bonds_hash(const peri_bonds *b, int32_t n) {
+  uint64_t h = 1469598103934665603ULL; /* FNV-1a 64-bit offset basis and prime (Fowler, Noll, Vo) */
+  const uint64_t prime = 1099511628211ULL;
+  for (int32_t i = 0; i <= n; ++i) {
+    uint64_t v = (uint64_t)b->offset[i];
+    for (int k = 0; k < 8; ++k) h = (h ^ ((v >> (8 * k)) & 0xff)) * prime;
+  }
+  for (int64_t k = 0; k < b->offset[n]; ++k) {
+    uint32_t v = (uint32_t)b->neighbor[k];
+    for (int c = 0; c < 4; ++c) h = (h ^ ((v >> (8 * c)) & 0xff)) * prime;
+  }
+  return h;
+}

@@ -17,7 +17,7 @@
 #include "peri/quasistatic.h"
 #include "peri/overrides.h"
 #include "peri/thermal.h"
-#include "setup_thermal.h"
+#include "setup_parts.h"
 
 #define TRY(expr)                       \
   do {                                  \
@@ -49,19 +49,6 @@ static int find_material(const peri_sim *s, const peri_node *at, const char *nam
   if (best >= 0 && best_d <= 2)
     return -peri_deck_error(at, "unknown material '%s'; did you mean '%s'?", name, s->materials[best].name);
   return -peri_deck_error(at, "unknown material '%s' (define it under materials)", name);
-}
-
-int peri_setup_find_region(const peri_sim *s, const peri_node *at, const char *name) {
-  for (int r = 0; r < s->n_regions; ++r)
-    if (strcmp(s->regions[r].name, name) == 0) return r;
-  int best = -1, best_d = 1 << 30;
-  for (int r = 0; r < s->n_regions; ++r) {
-    int d = peri_edit_distance(name, s->regions[r].name);
-    if (d < best_d) best_d = d, best = r;
-  }
-  if (best >= 0 && best_d <= 2)
-    return -peri_deck_error(at, "unknown region '%s'; did you mean '%s'?", name, s->regions[best].name);
-  return -peri_deck_error(at, "unknown region '%s' (define it under regions; 'all' is predefined)", name);
 }
 
 /* ---------------------------------------------------------------- materials */

@@ -8,7 +8,7 @@
 #include "peri/damage.h"
 #include "peri/error.h"
 #include "peri/thermal.h"
-#include "setup_thermal.h"
+#include "setup_parts.h"
 
 #define TRY(expr)                   \
   do {                              \

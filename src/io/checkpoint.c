@@ -194,21 +194,6 @@ void peri_restart_apply(peri_sim *s) {
   release_arrays(r);
 }
 
-/* FNV-1a over the CSR arrays, value by value least significant byte first. */
-uint64_t peri_checkpoint_bond_hash(const peri_bonds *b, int32_t n) {
-  uint64_t h = 1469598103934665603ULL; /* FNV-1a 64-bit offset basis and prime (Fowler, Noll, Vo) */
-  const uint64_t prime = 1099511628211ULL;
-  for (int32_t i = 0; i <= n; ++i) {
-    uint64_t v = (uint64_t)b->offset[i];
-    for (int k = 0; k < 8; ++k) h = (h ^ ((v >> (8 * k)) & 0xff)) * prime;
-  }
-  for (int64_t k = 0; k < b->offset[n]; ++k) {
-    uint32_t v = (uint32_t)b->neighbor[k];
-    for (int c = 0; c < 4; ++c) h = (h ^ ((v >> (8 * c)) & 0xff)) * prime;
-  }
-  return h;
-}
-
 static const char *solver_kind_name(peri_solver_kind k) {
   switch (k) {
   case PERI_SOLVER_EXPLICIT: return "explicit";
@@ -380,7 +365,7 @@ static void view_of(const peri_sim *s, state_view *v) {
   if (!s->dd) {
     v->n = p->n_owned;
     v->n_bonds = s->bonds.n_bonds;
-    v->bond_hash = peri_checkpoint_bond_hash(&s->bonds, p->n_owned);
+    v->bond_hash = peri_bonds_hash(&s->bonds, p->n_owned);
     v->x = p->x, v->u = p->u, v->v = p->v, v->f = p->f, v->damage = p->damage;
     v->theta = p->theta, v->wvol = p->wvol, v->pstate = p->pstate, v->smin = p->smin;
     v->s0 = s->s0_node, v->thermal_strain = s->thermal_strain, v->step_load = s->step_load;
@@ -742,7 +727,7 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
         break;
       }
   free(x);
-  if (!r->failed && hash != peri_checkpoint_bond_hash(&s->bonds, (int32_t)n))
+  if (!r->failed && hash != peri_bonds_hash(&s->bonds, (int32_t)n))
     bad(r, "%s", "the bond families differ from the deck's (another horizon or partial-volume rule)");
   group_close(g);
 

@@ -158,25 +158,3 @@ int peri_restart_read_output(const char *directory, const char *basename, long r
   read_frames(directory, basename, frames, frame_times, frame_files, frames_listed);
   return PERI_OK;
 }
-
-const double *peri_restart_resume(peri_sim *s, peri_frames *frames, int n_columns, long *rows) {
-  peri_restart_apply(s);
-  long listed = 0;
-  const double *times = NULL;
-  char *const *files = NULL;
-  const long next = peri_restart_frames(s, &listed, &times, &files);
-  if (peri_frames_resume(frames, next, listed, times, files) != PERI_OK) {
-    *rows = -1;
-    return NULL;
-  }
-  int columns = 0;
-  const double *kept = peri_restart_history(s, rows, &columns);
-  if (kept && columns != n_columns) {
-    peri_warning("restart: history.csv has %d columns, this run writes %d; its rows are not kept", columns,
-                 n_columns);
-    *rows = 0;
-    return NULL;
-  }
-  if (!kept) *rows = 0;
-  return kept;
-}

@@ -6,11 +6,9 @@
  * bit for bit. */
 #include <stdlib.h>
 #include <string.h>
-#include "peri/checkpoint.h"
 #include "peri/comm.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
-#include "peri/implicit.h"
 #include "peri/thermal.h"
 
 /* out[k] = src[ids[k]] for elements of `size` bytes; NULL stays NULL. */
@@ -225,18 +223,9 @@ static void localize_thermal(peri_sim *s, const int32_t *ids, int32_t n_local, i
   th->growing_next = next;
 }
 
-int peri_decompose_check(const peri_sim *s) {
-  const int size = peri_comm_size();
-  if (size == 1) return PERI_OK;
-  if (s->solver == PERI_SOLVER_IMPLICIT) return peri_implicit_check_ranks(s, size); /* a parallel LU */
-  return PERI_OK;
-}
-
 int peri_decompose(peri_sim *s) {
   const int size = peri_comm_size(), rank = peri_comm_rank();
   if (size == 1) return PERI_OK;
-  const int rc = peri_decompose_check(s);
-  if (rc != PERI_OK) return rc;
   peri_particles *p = &s->p;
   peri_bonds *b = &s->bonds;
   peri_decomposition *d = peri_calloc(1, sizeof *d);
@@ -256,7 +245,7 @@ int peri_decompose(peri_sim *s) {
    * run of it, and the file's bond hash is that of the global families */
   d->bond_first = peri_malloc(sizeof(int64_t) * ((size_t)size + 1));
   for (int r = 0; r <= size; ++r) d->bond_first[r] = b->offset[d->first[r]];
-  if (s->out.checkpoint_every > 0) d->bond_hash = peri_checkpoint_bond_hash(b, p->n);
+  if (s->out.checkpoint_every > 0) d->bond_hash = peri_bonds_hash(b, p->n);
   const int64_t g0 = d->first[rank], g1 = d->first[rank + 1];
   const int32_t n_owned = (int32_t)(g1 - g0);
 

@@ -22,10 +22,3 @@ void peri_damage_index(const peri_sim *s, double *phi) {
     phi[i] = all > 0.0 ? 1.0 - intact / all : 0.0;
   }
 }
-
-long peri_broken_count(const peri_bonds *b) {
-  long count = 0;
-#pragma omp parallel for reduction(+ : count) schedule(static)
-  for (int64_t k = 0; k < b->n_bonds; ++k) count += b->broken[k];
-  return count;
-}

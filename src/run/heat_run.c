@@ -18,46 +18,10 @@
 #include "peri/run.h"
 #include "peri/thermal.h"
 
-static const char *const kernel_names[] = {"conical", "constant"};
-static const char *const quad_names[] = {"bonds", "bobaru2012"};
-static const char *const self_names[] = {"none", "cell", "bobaru2012"};
-static const char *const rule_names[] = {"lower", "harmonic"};
-static const char *const integrator_names[] = {"rk4", "euler"};
-static const char *const coupling_names[] = {"two_way", "one_way"};
-static const char *const insulation_names[] = {"natural", "algebraic"};
-
 static double now(void) {
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-void peri_thermal_print_summary(const peri_sim *s, FILE *out) {
-  const peri_thermal *th = s->thermal;
-  if (!th) return;
-  if (s->solver == PERI_SOLVER_HEAT) {
-    peri_print_discretization(s, out, "heat conduction", "cut");
-    fprintf(out, "  memory       %.1f MB estimated\n",
-            (peri_memory_estimate(s) + 16.0 * (double)s->bonds.n_bonds + 80.0 * s->p.n) / 1e6);
-    for (int m = 0; m < s->n_materials; ++m) {
-      const peri_material *mat = &s->materials[m];
-      fprintf(out, "  material     %s: rho %g, conductivity %g, specific heat %g, diffusivity %g\n", mat->name,
-              mat->density, mat->conductivity, mat->specific_heat,
-              mat->conductivity / (mat->density * mat->specific_heat));
-    }
-  }
-  fprintf(out, "  thermal      kernel %s, quadrature %s, self term %s, insulation %s, bonds between "
-          "materials %s\n", kernel_names[th->kernel], quad_names[th->quadrature], self_names[th->self_term],
-          insulation_names[th->insulation], rule_names[th->bond_rule]);
-  if (s->solver == PERI_SOLVER_HEAT) {
-    fprintf(out, "  time step    %g s (%s, stable estimate %g s from the largest row sum %g 1/s), %ld steps "
-            "to t = %g s\n", s->dt, integrator_names[th->integrator], th->dt_stable, th->max_row_sum, s->steps,
-            s->dt * s->steps);
-  } else {
-    fprintf(out, "  heat step    %g s (%s, stable estimate %g s), coupling %s%s\n", th->dt,
-            integrator_names[th->integrator], th->dt_stable, coupling_names[th->coupling],
-            th->n_growing ? ", growing cracks" : "");
-  }
 }
 
 typedef struct heat_ctx {

@@ -6,6 +6,7 @@
 #include "peri/checkpoint.h"
 #include "peri/comm.h"
 #include "peri/error.h"
+#include "peri/frames.h"
 #include "peri/history.h"
 #include "peri/output.h"
 
@@ -44,4 +45,26 @@ void peri_history_log_close(peri_history_log *h) {
   free(h->row);
   peri_plot_series_free(&h->plot);
   *h = (peri_history_log){0};
+}
+
+const double *peri_restart_resume(peri_sim *s, peri_frames *frames, int n_columns, long *rows) {
+  peri_restart_apply(s);
+  long listed = 0;
+  const double *times = NULL;
+  char *const *files = NULL;
+  const long next = peri_restart_frames(s, &listed, &times, &files);
+  if (peri_frames_resume(frames, next, listed, times, files) != PERI_OK) {
+    *rows = -1;
+    return NULL;
+  }
+  int columns = 0;
+  const double *kept = peri_restart_history(s, rows, &columns);
+  if (kept && columns != n_columns) {
+    peri_warning("restart: history.csv has %d columns, this run writes %d; its rows are not kept", columns,
+                 n_columns);
+    *rows = 0;
+    return NULL;
+  }
+  if (!kept) *rows = 0;
+  return kept;
 }

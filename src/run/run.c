@@ -27,54 +27,6 @@ static double now(void) {
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-double peri_memory_estimate(const peri_sim *s) {
-  const double n = s->p.n, nb = (double)s->bonds.n_bonds;
-  /* x u v f b (5 x 3 doubles), volume, damage, material, block, flags, + model arrays */
-  double per_node = 15 * 8 + 8 + 8 + 4 + 4 + 1 + 3;
-  if (s->p.theta) per_node += 3 * 8;
-  if (s->s0_node) per_node += 2 * 8;
-  per_node += 6 * 8; /* the bond loops' copies of x and u (src/model/node_blocks.c) */
-  return n * per_node + (n + 1) * 8 + nb * (peri_bonds_bytes_per_bond(&s->bonds) + peri_node_blocks_bytes_bound());
-}
-
-static const char *model_plane(const peri_sim *s) {
-  if (s->geom.dim != 2) return "";
-  return s->geom.plane == PERI_PLANE_STRAIN ? ", plane strain" : ", plane stress";
-}
-
-void peri_print_discretization(const peri_sim *s, FILE *out, const char *model, const char *broken) {
-  fprintf(out, "peri %s: %s\n", PERI_VERSION, s->deck_path);
-  fprintf(out, "  model        %s, %dD%s\n", model, s->geom.dim, s->solver == PERI_SOLVER_HEAT ? "" : model_plane(s));
-  fprintf(out, "  nodes        %d\n", s->p.n);
-  fprintf(out, "  bonds        %lld directed (%.1f per node), %ld %s\n", (long long)s->bonds.n_bonds,
-          s->p.n ? (double)s->bonds.n_bonds / s->p.n : 0.0, peri_broken_count(&s->bonds), broken);
-  fprintf(out, "  horizon      %g (m = %.4g, spacing %g)\n", s->geom.horizon, s->geom.horizon / s->geom.spacing,
-          s->geom.spacing);
-}
-
-void peri_print_summary(const peri_sim *s, FILE *out) {
-  if (s->solver == PERI_SOLVER_HEAT) { /* conduction only (docs/heat.md) */
-    peri_thermal_print_summary(s, out);
-    peri_checkpoint_print_summary(s, out); /* docs/restart.md */
-    return;
-  }
-  peri_print_discretization(s, out, s->model->name, "broken");
-  fprintf(out, "  memory       %.1f MB estimated (%.1f bytes per directed bond, node blocks at most %.2f more)\n",
-          peri_memory_estimate(s) / 1e6, peri_bonds_bytes_per_bond(&s->bonds), peri_node_blocks_bytes_bound());
-  for (int m = 0; m < s->n_materials; ++m) {
-    const peri_material *mat = &s->materials[m];
-    fprintf(out, "  material     %s: rho %g, E %g, nu %.4g, K %g, critical stretch %g%s\n", mat->name,
-            mat->density, mat->E, mat->nu, mat->K, mat->lammps_s0 ? mat->s00 : mat->critical_stretch,
-            mat->lammps_s0 ? " (s00, compression-dependent)" : "");
-  }
-  if (peri_is_quasi_static(s)) peri_print_quasi_static_summary(s, out);
-  else
-    fprintf(out, "  time step    %g s (stable estimate %g s), %ld steps to t = %g s\n", s->dt,
-            peri_stable_dt(s), s->steps, s->dt * s->steps);
-  if (s->thermal) peri_thermal_print_summary(s, out); /* thermomechanics (docs/heat.md) */
-  peri_checkpoint_print_summary(s, out);               /* docs/restart.md */
-}
-
 typedef struct run_ctx {
   peri_frames *frames;
   peri_history_log log;         /* history.csv and the output.plot series */

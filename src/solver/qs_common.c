@@ -98,13 +98,3 @@ double peri_qs_residual(const peri_sim *s, double *r) {
   if (!(scale > 0.0)) return res > 0.0 ? 1.0 : 0.0;
   return sqrt(res) / scale;
 }
-
-peri_qs_status peri_solve_equilibrium(peri_sim *s) {
-  switch (s->solver) {
-  case PERI_SOLVER_ADR: return peri_solve_adr(s);
-  case PERI_SOLVER_DYNAMIC_RELAXATION: return peri_solve_dynamic_relaxation(s);
-  case PERI_SOLVER_NLCG: return peri_solve_nlcg(s);
-  case PERI_SOLVER_IMPLICIT: return peri_solve_implicit(s);
-  default: return PERI_QS_DIVERGED;
-  }
-}

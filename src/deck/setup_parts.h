@@ -1,6 +1,7 @@
-/* Deck parsing of heat conduction and thermomechanics (docs/heat.md), called from setup.c. */
-#ifndef PERI_SETUP_THERMAL_H
-#define PERI_SETUP_THERMAL_H
+/* The parts of building a simulation from the deck that live in files of their own, called from setup.c:
+ * heat conduction and thermomechanics (setup_thermal.c, docs/heat.md) and region lookup. */
+#ifndef PERI_SETUP_PARTS_H
+#define PERI_SETUP_PARTS_H
 #include <stdbool.h>
 #include "peri/deck.h"
 #include "peri/sim.h"
@@ -19,7 +20,7 @@ bool peri_setup_is_thermal_bc(const peri_node *item);
 int peri_setup_thermal(peri_sim *s, const peri_node *root);
 
 /* Index of the region called `name`; on failure prints a message at `at` (with a
- * suggestion for a misspelling) and returns -PERI_ERR_INPUT. Defined in setup.c. */
+ * suggestion for a misspelling) and returns -PERI_ERR_INPUT (region_lookup.c). */
 int peri_setup_find_region(const peri_sim *s, const peri_node *at, const char *name);
 
 #endif
