@@ -15,8 +15,8 @@ void peri_apply_initial_conditions(peri_sim *s);
 /* Prescribed displacement/velocity at time t for the step t - dt -> t: sets u and v of
  * prescribed components. */
 void peri_apply_prescribed_motion(peri_sim *s, double t, double dt);
-/* External force density at time t into p->b (body forces, tractions, indenter). */
-void peri_apply_loads(peri_sim *s, double t);
+/* The loads (peri_apply_loads) and everything else a step adds to the model's force. */
+#include "peri/contribution.h"
 
 /* Global quantities. */
 double peri_kinetic_energy(const peri_sim *s);

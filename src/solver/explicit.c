@@ -3,10 +3,10 @@
 #include <math.h>
 #include <stdlib.h>
 #include "peri/comm.h"
+#include "peri/contribution.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/solver.h"
-#include "peri/thermal.h"
 
 /* External force density on each component: applied loads on free components, and on
  * prescribed ones the reaction rho a - f that enforces the motion. */
@@ -102,8 +102,8 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
     s->step = step + 1;
     peri_apply_prescribed_motion(s, s->time, dt);
     peri_apply_loads(s, s->time);
-    /* thermomechanics: heat advanced to t (sub-cycled), then the thermal strain (docs/heat.md) */
-    if (s->thermal && peri_thermal_couple(s, s->step, s->time) != PERI_OK) {
+    /* what the force depends on besides u: the thermal strain of thermomechanics (docs/heat.md) */
+    if (peri_contributions_before_force(s, s->step, s->time) != PERI_OK) {
       status = PERI_ERR_RUN;
       break;
     }

@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/comm.h"
+#include "peri/contribution.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/implicit.h"
@@ -201,34 +202,6 @@ static void add_row(void *vctx, int32_t i, int32_t count, const int32_t *cols, c
   c->error = MatSetValuesBlocked(c->A, 1, &row, count, c->cols, c->values, ADD_VALUES);
 }
 
-/* The indenter's force density k (R - r)^2 n on nodes inside it (src/solver/conditions.c)
- * depends on u_i: d b_i / d u_i = k [(R - r)^2 / r (I - n n^T) - 2 (R - r) n n^T]. */
-static void add_indenter(implicit_ctx *c) {
-  const peri_sim *s = c->s;
-  const peri_indenter *ind = &s->indenter;
-  const peri_particles *p = &s->p;
-  double centre[3] = {0.0, 0.0, 0.0};
-  for (int d = 0; d < 3; ++d)
-    if (ind->center[d]) centre[d] = peri_expr_eval(ind->center[d], 0.0, 0.0, 0.0, s->time);
-  const double R = ind->radius, k = ind->stiffness;
-  for (int32_t i = 0; i < p->n_owned; ++i) {
-    double y[3], r2 = 0.0;
-    for (int d = 0; d < 3; ++d) {
-      y[d] = p->x[3 * i + d] + p->u[3 * i + d] - centre[d];
-      r2 += y[d] * y[d];
-    }
-    if (r2 >= R * R || r2 == 0.0) continue;
-    const double r = sqrt(r2), tangential = k * (R - r) * (R - r) / r, normal = -2.0 * k * (R - r);
-    double K[9]; /* d b_i / d u_i: enters like a tangent block of f_i (F = -V (f + b)) */
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) {
-        const double nn = y[a] * y[b] / r2;
-        K[3 * a + b] = tangential * ((a == b) - nn) + normal * nn;
-      }
-    add_row(c, i, 1, &i, K);
-  }
-}
-
 static PetscErrorCode form_jacobian(SNES snes, Vec x, Mat J, Mat P, void *vctx) {
   implicit_ctx *c = vctx;
   (void)snes;
@@ -239,7 +212,7 @@ static PetscErrorCode form_jacobian(SNES snes, Vec x, Mat J, Mat P, void *vctx) 
   c->A = P;
   c->error = 0;
   c->s->model->tangent(c->s, add_row, c);
-  if (c->s->indenter.on) add_indenter(c);
+  peri_contributions_tangent(c->s, add_row, c); /* loads that depend on u (indenter) */
   PetscCall(c->error);
   PetscCall(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(P, MAT_FINAL_ASSEMBLY));

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/contribution.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/implicit.h"
@@ -56,7 +57,7 @@ void peri_qs_forces(peri_sim *s) {
   const bool breaking = s->breaking;
   s->breaking = false;
   peri_exchange_state(s); /* ghost displacements (MPI ranks) */
-  if (s->indenter.on) peri_apply_loads(s, s->time);
+  if (peri_loads_follow_deformation(s)) peri_apply_loads(s, s->time);
   s->model->force(s);
   s->breaking = breaking;
   s->qs.force_evaluations++;

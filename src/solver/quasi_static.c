@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/comm.h"
+#include "peri/contribution.h"
 #include "peri/damage.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
@@ -39,7 +40,7 @@ void peri_print_quasi_static_summary(const peri_sim *s, FILE *out) {
  * forces); returns the number of directed bonds broken. */
 static long break_bonds(peri_sim *s) {
   if (!s->breaking) return 0;
-  if (s->indenter.on) peri_apply_loads(s, s->time);
+  if (peri_loads_follow_deformation(s)) peri_apply_loads(s, s->time);
   peri_exchange_state(s); /* ghost displacements (MPI ranks) */
   long nb = s->model->force(s);
   s->qs.force_evaluations++;
