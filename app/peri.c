@@ -72,10 +72,10 @@ static double now(void) {
 /* Runs the solver of a built simulation without output. */
 static int solve_quietly(peri_sim *s) {
   peri_apply_initial_conditions(s);
-  peri_apply_loads(s, s->time);
-  s->model->force(s);
+  peri_apply_loads(s, s->state.time);
+  s->mat.model->force(s);
   if (peri_is_quasi_static(s)) return peri_solve_quasi_static(s, NULL, NULL);
-  if (s->solver == PERI_SOLVER_EXPLICIT) return peri_solve_explicit(s, NULL, NULL);
+  if (s->solver.kind == PERI_SOLVER_EXPLICIT) return peri_solve_explicit(s, NULL, NULL);
   peri_error("sweep: solver type heat is not supported (use explicit or a quasi-static solver)");
   return PERI_ERR_INPUT;
 }
@@ -170,7 +170,7 @@ static int sweep(const char *deck, int n_sets, const char **sets, int n_lists, s
       double t0 = now();
       rc = peri_sim_from_deck_with(&s, deck, n_all, all);
       if (rc == PERI_OK && pass == 1) {
-        s.quiet = true;
+        s.out.quiet = true;
         rc = solve_quietly(&s);
         double t1 = now();
         printf("|");
@@ -290,7 +290,7 @@ static int command(int argc, char **argv) {
     peri_sim sim;
     rc = peri_sim_from_deck_with(&sim, deck, n_sets, sets);
     if (rc == PERI_OK) {
-      sim.quiet = quiet;
+      sim.out.quiet = quiet;
       if (output) {
         free(sim.out.directory);
         sim.out.directory = strdup(output);

@@ -54,7 +54,7 @@ int peri_checkpoint_after_step(const peri_sim *s, const peri_checkpoint_progress
 /* Reads the checkpoint `path` for the simulation s, built from the deck as usual (with the
  * output directory already final; on MPI ranks every rank reads it, before peri_decompose,
  * on the whole discretization), checks that the deck builds the same discretization
- * and solver, and keeps its state in s->restart; reads the history.csv rows and .pvd
+ * and solver, and keeps its state in s->state.restart; reads the history.csv rows and .pvd
  * frames of the output directory written up to the checkpoint. Writes nothing. Returns
  * PERI_OK, or PERI_ERR_INPUT with a message (missing, damaged or mismatched checkpoint,
  * or a build without HDF5). */

@@ -29,7 +29,7 @@ typedef struct peri_decomposition {
 
 /* Splits the built simulation over the ranks (nothing in a single process): keeps this
  * rank's nodes and ghosts, families with local indices, regions, conditions and the heat
- * operator, and installs the halo exchange as s->exchange. Returns 0. Whether the solver
+ * operator, and installs the halo exchange as s->par.exchange. Returns 0. Whether the solver
  * runs on this many ranks is checked before (peri_solver_check_ranks). */
 int peri_decompose(peri_sim *s);
 void peri_decomposition_free(peri_decomposition *d);

@@ -28,7 +28,7 @@ typedef enum {
 bool peri_implicit_available(void);
 
 /* Reads the implicit keys of the `solver` mapping (linear_solver, petsc_preconditioner,
- * newton_tolerance, petsc_options) into s->qs; rejects them for other solver types and
+ * newton_tolerance, petsc_options) into s->solver.qs; rejects them for other solver types and
  * rejects type implicit in a build without PETSc. Called by peri_quasi_static_parse after
  * the shared keys. Returns PERI_OK or PERI_ERR_INPUT after a positioned message. */
 int peri_implicit_parse(peri_sim *s, const peri_node *solver);

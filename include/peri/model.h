@@ -22,8 +22,8 @@ typedef struct peri_model_ops {
   /* Derives per-material constants (after elastic constants are resolved) and allocates
    * and fills model work arrays (e.g. weighted volume). Returns 0 or PERI_ERR_INPUT. */
   int (*init)(peri_sim *s);
-  /* Overwrites s->p.f of owned nodes with the internal force density at the current
-   * displacement. When s->breaking is set, first breaks every intact bond whose stretch
+  /* Overwrites s->disc.p.f of owned nodes with the internal force density at the current
+   * displacement. When s->solver.breaking is set, first breaks every intact bond whose stretch
    * exceeds its critical stretch (symmetric in i and j); returns the number of directed
    * bonds broken in this call. */
   long (*force)(peri_sim *s);
@@ -50,7 +50,7 @@ typedef struct peri_model_ops {
 void peri_pmb_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx);
 void peri_lps_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx);
 
-/* Frees the bond loops' work items (peri_sim.node_blocks). */
+/* Frees the bond loops' work items (peri_sim.disc.node_blocks). */
 struct peri_node_blocks;
 void peri_node_blocks_free(struct peri_node_blocks *nb);
 /* Share of the owned directed bonds that the bond loops run eight nodes at a time, and the

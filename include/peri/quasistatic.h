@@ -10,8 +10,8 @@
 
 /* Whether the solver is one of the quasi-static ones (adr, dynamic_relaxation, nlcg, implicit). */
 static inline bool peri_is_quasi_static(const peri_sim *s) {
-  return s->solver == PERI_SOLVER_ADR || s->solver == PERI_SOLVER_DYNAMIC_RELAXATION || s->solver == PERI_SOLVER_NLCG ||
-         s->solver == PERI_SOLVER_IMPLICIT;
+  return s->solver.kind == PERI_SOLVER_ADR || s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION || s->solver.kind == PERI_SOLVER_NLCG ||
+         s->solver.kind == PERI_SOLVER_IMPLICIT;
 }
 
 /* The solver keys that only quasi-static solvers take (for the deck's key list). */
@@ -20,9 +20,9 @@ static inline bool peri_is_quasi_static(const peri_sim *s) {
       "preconditioner", "max_broken_per_step", "max_cutbacks", "max_fracture_iterations",          \
       "linear_solver", "petsc_preconditioner", "newton_tolerance", "petsc_options", "dynamic_switch"
 
-/* Reads the quasi-static keys of the `solver` mapping (type already set in s->solver) and
+/* Reads the quasi-static keys of the `solver` mapping (type already set in s->solver.kind) and
  * the shared ones it uses (end_time, time_step, safety_factor, damping, breaking); sets
- * s->steps = load_steps. Explicit: rejects the quasi-static keys. Returns PERI_OK or
+ * s->solver.steps = load_steps. Explicit: rejects the quasi-static keys. Returns PERI_OK or
  * PERI_ERR_INPUT after a positioned message. */
 int peri_quasi_static_parse(peri_sim *s, const peri_node *solver);
 
@@ -31,8 +31,8 @@ typedef enum { PERI_QS_CONVERGED = 0, PERI_QS_NOT_CONVERGED = 1, PERI_QS_DIVERGE
 
 /* Solves for equilibrium at the loads and prescribed displacements currently set (p->b,
  * prescribed components of p->u); bonds do not break during the solve. On return p->f
- * holds the internal force density at the final state and s->qs.residual the relative
- * residual. Counts iterations in s->qs. */
+ * holds the internal force density at the final state and s->solver.qs.residual the relative
+ * residual. Counts iterations in s->solver.qs. */
 peri_qs_status peri_solve_adr(peri_sim *s);
 peri_qs_status peri_solve_dynamic_relaxation(peri_sim *s);
 peri_qs_status peri_solve_nlcg(peri_sim *s);
@@ -60,14 +60,14 @@ int peri_solver_check_ranks(const peri_sim *s, int ranks);
 int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx);
 
 /* solver.dynamic_switch (docs/solvers.md section 4, src/solver/qs_dynamic_parse.c): reads the
- * mapping into s->qs.dynamic (off when absent). Returns PERI_OK or PERI_ERR_INPUT. */
+ * mapping into s->solver.qs.dynamic (off when absent). Returns PERI_OK or PERI_ERR_INPUT. */
 int peri_qs_dynamic_parse(peri_sim *s, const peri_node *solver);
 /* Summary line of the dynamic switch (time step, damping, arrest criteria). */
 void peri_qs_dynamic_summary(const peri_sim *s, FILE *out);
 /* A dynamic phase (src/solver/qs_dynamic.c): from the current state, explicit dynamics with
  * the loads held at pseudo-time t and bonds breaking, until the crack arrests or
  * max_dynamic_steps; then the velocities are zeroed and the loads set again at t. Calls
- * hook with s->qs.phase = dynamic every history_every steps and at the end (history rows).
+ * hook with s->solver.qs.phase = dynamic every history_every steps and at the end (history rows).
  * *stop is set when the hook asks to stop. Returns PERI_OK or PERI_ERR_RUN (diverged). */
 int peri_qs_dynamic_phase(peri_sim *s, double t, peri_step_hook hook, void *ctx, bool *stop);
 

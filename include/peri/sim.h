@@ -21,7 +21,7 @@ typedef enum {
 
 typedef struct peri_bc {
   peri_bc_kind kind;
-  int region;                   /* index in sim->regions */
+  int region;                   /* index in sim->cond.regions */
   peri_expr *value[3];          /* per component, NULL = not prescribed */
   double layer;                 /* traction: layer depth (default dx) */
 } peri_bc;
@@ -109,20 +109,33 @@ typedef struct peri_output {
   char *plot_x, *plot_y;         /* history columns of the end-of-run line plot (NULL: none) */
   long checkpoint_every;        /* steps between checkpoints (0: none; docs/restart.md) */
   char *checkpoint_file;        /* checkpoint path, "{step}" = step number (NULL: <basename>.h5) */
+  bool quiet;                   /* no summary and no progress line */
 } peri_output;
 
-typedef struct peri_sim {
-  char *deck_path;
+/* The discretization: geometry, nodes, bonds and the bond loops' work items. */
+typedef struct peri_discretization {
   peri_geometry geom;
   peri_particles p;
   peri_bonds bonds;
   peri_family_params family;
   bool analytic_weighted_volume; /* LPS: m from the full-horizon integral (else discrete) */
+  /* work items of the bond loops (src/model/node_blocks.c), built on first use */
+  struct peri_node_blocks *node_blocks;
+  bool generic_bond_loops;      /* tests: every node by the one-node path */
+} peri_discretization;
+
+/* The constitutive model and the materials with their resolved constants. */
+typedef struct peri_materials {
   const peri_model_ops *model;
   int n_materials;
   peri_material *materials;
   double *pair_s0;              /* [n_materials^2] critical stretch of a bond by end materials */
   double *s0_node;              /* LAMMPS form: s0 of each node for this step (else NULL) */
+} peri_materials;
+
+/* Regions and what the deck sets on them: boundary conditions and loads, pre-cracks, the
+ * indenter. */
+typedef struct peri_conditions {
   int n_regions;
   peri_region *regions;
   int n_bcs;
@@ -130,10 +143,13 @@ typedef struct peri_sim {
   int n_precracks;
   peri_precrack *precracks;
   peri_indenter indenter;
-  struct peri_thermal *thermal;  /* heat conduction (docs/heat.md), NULL without */
-  double *thermal_strain;       /* [n] alpha_T,eff (T - T_ref) per node, NULL without thermomechanics */
-  /* solver */
-  peri_solver_kind solver;
+  uint8_t *prescribed;          /* [3n] component has a prescribed displacement/velocity */
+} peri_conditions;
+
+/* Solver settings: which solver, the time step and the number of steps, damping, breaking,
+ * and the quasi-static settings. */
+typedef struct peri_solver_settings {
+  peri_solver_kind kind;
   double dt;                    /* time step in use */
   double dt_given;              /* 0: estimate */
   double safety_factor;
@@ -142,36 +158,50 @@ typedef struct peri_sim {
   double damping;               /* viscous damping coefficient (1/s), 0 = none */
   bool breaking;                /* bonds may break */
   peri_quasi_static qs;          /* quasi-static solvers */
-  /* state */
+} peri_solver_settings;
+
+/* The state of a run beyond the node fields: time, step, work, and what a checkpoint keeps. */
+typedef struct peri_state {
   double time;
   long step;
   bool forces_current;          /* p->f holds the forces of the present state (set by a caller
                                    that evaluated them; the explicit solver then does not
                                    evaluate them again at its first step, and clears it) */
-  uint8_t *prescribed;          /* [3n] component has a prescribed displacement/velocity */
   double external_work;
   double *step_load;            /* explicit: [3n] external load density of the last step, the left
                                    end of the next step's work integral (kept for checkpoints) */
+  double *thermal_strain;       /* [n] alpha_T,eff (T - T_ref) per node, NULL without thermomechanics */
   struct peri_restart *restart; /* checkpoint to continue from (--restart), NULL otherwise */
-  /* output */
-  peri_output out;
-  bool quiet;
+} peri_state;
+
+/* Threads and distributed runs (docs/parallel.md). */
+typedef struct peri_parallel {
   int threads;
-  /* distributed runs (docs/parallel.md): this rank's part, NULL in a single process */
+  /* this rank's part, NULL in a single process */
   struct peri_decomposition *dd;
   /* copies the owners' values of a per-node field (ncomp doubles per node) into the ghost
    * slots; NULL in a single process. Call it through peri_sim_exchange. */
   void (*exchange)(struct peri_sim *s, double *field, int ncomp);
-  /* work items of the bond loops (src/model/node_blocks.c), built on first use */
-  struct peri_node_blocks *node_blocks;
-  bool generic_bond_loops; /* tests: every node by the one-node path */
+} peri_parallel;
+
+/* A simulation, one member per subsystem: a new subsystem adds one member. */
+typedef struct peri_sim {
+  char *deck_path;
+  peri_discretization disc;
+  peri_materials mat;
+  peri_conditions cond;
+  peri_solver_settings solver;
+  peri_state state;
+  peri_output out;
+  peri_parallel par;
+  struct peri_thermal *thermal;  /* heat conduction (docs/heat.md), NULL without */
 } peri_sim;
 
 /* Ghost values of a per-node field from their owners (a no-op in a single process). A
  * kernel that reads field[j] of a neighbour j calls it after the pass that computes the
  * field of the owned nodes. */
 static inline void peri_sim_exchange(peri_sim *s, double *field, int ncomp) {
-  if (s->exchange) s->exchange(s, field, ncomp);
+  if (s->par.exchange) s->par.exchange(s, field, ncomp);
 }
 
 /* Reads the deck and builds the simulation: every input error is reported (exit status 2)

@@ -137,7 +137,7 @@ double peri_thermal_region_inflow(const peri_sim *s, int region);
  * q_i = sum_{p: T_p > T_i} chi H_ip (T_p - T_i) (x_p - x_i) (points towards hotter nodes;
  * equals kappa grad T = -q_Fourier for a linear field). */
 void peri_thermal_flux(const peri_sim *s);
-/* Per-node thermal strain alpha_eff (T - T_ref) into s->thermal_strain. */
+/* Per-node thermal strain alpha_eff (T - T_ref) into s->state.thermal_strain. */
 void peri_thermal_update_strain(peri_sim *s);
 /* Coupled runs: advances the heat to time t (sub-cycled) when due at this mechanical step,
  * then updates the thermal strain. Called by the explicit solver before the force. */

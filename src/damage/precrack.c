@@ -55,9 +55,9 @@ bool peri_precrack_cuts(const peri_precrack *c, double dx, const double xi[3], c
 }
 
 long peri_precracks_apply(peri_sim *s) {
-  if (s->n_precracks == 0) return 0;
-  const peri_particles *p = &s->p;
-  peri_bonds *b = &s->bonds;
+  if (s->cond.n_precracks == 0) return 0;
+  const peri_particles *p = &s->disc.p;
+  peri_bonds *b = &s->disc.bonds;
   long cut = 0;
   /* The test is evaluated with the lower index first so both directions agree exactly. */
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : cut)
@@ -65,8 +65,8 @@ long peri_precracks_apply(peri_sim *s) {
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       int32_t j = b->neighbor[k];
       int32_t lo = i < j ? i : j, hi = i < j ? j : i;
-      for (int c = 0; c < s->n_precracks; ++c) {
-        if (peri_precrack_cuts(&s->precracks[c], s->geom.spacing, &p->x[3 * lo], &p->x[3 * hi])) {
+      for (int c = 0; c < s->cond.n_precracks; ++c) {
+        if (peri_precrack_cuts(&s->cond.precracks[c], s->disc.geom.spacing, &p->x[3 * lo], &p->x[3 * hi])) {
           if (!b->broken[k]) ++cut;
           b->broken[k] = 1;
           break;

@@ -36,8 +36,8 @@ static int check_petsc_options(const peri_node *at, const char *text) {
 }
 
 int peri_implicit_parse(peri_sim *s, const peri_node *it) {
-  peri_quasi_static *q = &s->qs;
-  if (s->solver != PERI_SOLVER_IMPLICIT) {
+  peri_quasi_static *q = &s->solver.qs;
+  if (s->solver.kind != PERI_SOLVER_IMPLICIT) {
     for (int k = 0; implicit_keys[k]; ++k)
       if (peri_deck_get(it, implicit_keys[k]))
         return peri_deck_error(peri_deck_key_node(it, implicit_keys[k]), "key '%s': only for solver type implicit",

@@ -20,7 +20,7 @@ static int count_at_least(const peri_node *map, const char *key, long min, long 
 }
 
 int peri_qs_dynamic_parse(peri_sim *s, const peri_node *solver) {
-  peri_qs_dynamic_switch *d = &s->qs.dynamic;
+  peri_qs_dynamic_switch *d = &s->solver.qs.dynamic;
   memset(d, 0, sizeof *d);
   const peri_node *map = peri_deck_get(solver, "dynamic_switch");
   if (!map) return PERI_OK;
@@ -28,11 +28,11 @@ int peri_qs_dynamic_parse(peri_sim *s, const peri_node *solver) {
                                      "arrest_kinetic_energy", "arrest_steps", "max_dynamic_steps",
                                      "history_every", NULL};
   TRY(peri_deck_allow(map, "solver.dynamic_switch", keys));
-  if (!s->breaking)
+  if (!s->solver.breaking)
     return peri_deck_error(map, "solver.dynamic_switch: needs bonds that break (solver.breaking: true)");
   d->on = true;
   /* by default the switch takes over where cutting the load step back gives up */
-  d->when_broken_exceeds = s->qs.max_broken_per_step;
+  d->when_broken_exceeds = s->solver.qs.max_broken_per_step;
   d->safety_factor = 0.8;
   d->arrest_kinetic_energy = 1e-3;
   d->max_dynamic_steps = 100000;

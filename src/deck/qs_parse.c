@@ -27,7 +27,7 @@ static int positive_long(const peri_node *it, const char *key, long min, long *o
 }
 
 int peri_quasi_static_parse(peri_sim *s, const peri_node *it) {
-  peri_quasi_static *q = &s->qs;
+  peri_quasi_static *q = &s->solver.qs;
   memset(q, 0, sizeof *q);
   if (!peri_is_quasi_static(s)) {
     TRY(peri_implicit_parse(s, it)); /* its keys: "only for solver type implicit" */
@@ -35,8 +35,8 @@ int peri_quasi_static_parse(peri_sim *s, const peri_node *it) {
       TRY(only_for(it, qs_keys[k], "adr, dynamic_relaxation or nlcg (quasi-static; also implicit)"));
     return PERI_OK;
   }
-  const bool adr = s->solver == PERI_SOLVER_ADR, dr = s->solver == PERI_SOLVER_DYNAMIC_RELAXATION,
-             cg = s->solver == PERI_SOLVER_NLCG;
+  const bool adr = s->solver.kind == PERI_SOLVER_ADR, dr = s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION,
+             cg = s->solver.kind == PERI_SOLVER_NLCG;
   if (peri_deck_get(it, "steps"))
     return peri_deck_error(peri_deck_key_node(it, "steps"), "key 'steps': quasi-static solvers take "
                            "'load_steps' (the number of load increments)");
@@ -77,31 +77,31 @@ int peri_quasi_static_parse(peri_sim *s, const peri_node *it) {
   TRY(peri_implicit_parse(s, it)); /* linear_solver, petsc_* and newton_tolerance (implicit_parse.c) */
 
   /* pseudo-time of the last load step */
-  s->end_time = 1.0;
-  TRY(peri_deck_double(it, "end_time", false, &s->end_time));
-  if (!(s->end_time > 0.0)) return peri_deck_error(peri_deck_get(it, "end_time"), "key 'end_time': must be positive");
-  s->steps = q->load_steps;
-  s->dt_given = 0.0;
-  s->safety_factor = 0.8;
-  TRY(peri_deck_double(it, "time_step", false, &s->dt_given));
-  TRY(peri_deck_double(it, "safety_factor", false, &s->safety_factor));
-  TRY(peri_deck_double(it, "damping", false, &s->damping));
+  s->solver.end_time = 1.0;
+  TRY(peri_deck_double(it, "end_time", false, &s->solver.end_time));
+  if (!(s->solver.end_time > 0.0)) return peri_deck_error(peri_deck_get(it, "end_time"), "key 'end_time': must be positive");
+  s->solver.steps = q->load_steps;
+  s->solver.dt_given = 0.0;
+  s->solver.safety_factor = 0.8;
+  TRY(peri_deck_double(it, "time_step", false, &s->solver.dt_given));
+  TRY(peri_deck_double(it, "safety_factor", false, &s->solver.safety_factor));
+  TRY(peri_deck_double(it, "damping", false, &s->solver.damping));
   TRY(peri_deck_double(it, "bond_damping", false, &q->bond_damping));
-  if (peri_deck_get(it, "time_step") && !(s->dt_given > 0.0))
+  if (peri_deck_get(it, "time_step") && !(s->solver.dt_given > 0.0))
     return peri_deck_error(peri_deck_get(it, "time_step"), "key 'time_step': must be positive");
-  if (!(s->safety_factor > 0.0 && s->safety_factor <= 1.0))
+  if (!(s->solver.safety_factor > 0.0 && s->solver.safety_factor <= 1.0))
     return peri_deck_error(peri_deck_get(it, "safety_factor"), "key 'safety_factor': must be in (0, 1]");
-  if (s->damping < 0.0) return peri_deck_error(peri_deck_get(it, "damping"), "key 'damping': must be >= 0");
+  if (s->solver.damping < 0.0) return peri_deck_error(peri_deck_get(it, "damping"), "key 'damping': must be >= 0");
   if (q->bond_damping < 0.0)
     return peri_deck_error(peri_deck_get(it, "bond_damping"), "key 'bond_damping': must be >= 0");
-  if (dr && !(s->damping > 0.0) && !(q->bond_damping > 0.0))
+  if (dr && !(s->solver.damping > 0.0) && !(q->bond_damping > 0.0))
     return peri_deck_error(it, "solver: dynamic_relaxation needs 'damping' (1/s, on the velocity) or "
                                "'bond_damping' (pairwise, Le 2014 eq. 2.43); near critical is fastest");
-  s->breaking = true;
-  TRY(peri_deck_bool(it, "breaking", false, &s->breaking));
+  s->solver.breaking = true;
+  TRY(peri_deck_bool(it, "breaking", false, &s->solver.breaking));
   TRY(peri_qs_dynamic_parse(s, it)); /* dynamic_switch (src/solver/qs_dynamic_parse.c) */
-  for (int k = 0; k < s->n_bcs; ++k) {
-    peri_bc_kind kind = s->bcs[k].kind;
+  for (int k = 0; k < s->cond.n_bcs; ++k) {
+    peri_bc_kind kind = s->cond.bcs[k].kind;
     if (kind == PERI_BC_VELOCITY || kind == PERI_BC_INITIAL_VELOCITY || kind == PERI_BC_INITIAL_DISPLACEMENT)
       return peri_deck_error(peri_deck_get(it, "type"),
                              "solver type '%s': boundary condition %d is of type %s, which needs explicit "

@@ -5,14 +5,14 @@
 #include "setup_parts.h"
 
 int peri_setup_find_region(const peri_sim *s, const peri_node *at, const char *name) {
-  for (int r = 0; r < s->n_regions; ++r)
-    if (strcmp(s->regions[r].name, name) == 0) return r;
+  for (int r = 0; r < s->cond.n_regions; ++r)
+    if (strcmp(s->cond.regions[r].name, name) == 0) return r;
   int best = -1, best_d = 1 << 30;
-  for (int r = 0; r < s->n_regions; ++r) {
-    int d = peri_edit_distance(name, s->regions[r].name);
+  for (int r = 0; r < s->cond.n_regions; ++r) {
+    int d = peri_edit_distance(name, s->cond.regions[r].name);
     if (d < best_d) best_d = d, best = r;
   }
   if (best >= 0 && best_d <= 2)
-    return -peri_deck_error(at, "unknown region '%s'; did you mean '%s'?", name, s->regions[best].name);
+    return -peri_deck_error(at, "unknown region '%s'; did you mean '%s'?", name, s->cond.regions[best].name);
   return -peri_deck_error(at, "unknown region '%s' (define it under regions; 'all' is predefined)", name);
 }

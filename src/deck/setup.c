@@ -39,15 +39,15 @@ typedef struct parse_ctx {
 } parse_ctx;
 
 static int find_material(const peri_sim *s, const peri_node *at, const char *name) {
-  for (int m = 0; m < s->n_materials; ++m)
-    if (strcmp(s->materials[m].name, name) == 0) return m;
+  for (int m = 0; m < s->mat.n_materials; ++m)
+    if (strcmp(s->mat.materials[m].name, name) == 0) return m;
   int best = -1, best_d = 1 << 30;
-  for (int m = 0; m < s->n_materials; ++m) {
-    int d = peri_edit_distance(name, s->materials[m].name);
+  for (int m = 0; m < s->mat.n_materials; ++m) {
+    int d = peri_edit_distance(name, s->mat.materials[m].name);
     if (d < best_d) best_d = d, best = m;
   }
   if (best >= 0 && best_d <= 2)
-    return -peri_deck_error(at, "unknown material '%s'; did you mean '%s'?", name, s->materials[best].name);
+    return -peri_deck_error(at, "unknown material '%s'; did you mean '%s'?", name, s->mat.materials[best].name);
   return -peri_deck_error(at, "unknown material '%s' (define it under materials)", name);
 }
 
@@ -60,7 +60,7 @@ static const char *const material_keys[] = {
 
 static int parse_material(parse_ctx *c, const peri_node *key, const peri_node *map, int index) {
   peri_sim *s = c->s;
-  peri_material *mat = &s->materials[index];
+  peri_material *mat = &s->mat.materials[index];
   char section[160];
   snprintf(section, sizeof section, "materials.%s", key->scalar);
   if (peri_setup_heat_only(c->root)) return peri_setup_heat_material(s, key, map, index); /* docs/heat.md */
@@ -72,11 +72,11 @@ static int parse_material(parse_ctx *c, const peri_node *key, const peri_node *m
   int model_index = 0;
   TRY(peri_deck_choice(map, "model", true, peri_model_names(), &model_index));
   const peri_model_ops *ops = peri_model_find(model_name);
-  if (s->model && s->model != ops)
+  if (s->mat.model && s->mat.model != ops)
     return peri_deck_error(peri_deck_get(map, "model"),
                            "key 'model': all materials must use one model (found '%s' and '%s')",
-                           s->model->name, ops->name);
-  s->model = ops;
+                           s->mat.model->name, ops->name);
+  s->mat.model = ops;
   mat->model = model_index;
   TRY(peri_deck_double(map, "density", true, &mat->density));
   if (!(mat->density > 0.0))
@@ -141,8 +141,8 @@ static int parse_materials(parse_ctx *c) {
   if (mats->kind != PERI_NODE_MAPPING || mats->count == 0)
     return peri_deck_error(mats, "key 'materials': expected a mapping of material names to "
                                  "properties, got %s", peri_deck_kind_name(mats));
-  s->n_materials = mats->count;
-  s->materials = peri_calloc(mats->count, sizeof(peri_material));
+  s->mat.n_materials = mats->count;
+  s->mat.materials = peri_calloc(mats->count, sizeof(peri_material));
   c->failure = peri_calloc(mats->count, sizeof(material_failure));
   for (int m = 0; m < mats->count; ++m) {
     if (mats->items[m]->kind != PERI_NODE_MAPPING)
@@ -157,18 +157,18 @@ static int parse_materials(parse_ctx *c) {
  * critical stretch of every material and material pair. */
 static int resolve_materials(parse_ctx *c) {
   peri_sim *s = c->s;
-  bool lps = s->model == peri_model_find("lps");
-  for (int m = 0; m < s->n_materials; ++m) {
-    peri_material *mat = &s->materials[m];
+  bool lps = s->mat.model == peri_model_find("lps");
+  for (int m = 0; m < s->mat.n_materials; ++m) {
+    peri_material *mat = &s->mat.materials[m];
     material_failure *f = &c->failure[m];
     double E = f->E, K = f->K;
     if (mat->micromodulus_given && isnan(E) && isnan(K) && isnan(f->mu)) {
       /* invert the calibration so that the time step estimate has a modulus */
-      double c1 = peri_pmb_micromodulus(&s->geom, 1.0, 1.0);
-      if (s->geom.dim == 3) K = mat->micromodulus / c1;
+      double c1 = peri_pmb_micromodulus(&s->disc.geom, 1.0, 1.0);
+      if (s->disc.geom.dim == 3) K = mat->micromodulus / c1;
       else E = mat->micromodulus / c1;
     }
-    double fixed_nu = s->model->fixed_poisson ? peri_pmb_poisson(&s->geom) : NAN;
+    double fixed_nu = s->mat.model->fixed_poisson ? peri_pmb_poisson(&s->disc.geom) : NAN;
     char why[256];
     if (peri_elastic_resolve(E, f->nu, K, f->mu, fixed_nu, &mat->E, &mat->nu, &mat->K, &mat->mu,
                              why, sizeof why) != PERI_OK)
@@ -176,21 +176,21 @@ static int resolve_materials(parse_ctx *c) {
     if (!isnan(fixed_nu) && !isnan(f->nu) && fabs(f->nu - fixed_nu) > 1e-9)
       peri_warning("materials.%s: a bond-based model represents Poisson ratio %.4g here; "
                    "poisson_ratio %g only converts the given moduli", mat->name, fixed_nu, f->nu);
-    if (lps && s->geom.dim == 2 && s->geom.plane == PERI_PLANE_STRESS && mat->nu >= 0.5)
+    if (lps && s->disc.geom.dim == 2 && s->disc.geom.plane == PERI_PLANE_STRESS && mat->nu >= 0.5)
       return peri_deck_error(f->at, "materials.%s: plane stress LPS needs poisson_ratio < 1/2", mat->name);
-    if (!isnan(f->KIc)) f->G0 = peri_fracture_energy_from_toughness(&s->geom, f->KIc, mat->E, mat->nu);
+    if (!isnan(f->KIc)) f->G0 = peri_fracture_energy_from_toughness(&s->disc.geom, f->KIc, mat->E, mat->nu);
     if (!isnan(f->G0)) {
       if (!(f->G0 > 0.0)) return peri_deck_error(f->at, "materials.%s: fracture energy must be positive", mat->name);
-      f->s0 = lps ? peri_critical_stretch_lps(&s->geom, f->G0, mat->E)
-                  : peri_critical_stretch_pmb(&s->geom, f->G0, mat->E, mat->K);
+      f->s0 = lps ? peri_critical_stretch_lps(&s->disc.geom, f->G0, mat->E)
+                  : peri_critical_stretch_pmb(&s->disc.geom, f->G0, mat->E, mat->K);
     }
     if (!isnan(f->s0)) mat->critical_stretch = f->s0;
   }
-  int nm = s->n_materials;
-  s->pair_s0 = peri_malloc(sizeof(double) * nm * nm);
+  int nm = s->mat.n_materials;
+  s->mat.pair_s0 = peri_malloc(sizeof(double) * nm * nm);
   for (int a = 0; a < nm; ++a)
     for (int b = 0; b < nm; ++b)
-      s->pair_s0[a * nm + b] = fmin(s->materials[a].critical_stretch, s->materials[b].critical_stretch);
+      s->mat.pair_s0[a * nm + b] = fmin(s->mat.materials[a].critical_stretch, s->mat.materials[b].critical_stretch);
   return PERI_OK;
 }
 
@@ -201,10 +201,10 @@ static int parse_interfaces(parse_ctx *c) {
   if (list->kind != PERI_NODE_SEQUENCE)
     return peri_deck_error(list, "key 'interfaces': expected a list, got %s", peri_deck_kind_name(list));
   static const char *const keys[] = {"materials", "critical_stretch", "fracture_energy", NULL};
-  for (int m = 0; m < s->n_materials; ++m)
-    if (s->materials[m].lammps_s0 && list->count > 0)
+  for (int m = 0; m < s->mat.n_materials; ++m)
+    if (s->mat.materials[m].lammps_s0 && list->count > 0)
       return peri_deck_error(list, "key 'interfaces': not available with the {s00, alpha} critical "
-                             "stretch of material '%s' (bonds take min(s0_i, s0_j))", s->materials[m].name);
+                             "stretch of material '%s' (bonds take min(s0_i, s0_j))", s->mat.materials[m].name);
   for (int k = 0; k < list->count; ++k) {
     const peri_node *it = list->items[k];
     TRY(peri_deck_allow(it, "interfaces", keys));
@@ -226,13 +226,13 @@ static int parse_interfaces(parse_ctx *c) {
       return peri_deck_error(it, "interfaces: the critical stretch or fracture energy must be positive");
     if (!isnan(G0)) {
       /* the softer side's modulus (docs/model_reference.md 8: designated side) */
-      const peri_material *ma = &s->materials[a], *mb = &s->materials[b];
+      const peri_material *ma = &s->mat.materials[a], *mb = &s->mat.materials[b];
       const peri_material *soft = ma->E <= mb->E ? ma : mb;
-      s0 = s->model == peri_model_find("lps") ? peri_critical_stretch_lps(&s->geom, G0, soft->E)
-                                             : peri_critical_stretch_pmb(&s->geom, G0, soft->E, soft->K);
+      s0 = s->mat.model == peri_model_find("lps") ? peri_critical_stretch_lps(&s->disc.geom, G0, soft->E)
+                                             : peri_critical_stretch_pmb(&s->disc.geom, G0, soft->E, soft->K);
     }
-    int nm = s->n_materials;
-    s->pair_s0[a * nm + b] = s->pair_s0[b * nm + a] = s0;
+    int nm = s->mat.n_materials;
+    s->mat.pair_s0[a * nm + b] = s->mat.pair_s0[b * nm + a] = s0;
   }
   return PERI_OK;
 }
@@ -261,7 +261,7 @@ static int parse_discretization(parse_ctx *c) {
   const peri_node *d = peri_deck_get(c->root, "discretization");
   if (!d) return peri_deck_error(c->root, "missing key 'discretization' in the deck");
   TRY(peri_deck_allow(d, "discretization", discretization_keys));
-  peri_geometry *g = &s->geom;
+  peri_geometry *g = &s->disc.geom;
   const peri_node *node_file = peri_deck_get(d, "node_file");
   const peri_node *fill = peri_deck_get(d, "fill");
   if (!node_file == !fill)
@@ -303,11 +303,11 @@ static int parse_discretization(parse_ctx *c) {
   TRY(peri_deck_choice(d, "partial_volume", false, pv_rules, &pv));
   TRY(peri_deck_choice(d, "influence", false, influences, &infl));
   TRY(peri_deck_choice(d, "weighted_volume", false, wv, &wvol));
-  s->analytic_weighted_volume = wvol == 1;
-  s->family.rule = (peri_partial_volume)pv;
-  s->family.influence = (peri_influence)infl;
+  s->disc.analytic_weighted_volume = wvol == 1;
+  s->disc.family.rule = (peri_partial_volume)pv;
+  s->disc.family.influence = (peri_influence)infl;
 
-  peri_particles *p = &s->p;
+  peri_particles *p = &s->disc.p;
   peri_particles_init(p, g->dim);
   if (fill) {
     if (!(g->spacing > 0.0)) return peri_deck_error(peri_deck_get(d, "spacing"), "key 'spacing': must be positive");
@@ -332,7 +332,7 @@ static int parse_discretization(parse_ctx *c) {
       rc = peri_shape_parse(fill->items[k], g->dim, "discretization.fill", fill_extra, &gp.fill[k].shape);
       if (rc != PERI_OK) break;
       const char *mname = NULL;
-      if (s->n_materials == 1 && !peri_deck_get(fill->items[k], "material")) {
+      if (s->mat.n_materials == 1 && !peri_deck_get(fill->items[k], "material")) {
         gp.fill[k].material = 0;
         continue;
       }
@@ -378,7 +378,7 @@ static int parse_discretization(parse_ctx *c) {
         }
         block_material[k] = mi;
       }
-    } else if (s->n_materials == 1) {
+    } else if (s->mat.n_materials == 1) {
       n_blocks = 1 << 20; /* every block is the one material */
       block_material = peri_calloc(n_blocks, sizeof(int32_t));
     } else {
@@ -407,8 +407,8 @@ static int parse_discretization(parse_ctx *c) {
   }
   g->horizon = isnan(horizon) ? m * g->spacing : horizon;
   if (!(g->horizon > 0.0)) return peri_deck_error(d, "discretization: the horizon must be positive");
-  s->family.horizon = g->horizon;
-  s->family.spacing = g->spacing;
+  s->disc.family.horizon = g->horizon;
+  s->disc.family.spacing = g->spacing;
 
   /* order along a space-filling curve so that neighbours are near in memory */
   int32_t *perm = peri_malloc(sizeof(int32_t) * p->n);
@@ -428,27 +428,27 @@ static int parse_regions(parse_ctx *c) {
   if (regs && regs->kind != PERI_NODE_MAPPING)
     return peri_deck_error(regs, "key 'regions': expected a mapping of region names to shapes, got %s",
                            peri_deck_kind_name(regs));
-  s->regions = peri_calloc(n + 1, sizeof(peri_region));
-  s->n_regions = 1;
-  s->regions[0].name = peri_strdup("all");
-  s->regions[0].shape.kind = PERI_SHAPE_ALL;
-  peri_region_collect(&s->regions[0], &s->p, 0.0);
+  s->cond.regions = peri_calloc(n + 1, sizeof(peri_region));
+  s->cond.n_regions = 1;
+  s->cond.regions[0].name = peri_strdup("all");
+  s->cond.regions[0].shape.kind = PERI_SHAPE_ALL;
+  peri_region_collect(&s->cond.regions[0], &s->disc.p, 0.0);
   static const char *const extra[] = {"no_fail", NULL};
   for (int k = 0; k < n; ++k) {
     const char *name = regs->keys[k]->scalar;
     if (strcmp(name, "all") == 0) return peri_deck_error(regs->keys[k], "region name 'all' is predefined");
     char section[160];
     snprintf(section, sizeof section, "regions.%s", name);
-    peri_region *r = &s->regions[s->n_regions++];
+    peri_region *r = &s->cond.regions[s->cond.n_regions++];
     r->name = peri_strdup(name);
-    TRY(peri_shape_parse(regs->items[k], s->geom.dim, section, extra, &r->shape));
-    peri_region_collect(r, &s->p, 1e-9 * s->geom.spacing);
+    TRY(peri_shape_parse(regs->items[k], s->disc.geom.dim, section, extra, &r->shape));
+    peri_region_collect(r, &s->disc.p, 1e-9 * s->disc.geom.spacing);
     if (r->count == 0)
       peri_warning("region '%s' (%s:%d) contains no nodes", name, regs->keys[k]->file, regs->keys[k]->line);
     bool no_fail = false;
     TRY(peri_deck_bool(regs->items[k], "no_fail", false, &no_fail));
     if (no_fail)
-      for (int32_t a = 0; a < r->count; ++a) s->p.flags[r->nodes[a]] |= PERI_NODE_NO_FAIL;
+      for (int32_t a = 0; a < r->count; ++a) s->disc.p.flags[r->nodes[a]] |= PERI_NODE_NO_FAIL;
   }
   return PERI_OK;
 }
@@ -459,18 +459,18 @@ static int parse_precracks(parse_ctx *c) {
   if (!list) return PERI_OK;
   if (list->kind != PERI_NODE_SEQUENCE)
     return peri_deck_error(list, "key 'precracks': expected a list, got %s", peri_deck_kind_name(list));
-  s->n_precracks = list->count;
-  s->precracks = peri_calloc(list->count, sizeof(peri_precrack));
+  s->cond.n_precracks = list->count;
+  s->cond.precracks = peri_calloc(list->count, sizeof(peri_precrack));
   for (int k = 0; k < list->count; ++k) {
     const peri_node *it = list->items[k];
-    peri_precrack *pc = &s->precracks[k];
-    if (s->geom.dim == 2) {
+    peri_precrack *pc = &s->cond.precracks[k];
+    if (s->disc.geom.dim == 2) {
       static const char *const keys[] = {"from", "to", NULL};
       TRY(peri_deck_allow(it, "precracks", keys));
       TRY(peri_deck_vector(it, "from", true, 2, pc->a));
       TRY(peri_deck_vector(it, "to", true, 2, pc->b));
       pc->dim = 2;
-    } else if (s->geom.dim == 3) {
+    } else if (s->disc.geom.dim == 3) {
       static const char *const keys[] = {"corner", "edge1", "edge2", NULL};
       TRY(peri_deck_allow(it, "precracks", keys));
       TRY(peri_deck_vector(it, "corner", true, 3, pc->a));
@@ -493,9 +493,9 @@ static int parse_components(const peri_sim *s, const peri_node *it, peri_expr *v
   for (int d = 0; d < 3; ++d) {
     const peri_node *v = peri_deck_get(it, component_keys[d]);
     if (!v) continue;
-    if (d >= s->geom.dim)
+    if (d >= s->disc.geom.dim)
       return peri_deck_error(peri_deck_key_node(it, component_keys[d]),
-                             "key '%s': the problem has dimension %d", component_keys[d], s->geom.dim);
+                             "key '%s': the problem has dimension %d", component_keys[d], s->disc.geom.dim);
     TRY(peri_deck_expr(it, component_keys[d], true, &value[d]));
     given++;
   }
@@ -513,12 +513,12 @@ static int parse_conditions(parse_ctx *c) {
                                       "initial_velocity", "body_force", "traction", "temperature",
                                       "heat_flux", "convection", "heat_source", "initial_temperature", NULL};
   static const char *const keys[] = {"type", "region", "x", "y", "z", "layer", NULL};
-  s->bcs = peri_calloc(list->count, sizeof(peri_bc));
+  s->cond.bcs = peri_calloc(list->count, sizeof(peri_bc));
   for (int k = 0; k < list->count; ++k) {
     const peri_node *it = list->items[k];
     if (peri_setup_is_thermal_bc(it)) continue; /* parsed by peri_setup_thermal */
     TRY(peri_deck_allow(it, "boundary_conditions", keys));
-    peri_bc *bc = &s->bcs[s->n_bcs++];
+    peri_bc *bc = &s->cond.bcs[s->cond.n_bcs++];
     int kind = 0;
     TRY(peri_deck_choice(it, "type", true, kinds, &kind));
     bc->kind = (peri_bc_kind)kind;
@@ -528,7 +528,7 @@ static int parse_conditions(parse_ctx *c) {
     if (r < 0) return -r;
     bc->region = r;
     TRY(parse_components(s, it, bc->value, true));
-    bc->layer = s->geom.spacing;
+    bc->layer = s->disc.geom.spacing;
     if (peri_deck_get(it, "layer")) {
       if (bc->kind != PERI_BC_TRACTION)
         return peri_deck_error(peri_deck_key_node(it, "layer"), "key 'layer': only for type traction");
@@ -545,15 +545,15 @@ static int parse_indenter(parse_ctx *c) {
   if (!it) return PERI_OK;
   static const char *const keys[] = {"radius", "stiffness", "center", NULL};
   TRY(peri_deck_allow(it, "indenter", keys));
-  peri_indenter *ind = &s->indenter;
+  peri_indenter *ind = &s->cond.indenter;
   ind->on = true;
   TRY(peri_deck_double(it, "radius", true, &ind->radius));
   TRY(peri_deck_double(it, "stiffness", true, &ind->stiffness));
   const peri_node *center = peri_deck_get(it, "center");
   if (!center) return peri_deck_error(it, "missing key 'center' in indenter");
-  if (center->kind != PERI_NODE_SEQUENCE || center->count != s->geom.dim)
+  if (center->kind != PERI_NODE_SEQUENCE || center->count != s->disc.geom.dim)
     return peri_deck_error(center, "key 'center': expected a list of %d numbers or expressions of t",
-                           s->geom.dim);
+                           s->disc.geom.dim);
   for (int d = 0; d < center->count; ++d) TRY(peri_deck_node_expr(center->items[d], "center", &ind->center[d]));
   if (!(ind->radius > 0.0) || !(ind->stiffness > 0.0))
     return peri_deck_error(it, "indenter: radius and stiffness must be positive");
@@ -572,11 +572,11 @@ static int parse_solver(parse_ctx *c) {
   TRY(peri_deck_allow(it, "solver", keys));
   int type = 0;
   TRY(peri_deck_choice(it, "type", false, types, &type));
-  s->solver = (peri_solver_kind)type;
+  s->solver.kind = (peri_solver_kind)type;
   const bool heat = !strcmp(types[type], "heat"); /* conduction only: the explicit keys (docs/heat.md) */
-  if (heat) s->solver = PERI_SOLVER_EXPLICIT;
+  if (heat) s->solver.kind = PERI_SOLVER_EXPLICIT;
   TRY(peri_quasi_static_parse(s, it)); /* quasi-static keys (docs/solvers.md) */
-  if (s->solver != PERI_SOLVER_EXPLICIT) return PERI_OK;
+  if (s->solver.kind != PERI_SOLVER_EXPLICIT) return PERI_OK;
   long steps = -1;
   double end_time = NAN;
   TRY(peri_deck_int(it, "steps", false, &steps));
@@ -584,21 +584,21 @@ static int parse_solver(parse_ctx *c) {
   if ((steps < 0) == isnan(end_time))
     return peri_deck_error(it, "solver: give exactly one of 'steps' or 'end_time'");
   if (steps < 0 && !(end_time > 0.0)) return peri_deck_error(peri_deck_get(it, "end_time"), "key 'end_time': must be positive");
-  s->steps = steps;
-  s->end_time = end_time;
-  s->dt_given = 0.0;
-  s->safety_factor = 0.8;
-  TRY(peri_deck_double(it, "time_step", false, &s->dt_given));
-  TRY(peri_deck_double(it, "safety_factor", false, &s->safety_factor));
-  TRY(peri_deck_double(it, "damping", false, &s->damping));
-  if (peri_deck_get(it, "time_step") && !(s->dt_given > 0.0))
+  s->solver.steps = steps;
+  s->solver.end_time = end_time;
+  s->solver.dt_given = 0.0;
+  s->solver.safety_factor = 0.8;
+  TRY(peri_deck_double(it, "time_step", false, &s->solver.dt_given));
+  TRY(peri_deck_double(it, "safety_factor", false, &s->solver.safety_factor));
+  TRY(peri_deck_double(it, "damping", false, &s->solver.damping));
+  if (peri_deck_get(it, "time_step") && !(s->solver.dt_given > 0.0))
     return peri_deck_error(peri_deck_get(it, "time_step"), "key 'time_step': must be positive");
-  if (!(s->safety_factor > 0.0 && s->safety_factor <= 1.0))
+  if (!(s->solver.safety_factor > 0.0 && s->solver.safety_factor <= 1.0))
     return peri_deck_error(peri_deck_get(it, "safety_factor"), "key 'safety_factor': must be in (0, 1]");
-  if (s->damping < 0.0) return peri_deck_error(peri_deck_get(it, "damping"), "key 'damping': must be >= 0");
-  s->breaking = true;
-  TRY(peri_deck_bool(it, "breaking", false, &s->breaking));
-  if (heat) s->solver = PERI_SOLVER_HEAT;
+  if (s->solver.damping < 0.0) return peri_deck_error(peri_deck_get(it, "damping"), "key 'damping': must be >= 0");
+  s->solver.breaking = true;
+  TRY(peri_deck_bool(it, "breaking", false, &s->solver.breaking));
+  if (heat) s->solver.kind = PERI_SOLVER_HEAT;
   return PERI_OK;
 }
 
@@ -621,7 +621,7 @@ static int parse_output(parse_ctx *c) {
   char *dot = strrchr(o->basename, '.');
   if (dot) *dot = '\0';
   o->compress = true;
-  o->picture = s->geom.dim == 2;
+  o->picture = s->disc.geom.dim == 2;
   o->picture_field = peri_strdup("damage");
   o->picture_width = 1200;
   long every = -1, frames = -1, history_every = -1;
@@ -659,8 +659,8 @@ static int parse_output(parse_ctx *c) {
                                     "strain_energy_density, block, stress, strain, von_mises, "
                                     "principal_stress, temperature, heat_flux)", f->scalar ? f->scalar : "", field_names[best]);
         }
-        if (!strcmp(f->scalar, "dilatation") && s->model != peri_model_find("lps"))
-          return peri_deck_error(f, "output field 'dilatation': the %s model has no dilatation", s->model->name);
+        if (!strcmp(f->scalar, "dilatation") && s->mat.model != peri_model_find("lps"))
+          return peri_deck_error(f, "output field 'dilatation': the %s model has no dilatation", s->mat.model->name);
         o->fields[o->n_fields++] = peri_strdup(f->scalar);
       }
     }
@@ -672,9 +672,9 @@ static int parse_output(parse_ctx *c) {
       TRY(peri_deck_allow(pic, "output.picture", pkeys));
       int which = 3;
       TRY(peri_deck_choice(pic, "field", false, field_names, &which));
-      if (!strcmp(field_names[which], "dilatation") && s->model != peri_model_find("lps"))
+      if (!strcmp(field_names[which], "dilatation") && s->mat.model != peri_model_find("lps"))
         return peri_deck_error(peri_deck_get(pic, "field"), "picture field 'dilatation': the %s model has no "
-                               "dilatation", s->model->name);
+                               "dilatation", s->mat.model->name);
       free(o->picture_field);
       o->picture_field = peri_strdup(field_names[which]);
       long width = o->picture_width;
@@ -685,7 +685,7 @@ static int parse_output(parse_ctx *c) {
     } else if (pic) {
       TRY(peri_deck_bool(it, "picture", false, &o->picture));
     }
-    if (o->picture && s->geom.dim != 2) {
+    if (o->picture && s->disc.geom.dim != 2) {
       const peri_node *at = pic ? pic : it;
       return peri_deck_error(at, "key 'picture': pictures are drawn for 2D problems only");
     }
@@ -720,12 +720,12 @@ static int build(parse_ctx *c) {
   long dim = 0;
   TRY(peri_deck_int(root, "dimension", true, &dim));
   if (dim < 1 || dim > 3) return peri_deck_error(peri_deck_get(root, "dimension"), "key 'dimension': expected 1, 2 or 3, got %ld", dim);
-  s->geom.dim = (int)dim;
+  s->disc.geom.dim = (int)dim;
   static const char *const planes[] = {"stress", "strain", NULL};
   if (dim == 2) {
     int plane = 0;
     TRY(peri_deck_choice(root, "plane", false, planes, &plane));
-    s->geom.plane = plane == 0 ? PERI_PLANE_STRESS : PERI_PLANE_STRAIN;
+    s->disc.geom.plane = plane == 0 ? PERI_PLANE_STRESS : PERI_PLANE_STRAIN;
   } else if (peri_deck_get(root, "plane")) {
     return peri_deck_error(peri_deck_key_node(root, "plane"), "key 'plane': only for dimension 2");
   }
@@ -734,11 +734,11 @@ static int build(parse_ctx *c) {
   TRY(parse_discretization(c));
   if (!heat_only) TRY(resolve_materials(c));
   TRY(parse_regions(c));
-  peri_bonds_build(&s->bonds, &s->p, &s->family);
+  peri_bonds_build(&s->disc.bonds, &s->disc.p, &s->disc.family);
   TRY(parse_precracks(c));
   peri_precracks_apply(s);
   if (!heat_only) TRY(parse_interfaces(c));
-  TRY(s->model->init(s));
+  TRY(s->mat.model->init(s));
   TRY(parse_conditions(c));
   TRY(parse_indenter(c));
   TRY(parse_solver(c));
@@ -748,42 +748,42 @@ static int build(parse_ctx *c) {
 
   /* lammps-form critical stretch: s0 starts unbounded (no breaking in the first step) */
   bool lammps = false;
-  for (int m = 0; m < s->n_materials; ++m) lammps |= s->materials[m].lammps_s0;
+  for (int m = 0; m < s->mat.n_materials; ++m) lammps |= s->mat.materials[m].lammps_s0;
   if (lammps) {
-    for (int m = 0; m < s->n_materials; ++m)
-      if (!s->materials[m].lammps_s0)
+    for (int m = 0; m < s->mat.n_materials; ++m)
+      if (!s->mat.materials[m].lammps_s0)
         return peri_deck_error(c->failure[m].at, "materials.%s: when one material uses the "
-                               "{s00, alpha} critical stretch, all must", s->materials[m].name);
-    s->s0_node = peri_malloc(sizeof(double) * s->p.n);
-    s->p.smin = peri_malloc(sizeof(double) * s->p.n);
-    for (int32_t i = 0; i < s->p.n; ++i) s->s0_node[i] = INFINITY;
+                               "{s00, alpha} critical stretch, all must", s->mat.materials[m].name);
+    s->mat.s0_node = peri_malloc(sizeof(double) * s->disc.p.n);
+    s->disc.p.smin = peri_malloc(sizeof(double) * s->disc.p.n);
+    for (int32_t i = 0; i < s->disc.p.n; ++i) s->mat.s0_node[i] = INFINITY;
   }
-  s->prescribed = peri_calloc(3 * (size_t)s->p.n, 1);
+  s->cond.prescribed = peri_calloc(3 * (size_t)s->disc.p.n, 1);
 
   /* time step and step count */
-  const double dt_estimate = s->solver == PERI_SOLVER_HEAT ? peri_thermal_stable_dt(s->thermal) : peri_stable_dt(s);
-  double dt_stable = s->safety_factor * dt_estimate;
-  if (s->dt_given > 0.0) {
-    s->dt = s->dt_given;
-    if (s->dt > dt_estimate)
-      peri_warning("time_step %g exceeds the stable estimate %g; the run may diverge", s->dt,
+  const double dt_estimate = s->solver.kind == PERI_SOLVER_HEAT ? peri_thermal_stable_dt(s->thermal) : peri_stable_dt(s);
+  double dt_stable = s->solver.safety_factor * dt_estimate;
+  if (s->solver.dt_given > 0.0) {
+    s->solver.dt = s->solver.dt_given;
+    if (s->solver.dt > dt_estimate)
+      peri_warning("time_step %g exceeds the stable estimate %g; the run may diverge", s->solver.dt,
                    dt_estimate);
   } else {
-    s->dt = dt_stable;
+    s->solver.dt = dt_stable;
   }
-  if (!(s->dt > 0.0) || !isfinite(s->dt))
+  if (!(s->solver.dt > 0.0) || !isfinite(s->solver.dt))
     return peri_deck_error(peri_deck_get(root, "solver"), "solver: cannot estimate a time step (no bonds?); give time_step");
-  if (s->steps < 0) s->steps = (long)ceil(s->end_time / s->dt - 1e-9);
+  if (s->solver.steps < 0) s->solver.steps = (long)ceil(s->solver.end_time / s->solver.dt - 1e-9);
   if (s->out.every < 0) {
     long frames = -s->out.every;
-    s->out.every = frames > 0 ? (s->steps + frames - 1) / frames : 0;
+    s->out.every = frames > 0 ? (s->solver.steps + frames - 1) / frames : 0;
   } else if (s->out.every == 0 && !peri_deck_get(peri_deck_get(root, "output"), "every") &&
              !peri_deck_get(peri_deck_get(root, "output"), "frames")) { /* (frames: 0, the first and last only) */
-    s->out.every = s->steps >= 10 ? s->steps / 10 : 1;
+    s->out.every = s->solver.steps >= 10 ? s->solver.steps / 10 : 1;
   }
   if (s->out.history_every == 0)  /* quasi-static: a row per load step */
-    s->out.history_every = s->steps >= 100 && (s->solver == PERI_SOLVER_EXPLICIT || s->solver == PERI_SOLVER_HEAT)
-                               ? s->steps / 100 : 1;
+    s->out.history_every = s->solver.steps >= 100 && (s->solver.kind == PERI_SOLVER_EXPLICIT || s->solver.kind == PERI_SOLVER_HEAT)
+                               ? s->solver.steps / 100 : 1;
   return PERI_OK;
 }
 
@@ -792,7 +792,7 @@ int peri_sim_from_deck(peri_sim *s, const char *path) { return peri_sim_from_dec
 int peri_sim_from_deck_with(peri_sim *s, const char *path, int n_sets, const char *const *sets) {
   memset(s, 0, sizeof *s);
   s->deck_path = peri_strdup(path);
-  s->threads = 0;
+  s->par.threads = 0;
   peri_node *root = peri_deck_load(path);
   if (!root) return PERI_ERR_INPUT;
   peri_node **keep = NULL; /* --set overrides (src/io/overrides.c) */
@@ -806,25 +806,25 @@ int peri_sim_from_deck_with(peri_sim *s, const char *path, int n_sets, const cha
 }
 
 void peri_sim_free(peri_sim *s) {
-  peri_decomposition_free(s->dd); /* distributed runs (src/parallel/decompose.c) */
-  peri_particles_free(&s->p);
-  peri_bonds_free(&s->bonds);
-  peri_node_blocks_free(s->node_blocks);
-  for (int m = 0; m < s->n_materials; ++m) free(s->materials[m].name);
-  free(s->materials);
-  free(s->pair_s0);
-  free(s->s0_node);
+  peri_decomposition_free(s->par.dd); /* distributed runs (src/parallel/decompose.c) */
+  peri_particles_free(&s->disc.p);
+  peri_bonds_free(&s->disc.bonds);
+  peri_node_blocks_free(s->disc.node_blocks);
+  for (int m = 0; m < s->mat.n_materials; ++m) free(s->mat.materials[m].name);
+  free(s->mat.materials);
+  free(s->mat.pair_s0);
+  free(s->mat.s0_node);
   peri_thermal_free(s->thermal);
-  free(s->thermal_strain);
-  for (int r = 0; r < s->n_regions; ++r) peri_region_free(&s->regions[r]);
-  free(s->regions);
-  for (int k = 0; k < s->n_bcs; ++k)
-    for (int d = 0; d < 3; ++d) peri_expr_free(s->bcs[k].value[d]);
-  free(s->bcs);
-  free(s->precracks);
-  for (int d = 0; d < 3; ++d) peri_expr_free(s->indenter.center[d]);
-  free(s->indenter.block_force);
-  free(s->prescribed);
+  free(s->state.thermal_strain);
+  for (int r = 0; r < s->cond.n_regions; ++r) peri_region_free(&s->cond.regions[r]);
+  free(s->cond.regions);
+  for (int k = 0; k < s->cond.n_bcs; ++k)
+    for (int d = 0; d < 3; ++d) peri_expr_free(s->cond.bcs[k].value[d]);
+  free(s->cond.bcs);
+  free(s->cond.precracks);
+  for (int d = 0; d < 3; ++d) peri_expr_free(s->cond.indenter.center[d]);
+  free(s->cond.indenter.block_force);
+  free(s->cond.prescribed);
   for (int k = 0; k < s->out.n_fields; ++k) free(s->out.fields[k]);
   free(s->out.fields);
   free(s->out.directory);
@@ -833,8 +833,8 @@ void peri_sim_free(peri_sim *s) {
   free(s->out.plot_x);
   free(s->out.plot_y);
   free(s->out.checkpoint_file);
-  free(s->step_load);
-  peri_restart_free(s->restart);
+  free(s->state.step_load);
+  peri_restart_free(s->state.restart);
   free(s->deck_path);
   memset(s, 0, sizeof *s);
 }

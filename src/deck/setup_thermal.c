@@ -52,7 +52,7 @@ int peri_setup_material_thermal_keys(const peri_node *map, peri_material *mat) {
 }
 
 int peri_setup_heat_material(peri_sim *s, const peri_node *key, const peri_node *map, int index) {
-  peri_material *mat = &s->materials[index];
+  peri_material *mat = &s->mat.materials[index];
   char section[160];
   snprintf(section, sizeof section, "materials.%s", key->scalar);
   static const char *const keys[] = {"density", "conductivity", "specific_heat", NULL};
@@ -66,7 +66,7 @@ int peri_setup_heat_material(peri_sim *s, const peri_node *key, const peri_node 
   TRY(positive_key(map, "specific_heat", true, &mat->specific_heat));
   mat->thermal_expansion = 0.0;
   mat->critical_stretch = INFINITY;
-  s->model = &peri_model_heat_only;
+  s->mat.model = &peri_model_heat_only;
   return PERI_OK;
 }
 
@@ -88,7 +88,7 @@ static int parse_thermal_bc(peri_sim *s, const peri_node *it, peri_thermal_bc *b
   int r = peri_setup_find_region(s, peri_deck_get(it, "region") ? peri_deck_get(it, "region") : it, rname);
   if (r < 0) return -r;
   bc->region = r;
-  bc->layer = s->geom.spacing;
+  bc->layer = s->disc.geom.spacing;
   bc->normal_axis = -1;
   if (bc->kind == PERI_TBC_CONVECTION) {
     TRY(peri_deck_expr(it, "coefficient", true, &bc->value));
@@ -116,8 +116,8 @@ static int cmp_timed(const void *a, const void *b) {
 /* Every bond crossing a growing crack's full path, with the time the tip reaches it. */
 static void growing_bonds(peri_sim *s) {
   peri_thermal *th = s->thermal;
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
   size_t cap = 1024, count = 0;
   timed_bond *list = peri_malloc(cap * sizeof *list);
   for (int c = 0; c < th->n_growing; ++c) {
@@ -132,7 +132,7 @@ static void growing_bonds(peri_sim *s) {
         const int32_t j = b->neighbor[k];
         const int32_t lo = i < j ? i : j, hi = i < j ? j : i;
         const double *A = &p->x[3 * lo], *B = &p->x[3 * hi];
-        if (!peri_precrack_cuts(&seg, s->geom.spacing, A, B)) continue;
+        if (!peri_precrack_cuts(&seg, s->disc.geom.spacing, A, B)) continue;
         /* crossing point A + u (B - A) = from + v (to - from) */
         const double bx = B[0] - A[0], by = B[1] - A[1];
         const double den = ex * by - ey * bx;
@@ -160,7 +160,7 @@ static int parse_growing(peri_sim *s, const peri_node *list) {
   peri_thermal *th = s->thermal;
   if (list->kind != PERI_NODE_SEQUENCE)
     return peri_deck_error(list, "key 'growing_cracks': expected a list, got %s", peri_deck_kind_name(list));
-  if (s->geom.dim != 2) return peri_deck_error(list, "key 'growing_cracks': only for dimension 2");
+  if (s->disc.geom.dim != 2) return peri_deck_error(list, "key 'growing_cracks': only for dimension 2");
   th->n_growing = list->count;
   th->growing = peri_calloc((size_t)list->count + 1, sizeof(peri_growing_crack));
   static const char *const keys[] = {"from", "to", "speed", "start_time", NULL};
@@ -194,14 +194,14 @@ static bool uses_thermal_fields(const peri_sim *s) {
 }
 
 int peri_setup_thermal(peri_sim *s, const peri_node *root) {
-  const bool heat_only = s->solver == PERI_SOLVER_HEAT;
+  const bool heat_only = s->solver.kind == PERI_SOLVER_HEAT;
   const peri_node *sec = peri_deck_get(root, "thermal");
   const peri_node *mats = peri_deck_get(root, "materials");
   const peri_node *bcs = peri_deck_get(root, "boundary_conditions");
   if (!heat_only && !sec) {
     /* mechanics only: thermal inputs would be ignored */
-    for (int m = 0; m < s->n_materials; ++m) {
-      const peri_node *map = peri_deck_get(mats, s->materials[m].name);
+    for (int m = 0; m < s->mat.n_materials; ++m) {
+      const peri_node *map = peri_deck_get(mats, s->mat.materials[m].name);
       static const char *const tk[] = {"conductivity", "specific_heat", "thermal_expansion", NULL};
       for (int k = 0; tk[k]; ++k)
         if (peri_deck_get(map, tk[k]))
@@ -243,10 +243,10 @@ int peri_setup_thermal(peri_sim *s, const peri_node *root) {
         return peri_deck_error(bcs->items[k], "boundary condition: solver type heat takes only the thermal "
                                "types (temperature, heat_flux, convection, heat_source, "
                                "initial_temperature)");
-    if (!peri_deck_get(solver, "safety_factor")) s->safety_factor = 0.9;
+    if (!peri_deck_get(solver, "safety_factor")) s->solver.safety_factor = 0.9;
   } else {
-    for (int m = 0; m < s->n_materials; ++m) {
-      const peri_material *mat = &s->materials[m];
+    for (int m = 0; m < s->mat.n_materials; ++m) {
+      const peri_material *mat = &s->mat.materials[m];
       if (isnan(mat->conductivity) || isnan(mat->specific_heat))
         return peri_deck_error(peri_deck_get(mats, mat->name), "materials.%s: a thermal run needs "
                                "'conductivity' and 'specific_heat'", mat->name);
@@ -304,7 +304,7 @@ int peri_setup_thermal(peri_sim *s, const peri_node *root) {
     if (peri_deck_get(d, "fill") && !(pl && pl->scalar && !strcmp(pl->scalar, "lattice")))
       return peri_deck_error(at, "quadrature bobaru2012: needs 'placement: lattice' in discretization (a "
                              "vertex-centred grid with nodes on the boundary, Bobaru & Duangpanya 2012 sec. 3)");
-    if (s->family.rule != PERI_PV_LINEAR)
+    if (s->disc.family.rule != PERI_PV_LINEAR)
       return peri_deck_error(at, "quadrature bobaru2012: needs 'partial_volume: linear' (neighbours out to "
                              "delta + dx/2, Bobaru & Duangpanya 2012 Algorithm 1)");
   }
@@ -327,7 +327,7 @@ int peri_setup_thermal(peri_sim *s, const peri_node *root) {
   th->fixed = peri_calloc((size_t)n + 1, 1);
   for (int c = 0; c < th->n_bcs; ++c) {
     if (th->bcs[c].kind != PERI_TBC_TEMPERATURE) continue;
-    const peri_region *r = &s->regions[th->bcs[c].region];
+    const peri_region *r = &s->cond.regions[th->bcs[c].region];
     for (int32_t a = 0; a < r->count; ++a) th->fixed[r->nodes[a]] = 1;
   }
   if (th->insulation == PERI_TINSULATION_ALGEBRAIC) {
@@ -339,7 +339,7 @@ int peri_setup_thermal(peri_sim *s, const peri_node *root) {
     bool warned = false;
     for (int c = 0; c < th->n_bcs; ++c) {
       if (th->bcs[c].kind != PERI_TBC_HEAT_FLUX) continue;
-      const peri_region *r = &s->regions[th->bcs[c].region];
+      const peri_region *r = &s->cond.regions[th->bcs[c].region];
       for (int32_t a = 0; a < r->count; ++a) {
         const int32_t i = r->nodes[a];
         if (th->fixed[i] == 2) th->alg_bc[i] = c;
@@ -360,12 +360,12 @@ int peri_setup_thermal(peri_sim *s, const peri_node *root) {
     TRY(peri_deck_expr(sec, "initial_temperature", false, &init));
     TRY(peri_deck_expr(sec, "reference_temperature", false, &ref));
   }
-  const double *x = s->p.x;
+  const double *x = s->disc.p.x;
   for (int32_t i = 0; i < n; ++i)
     th->T[i] = init ? peri_expr_eval(init, x[3 * i], x[3 * i + 1], x[3 * i + 2], 0.0) : 0.0;
   for (int c = 0; c < th->n_bcs; ++c) {
     if (th->bcs[c].kind != PERI_TBC_INITIAL) continue;
-    const peri_region *r = &s->regions[th->bcs[c].region];
+    const peri_region *r = &s->cond.regions[th->bcs[c].region];
     for (int32_t a = 0; a < r->count; ++a) {
       const int32_t i = r->nodes[a];
       th->T[i] = peri_expr_eval(th->bcs[c].value, x[3 * i], x[3 * i + 1], x[3 * i + 2], 0.0);
@@ -378,12 +378,12 @@ int peri_setup_thermal(peri_sim *s, const peri_node *root) {
 
   /* cut bonds: the mechanical flags, or (one-way coupling) a private copy of the pre-cracks */
   if (!heat_only && th->coupling == PERI_COUPLING_ONE_WAY) {
-    size_t nb = (size_t)(s->bonds.n_bonds > 0 ? s->bonds.n_bonds : 1);
+    size_t nb = (size_t)(s->disc.bonds.n_bonds > 0 ? s->disc.bonds.n_bonds : 1);
     th->cut = peri_malloc(nb);
-    memcpy(th->cut, s->bonds.broken, (size_t)s->bonds.n_bonds);
+    memcpy(th->cut, s->disc.bonds.broken, (size_t)s->disc.bonds.n_bonds);
     th->own_cut = true;
   } else {
-    th->cut = s->bonds.broken;
+    th->cut = s->disc.bonds.broken;
   }
   if (th->n_growing) growing_bonds(s);
   peri_thermal_prepare(s);
@@ -396,7 +396,7 @@ int peri_setup_thermal(peri_sim *s, const peri_node *root) {
                  th->dt_stable);
 
   if (!heat_only) {
-    s->thermal_strain = peri_calloc((size_t)s->p.n + 1, sizeof(double));
+    s->state.thermal_strain = peri_calloc((size_t)s->disc.p.n + 1, sizeof(double));
     peri_thermal_update_strain(s);
     th->every = 0; /* set at the first coupled step, once the mechanical step is known */
   }

@@ -76,14 +76,14 @@ void peri_restart_free(struct peri_restart *r) {
 }
 
 const double *peri_restart_history(const peri_sim *s, long *rows, int *n_columns) {
-  const struct peri_restart *r = s->restart;
+  const struct peri_restart *r = s->state.restart;
   *rows = r ? r->history_rows : 0;
   *n_columns = r ? r->history_columns : 0;
   return r && r->history_rows > 0 ? r->history : NULL;
 }
 
 long peri_restart_frames(const peri_sim *s, long *n_listed, const double **times, char *const **files) {
-  const struct peri_restart *r = s->restart;
+  const struct peri_restart *r = s->state.restart;
   *n_listed = r ? r->frames_listed : 0;
   *times = r ? r->frame_times : NULL;
   *files = r ? r->frame_files : NULL;
@@ -91,7 +91,7 @@ long peri_restart_frames(const peri_sim *s, long *n_listed, const double **times
 }
 
 void peri_restart_print(const peri_sim *s, FILE *out) {
-  const struct peri_restart *r = s->restart;
+  const struct peri_restart *r = s->state.restart;
   if (!r) return;
   fprintf(out, "  restart      from %s at step %ld (t = %g s), %ld frames and %ld history rows kept\n", r->path,
           r->step, r->time, r->frames_listed, r->history_rows);
@@ -101,28 +101,28 @@ void peri_restart_print(const peri_sim *s, FILE *out) {
  * the same order in one process; on MPI ranks the owned nodes and ghosts by global index. */
 static void copy_nodes(const peri_sim *s, double *to, const double *from, int ncomp) {
   if (!to || !from) return;
-  const peri_decomposition *d = s->dd;
+  const peri_decomposition *d = s->par.dd;
   if (!d) {
-    memcpy(to, from, sizeof(double) * (size_t)ncomp * (size_t)s->restart->n);
+    memcpy(to, from, sizeof(double) * (size_t)ncomp * (size_t)s->state.restart->n);
     return;
   }
-  for (int32_t l = 0; l < s->p.n; ++l)
+  for (int32_t l = 0; l < s->disc.p.n; ++l)
     memcpy(to + (size_t)ncomp * l, from + (size_t)ncomp * d->global_id[l], sizeof(double) * (size_t)ncomp);
 }
 
 /* A bond array of the checkpoint (global CSR order) into the families of s: on MPI ranks
  * the run of the global order that this rank's owned nodes hold. */
 static void copy_bonds(const peri_sim *s, uint8_t *to, const uint8_t *from) {
-  const int64_t first = s->dd ? s->dd->bond_first[s->dd->rank] : 0;
-  if (to && from && s->bonds.n_bonds > 0) memcpy(to, from + first, (size_t)s->bonds.n_bonds);
+  const int64_t first = s->par.dd ? s->par.dd->bond_first[s->par.dd->rank] : 0;
+  if (to && from && s->disc.bonds.n_bonds > 0) memcpy(to, from + first, (size_t)s->disc.bonds.n_bonds);
 }
 
 /* The growing-crack cuts already made among this rank's bonds: decomposition keeps the
  * growing bonds of the rank's families in the global cut order, so they are those of the
  * checkpoint's first growing_next cuts that fall in the rank's run of bonds. */
 static int64_t growing_next_local(const peri_sim *s, const struct peri_restart *r) {
-  if (!s->dd) return r->growing_next;
-  const int64_t first = s->dd->bond_first[s->dd->rank], end = first + s->bonds.n_bonds;
+  if (!s->par.dd) return r->growing_next;
+  const int64_t first = s->par.dd->bond_first[s->par.dd->rank], end = first + s->disc.bonds.n_bonds;
   int64_t next = 0;
   for (long a = 0; a < r->growing_next; ++a)
     if (r->growing_cut[a] >= first && r->growing_cut[a] < end) ++next;
@@ -146,13 +146,13 @@ static void release_arrays(struct peri_restart *r) {
 }
 
 void peri_restart_apply(peri_sim *s) {
-  struct peri_restart *r = s->restart;
+  struct peri_restart *r = s->state.restart;
   if (!r) return;
-  peri_particles *p = &s->p;
+  peri_particles *p = &s->disc.p;
   const size_t n3 = 3 * (size_t)p->n; /* local nodes: owned and ghosts */
-  s->time = r->time;
-  s->step = r->step;
-  s->external_work = r->external_work;
+  s->state.time = r->time;
+  s->state.step = r->step;
+  s->state.external_work = r->external_work;
   copy_nodes(s, p->u, r->u, 3);
   copy_nodes(s, p->v, r->v, 3);
   copy_nodes(s, p->f, r->f, 3);
@@ -161,16 +161,16 @@ void peri_restart_apply(peri_sim *s) {
   copy_nodes(s, p->wvol, r->wvol, 1);
   copy_nodes(s, p->pstate, r->pstate, 1);
   copy_nodes(s, p->smin, r->smin, 1);
-  copy_nodes(s, s->s0_node, r->s0, 1);
-  copy_nodes(s, s->thermal_strain, r->thermal_strain, 1);
+  copy_nodes(s, s->mat.s0_node, r->s0, 1);
+  copy_nodes(s, s->state.thermal_strain, r->thermal_strain, 1);
   if (r->step_load) {
-    if (!s->step_load) s->step_load = peri_calloc(n3 ? n3 : 1, sizeof(double));
-    copy_nodes(s, s->step_load, r->step_load, 3);
+    if (!s->state.step_load) s->state.step_load = peri_calloc(n3 ? n3 : 1, sizeof(double));
+    copy_nodes(s, s->state.step_load, r->step_load, 3);
   }
-  copy_bonds(s, s->bonds.broken, r->broken);
-  ++s->bonds.broken_edits;
-  memcpy(s->indenter.force, r->indenter_force, sizeof r->indenter_force);
-  peri_quasi_static *q = &s->qs;
+  copy_bonds(s, s->disc.bonds.broken, r->broken);
+  ++s->disc.bonds.broken_edits;
+  memcpy(s->cond.indenter.force, r->indenter_force, sizeof r->indenter_force);
+  peri_quasi_static *q = &s->solver.qs;
   q->reference = r->qs.reference;
   q->last_reference = r->qs.last_reference;
   q->residual = r->qs.residual;
@@ -340,7 +340,7 @@ typedef struct state_view {
 static const double *gather_nodes(const peri_sim *s, state_view *v, const double *local, int ncomp) {
   if (!local) return NULL;
   double *all = NULL;
-  if (s->dd->rank == 0) all = peri_malloc(sizeof(double) * (size_t)ncomp * (size_t)(v->n > 0 ? v->n : 1));
+  if (s->par.dd->rank == 0) all = peri_malloc(sizeof(double) * (size_t)ncomp * (size_t)(v->n > 0 ? v->n : 1));
   peri_gather_owned(s, local, ncomp, all);
   if (all) v->gathered[v->n_gathered++] = all;
   return all;
@@ -350,7 +350,7 @@ static const double *gather_nodes(const peri_sim *s, state_view *v, const double
 static const uint8_t *gather_bonds(const peri_sim *s, state_view *v, const uint8_t *local) {
   if (!local) return NULL;
   uint8_t *all = NULL;
-  if (s->dd->rank == 0) all = peri_malloc((size_t)(v->n_bonds > 0 ? v->n_bonds : 1));
+  if (s->par.dd->rank == 0) all = peri_malloc((size_t)(v->n_bonds > 0 ? v->n_bonds : 1));
   peri_gather_owned_bonds(s, local, all);
   if (all) v->gathered[v->n_gathered++] = all;
   return all;
@@ -358,25 +358,25 @@ static const uint8_t *gather_bonds(const peri_sim *s, state_view *v, const uint8
 
 /* The view of the state of s; on MPI ranks every rank must call it (it gathers). */
 static void view_of(const peri_sim *s, state_view *v) {
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
   const peri_thermal *th = s->thermal;
   const uint8_t *cut = th && th->own_cut ? th->cut : NULL;
   memset(v, 0, sizeof *v);
-  if (!s->dd) {
+  if (!s->par.dd) {
     v->n = p->n_owned;
-    v->n_bonds = s->bonds.n_bonds;
-    v->bond_hash = peri_bonds_hash(&s->bonds, p->n_owned);
+    v->n_bonds = s->disc.bonds.n_bonds;
+    v->bond_hash = peri_bonds_hash(&s->disc.bonds, p->n_owned);
     v->x = p->x, v->u = p->u, v->v = p->v, v->f = p->f, v->damage = p->damage;
     v->theta = p->theta, v->wvol = p->wvol, v->pstate = p->pstate, v->smin = p->smin;
-    v->s0 = s->s0_node, v->thermal_strain = s->thermal_strain, v->step_load = s->step_load;
+    v->s0 = s->mat.s0_node, v->thermal_strain = s->state.thermal_strain, v->step_load = s->state.step_load;
     v->T = th ? th->T : NULL;
-    v->broken = s->bonds.broken, v->cut = cut;
+    v->broken = s->disc.bonds.broken, v->cut = cut;
     v->growing_next = th ? (long)th->growing_next : 0;
     return;
   }
-  v->n = s->dd->n_global;
-  v->n_bonds = s->dd->n_bonds_global;
-  v->bond_hash = s->dd->bond_hash; /* of the global families, computed before they were split */
+  v->n = s->par.dd->n_global;
+  v->n_bonds = s->par.dd->n_bonds_global;
+  v->bond_hash = s->par.dd->bond_hash; /* of the global families, computed before they were split */
   v->x = gather_nodes(s, v, p->x, 3);
   v->u = gather_nodes(s, v, p->u, 3);
   v->v = gather_nodes(s, v, p->v, 3);
@@ -386,11 +386,11 @@ static void view_of(const peri_sim *s, state_view *v) {
   v->wvol = gather_nodes(s, v, p->wvol, 1);
   v->pstate = gather_nodes(s, v, p->pstate, 1);
   v->smin = gather_nodes(s, v, p->smin, 1);
-  v->s0 = gather_nodes(s, v, s->s0_node, 1);
-  v->thermal_strain = gather_nodes(s, v, s->thermal_strain, 1);
-  v->step_load = gather_nodes(s, v, s->step_load, 3);
+  v->s0 = gather_nodes(s, v, s->mat.s0_node, 1);
+  v->thermal_strain = gather_nodes(s, v, s->state.thermal_strain, 1);
+  v->step_load = gather_nodes(s, v, s->state.step_load, 3);
   v->T = th ? gather_nodes(s, v, th->T, 1) : NULL;
-  v->broken = gather_bonds(s, v, s->bonds.broken);
+  v->broken = gather_bonds(s, v, s->disc.bonds.broken);
   v->cut = gather_bonds(s, v, cut);
   /* each rank cuts the growing bonds of its families in the global (time) order, so the
    * global position is the sum of the ranks' positions */
@@ -409,20 +409,20 @@ static void write_contents(writer *w, const peri_sim *s, const state_view *v, co
   attr_long(w, root, "format_version", PERI_CHECKPOINT_FORMAT_VERSION);
   attr_string(w, root, "peri_version", PERI_VERSION);
   attr_string(w, root, "deck_path", s->deck_path);
-  attr_string(w, root, "model", s->model ? s->model->name : "");
-  attr_long(w, root, "solver", (long)s->solver);
-  attr_string(w, root, "solver_name", solver_kind_name(s->solver));
-  attr_long(w, root, "dimension", s->geom.dim);
+  attr_string(w, root, "model", s->mat.model ? s->mat.model->name : "");
+  attr_long(w, root, "solver", (long)s->solver.kind);
+  attr_string(w, root, "solver_name", solver_kind_name(s->solver.kind));
+  attr_long(w, root, "dimension", s->disc.geom.dim);
   char *deck = read_text(s->deck_path); /* the deck as it is now: a record of the run */
   text_put(w, root, "deck_text", deck ? deck : "");
   free(deck);
 
   hid_t g = group_create(w, root, "state");
-  attr_double(w, g, "time", s->time);
-  attr_long(w, g, "step", s->step);
-  attr_long(w, g, "steps", s->steps);
-  attr_double(w, g, "dt", s->dt);
-  attr_double(w, g, "external_work", s->external_work);
+  attr_double(w, g, "time", s->state.time);
+  attr_long(w, g, "step", s->state.step);
+  attr_long(w, g, "steps", s->solver.steps);
+  attr_double(w, g, "dt", s->solver.dt);
+  attr_double(w, g, "external_work", s->state.external_work);
   attr_long(w, g, "frames", done ? done->frames : 0);
   attr_long(w, g, "history_rows", done ? done->history_rows : 0);
   group_close(g);
@@ -453,11 +453,11 @@ static void write_contents(writer *w, const peri_sim *s, const state_view *v, co
   group_close(g);
 
   g = group_create(w, root, "indenter");
-  doubles_put(w, g, "force", 3, 1, s->indenter.force);
+  doubles_put(w, g, "force", 3, 1, s->cond.indenter.force);
   group_close(g);
 
   g = group_create(w, root, "quasi_static");
-  const peri_quasi_static *q = &s->qs;
+  const peri_quasi_static *q = &s->solver.qs;
   attr_double(w, g, "reference", q->reference);
   attr_double(w, g, "last_reference", q->last_reference);
   attr_double(w, g, "residual", q->residual);
@@ -532,9 +532,9 @@ static int write_file(const peri_sim *s, const state_view *v, const char *path, 
 int peri_checkpoint_write(const peri_sim *s, const char *path, const peri_checkpoint_progress *done) {
   state_view v;
   view_of(s, &v); /* MPI ranks: every rank takes part in the gathers */
-  const int rc = !s->dd || s->dd->rank == 0 ? write_file(s, &v, path, done) : PERI_OK;
+  const int rc = !s->par.dd || s->par.dd->rank == 0 ? write_file(s, &v, path, done) : PERI_OK;
   view_free(&v);
-  return s->dd ? peri_comm_max_int(rc) : rc; /* every rank returns rank 0's status */
+  return s->par.dd ? peri_comm_max_int(rc) : rc; /* every rank returns rank 0's status */
 }
 
 /* ---------------------------------------------------------------- reading */
@@ -667,7 +667,7 @@ static double *get_work_array(reader *r, hid_t loc, const char *name, size_t n, 
 
 /* Reads and checks everything; fills *out. */
 static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *out) {
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
   const size_t n = (size_t)p->n_owned;
   const hid_t root = r->file;
   char *format = get_string(r, root, "format", false);
@@ -680,23 +680,23 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
     bad(r, "format version %s is not one this peri reads (1); was it written by a newer peri?", what);
   }
   const long solver = get_long(r, root, "solver");
-  if (!r->failed && solver != (long)s->solver) {
+  if (!r->failed && solver != (long)s->solver.kind) {
     char what[256];
     snprintf(what, sizeof what, "it is from a run with solver type %s, the deck sets solver type %s",
-             solver_kind_name((peri_solver_kind)solver), solver_kind_name(s->solver));
+             solver_kind_name((peri_solver_kind)solver), solver_kind_name(s->solver.kind));
     bad(r, "%s", what);
   }
   char *model = get_string(r, root, "model", false);
-  if (model && s->model && strcmp(model, s->model->name) != 0) {
+  if (model && s->mat.model && strcmp(model, s->mat.model->name) != 0) {
     char what[256];
-    snprintf(what, sizeof what, "it is from a run with model %s, the deck uses %s", model, s->model->name);
+    snprintf(what, sizeof what, "it is from a run with model %s, the deck uses %s", model, s->mat.model->name);
     bad(r, "%s", what);
   }
   free(model);
   const long dim = get_long(r, root, "dimension");
-  if (!r->failed && dim != s->geom.dim) {
+  if (!r->failed && dim != s->disc.geom.dim) {
     char what[128];
-    snprintf(what, sizeof what, "it is %ldD, the deck is %dD", dim, s->geom.dim);
+    snprintf(what, sizeof what, "it is %ldD, the deck is %dD", dim, s->disc.geom.dim);
     bad(r, "%s", what);
   }
 
@@ -710,9 +710,9 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
                nodes, n);
     r->failed = true;
   }
-  if (!r->failed && bonds != (long)s->bonds.n_bonds) {
+  if (!r->failed && bonds != (long)s->disc.bonds.n_bonds) {
     peri_error("checkpoint '%s' has %ld bonds, deck builds %lld: the horizon or the partial-volume rule differ",
-               r->path, bonds, (long long)s->bonds.n_bonds);
+               r->path, bonds, (long long)s->disc.bonds.n_bonds);
     r->failed = true;
   }
   double *x = get_doubles(r, g, "x", n, 3, true);
@@ -727,7 +727,7 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
         break;
       }
   free(x);
-  if (!r->failed && hash != peri_bonds_hash(&s->bonds, (int32_t)n))
+  if (!r->failed && hash != peri_bonds_hash(&s->disc.bonds, (int32_t)n))
     bad(r, "%s", "the bond families differ from the deck's (another horizon or partial-volume rule)");
   group_close(g);
 
@@ -739,17 +739,17 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
   out->done.frames = get_long(r, g, "frames");
   out->done.history_rows = get_long(r, g, "history_rows");
   group_close(g);
-  if (!r->failed && (out->step < 0 || out->step > s->steps)) {
+  if (!r->failed && (out->step < 0 || out->step > s->solver.steps)) {
     char what[256];
     snprintf(what, sizeof what, "it is at step %ld, beyond the deck's last step %ld (raise solver.end_time or "
-             "solver.steps to continue)", out->step, s->steps);
+             "solver.steps to continue)", out->step, s->solver.steps);
     bad(r, "%s", what);
   }
-  const bool timed = s->solver == PERI_SOLVER_EXPLICIT || s->solver == PERI_SOLVER_DYNAMIC_RELAXATION ||
-                     s->solver == PERI_SOLVER_HEAT; /* the others have no time step */
-  if (!r->failed && timed && dt != s->dt)
+  const bool timed = s->solver.kind == PERI_SOLVER_EXPLICIT || s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION ||
+                     s->solver.kind == PERI_SOLVER_HEAT; /* the others have no time step */
+  if (!r->failed && timed && dt != s->solver.dt)
     peri_warning("checkpoint '%s': written with time step %.17g s, the deck gives %.17g s; continuing with the deck's",
-                 r->path, dt, s->dt);
+                 r->path, dt, s->solver.dt);
 
   g = group_open(r, "nodes", true);
   out->n = (int32_t)n;
@@ -761,15 +761,15 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
   out->wvol = get_work_array(r, g, "wvol", n, p->wvol != NULL);
   out->pstate = get_work_array(r, g, "pstate", n, p->pstate != NULL);
   out->smin = get_work_array(r, g, "smin", n, p->smin != NULL);
-  out->s0 = get_work_array(r, g, "s0", n, s->s0_node != NULL);
-  out->thermal_strain = get_work_array(r, g, "thermal_strain", n, s->thermal_strain != NULL);
+  out->s0 = get_work_array(r, g, "s0", n, s->mat.s0_node != NULL);
+  out->thermal_strain = get_work_array(r, g, "thermal_strain", n, s->state.thermal_strain != NULL);
   out->step_load = get_doubles(r, g, "step_load", n, 3, false);
   group_close(g);
 
   g = group_open(r, "bonds", true);
-  out->n_bonds = s->bonds.n_bonds;
-  out->broken = get_array(r, g, "broken", H5T_NATIVE_UINT8, 1, (hsize_t)s->bonds.n_bonds, 1, true);
-  for (int64_t k = 0; out->broken && !r->failed && k < s->bonds.n_bonds; ++k)
+  out->n_bonds = s->disc.bonds.n_bonds;
+  out->broken = get_array(r, g, "broken", H5T_NATIVE_UINT8, 1, (hsize_t)s->disc.bonds.n_bonds, 1, true);
+  for (int64_t k = 0; out->broken && !r->failed && k < s->disc.bonds.n_bonds; ++k)
     if (out->broken[k] > 1) bad(r, "%s", "bond flags other than 0 and 1 (damaged file)");
   group_close(g);
 
@@ -803,7 +803,7 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
     out->every = get_long(r, g, "every");
     out->substeps = get_long(r, g, "substeps");
     out->T = get_doubles(r, g, "T", n, 1, true);
-    out->cut = get_array(r, g, "cut", H5T_NATIVE_UINT8, 1, (hsize_t)s->bonds.n_bonds, 1, s->thermal->own_cut);
+    out->cut = get_array(r, g, "cut", H5T_NATIVE_UINT8, 1, (hsize_t)s->disc.bonds.n_bonds, 1, s->thermal->own_cut);
     if (!r->failed && (out->growing_next < 0 || out->growing_next > s->thermal->n_growing_bonds))
       bad(r, "%s", "the growing-crack position does not match the deck's growing cracks");
     if (!r->failed) { /* which bonds those cuts were, for the ranks' shares (peri_restart_apply) */
@@ -880,7 +880,7 @@ int peri_restart_load(peri_sim *s, const char *path) {
     peri_restart_free(r);
     return rc;
   }
-  peri_restart_free(s->restart);
-  s->restart = r;
+  peri_restart_free(s->state.restart);
+  s->state.restart = r;
   return PERI_OK;
 }

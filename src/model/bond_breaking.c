@@ -7,18 +7,18 @@
 #include "bond_kernel.h"
 
 void peri_update_s0_bound(peri_sim *s) {
-  peri_particles *p = &s->p;
+  peri_particles *p = &s->disc.p;
   if (!p->s0_bound) p->s0_bound = peri_malloc(sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
-  const int nm = s->n_materials;
+  const int nm = s->mat.n_materials;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n; ++i) {
     double bound = INFINITY;
     if (!(p->flags[i] & PERI_NODE_NO_FAIL)) {
-      if (s->s0_node) {
-        bound = s->s0_node[i];
+      if (s->mat.s0_node) {
+        bound = s->mat.s0_node[i];
       } else {
         const int a = p->material[i];
-        for (int m = 0; m < nm; ++m) bound = fmin(bound, s->pair_s0[a * nm + m]);
+        for (int m = 0; m < nm; ++m) bound = fmin(bound, s->mat.pair_s0[a * nm + m]);
       }
     }
     p->s0_bound[i] = bound;

@@ -19,10 +19,10 @@ static inline double peri_length3(double a, double b, double c) { return sqrt(fm
 /* Critical stretch of bond i-j: LAMMPS form min(s0_i, s0_j), else the pair table.
  * INFINITY when either end is a no-fail node. */
 static inline double peri_bond_s0(const peri_sim *s, int32_t i, int32_t j) {
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
   if ((p->flags[i] | p->flags[j]) & PERI_NODE_NO_FAIL) return INFINITY;
-  if (s->s0_node) return fmin(s->s0_node[i], s->s0_node[j]);
-  return s->pair_s0[p->material[i] * s->n_materials + p->material[j]];
+  if (s->mat.s0_node) return fmin(s->mat.s0_node[i], s->mat.s0_node[j]);
+  return s->mat.pair_s0[p->material[i] * s->mat.n_materials + p->material[j]];
 }
 
 /* Thermal stretch of bond i-j, 1/2 (alpha_i dT_i + alpha_j dT_j) (docs/model_reference.md 9): subtracted
@@ -78,11 +78,11 @@ typedef struct peri_bond_view {
 
 /* The view of s with the copies in `soa` (6 n doubles: x0 x1 x2 u0 u1 u2). */
 static inline peri_bond_view peri_bond_view_of(const peri_sim *s, const double *soa) {
-  const size_t n = (size_t)s->p.n;
+  const size_t n = (size_t)s->disc.p.n;
   const peri_bond_view w = {soa, soa + n, soa + 2 * n, soa + 3 * n, soa + 4 * n, soa + 5 * n,
-                            s->p.volume, s->p.coef, s->thermal_strain, s->p.s0_bound,
-                            s->bonds.offset, s->bonds.neighbor, s->bonds.broken, peri_family_eval_of(&s->bonds),
-                            s->p.n};
+                            s->disc.p.volume, s->disc.p.coef, s->state.thermal_strain, s->disc.p.s0_bound,
+                            s->disc.bonds.offset, s->disc.bonds.neighbor, s->disc.bonds.broken, peri_family_eval_of(&s->disc.bonds),
+                            s->disc.p.n};
   return w;
 }
 

@@ -4,10 +4,10 @@
 #include "bond_kernel.h"
 
 void peri_update_lammps_s0(peri_sim *s) {
-  peri_particles *p = &s->p;
+  peri_particles *p = &s->disc.p;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n_owned; ++i) {
-    const peri_material *m = &s->materials[p->material[i]];
-    if (isfinite(p->smin[i])) s->s0_node[i] = m->s00 - m->alpha_s * p->smin[i];
+    const peri_material *m = &s->mat.materials[p->material[i]];
+    if (isfinite(p->smin[i])) s->mat.s0_node[i] = m->s00 - m->alpha_s * p->smin[i];
   }
 }

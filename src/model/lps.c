@@ -15,20 +15,20 @@
 #include "node_blocks.h"
 
 static int lps_init(peri_sim *s) {
-  peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
-  for (int m = 0; m < s->n_materials; ++m) {
-    peri_material *mat = &s->materials[m];
-    peri_lps_constants(&s->geom, mat->K, mat->mu, &mat->n_theta, &mat->K_theta, &mat->alpha_m);
+  peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  for (int m = 0; m < s->mat.n_materials; ++m) {
+    peri_material *mat = &s->mat.materials[m];
+    peri_lps_constants(&s->disc.geom, mat->K, mat->mu, &mat->n_theta, &mat->K_theta, &mat->alpha_m);
     mat->c_stable = peri_stable_micromodulus(
-        &s->geom, peri_pwave_modulus(&s->geom, mat->E, mat->nu, mat->K, mat->mu));
+        &s->disc.geom, peri_pwave_modulus(&s->disc.geom, mat->E, mat->nu, mat->K, mat->mu));
   }
   p->theta = peri_calloc(p->n, sizeof(double));
   p->pstate = peri_calloc(p->n, sizeof(double));
   p->wvol = peri_calloc(p->n, sizeof(double));
   p->coef = peri_calloc(2 * (size_t)p->n, sizeof(double));
-  if (s->analytic_weighted_volume) {
-    double m = peri_weighted_volume_analytic(&s->geom, s->family.influence);
+  if (s->disc.analytic_weighted_volume) {
+    double m = peri_weighted_volume_analytic(&s->disc.geom, s->disc.family.influence);
     for (int32_t i = 0; i < p->n; ++i) p->wvol[i] = m;
     return PERI_OK;
   }
@@ -308,11 +308,11 @@ LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false, fal
 /* Pass 1's table for the deck's influence function, volumes and thermal strain. */
 static const lps_loops *lps_pass1_loops(const peri_sim *s, const peri_node_blocks *items,
                                         const lps_loops *const table[2][4]) {
-  const int kind = s->family.influence == PERI_INFLUENCE_INVERSE    ? 2
-                   : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? 3
+  const int kind = s->disc.family.influence == PERI_INFLUENCE_INVERSE    ? 2
+                   : s->disc.family.influence == PERI_INFLUENCE_GAUSSIAN ? 3
                    : items->uniform_volume                          ? 0
                                                                     : 1;
-  return table[s->thermal_strain != NULL][kind];
+  return table[s->state.thermal_strain != NULL][kind];
 }
 
 /* Runs `loops` over every owned node (a block at a time where the node blocks allow, node
@@ -353,20 +353,20 @@ static const lps_loops *lps_pass1_loops(const peri_sim *s, const peri_node_block
 static long lps_dilatation(peri_sim *s) {
   peri_update_s0_bound(s);
   peri_node_blocks *items = peri_node_blocks_refresh(s);
-  const bool thermal = s->thermal_strain != NULL, track_smin = s->s0_node != NULL, breaking = s->breaking;
+  const bool thermal = s->state.thermal_strain != NULL, track_smin = s->mat.s0_node != NULL, breaking = s->solver.breaking;
   const lps_loops *loops = lps_pass1_loops(s, items, track_smin ? lps_sums_table_smin : lps_sums_table);
-  peri_particles *p = &s->p;
+  peri_particles *p = &s->disc.p;
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
   const size_t n = (size_t)p->n;
   long n_broken = 0;
   LPS_FOR_EACH_NODE(items, loops, w, breaking, {
     const double we_x = r->sum[0], w_xx = r->sum[1];
-    const peri_material *mat = &s->materials[p->material[i]];
+    const peri_material *mat = &s->mat.materials[p->material[i]];
     const double m = p->wvol[i];
     const double theta = mat->n_theta * we_x / m;
     const double P = we_x - theta * w_xx / 3.0;
     const double alpha = mat->alpha_m / m;
-    const double eth_i = thermal ? s->thermal_strain[i] : 0.0;
+    const double eth_i = thermal ? s->state.thermal_strain[i] : 0.0;
     p->theta[i] = theta;
     p->pstate[i] = P;
     p->coef[i] = mat->n_theta * (mat->K_theta * theta - alpha * P / 3.0) / m - alpha * (eth_i + theta / 3.0);
@@ -386,16 +386,16 @@ static inline double lps_half(const peri_material *mat, double theta, double P, 
 
 static long lps_force(peri_sim *s) {
   const long broken = lps_dilatation(s);
-  if (s->s0_node) peri_update_lammps_s0(s);
-  peri_particles *p = &s->p;
+  if (s->mat.s0_node) peri_update_lammps_s0(s);
+  peri_particles *p = &s->disc.p;
   const size_t n = (size_t)p->n;
   /* the force pass reads D_j and B_j of ghosts (docs/parallel.md) */
-  peri_sim_exchange(s, s->p.coef, 1);
-  peri_sim_exchange(s, s->p.coef + n, 1);
-  peri_node_blocks *items = s->node_blocks; /* refreshed by the dilatation pass */
+  peri_sim_exchange(s, s->disc.p.coef, 1);
+  peri_sim_exchange(s, s->disc.p.coef + n, 1);
+  peri_node_blocks *items = s->disc.node_blocks; /* refreshed by the dilatation pass */
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
-  const lps_loops *loops = s->family.influence == PERI_INFLUENCE_INVERSE    ? &lps_force_inverse
-                           : s->family.influence == PERI_INFLUENCE_GAUSSIAN ? &lps_force_gaussian
+  const lps_loops *loops = s->disc.family.influence == PERI_INFLUENCE_INVERSE    ? &lps_force_inverse
+                           : s->disc.family.influence == PERI_INFLUENCE_GAUSSIAN ? &lps_force_gaussian
                            : items->uniform_volume                          ? &lps_force_uniform
                                                                             : &lps_force_constant;
   long n_broken = 0; /* (the force pass breaks nothing) */
@@ -413,10 +413,10 @@ static void lps_energy(peri_sim *s, double *W) {
   peri_node_blocks *items = peri_node_blocks_refresh(s);
   const lps_loops *loops = lps_pass1_loops(s, items, lps_sums_table_energy);
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
   long n_broken = 0; /* (the energy breaks nothing) */
   LPS_FOR_EACH_NODE(items, loops, w, false, {
-    const peri_material *mat = &s->materials[p->material[i]];
+    const peri_material *mat = &s->mat.materials[p->material[i]];
     const double m = p->wvol[i];
     const double theta = mat->n_theta * r->sum[0] / m;
     const double deviatoric = r->sum[2] - (2.0 * theta / 3.0) * r->sum[0] + (theta * theta / 9.0) * r->sum[1];
@@ -426,15 +426,15 @@ static void lps_energy(peri_sim *s, double *W) {
 }
 
 static double lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
   const int32_t j = b->neighbor[k];
   const double L = peri_bond_length(p->x, i, j), e = r - L, omega = peri_bonds_omega(b, L);
-  const double eth_i = s->thermal_strain ? s->thermal_strain[i] : 0.0;
-  const double eth_j = s->thermal_strain ? s->thermal_strain[j] : 0.0;
-  return lps_half(&s->materials[p->material[i]], p->theta[i], p->pstate[i], p->wvol[i], omega, L,
+  const double eth_i = s->state.thermal_strain ? s->state.thermal_strain[i] : 0.0;
+  const double eth_j = s->state.thermal_strain ? s->state.thermal_strain[j] : 0.0;
+  return lps_half(&s->mat.materials[p->material[i]], p->theta[i], p->pstate[i], p->wvol[i], omega, L,
                   e - eth_i * L) +
-         lps_half(&s->materials[p->material[j]], p->theta[j], p->pstate[j], p->wvol[j], omega, L,
+         lps_half(&s->mat.materials[p->material[j]], p->theta[j], p->pstate[j], p->wvol[j], omega, L,
                   e - eth_j * L);
 }
 

@@ -74,12 +74,12 @@ static void add_outer(double *blk, double a, const double u[3], const double v[3
 
 /* Node states, and per bond w_ij n_ij (zero when broken or of zero length). */
 static void compute_states(const peri_sim *s, node_state *st, double *wn) {
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
-  const double *eth = s->thermal_strain;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const double *eth = s->state.thermal_strain;
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) {
-    const peri_material *mat = &s->materials[p->material[i]];
+    const peri_material *mat = &s->mat.materials[p->material[i]];
     const double eth_i = eth ? eth[i] : 0.0;
     double S = 0.0, wxx = 0.0, sv[3] = {0.0, 0.0, 0.0};
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
@@ -107,10 +107,10 @@ static void compute_states(const peri_sim *s, node_state *st, double *wn) {
 
 /* The blocks of row i into rb. */
 static void row(const peri_sim *s, const node_state *st, const double *wn, int32_t i, row_blocks *rb) {
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
-  const double *eth = s->thermal_strain;
-  const int dim = s->geom.dim;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const double *eth = s->state.thermal_strain;
+  const int dim = s->disc.geom.dim;
   const node_state *si = &st[i];
   add_outer(block_of(rb, i), -si->g, si->svec, si->svec);
   for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
@@ -157,7 +157,7 @@ static void row(const peri_sim *s, const node_state *st, const double *wn, int32
 
 /* alpha, g and S of the ghosts from their owners (the pair term of row i reads them). */
 static void exchange_states(const peri_sim *s, node_state *st) {
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
   double *field = peri_malloc(sizeof(double) * 3 * (size_t)p->n);
   for (int32_t i = 0; i < p->n_owned; ++i) {
     field[3 * (size_t)i] = st[i].alpha;
@@ -182,8 +182,8 @@ typedef struct ghost_bonds {
 } ghost_bonds;
 
 static ghost_bonds find_ghost_bonds(const peri_sim *s) {
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
   const int32_t n_ghosts = p->n - p->n_owned;
   ghost_bonds gb = {.start = peri_calloc((size_t)n_ghosts + 1, sizeof(int64_t))};
   for (int32_t j = 0; j < p->n_owned; ++j)
@@ -208,9 +208,9 @@ static ghost_bonds find_ghost_bonds(const peri_sim *s) {
  * j's family. The centres in ascending order: the sums do not depend on the threads. */
 static void ghost_row(const peri_sim *s, const node_state *st, const double *wn, const ghost_bonds *gb, int32_t i,
                       row_blocks *rb) {
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
-  const int dim = s->geom.dim;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const int dim = s->disc.geom.dim;
   const int32_t g = i - p->n_owned;
   for (int64_t at = gb->start[g]; at < gb->start[g + 1]; ++at) {
     const int32_t j = gb->centre[at];
@@ -258,12 +258,12 @@ static void row_blocks_free(row_blocks *rb) {
 }
 
 void peri_lps_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
   node_state *st = peri_calloc((size_t)(p->n > 0 ? p->n : 1), sizeof(node_state));
   double *wn = peri_malloc(sizeof(double) * 3 * (size_t)(b->n_bonds > 0 ? b->n_bonds : 1));
   compute_states(s, st, wn);
-  if (s->exchange) exchange_states(s, st); /* on every rank: the exchange is collective */
+  if (s->par.exchange) exchange_states(s, st); /* on every rank: the exchange is collective */
   /* Rows of owned nodes in parallel, each gathered in its thread's buffer; add() is called
    * for one row at a time, once per row, so the sums do not depend on the threads. */
 #pragma omp parallel

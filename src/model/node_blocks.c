@@ -69,11 +69,11 @@ static void clear_broken_lanes(peri_node_blocks *nb, const peri_bonds *b, int32_
  * a bond, so both directions break together), then the exact critical stretch for the bonds
  * beyond the lower bound of theirs. */
 static long break_family_vector(peri_sim *s, const peri_node_blocks *nb, int32_t i) {
-  peri_bonds *b = &s->bonds;
+  peri_bonds *b = &s->disc.bonds;
   const size_t n_nodes = (size_t)nb->n;
   const double *restrict X0 = nb->soa, *restrict X1 = X0 + n_nodes, *restrict X2 = X1 + n_nodes,
                          *restrict U0 = X2 + n_nodes, *restrict U1 = U0 + n_nodes, *restrict U2 = U1 + n_nodes;
-  const double *restrict eth = s->thermal_strain, *restrict bound = s->p.s0_bound;
+  const double *restrict eth = s->state.thermal_strain, *restrict bound = s->disc.p.s0_bound;
   const int32_t *restrict neighbor = b->neighbor;
   const double xi0 = X0[i], xi1 = X1[i], xi2 = X2[i], ui0 = U0[i], ui1 = U1[i], ui2 = U2[i];
   const double eth_i = eth ? eth[i] : 0.0, bound_i = bound[i];
@@ -106,7 +106,7 @@ static long break_family_vector(peri_sim *s, const peri_node_blocks *nb, int32_t
 
 long peri_node_blocks_break_family(peri_sim *s, peri_node_blocks *nb, int32_t item, int32_t i) {
   const long n = break_family_vector(s, nb, i);
-  if (n > 0) clear_broken_lanes(nb, &s->bonds, item, i);
+  if (n > 0) clear_broken_lanes(nb, &s->disc.bonds, item, i);
   return n;
 }
 
@@ -120,8 +120,8 @@ static void sync_broken(peri_node_blocks *nb, const peri_bonds *b) {
 }
 
 static void build(peri_node_blocks *nb, const peri_sim *s) {
-  const peri_bonds *b = &s->bonds;
-  const int32_t n_owned = s->p.n_owned, n = s->p.n;
+  const peri_bonds *b = &s->disc.bonds;
+  const int32_t n_owned = s->disc.p.n_owned, n = s->disc.p.n;
   free(nb->first);
   free(nb->tpl);
   free(nb->tpl_node);
@@ -144,7 +144,7 @@ static void build(peri_node_blocks *nb, const peri_sim *s) {
   nb->block_bonds = 0;
   for (int32_t i = 0; i < n_owned;) {
     int64_t len = -1;
-    if (!s->generic_bond_loops && i + PERI_BLOCK <= n_owned && used + cap <= tpl_cap)
+    if (!s->disc.generic_bond_loops && i + PERI_BLOCK <= n_owned && used + cap <= tpl_cap)
       len = build_template(b, n, i, tj, lanes, tj + cap, lanes + cap, cap);
     nb->first[items] = i;
     nb->tpl[items++] = used;
@@ -174,14 +174,14 @@ static void build(peri_node_blocks *nb, const peri_sim *s) {
   nb->offset = b->offset;
   nb->neighbor = b->neighbor;
   nb->n_owned = n_owned;
-  nb->generic = s->generic_bond_loops;
+  nb->generic = s->disc.generic_bond_loops;
 }
 
 /* a template entry: the neighbour (int32) and two lane masks */
 #define TEMPLATE_ENTRY_BYTES (sizeof(int32_t) + 2)
 
 double peri_node_blocks_share(const peri_sim *s, double *template_bytes_per_bond) {
-  const peri_node_blocks *nb = s->node_blocks;
+  const peri_node_blocks *nb = s->disc.node_blocks;
   if (!nb || !nb->offset) return -1.0;
   const double bonds = (double)(nb->offset[nb->n_owned] > 0 ? nb->offset[nb->n_owned] : 1);
   if (template_bytes_per_bond) *template_bytes_per_bond = (double)nb->tpl_entries * TEMPLATE_ENTRY_BYTES / bonds;
@@ -191,12 +191,12 @@ double peri_node_blocks_share(const peri_sim *s, double *template_bytes_per_bond
 double peri_node_blocks_bytes_bound(void) { return PERI_TEMPLATE_SLACK * TEMPLATE_ENTRY_BYTES / PERI_BLOCK; }
 
 peri_node_blocks *peri_node_blocks_refresh(peri_sim *s) {
-  const peri_particles *p = &s->p;
-  if (!s->node_blocks) s->node_blocks = peri_calloc(1, sizeof(peri_node_blocks));
-  peri_node_blocks *nb = s->node_blocks;
+  const peri_particles *p = &s->disc.p;
+  if (!s->disc.node_blocks) s->disc.node_blocks = peri_calloc(1, sizeof(peri_node_blocks));
+  peri_node_blocks *nb = s->disc.node_blocks;
   const size_t n = (size_t)p->n;
-  if (nb->offset != s->bonds.offset || nb->neighbor != s->bonds.neighbor || nb->n_owned != p->n_owned ||
-      nb->n != p->n || nb->x != p->x || nb->volume != p->volume || nb->generic != s->generic_bond_loops) {
+  if (nb->offset != s->disc.bonds.offset || nb->neighbor != s->disc.bonds.neighbor || nb->n_owned != p->n_owned ||
+      nb->n != p->n || nb->x != p->x || nb->volume != p->volume || nb->generic != s->disc.generic_bond_loops) {
     build(nb, s);
     free(nb->soa);
     nb->soa = peri_malloc(sizeof(double) * 6 * (n > 0 ? n : 1));
@@ -206,9 +206,9 @@ peri_node_blocks *peri_node_blocks_refresh(peri_sim *s) {
     nb->uniform_volume = peri_uniform_volume(p);
     for (size_t i = 0; i < n; ++i)
       for (int c = 0; c < 3; ++c) nb->soa[c * n + i] = p->x[3 * i + (size_t)c];
-    sync_broken(nb, &s->bonds);
+    sync_broken(nb, &s->disc.bonds);
   }
-  if (nb->broken_edits != s->bonds.broken_edits) sync_broken(nb, &s->bonds);
+  if (nb->broken_edits != s->disc.bonds.broken_edits) sync_broken(nb, &s->disc.bonds);
   double *restrict u_soa = nb->soa + 3 * n;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n; ++i)

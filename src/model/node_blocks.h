@@ -44,7 +44,7 @@ typedef struct peri_node_blocks {
 /* The work items of s (built on first use, and again when the bonds change), with the
  * structure-of-arrays copy of the displacements refreshed and the
  * lane masks following the broken flags (rebuilt from them after an edit outside the force
- * loops, peri_bonds.broken_edits). With s->generic_bond_loops set every item is a single
+ * loops, peri_bonds.broken_edits). With s->disc.generic_bond_loops set every item is a single
  * node (tests compare the two paths). */
 peri_node_blocks *peri_node_blocks_refresh(peri_sim *s);
 

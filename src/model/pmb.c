@@ -10,14 +10,14 @@
 #include "node_blocks.h"
 
 static int pmb_init(peri_sim *s) {
-  double calibration = peri_influence_calibration(s->family.influence, s->geom.dim, s->geom.horizon);
-  for (int m = 0; m < s->n_materials; ++m) {
-    peri_material *mat = &s->materials[m];
+  double calibration = peri_influence_calibration(s->disc.family.influence, s->disc.geom.dim, s->disc.geom.horizon);
+  for (int m = 0; m < s->mat.n_materials; ++m) {
+    peri_material *mat = &s->mat.materials[m];
     if (!mat->micromodulus_given)
-      mat->micromodulus = peri_pmb_micromodulus(&s->geom, mat->E, mat->K) * calibration;
+      mat->micromodulus = peri_pmb_micromodulus(&s->disc.geom, mat->E, mat->K) * calibration;
     mat->c_stable = mat->micromodulus;
   }
-  peri_particles *p = &s->p;
+  peri_particles *p = &s->disc.p;
   p->coef = peri_malloc(sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
   return PERI_OK;
 }
@@ -216,17 +216,17 @@ static const pmb_loops *pmb_loops_for(const pmb_loops *const set[9], bool multi,
 }
 
 static long pmb_force(peri_sim *s) {
-  peri_particles *p = &s->p;
+  peri_particles *p = &s->disc.p;
   /* per-node copies of the material data the loop gathers (O(n), refreshed so that they
    * follow any change of the materials) */
 #pragma omp parallel for schedule(static)
-  for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->materials[p->material[i]].micromodulus;
+  for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->mat.materials[p->material[i]].micromodulus;
   peri_update_s0_bound(s);
   peri_node_blocks *items = peri_node_blocks_refresh(s);
   const bool uniform = items->uniform_volume;
-  const bool multi = s->n_materials > 1, thermal = s->thermal_strain != NULL;
-  const bool track_smin = s->s0_node != NULL, breaking = s->breaking;
-  const pmb_loops *loops = pmb_loops_for(track_smin ? pmb_set_smin : pmb_set, multi, thermal, uniform, s->family.influence);
+  const bool multi = s->mat.n_materials > 1, thermal = s->state.thermal_strain != NULL;
+  const bool track_smin = s->mat.s0_node != NULL, breaking = s->solver.breaking;
+  const pmb_loops *loops = pmb_loops_for(track_smin ? pmb_set_smin : pmb_set, multi, thermal, uniform, s->disc.family.influence);
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
   long n_broken = 0;
 #pragma omp parallel reduction(+ : n_broken)
@@ -250,7 +250,7 @@ static long pmb_force(peri_sim *s) {
       if (track_smin) p->smin[i] = r->smin;
     }
   }
-  if (s->s0_node) peri_update_lammps_s0(s);
+  if (s->mat.s0_node) peri_update_lammps_s0(s);
   return n_broken;
 }
 
@@ -360,15 +360,15 @@ PMB_ENERGY_VARIANT(pmb_energy_gaussian_thermal, true, PERI_INFLUENCE_GAUSSIAN)
 /* W_i = 1/2 sum_j w_ij beta V_j, on the node blocks like the force. Not on the time-step
  * path (history rows only). */
 static void pmb_energy(peri_sim *s, double *W) {
-  peri_particles *p = &s->p;
+  peri_particles *p = &s->disc.p;
 #pragma omp parallel for schedule(static)
-  for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->materials[p->material[i]].micromodulus;
+  for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->mat.materials[p->material[i]].micromodulus;
   const peri_node_blocks *items = peri_node_blocks_refresh(s);
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
-  const bool thermal = s->thermal_strain != NULL;
+  const bool thermal = s->state.thermal_strain != NULL;
   const pmb_energy_loops *loops = thermal ? &pmb_energy_constant_thermal : &pmb_energy_constant;
-  if (s->family.influence == PERI_INFLUENCE_INVERSE) loops = thermal ? &pmb_energy_inverse_thermal : &pmb_energy_inverse;
-  if (s->family.influence == PERI_INFLUENCE_GAUSSIAN)
+  if (s->disc.family.influence == PERI_INFLUENCE_INVERSE) loops = thermal ? &pmb_energy_inverse_thermal : &pmb_energy_inverse;
+  if (s->disc.family.influence == PERI_INFLUENCE_GAUSSIAN)
     loops = thermal ? &pmb_energy_gaussian_thermal : &pmb_energy_gaussian;
 #pragma omp parallel
   PERI_FOR_EACH_ITEM(items, item) {
@@ -385,12 +385,12 @@ static void pmb_energy(peri_sim *s, double *W) {
 }
 
 static double pmb_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
   const int32_t j = b->neighbor[k];
   const double r0 = peri_bond_length(p->x, i, j);
-  const double stretch = (r - r0) / r0 - peri_bond_thermal_stretch(s->thermal_strain, i, j);
-  const double c = 0.5 * (s->materials[p->material[i]].micromodulus + s->materials[p->material[j]].micromodulus);
+  const double stretch = (r - r0) / r0 - peri_bond_thermal_stretch(s->state.thermal_strain, i, j);
+  const double c = 0.5 * (s->mat.materials[p->material[i]].micromodulus + s->mat.materials[p->material[j]].micromodulus);
   return c * stretch * peri_bonds_omega(b, r0);
 }
 

@@ -11,10 +11,10 @@
 #include "bond_kernel.h"
 
 void peri_pmb_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
-  const peri_material *mats = s->materials;
-  const double *eth = s->thermal_strain;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const peri_material *mats = s->mat.materials;
+  const double *eth = s->state.thermal_strain;
   int64_t longest = 0;
   for (int32_t i = 0; i < p->n_owned; ++i)
     if (b->offset[i + 1] - b->offset[i] > longest) longest = b->offset[i + 1] - b->offset[i];

@@ -129,17 +129,17 @@ static double algorithm1_argument(double r, double delta, double dx) {
 }
 
 static double node_gfac(const peri_sim *s) {
-  if (s->geom.dim == 2) return s->geom.thickness;
-  if (s->geom.dim == 1) return s->geom.cross_section;
+  if (s->disc.geom.dim == 2) return s->disc.geom.thickness;
+  if (s->disc.geom.dim == 1) return s->disc.geom.cross_section;
   return 1.0;
 }
 
 int peri_thermal_build(peri_sim *s) {
   peri_thermal *th = s->thermal;
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
-  const int dim = s->geom.dim;
-  const double dx = s->geom.spacing, delta = s->geom.horizon, gfac = node_gfac(s);
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const int dim = s->disc.geom.dim;
+  const double dx = s->disc.geom.spacing, delta = s->disc.geom.horizon, gfac = node_gfac(s);
   const int32_t n = p->n_owned;
   const size_t nb = (size_t)(b->n_bonds > 0 ? b->n_bonds : 1);
   th->n = n;
@@ -149,7 +149,7 @@ int peri_thermal_build(peri_sim *s) {
   th->Hs = peri_calloc(nb, sizeof(double));
   th->alg_axis = peri_calloc((size_t)n, sizeof(int8_t));
   for (int32_t i = 0; i < n; ++i) {
-    const peri_material *m = &s->materials[p->material[i]];
+    const peri_material *m = &s->mat.materials[p->material[i]];
     th->rhoc[i] = m->density * m->specific_heat;
     th->area[i] = p->volume[i] / gfac;
   }
@@ -181,11 +181,11 @@ int peri_thermal_build(peri_sim *s) {
   const int shell = dim == 1 ? 2 : dim == 2 ? 8 : 26;
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < n; ++i) {
-    const double ki = s->materials[p->material[i]].conductivity;
+    const double ki = s->mat.materials[p->material[i]].conductivity;
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       const int32_t j = b->neighbor[k];
       const double r = peri_bond_length(p->x, i, j);
-      const double kb = peri_thermal_bond_kappa(th->bond_rule, ki, s->materials[p->material[j]].conductivity);
+      const double kb = peri_thermal_bond_kappa(th->bond_rule, ki, s->mat.materials[p->material[j]].conductivity);
       double f, arg;
       if (bobaru) {
         f = algorithm1_factor(r, delta, dx);
@@ -232,12 +232,12 @@ static int heat_only_init(peri_sim *s) {
 }
 
 static long heat_only_force(peri_sim *s) {
-  memset(s->p.f, 0, sizeof(double) * 3 * (size_t)s->p.n_owned);
+  memset(s->disc.p.f, 0, sizeof(double) * 3 * (size_t)s->disc.p.n_owned);
   return 0;
 }
 
 static void heat_only_energy(peri_sim *s, double *W) {
-  memset(W, 0, sizeof(double) * (size_t)s->p.n_owned);
+  memset(W, 0, sizeof(double) * (size_t)s->disc.p.n_owned);
 }
 
 const peri_model_ops peri_model_heat_only = {

@@ -136,7 +136,7 @@ static void build_halo(peri_decomposition *d, const peri_bonds *global, int32_t 
   free(neighbor);
 }
 
-static void exchange(peri_sim *s, double *field, int ncomp) { peri_halo_exchange(&s->dd->halo, field, ncomp); }
+static void exchange(peri_sim *s, double *field, int ncomp) { peri_halo_exchange(&s->par.dd->halo, field, ncomp); }
 
 static void localize_particles(peri_particles *p, const int32_t *ids, int32_t n_local, int32_t n_owned) {
   LOCALIZE(p->x, 3 * sizeof(double), ids, n_local);
@@ -181,8 +181,8 @@ static void localize_bonds(peri_bonds *b, int64_t g0, int64_t g1, const int32_t 
 }
 
 static void localize_regions(peri_sim *s, int64_t g0, int64_t g1) {
-  for (int r = 0; r < s->n_regions; ++r) {
-    peri_region *reg = &s->regions[r];
+  for (int r = 0; r < s->cond.n_regions; ++r) {
+    peri_region *reg = &s->cond.regions[r];
     int32_t kept = 0;
     for (int32_t a = 0; a < reg->count; ++a)
       if (reg->nodes[a] >= g0 && reg->nodes[a] < g1) reg->nodes[kept++] = (int32_t)(reg->nodes[a] - g0);
@@ -210,7 +210,7 @@ static void localize_thermal(peri_sim *s, const int32_t *ids, int32_t n_local, i
   SLICE(th->H, sizeof(double), from, count);
   SLICE(th->Hs, sizeof(double), from, count);
   if (th->own_cut) SLICE(th->cut, sizeof(uint8_t), from, count);
-  else th->cut = s->bonds.broken;
+  else th->cut = s->disc.bonds.broken;
   int64_t kept = 0, next = 0;
   for (int64_t a = 0; a < th->n_growing_bonds; ++a) {
     const int64_t k = th->growing_bond[a];
@@ -226,8 +226,8 @@ static void localize_thermal(peri_sim *s, const int32_t *ids, int32_t n_local, i
 int peri_decompose(peri_sim *s) {
   const int size = peri_comm_size(), rank = peri_comm_rank();
   if (size == 1) return PERI_OK;
-  peri_particles *p = &s->p;
-  peri_bonds *b = &s->bonds;
+  peri_particles *p = &s->disc.p;
+  peri_bonds *b = &s->disc.bonds;
   peri_decomposition *d = peri_calloc(1, sizeof *d);
   d->rank = rank;
   d->size = size;
@@ -264,16 +264,16 @@ int peri_decompose(peri_sim *s) {
   for (int32_t g = 0; g < p->n; ++g)
     if (local_of[g] >= 0) d->global_id[local_of[g]] = g;
 
-  s->dd = d;
+  s->par.dd = d;
   build_halo(d, b, n_owned, n_local); /* needs the global families */
 
   const int32_t *ids = d->global_id;
   const int64_t bond_from = b->offset[g0], bond_count = b->offset[g1] - bond_from;
   localize_particles(p, ids, n_local, n_owned);
-  LOCALIZE(s->s0_node, sizeof(double), ids, n_local);
-  LOCALIZE(s->thermal_strain, sizeof(double), ids, n_local);
-  free(s->prescribed);
-  s->prescribed = peri_calloc(3 * (size_t)(n_local > 0 ? n_local : 1), 1);
+  LOCALIZE(s->mat.s0_node, sizeof(double), ids, n_local);
+  LOCALIZE(s->state.thermal_strain, sizeof(double), ids, n_local);
+  free(s->cond.prescribed);
+  s->cond.prescribed = peri_calloc(3 * (size_t)(n_local > 0 ? n_local : 1), 1);
   localize_regions(s, g0, g1);
   if (s->thermal) {
     const bool shared_cut = !s->thermal->own_cut;
@@ -284,15 +284,15 @@ int peri_decompose(peri_sim *s) {
     localize_bonds(b, g0, g1, local_of);
   }
   free(local_of);
-  s->exchange = exchange;
+  s->par.exchange = exchange;
   return PERI_OK;
 }
 
 void peri_print_decomposition(const peri_sim *s, FILE *out) {
-  const peri_decomposition *d = s->dd;
+  const peri_decomposition *d = s->par.dd;
   if (!d) return;
   enum { STATS = 4 };
-  const double mine[STATS] = {(double)s->p.n_owned, (double)(s->p.n - s->p.n_owned), (double)d->halo.n_neighbors,
+  const double mine[STATS] = {(double)s->disc.p.n_owned, (double)(s->disc.p.n - s->disc.p.n_owned), (double)d->halo.n_neighbors,
                               (double)peri_halo_send_volume(&d->halo)};
   int64_t *counts = peri_malloc(sizeof(int64_t) * (size_t)d->size);
   for (int r = 0; r < d->size; ++r) counts[r] = STATS;
@@ -317,8 +317,8 @@ void peri_print_decomposition(const peri_sim *s, FILE *out) {
 }
 
 void peri_exchange_state(peri_sim *s) {
-  peri_sim_exchange(s, s->p.u, 3);
-  if (s->s0_node) peri_sim_exchange(s, s->s0_node, 1);
+  peri_sim_exchange(s, s->disc.p.u, 3);
+  if (s->mat.s0_node) peri_sim_exchange(s, s->mat.s0_node, 1);
 }
 
 void peri_decomposition_free(peri_decomposition *d) {

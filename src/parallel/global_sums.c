@@ -9,10 +9,10 @@
 
 enum { MAX_COMPONENTS = 9 };
 
-int64_t peri_sum_blocks_owned(const peri_sim *s) { return (s->p.n_owned + PERI_SUM_BLOCK - 1) / PERI_SUM_BLOCK; }
+int64_t peri_sum_blocks_owned(const peri_sim *s) { return (s->disc.p.n_owned + PERI_SUM_BLOCK - 1) / PERI_SUM_BLOCK; }
 
 void peri_sum_owned(const peri_sim *s, const double *terms, int ncomp, double *out) {
-  const int32_t n = s->p.n_owned;
+  const int32_t n = s->disc.p.n_owned;
   const int64_t n_blocks = peri_sum_blocks_owned(s);
   double *block = peri_calloc((size_t)(n_blocks > 0 ? n_blocks : 1) * (size_t)ncomp, sizeof(double));
 #pragma omp parallel for schedule(static) if (n_blocks > 16)
@@ -30,7 +30,7 @@ void peri_sum_owned(const peri_sim *s, const double *terms, int ncomp, double *o
 
 void peri_sum_blocks(const peri_sim *s, const double *block, int ncomp, double *out) {
   const int64_t n_blocks = peri_sum_blocks_owned(s);
-  const peri_decomposition *d = s->dd;
+  const peri_decomposition *d = s->par.dd;
   double total[MAX_COMPONENTS] = {0};
   if (!d) {
     for (int64_t k = 0; k < n_blocks; ++k)
@@ -53,34 +53,34 @@ void peri_sum_blocks(const peri_sim *s, const double *block, int ncomp, double *
   for (int c = 0; c < ncomp; ++c) out[c] = total[c];
 }
 
-int64_t peri_global_nodes(const peri_sim *s) { return s->dd ? s->dd->n_global : s->p.n_owned; }
-int64_t peri_global_bonds(const peri_sim *s) { return s->dd ? s->dd->n_bonds_global : s->bonds.n_bonds; }
+int64_t peri_global_nodes(const peri_sim *s) { return s->par.dd ? s->par.dd->n_global : s->disc.p.n_owned; }
+int64_t peri_global_bonds(const peri_sim *s) { return s->par.dd ? s->par.dd->n_bonds_global : s->disc.bonds.n_bonds; }
 long peri_global_broken(const peri_sim *s) {
-  const long local = peri_broken_count(&s->bonds);
-  return s->dd ? peri_comm_sum_long(local) : local;
+  const long local = peri_broken_count(&s->disc.bonds);
+  return s->par.dd ? peri_comm_sum_long(local) : local;
 }
 
 void peri_gather_owned(const peri_sim *s, const double *local, int ncomp, double *out) {
-  const peri_decomposition *d = s->dd;
+  const peri_decomposition *d = s->par.dd;
   if (!d) {
-    memcpy(out, local, sizeof(double) * (size_t)ncomp * (size_t)s->p.n_owned);
+    memcpy(out, local, sizeof(double) * (size_t)ncomp * (size_t)s->disc.p.n_owned);
     return;
   }
   int64_t *counts = peri_malloc(sizeof(int64_t) * (size_t)d->size);
   for (int r = 0; r < d->size; ++r) counts[r] = d->owned[r] * ncomp;
-  peri_comm_gather_doubles(local, (int64_t)s->p.n_owned * ncomp, counts, out);
+  peri_comm_gather_doubles(local, (int64_t)s->disc.p.n_owned * ncomp, counts, out);
   free(counts);
 }
 
 void peri_gather_owned_bonds(const peri_sim *s, const uint8_t *local, uint8_t *out) {
-  const peri_decomposition *d = s->dd;
+  const peri_decomposition *d = s->par.dd;
   if (!d) {
-    if (s->bonds.n_bonds > 0) memcpy(out, local, (size_t)s->bonds.n_bonds);
+    if (s->disc.bonds.n_bonds > 0) memcpy(out, local, (size_t)s->disc.bonds.n_bonds);
     return;
   }
   /* each rank's families are one contiguous run of the global bond order, in rank order */
   int64_t *counts = peri_malloc(sizeof(int64_t) * (size_t)d->size);
   for (int r = 0; r < d->size; ++r) counts[r] = d->bond_first[r + 1] - d->bond_first[r];
-  peri_comm_gather_bytes(local, s->bonds.n_bonds, counts, out);
+  peri_comm_gather_bytes(local, s->disc.bonds.n_bonds, counts, out);
   free(counts);
 }

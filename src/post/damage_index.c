@@ -3,8 +3,8 @@
 #include "peri/damage.h"
 
 void peri_damage_index(const peri_sim *s, double *phi) {
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const int64_t k0 = b->offset[i], count = b->offset[i + 1] - k0;

@@ -8,15 +8,15 @@
 #include "peri/solver.h"
 
 static double *node_terms(const peri_sim *s, int ncomp) {
-  return peri_calloc((size_t)(s->p.n_owned > 0 ? s->p.n_owned : 1) * (size_t)ncomp, sizeof(double));
+  return peri_calloc((size_t)(s->disc.p.n_owned > 0 ? s->disc.p.n_owned : 1) * (size_t)ncomp, sizeof(double));
 }
 
 double peri_kinetic_energy(const peri_sim *s) {
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
   double *terms = node_terms(s, 1), sum = 0.0;
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const double *v = &p->v[3 * i];
-    double rho = s->materials[p->material[i]].density;
+    double rho = s->mat.materials[p->material[i]].density;
     terms[i] = 0.5 * rho * p->volume[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   }
   peri_sum_owned(s, terms, 1, &sum);
@@ -25,10 +25,10 @@ double peri_kinetic_energy(const peri_sim *s) {
 }
 
 void peri_linear_momentum(const peri_sim *s, double out[3]) {
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
   double *terms = node_terms(s, 3);
   for (int32_t i = 0; i < p->n_owned; ++i) {
-    double m = s->materials[p->material[i]].density * p->volume[i];
+    double m = s->mat.materials[p->material[i]].density * p->volume[i];
     for (int d = 0; d < 3; ++d) terms[3 * i + d] = m * p->v[3 * i + d];
   }
   peri_sum_owned(s, terms, 3, out);
@@ -36,9 +36,9 @@ void peri_linear_momentum(const peri_sim *s, double out[3]) {
 }
 
 double peri_strain_energy(peri_sim *s) {
-  peri_particles *p = &s->p;
+  peri_particles *p = &s->disc.p;
   if (!p->energy) p->energy = peri_calloc(p->n, sizeof(double));
-  s->model->energy(s, p->energy);
+  s->mat.model->energy(s, p->energy);
   double *terms = node_terms(s, 1), sum = 0.0;
   for (int32_t i = 0; i < p->n_owned; ++i) terms[i] = p->energy[i] * p->volume[i];
   peri_sum_owned(s, terms, 1, &sum);
@@ -47,8 +47,8 @@ double peri_strain_energy(peri_sim *s) {
 }
 
 void peri_region_reaction(const peri_sim *s, int region, double out[3]) {
-  const peri_particles *p = &s->p;
-  const peri_region *r = &s->regions[region];
+  const peri_particles *p = &s->disc.p;
+  const peri_region *r = &s->cond.regions[region];
   double *terms = node_terms(s, 3); /* zero outside the region */
   for (int32_t a = 0; a < r->count; ++a) {
     int32_t i = r->nodes[a];

@@ -21,15 +21,15 @@ struct peri_frames {
 
 /* Stress (and its measures) of the current state into the frame buffers. */
 static int compute_stress(peri_frames *f, peri_sim *s) {
-  const size_t n = (size_t)s->p.n_owned;
+  const size_t n = (size_t)s->disc.p.n_owned;
   if (!f->stress) {
     f->stress = peri_malloc(sizeof(double) * 9 * n);
     f->von_mises = peri_malloc(sizeof(double) * n);
     f->principal = peri_malloc(sizeof(double) * 3 * n);
   }
-  if (s->p.theta && s->p.pstate) { /* LPS pair forces read the ghosts' theta and P (MPI ranks) */
-    peri_sim_exchange(s, s->p.theta, 1);
-    peri_sim_exchange(s, s->p.pstate, 1);
+  if (s->disc.p.theta && s->disc.p.pstate) { /* LPS pair forces read the ghosts' theta and P (MPI ranks) */
+    peri_sim_exchange(s, s->disc.p.theta, 1);
+    peri_sim_exchange(s, s->disc.p.pstate, 1);
   }
   int rc = peri_stress(s, f->stress);
   if (rc == PERI_OK) peri_stress_measures(s, f->stress, f->von_mises, f->principal);
@@ -51,25 +51,25 @@ peri_frames *peri_frames_open(const peri_sim *s) {
     free(f);
     return NULL;
   }
-  f->points = peri_malloc(sizeof(double) * 3 * (size_t)s->p.n);
-  f->damage = peri_malloc(sizeof(double) * (size_t)s->p.n);
+  f->points = peri_malloc(sizeof(double) * 3 * (size_t)s->disc.p.n);
+  f->damage = peri_malloc(sizeof(double) * (size_t)s->disc.p.n);
   return f;
 }
 
 static void current_positions(const peri_sim *s, double *points) {
-  for (size_t c = 0; c < 3 * (size_t)s->p.n_owned; ++c) points[c] = s->p.x[c] + s->p.u[c];
+  for (size_t c = 0; c < 3 * (size_t)s->disc.p.n_owned; ++c) points[c] = s->disc.p.x[c] + s->disc.p.u[c];
 }
 
 /* MPI ranks (docs/parallel.md): each rank with nodes writes its piece <base>_<frame>_<rank>.vtu,
  * rank 0 the index <base>_<frame>.pvtu that the .pvd lists. */
 static int write_pieces(peri_frames *f, peri_sim *s, const peri_field *fields, int nf) {
-  const peri_decomposition *d = s->dd;
+  const peri_decomposition *d = s->par.dd;
   char file[512], path[4700];
   int rc = PERI_OK;
-  if (s->p.n_owned > 0) {
+  if (s->disc.p.n_owned > 0) {
     snprintf(file, sizeof file, "%s_%06d_%d.vtu", s->out.basename, f->count, d->rank);
     snprintf(path, sizeof path, "%s/%s", s->out.directory, file);
-    rc = peri_vtu_write(path, s->p.n_owned, f->points, fields, nf, s->out.compress);
+    rc = peri_vtu_write(path, s->disc.p.n_owned, f->points, fields, nf, s->out.compress);
   }
   if (d->rank == 0 && rc == PERI_OK) {
     char **pieces = peri_calloc((size_t)d->size, sizeof(char *));
@@ -82,7 +82,7 @@ static int write_pieces(peri_frames *f, peri_sim *s, const peri_field *fields, i
     snprintf(file, sizeof file, "%s_%06d.pvtu", s->out.basename, f->count);
     snprintf(path, sizeof path, "%s/%s", s->out.directory, file);
     rc = peri_pvtu_write(path, (const char *const *)pieces, n_pieces, fields, nf);
-    if (rc == PERI_OK) rc = peri_pvd_add(f->pvd, s->time, file);
+    if (rc == PERI_OK) rc = peri_pvd_add(f->pvd, s->state.time, file);
     for (int k = 0; k < n_pieces; ++k) free(pieces[k]);
     free(pieces);
   }
@@ -91,7 +91,7 @@ static int write_pieces(peri_frames *f, peri_sim *s, const peri_field *fields, i
 }
 
 int peri_frames_write(peri_frames *f, peri_sim *s) {
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
   current_positions(s, f->points);
   peri_damage_index(s, f->damage);
   peri_field fields[16];
@@ -112,7 +112,7 @@ int peri_frames_write(peri_frames *f, peri_sim *s) {
     else if (!strcmp(name, "volume")) fl.data = p->volume;
     else if (!strcmp(name, "strain_energy_density")) {
       peri_strain_energy(s);
-      fl.data = s->p.energy;
+      fl.data = s->disc.p.energy;
     } else if (!strcmp(name, "stress") || !strcmp(name, "von_mises") || !strcmp(name, "principal_stress")) {
       if (!stress_done && compute_stress(f, s) != PERI_OK) return PERI_ERR_RUN;
       stress_done = true;
@@ -132,13 +132,13 @@ int peri_frames_write(peri_frames *f, peri_sim *s) {
     fields[nf++] = fl;
   }
   char file[512], path[4700];
-  if (s->dd) return write_pieces(f, s, fields, nf);
+  if (s->par.dd) return write_pieces(f, s, fields, nf);
   snprintf(file, sizeof file, "%s_%06d.vtu", s->out.basename, f->count);
   snprintf(path, sizeof path, "%s/%s", s->out.directory, file);
   int rc = peri_vtu_write(path, p->n_owned, f->points, fields, nf, s->out.compress);
   if (rc != PERI_OK) return rc;
   f->count++;
-  return peri_pvd_add(f->pvd, s->time, file);
+  return peri_pvd_add(f->pvd, s->state.time, file);
 }
 
 int peri_frames_resume(peri_frames *f, long next, long n_listed, const double *times, char *const *files) {
@@ -151,7 +151,7 @@ int peri_frames_resume(peri_frames *f, long next, long n_listed, const double *t
 long peri_frames_written(const peri_frames *f) { return f->count; }
 
 int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
   current_positions(s, f->points);
   const char *name = s->out.picture_field;
   double *values = peri_malloc(sizeof(double) * (size_t)p->n_owned);
@@ -198,22 +198,22 @@ int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
   }
   snprintf(path_out, n, "%s/%s.png", s->out.directory, name);
   char title[256];
-  snprintf(title, sizeof title, "%s  (t = %.4g s)", name, s->time);
+  snprintf(title, sizeof title, "%s  (t = %.4g s)", name, s->state.time);
   int rc = PERI_OK;
-  if (s->dd) { /* MPI ranks: rank 0 draws every node, gathered in global order */
+  if (s->par.dd) { /* MPI ranks: rank 0 draws every node, gathered in global order */
     const size_t all = (size_t)peri_global_nodes(s);
-    double *points = s->dd->rank == 0 ? peri_malloc(sizeof(double) * 3 * (all > 0 ? all : 1)) : NULL;
-    double *every = s->dd->rank == 0 ? peri_malloc(sizeof(double) * (all > 0 ? all : 1)) : NULL;
+    double *points = s->par.dd->rank == 0 ? peri_malloc(sizeof(double) * 3 * (all > 0 ? all : 1)) : NULL;
+    double *every = s->par.dd->rank == 0 ? peri_malloc(sizeof(double) * (all > 0 ? all : 1)) : NULL;
     peri_gather_owned(s, f->points, 3, points);
     peri_gather_owned(s, values, 1, every);
-    if (s->dd->rank == 0)
-      rc = peri_png_write_field(path_out, (int32_t)all, points, every, vmin, vmax, s->geom.spacing,
+    if (s->par.dd->rank == 0)
+      rc = peri_png_write_field(path_out, (int32_t)all, points, every, vmin, vmax, s->disc.geom.spacing,
                                 s->out.picture_width, title);
     free(points);
     free(every);
     rc = peri_comm_max_int(rc);
   } else {
-    rc = peri_png_write_field(path_out, p->n_owned, f->points, values, vmin, vmax, s->geom.spacing,
+    rc = peri_png_write_field(path_out, p->n_owned, f->points, values, vmin, vmax, s->disc.geom.spacing,
                               s->out.picture_width, title);
   }
   free(values);

@@ -12,8 +12,8 @@
  * docs/parallel.md; a no-op in one process). */
 /* The extent of the missing dimensions (thickness in 2D, cross-section in 1D): node areas times it are volumes. */
 static double gfac_of(const peri_sim *s) {
-  if (s->geom.dim == 2) return s->geom.thickness;
-  if (s->geom.dim == 1) return s->geom.cross_section;
+  if (s->disc.geom.dim == 2) return s->disc.geom.thickness;
+  if (s->disc.geom.dim == 1) return s->disc.geom.cross_section;
   return 1.0;
 }
 
@@ -30,9 +30,9 @@ double peri_thermal_total_heat(const peri_sim *s) {
 
 double peri_thermal_region_inflow(const peri_sim *s, int region) {
   const peri_thermal *th = s->thermal;
-  const peri_bonds *b = &s->bonds;
-  const peri_region *r = &s->regions[region];
-  const int32_t n_all = s->p.n; /* owned and ghosts: membership of ghosts from their owners */
+  const peri_bonds *b = &s->disc.bonds;
+  const peri_region *r = &s->cond.regions[region];
+  const int32_t n_all = s->disc.p.n; /* owned and ghosts: membership of ghosts from their owners */
   double *in = peri_calloc((size_t)(n_all > 0 ? n_all : 1), sizeof(double));
   double *terms = peri_calloc((size_t)(th->n > 0 ? th->n : 1), sizeof(double));
   for (int32_t a = 0; a < r->count; ++a) in[r->nodes[a]] = 1.0;
@@ -58,8 +58,8 @@ double peri_thermal_region_inflow(const peri_sim *s, int region) {
 
 void peri_thermal_flux(const peri_sim *s) {
   const peri_thermal *th = s->thermal;
-  const peri_bonds *b = &s->bonds;
-  const double *x = s->p.x;
+  const peri_bonds *b = &s->disc.bonds;
+  const double *x = s->disc.p.x;
   exchange(s, th->T);
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < th->n; ++i) {

@@ -24,9 +24,9 @@ static void add(column_list *c, const char *name) {
 /* name_<region>_<axis> for every named region (region 0 is the whole body) and axis */
 static void add_per_region_axis(column_list *c, const peri_sim *s, const char *what) {
   char buf[300];
-  for (int r = 1; r < s->n_regions; ++r)
-    for (int d = 0; d < s->geom.dim; ++d) {
-      snprintf(buf, sizeof buf, "%s_%s_%c", what, s->regions[r].name, "xyz"[d]);
+  for (int r = 1; r < s->cond.n_regions; ++r)
+    for (int d = 0; d < s->disc.geom.dim; ++d) {
+      snprintf(buf, sizeof buf, "%s_%s_%c", what, s->cond.regions[r].name, "xyz"[d]);
       add(c, buf);
     }
 }
@@ -37,10 +37,10 @@ static void heat_columns(column_list *c, const peri_sim *s) {
                                       "broken_bond_fraction"};
   for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; ++k) add(c, fixed[k]);
   char buf[300];
-  for (int r = 1; r < s->n_regions; ++r) {
-    snprintf(buf, sizeof buf, "mean_temperature_%s", s->regions[r].name);
+  for (int r = 1; r < s->cond.n_regions; ++r) {
+    snprintf(buf, sizeof buf, "mean_temperature_%s", s->cond.regions[r].name);
     add(c, buf);
-    snprintf(buf, sizeof buf, "heat_inflow_%s", s->regions[r].name);
+    snprintf(buf, sizeof buf, "heat_inflow_%s", s->cond.regions[r].name);
     add(c, buf);
   }
 }
@@ -51,18 +51,18 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
                                       "energy_balance", "broken_bond_fraction"};
   for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; ++k) add(c, fixed[k]);
   char buf[64];
-  for (int d = 0; d < s->geom.dim; ++d) {
+  for (int d = 0; d < s->disc.geom.dim; ++d) {
     snprintf(buf, sizeof buf, "momentum_%c", "xyz"[d]);
     add(c, buf);
   }
-  for (int d = 0; s->indenter.on && d < s->geom.dim; ++d) {
+  for (int d = 0; s->cond.indenter.on && d < s->disc.geom.dim; ++d) {
     snprintf(buf, sizeof buf, "indenter_force_%c", "xyz"[d]);
     add(c, buf);
   }
   add_per_region_axis(c, s, "reaction");
   const bool qs = peri_is_quasi_static(s);
   if (qs) add_per_region_axis(c, s, "displacement"); /* the imposed displacements */
-  if (qs && s->qs.dynamic.on) { /* the switch to dynamics (docs/solvers.md section 4) */
+  if (qs && s->solver.qs.dynamic.on) { /* the switch to dynamics (docs/solvers.md section 4) */
     add(c, "phase");
     add(c, "dynamic_time");
   }
@@ -80,7 +80,7 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
 
 char **peri_history_columns(const peri_sim *s, int *count) {
   column_list c = {0};
-  if (s->solver == PERI_SOLVER_HEAT) heat_columns(&c, s);
+  if (s->solver.kind == PERI_SOLVER_HEAT) heat_columns(&c, s);
   else mechanical_columns(&c, s);
   *count = c.count;
   return c.names;

@@ -99,10 +99,10 @@ int peri_probe_check(const char *name, char *why, size_t n) {
 
 static double field_value(const peri_sim *s, const probe *p, const double *sigma, const double *eps, int32_t i) {
   switch (p->field) {
-  case F_VM: return peri_von_mises(s, &sigma[9 * (size_t)i], s->materials[s->p.material[i]].nu);
+  case F_VM: return peri_von_mises(s, &sigma[9 * (size_t)i], s->mat.materials[s->disc.p.material[i]].nu);
   case F_STRESS: return sigma[9 * (size_t)i + 3 * p->a + p->b];
   case F_STRAIN: return eps[9 * (size_t)i + 3 * p->a + p->b];
-  default: return s->p.u[3 * (size_t)i + p->a];
+  default: return s->disc.p.u[3 * (size_t)i + p->a];
   }
 }
 
@@ -113,12 +113,12 @@ int peri_probe(peri_sim *s, const char *name, double *value) {
     peri_error("%s", why);
     return PERI_ERR_RUN;
   }
-  const peri_particles *pt = &s->p;
+  const peri_particles *pt = &s->disc.p;
   const int32_t n = pt->n_owned;
   if (p.kind == P_NODES) return *value = n, PERI_OK;
   if (p.kind == P_REACTION) {
-    for (int r = 0; r < s->n_regions; ++r)
-      if (!strcmp(s->regions[r].name, p.region)) {
+    for (int r = 0; r < s->cond.n_regions; ++r)
+      if (!strcmp(s->cond.regions[r].name, p.region)) {
         double out[3];
         peri_region_reaction(s, r, out);
         return *value = out[p.a], PERI_OK;
@@ -126,7 +126,7 @@ int peri_probe(peri_sim *s, const char *name, double *value) {
     peri_error("quantity 'reaction_%s_%c': the deck has no region '%s'", p.region, "xyz"[p.a], p.region);
     return PERI_ERR_RUN;
   }
-  if (p.kind == P_ITERATIONS) return *value = (double)s->qs.iterations, PERI_OK;
+  if (p.kind == P_ITERATIONS) return *value = (double)s->solver.qs.iterations, PERI_OK;
   if (p.kind == P_ENERGY) return *value = peri_strain_energy(s), PERI_OK;
   if (p.kind == P_MAX_U) {
     double m = 0.0;
@@ -144,7 +144,7 @@ int peri_probe(peri_sim *s, const char *name, double *value) {
   if (rc == PERI_OK) {
     if (p.kind == P_MAX_VM) {
       double m = 0.0;
-      for (int32_t i = 0; i < n; ++i) m = fmax(m, peri_von_mises(s, &sigma[9 * (size_t)i], s->materials[pt->material[i]].nu));
+      for (int32_t i = 0; i < n; ++i) m = fmax(m, peri_von_mises(s, &sigma[9 * (size_t)i], s->mat.materials[pt->material[i]].nu));
       *value = m;
     } else if (p.kind == P_POINT) {
       int32_t best = -1;
@@ -157,7 +157,7 @@ int peri_probe(peri_sim *s, const char *name, double *value) {
       *value = best >= 0 ? field_value(s, &p, sigma, eps, best) : NAN;
     } else { /* mean over the column nearest to the plane */
       double nearest = INFINITY, column = INFINITY;
-      const double tol = 1e-9 * s->geom.spacing;
+      const double tol = 1e-9 * s->disc.geom.spacing;
       for (int32_t i = 0; i < n; ++i) nearest = fmin(nearest, fabs(pt->x[3 * i + p.axis] - p.point[0]));
       for (int32_t i = 0; i < n; ++i) /* the lower of two equidistant columns */
         if (fabs(pt->x[3 * i + p.axis] - p.point[0]) <= nearest + tol) column = fmin(column, pt->x[3 * i + p.axis]);

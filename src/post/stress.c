@@ -8,17 +8,17 @@
 #include "peri/stress.h"
 
 int peri_stress(peri_sim *s, double *sigma) {
-  peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
-  if (!s->model->pair_force) {
-    peri_error("stress recovery is not available for the %s model", s->model->name);
+  peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  if (!s->mat.model->pair_force) {
+    peri_error("stress recovery is not available for the %s model", s->mat.model->name);
     return PERI_ERR_RUN;
   }
   /* the forces refresh the dilatation (LPS) at the current displacement */
-  const bool breaking = s->breaking;
-  s->breaking = false;
-  s->model->force(s);
-  s->breaking = breaking;
+  const bool breaking = s->solver.breaking;
+  s->solver.breaking = false;
+  s->mat.model->force(s);
+  s->solver.breaking = breaking;
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double sg[9] = {0};
@@ -33,7 +33,7 @@ int peri_stress(peri_sim *s, double *sigma) {
       }
       if (!(r2 > 0.0)) continue;
       const double r = sqrt(r2);
-      const double pair = s->model->pair_force(s, i, k, r); /* t_ij + t_ji */
+      const double pair = s->mat.model->pair_force(s, i, k, r); /* t_ij + t_ji */
       const double scale = 0.5 * pair * peri_bonds_beta(b, peri_bond_length(p->x, i, j)) * p->volume[j] / r;
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c) sg[3 * a + c] += scale * dy[a] * xi[c];
@@ -71,10 +71,10 @@ static bool invert(const double a[9], int dim, double inv[9]) {
 }
 
 void peri_strain(const peri_sim *s, double *eps) {
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
-  const int dim = s->geom.dim;
-  const bool plane_stress = dim == 2 && s->geom.plane == PERI_PLANE_STRESS;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const int dim = s->disc.geom.dim;
+  const bool plane_stress = dim == 2 && s->disc.geom.plane == PERI_PLANE_STRESS;
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double A[9] = {0}, K[9] = {0}, Kinv[9], F[9] = {0};
@@ -103,22 +103,22 @@ void peri_strain(const peri_sim *s, double *eps) {
     for (int a = 0; a < dim; ++a)
       for (int c = 0; c < dim; ++c) e[3 * a + c] = 0.5 * (F[3 * a + c] + F[3 * c + a]) - (a == c ? 1.0 : 0.0);
     if (plane_stress) {
-      const double nu = s->materials[p->material[i]].nu;
+      const double nu = s->mat.materials[p->material[i]].nu;
       e[8] = -nu / (1.0 - nu) * (e[0] + e[4]);
     }
   }
 }
 
 static double out_of_plane(const peri_sim *s, const double sig[9], double nu) {
-  if (s->geom.dim == 2 && s->geom.plane == PERI_PLANE_STRAIN) return nu * (sig[0] + sig[4]);
-  if (s->geom.dim == 3) return sig[8];
+  if (s->disc.geom.dim == 2 && s->disc.geom.plane == PERI_PLANE_STRAIN) return nu * (sig[0] + sig[4]);
+  if (s->disc.geom.dim == 3) return sig[8];
   return 0.0;
 }
 
 double peri_von_mises(const peri_sim *s, const double sig[9], double nu) {
-  if (s->geom.dim == 1) return fabs(sig[0]);
+  if (s->disc.geom.dim == 1) return fabs(sig[0]);
   const double s11 = sig[0], s22 = sig[4], s33 = out_of_plane(s, sig, nu);
-  const double s12 = sig[1], s23 = s->geom.dim == 3 ? sig[5] : 0.0, s13 = s->geom.dim == 3 ? sig[2] : 0.0;
+  const double s12 = sig[1], s23 = s->disc.geom.dim == 3 ? sig[5] : 0.0, s13 = s->disc.geom.dim == 3 ? sig[2] : 0.0;
   const double j2 = 0.5 * ((s11 - s22) * (s11 - s22) + (s22 - s33) * (s22 - s33) + (s33 - s11) * (s33 - s11)) +
                     3.0 * (s12 * s12 + s23 * s23 + s13 * s13);
   return sqrt(fmax(j2, 0.0));
@@ -135,7 +135,7 @@ static void sort3(double v[3]) {
 }
 
 void peri_principal_stresses(const peri_sim *s, const double sig[9], double nu, double out[3]) {
-  const int dim = s->geom.dim;
+  const int dim = s->disc.geom.dim;
   if (dim == 1) {
     out[0] = sig[0], out[1] = out[2] = 0.0;
     sort3(out);
@@ -170,10 +170,10 @@ void peri_principal_stresses(const peri_sim *s, const double sig[9], double nu, 
 }
 
 void peri_stress_measures(const peri_sim *s, const double *sigma, double *von_mises, double *principal) {
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n_owned; ++i) {
-    const double nu = s->materials[p->material[i]].nu;
+    const double nu = s->mat.materials[p->material[i]].nu;
     const double *sg = &sigma[9 * (size_t)i];
     if (von_mises) von_mises[i] = peri_von_mises(s, sg, nu);
     if (principal) peri_principal_stresses(s, sg, nu, &principal[3 * (size_t)i]);
@@ -181,7 +181,7 @@ void peri_stress_measures(const peri_sim *s, const double *sigma, double *von_mi
 }
 
 void peri_print_stress_summary(peri_sim *s, FILE *out) {
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
   const int32_t n = p->n_owned;
   const int size = peri_comm_size();
   double *sigma = peri_malloc(sizeof(double) * 9 * (size_t)(n > 0 ? n : 1));
@@ -191,7 +191,7 @@ void peri_print_stress_summary(peri_sim *s, FILE *out) {
   double *every = peri_malloc(sizeof(double) * 4 * (size_t)size); /* value, x of each rank's largest */
   if (peri_stress(s, sigma) == PERI_OK) { /* collective on MPI ranks (ghost dilatations) */
     peri_stress_measures(s, sigma, vm, NULL);
-    for (int m = 0; m < s->n_materials; ++m) {
+    for (int m = 0; m < s->mat.n_materials; ++m) {
       int32_t best = -1;
       for (int32_t i = 0; i < n; ++i) /* first node of the largest value: deterministic */
         if (p->material[i] == m && (best < 0 || vm[i] > vm[best])) best = i;
@@ -209,7 +209,7 @@ void peri_print_stress_summary(peri_sim *s, FILE *out) {
         if (every[4 * r] > -INFINITY && (won < 0 || every[4 * r] > every[4 * won])) won = r;
       if (won < 0) continue;
       const double *x = &every[4 * (size_t)won + 1];
-      fprintf(out, "  max von Mises %s: %.4g Pa at (%g, %g, %g)\n", s->materials[m].name, every[4 * won], x[0], x[1],
+      fprintf(out, "  max von Mises %s: %.4g Pa at (%g, %g, %g)\n", s->mat.materials[m].name, every[4 * won], x[0], x[1],
               x[2]);
     }
   }

@@ -17,7 +17,7 @@ void peri_checkpoint_path(const peri_sim *s, char *out, size_t size) {
   char name[4096];
   const char *mark = strstr(o->checkpoint_file, "{step}");
   if (mark)
-    snprintf(name, sizeof name, "%.*s%06ld%s", (int)(mark - o->checkpoint_file), o->checkpoint_file, s->step,
+    snprintf(name, sizeof name, "%.*s%06ld%s", (int)(mark - o->checkpoint_file), o->checkpoint_file, s->state.step,
              mark + strlen("{step}"));
   else
     snprintf(name, sizeof name, "%s", o->checkpoint_file);
@@ -27,9 +27,9 @@ void peri_checkpoint_path(const peri_sim *s, char *out, size_t size) {
 
 int peri_checkpoint_after_step(const peri_sim *s, const peri_checkpoint_progress *done) {
   const long every = s->out.checkpoint_every;
-  if (every < 1 || (s->step % every != 0 && s->step != s->steps)) return PERI_OK;
+  if (every < 1 || (s->state.step % every != 0 && s->state.step != s->solver.steps)) return PERI_OK;
   /* inside a dynamic phase the load step is not finished: its checkpoint comes at its end */
-  if (s->qs.phase == PERI_QS_PHASE_DYNAMIC) return PERI_OK;
+  if (s->solver.qs.phase == PERI_QS_PHASE_DYNAMIC) return PERI_OK;
   char path[8192];
   peri_checkpoint_path(s, path, sizeof path);
   char *slash = strrchr(path, '/');
@@ -37,7 +37,7 @@ int peri_checkpoint_after_step(const peri_sim *s, const peri_checkpoint_progress
     *slash = '\0';
     int rc = peri_comm_rank() == 0 ? peri_mkdir_p(path) : PERI_OK;
     *slash = '/';
-    if (s->dd) rc = peri_comm_max_int(rc); /* every rank goes on to the (collective) write, or none */
+    if (s->par.dd) rc = peri_comm_max_int(rc); /* every rank goes on to the (collective) write, or none */
     if (rc != PERI_OK) return rc;
   }
   return peri_checkpoint_write(s, path, done);

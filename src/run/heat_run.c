@@ -37,16 +37,16 @@ static int write_history(peri_sim *s, heat_ctx *c) {
     if (th->T[i] < lo) lo = th->T[i];
     if (th->T[i] > hi) hi = th->T[i];
   }
-  c->log.row[k++] = s->time;
-  c->log.row[k++] = (double)s->step;
+  c->log.row[k++] = s->state.time;
+  c->log.row[k++] = (double)s->state.step;
   c->log.row[k++] = peri_thermal_total_heat(s);
   c->log.row[k++] = peri_comm_min(lo); /* all ranks */
   c->log.row[k++] = peri_comm_max(hi);
   const int64_t n_bonds = peri_global_bonds(s);
   c->log.row[k++] = n_bonds ? (double)peri_global_broken(s) / (double)n_bonds : 0.0;
   double *terms = peri_calloc(2 * (size_t)(th->n > 0 ? th->n : 1), sizeof(double));
-  for (int r = 1; r < s->n_regions; ++r) {
-    const peri_region *reg = &s->regions[r];
+  for (int r = 1; r < s->cond.n_regions; ++r) {
+    const peri_region *reg = &s->cond.regions[r];
     for (int32_t i = 0; i < th->n; ++i) terms[2 * i] = terms[2 * i + 1] = 0.0;
     for (int32_t a = 0; a < reg->count; ++a) {
       terms[2 * reg->nodes[a]] = th->T[reg->nodes[a]] * th->area[reg->nodes[a]];
@@ -72,37 +72,37 @@ int peri_run_heat(peri_sim *s) {
     peri_history_log_close(&c.log);
     return PERI_ERR_RUN;
   }
-  const bool progress = !s->quiet && isatty(STDERR_FILENO);
+  const bool progress = !s->out.quiet && isatty(STDERR_FILENO);
   int rc = PERI_OK;
-  if (s->restart) { /* continue from a checkpoint (docs/restart.md) */
+  if (s->state.restart) { /* continue from a checkpoint (docs/restart.md) */
     rc = peri_history_log_resume(&c.log, s, c.frames);
   } else {
-    s->time = th->time;
+    s->state.time = th->time;
     rc = peri_frames_write(c.frames, s);
     if (rc == PERI_OK) rc = write_history(s, &c);
   }
   rc = peri_comm_max_int(rc); /* every rank starts, or none */
   const double t_start = now();
-  const long first_step = s->step; /* a restart's checkpoint, else 0 */
+  const long first_step = s->state.step; /* a restart's checkpoint, else 0 */
   double t_last = t_start;
-  for (long step = s->step; step < s->steps && rc == PERI_OK; ++step) {
-    rc = peri_thermal_step(s, s->dt);
-    s->time = th->time;
-    s->step = step + 1;
+  for (long step = s->state.step; step < s->solver.steps && rc == PERI_OK; ++step) {
+    rc = peri_thermal_step(s, s->solver.dt);
+    s->state.time = th->time;
+    s->state.step = step + 1;
     if (rc != PERI_OK) break;
-    const bool last = s->step == s->steps;
-    if ((s->step % s->out.history_every == 0 || last) && peri_comm_max_int(write_history(s, &c) != PERI_OK))
+    const bool last = s->state.step == s->solver.steps;
+    if ((s->state.step % s->out.history_every == 0 || last) && peri_comm_max_int(write_history(s, &c) != PERI_OK))
       rc = PERI_ERR_RUN; /* every rank stops together */
-    if (rc == PERI_OK && ((s->out.every > 0 && s->step % s->out.every == 0) || last))
+    if (rc == PERI_OK && ((s->out.every > 0 && s->state.step % s->out.every == 0) || last))
       rc = peri_frames_write(c.frames, s);
     const peri_checkpoint_progress done = {peri_frames_written(c.frames), c.log.rows};
     if (rc == PERI_OK) rc = peri_checkpoint_after_step(s, &done); /* docs/restart.md */
     if (progress) {
       double t = now();
       if (t - t_last > 0.5 && t - t_start > 1.0) {
-        double rate = (s->step - first_step) / (t - t_start);
-        fprintf(stderr, "\r  step %ld/%ld  t = %.4g s  %.0f steps/s  eta %.0f s   ", s->step, s->steps, s->time,
-                rate, (s->steps - s->step) / rate);
+        double rate = (s->state.step - first_step) / (t - t_start);
+        fprintf(stderr, "\r  step %ld/%ld  t = %.4g s  %.0f steps/s  eta %.0f s   ", s->state.step, s->solver.steps, s->state.time,
+                rate, (s->solver.steps - s->state.step) / rate);
         t_last = t;
       }
     }
@@ -112,14 +112,14 @@ int peri_run_heat(peri_sim *s) {
   char picture[4300] = "", plot[4400] = "";
   /* drawn even when the run failed: the curve so far */
   if (peri_plot_series_write(&c.log.plot, s, plot, sizeof plot) != PERI_OK) rc = PERI_ERR_RUN;
-  if (rc == PERI_OK && s->out.picture && s->geom.dim == 2 &&
+  if (rc == PERI_OK && s->out.picture && s->disc.geom.dim == 2 &&
       peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) {
     rc = PERI_ERR_RUN;
     picture[0] = 0;
   }
-  if (!s->quiet) {
-    printf("  finished     %ld steps in %.3f s: %.1f steps/s (%d threads)\n", s->step, wall,
-           wall > 0 ? (s->step - first_step) / wall : 0.0, omp_get_max_threads());
+  if (!s->out.quiet) {
+    printf("  finished     %ld steps in %.3f s: %.1f steps/s (%d threads)\n", s->state.step, wall,
+           wall > 0 ? (s->state.step - first_step) / wall : 0.0, omp_get_max_threads());
     printf("  total heat   %.10g J\n", peri_thermal_total_heat(s));
     printf("  output       %s/%s.pvd (VTU series), %s/history.csv%s%s%s%s\n", s->out.directory, s->out.basename,
            s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot);

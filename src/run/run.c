@@ -39,13 +39,13 @@ typedef struct run_ctx {
 /* Mean displacement of a region's nodes (quasi-static history: the imposed displacement),
  * over the owned nodes of every rank in fixed-order sums. */
 static void region_displacement(const peri_sim *s, int region, double out[3]) {
-  const peri_region *r = &s->regions[region];
-  const int32_t n = s->p.n_owned;
+  const peri_region *r = &s->cond.regions[region];
+  const int32_t n = s->disc.p.n_owned;
   double *terms = peri_calloc(4 * (size_t)(n > 0 ? n : 1), sizeof(double)); /* u, 1 */
   for (int32_t a = 0; a < r->count; ++a) {
     const int32_t i = r->nodes[a];
     if (i >= n) continue; /* a ghost: its owner counts it */
-    for (int d = 0; d < 3; ++d) terms[4 * (size_t)i + d] = s->p.u[3 * (size_t)i + d];
+    for (int d = 0; d < 3; ++d) terms[4 * (size_t)i + d] = s->disc.p.u[3 * (size_t)i + d];
     terms[4 * (size_t)i + 3] = 1.0;
   }
   double sum[4];
@@ -55,39 +55,39 @@ static void region_displacement(const peri_sim *s, int region, double out[3]) {
 }
 
 /* A quasi-static run that may switch to dynamics has the columns phase and dynamic_time. */
-static bool qs_dynamic_columns(const peri_sim *s) { return peri_is_quasi_static(s) && s->qs.dynamic.on; }
+static bool qs_dynamic_columns(const peri_sim *s) { return peri_is_quasi_static(s) && s->solver.qs.dynamic.on; }
 
 static int write_history(peri_sim *s, run_ctx *c) {
   int k = 0;
   double ke = peri_kinetic_energy(s);
   double se = peri_strain_energy(s);
-  c->log.row[k++] = s->time;
-  c->log.row[k++] = (double)s->step;
+  c->log.row[k++] = s->state.time;
+  c->log.row[k++] = (double)s->state.step;
   c->log.row[k++] = ke;
   c->log.row[k++] = se;
-  c->log.row[k++] = s->external_work;
-  c->log.row[k++] = ke + se - s->external_work;
+  c->log.row[k++] = s->state.external_work;
+  c->log.row[k++] = ke + se - s->state.external_work;
   const int64_t n_bonds = peri_global_bonds(s); /* all ranks (docs/parallel.md) */
   c->log.row[k++] = n_bonds ? (double)peri_global_broken(s) / (double)n_bonds : 0.0;
   double momentum[3];
   peri_linear_momentum(s, momentum);
-  for (int d = 0; d < s->geom.dim; ++d) c->log.row[k++] = momentum[d];
-  if (s->indenter.on)
-    for (int d = 0; d < s->geom.dim; ++d) c->log.row[k++] = s->indenter.force[d];
-  for (int r = 1; r < s->n_regions; ++r) {
+  for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = momentum[d];
+  if (s->cond.indenter.on)
+    for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = s->cond.indenter.force[d];
+  for (int r = 1; r < s->cond.n_regions; ++r) {
     double reaction[3];
     peri_region_reaction(s, r, reaction);
-    for (int d = 0; d < s->geom.dim; ++d) c->log.row[k++] = reaction[d];
+    for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = reaction[d];
   }
   if (peri_is_quasi_static(s)) /* quasi-static: the imposed displacements */
-    for (int r = 1; r < s->n_regions; ++r) {
+    for (int r = 1; r < s->cond.n_regions; ++r) {
       double disp[3];
       region_displacement(s, r, disp);
-      for (int d = 0; d < s->geom.dim; ++d) c->log.row[k++] = disp[d];
+      for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = disp[d];
     }
   if (qs_dynamic_columns(s)) { /* static (0) or dynamic (1) phase, time in dynamics (docs/solvers.md) */
-    c->log.row[k++] = (double)s->qs.phase;
-    c->log.row[k++] = s->qs.dynamic_time;
+    c->log.row[k++] = (double)s->solver.qs.phase;
+    c->log.row[k++] = s->solver.qs.dynamic_time;
   }
   peri_thermal_history_values(s, c->log.row + k); /* total heat, temperature range (docs/heat.md) */
   return peri_history_log_record(&c->log);
@@ -95,13 +95,13 @@ static int write_history(peri_sim *s, run_ctx *c) {
 
 static int step_hook(peri_sim *s, void *ctx) {
   run_ctx *c = ctx;
-  if (peri_is_quasi_static(s) && s->qs.phase == PERI_QS_PHASE_DYNAMIC) { /* inside a load step: a row only */
+  if (peri_is_quasi_static(s) && s->solver.qs.phase == PERI_QS_PHASE_DYNAMIC) { /* inside a load step: a row only */
     if (write_history(s, c) != PERI_OK) c->failed = 1;
     return peri_comm_max_int(c->failed);
   }
-  bool last = s->step == s->steps;
-  const bool history = s->step % s->out.history_every == 0 || last;
-  const bool frame = (s->out.every > 0 && s->step % s->out.every == 0) || last;
+  bool last = s->state.step == s->solver.steps;
+  const bool history = s->state.step % s->out.history_every == 0 || last;
+  const bool frame = (s->out.every > 0 && s->state.step % s->out.every == 0) || last;
   if (history && write_history(s, c) != PERI_OK) c->failed = 1;
   /* only rank 0 writes history.csv: the ranks agree before the collective frame write */
   if (history) c->failed = peri_comm_max_int(c->failed);
@@ -118,9 +118,9 @@ static int step_hook(peri_sim *s, void *ctx) {
   if (c->progress) {
     double t = now();
     if (t - c->t_last_progress > 0.5 && t - c->t_start > 1.0) {
-      double rate = (s->step - c->first_step) / (t - c->t_start);
-      fprintf(stderr, "\r  step %ld/%ld  t = %.4g s  %.0f steps/s  eta %.0f s   ", s->step, s->steps,
-              s->time, rate, (s->steps - s->step) / rate);
+      double rate = (s->state.step - c->first_step) / (t - c->t_start);
+      fprintf(stderr, "\r  step %ld/%ld  t = %.4g s  %.0f steps/s  eta %.0f s   ", s->state.step, s->solver.steps,
+              s->state.time, rate, (s->solver.steps - s->state.step) / rate);
       c->t_last_progress = t;
     }
   }
@@ -128,7 +128,7 @@ static int step_hook(peri_sim *s, void *ctx) {
 }
 
 int peri_run(peri_sim *s) {
-  if (s->solver == PERI_SOLVER_HEAT) return peri_run_heat(s); /* conduction only (docs/heat.md) */
+  if (s->solver.kind == PERI_SOLVER_HEAT) return peri_run_heat(s); /* conduction only (docs/heat.md) */
   run_ctx c = {0};
   c.frames = peri_frames_open(s);
   if (!c.frames) return PERI_ERR_RUN;
@@ -137,23 +137,23 @@ int peri_run(peri_sim *s) {
     peri_history_log_close(&c.log);
     return PERI_ERR_RUN;
   }
-  c.progress = !s->quiet && isatty(STDERR_FILENO);
+  c.progress = !s->out.quiet && isatty(STDERR_FILENO);
   peri_apply_initial_conditions(s);
-  peri_apply_loads(s, s->time);
+  peri_apply_loads(s, s->state.time);
   peri_exchange_state(s); /* ghost displacements (MPI ranks, docs/parallel.md) */
   int rc = PERI_OK;
-  if (s->restart) { /* continue from a checkpoint (docs/restart.md) */
+  if (s->state.restart) { /* continue from a checkpoint (docs/restart.md) */
     rc = peri_history_log_resume(&c.log, s, c.frames);
   } else {
-    s->model->force(s);
+    s->mat.model->force(s);
     rc = peri_frames_write(c.frames, s);
     if (rc == PERI_OK) rc = write_history(s, &c);
     /* (writing reads the forces and leaves them: the explicit solver starts from them) */
-    s->forces_current = !peri_is_quasi_static(s);
+    s->state.forces_current = !peri_is_quasi_static(s);
   }
   rc = peri_comm_max_int(rc);
   c.t_start = c.t_last_progress = now();
-  c.first_step = s->step;
+  c.first_step = s->state.step;
   if (rc == PERI_OK)
     rc = peri_is_quasi_static(s) ? peri_solve_quasi_static(s, step_hook, &c) : peri_solve_explicit(s, step_hook, &c);
   if (c.failed) rc = PERI_ERR_RUN;
@@ -162,26 +162,26 @@ int peri_run(peri_sim *s) {
   char picture[4300] = "", plot[4400] = "";
   /* drawn even when the run failed: the curve so far */
   if (peri_plot_series_write(&c.log.plot, s, plot, sizeof plot) != PERI_OK) rc = PERI_ERR_RUN;
-  if (rc == PERI_OK && s->out.picture && s->geom.dim == 2) {
+  if (rc == PERI_OK && s->out.picture && s->disc.geom.dim == 2) {
     if (peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) rc = PERI_ERR_RUN, picture[0] = 0;
   }
   rc = peri_comm_max_int(rc); /* one status for all ranks */
-  if (!s->quiet) {
-    double updates = (double)peri_global_bonds(s) * (s->step - c.first_step);
+  if (!s->out.quiet) {
+    double updates = (double)peri_global_bonds(s) * (s->state.step - c.first_step);
     const long broken = peri_global_broken(s);
     if (peri_is_quasi_static(s))
       printf("  finished     %ld load steps in %.3f s: %ld solves, %ld iterations, %ld force evaluations, "
-             "%ld cut-backs, residual %.3g (%d threads)\n", s->step, wall, s->qs.solves, s->qs.iterations,
-             s->qs.force_evaluations, s->qs.cutbacks, s->qs.residual, omp_get_max_threads());
-    if (s->solver == PERI_SOLVER_IMPLICIT) /* the iterations above are Newton's */
-      printf("  linear       %ld Krylov iterations in all, %.1f per Newton iteration\n", s->qs.linear_iterations,
-             s->qs.iterations > 0 ? (double)s->qs.linear_iterations / (double)s->qs.iterations : 0.0);
+             "%ld cut-backs, residual %.3g (%d threads)\n", s->state.step, wall, s->solver.qs.solves, s->solver.qs.iterations,
+             s->solver.qs.force_evaluations, s->solver.qs.cutbacks, s->solver.qs.residual, omp_get_max_threads());
+    if (s->solver.kind == PERI_SOLVER_IMPLICIT) /* the iterations above are Newton's */
+      printf("  linear       %ld Krylov iterations in all, %.1f per Newton iteration\n", s->solver.qs.linear_iterations,
+             s->solver.qs.iterations > 0 ? (double)s->solver.qs.linear_iterations / (double)s->solver.qs.iterations : 0.0);
     if (qs_dynamic_columns(s))
-      printf("  dynamic      %ld phase%s, %ld explicit steps, %.4g s of dynamics\n", s->qs.dynamic_phases,
-             s->qs.dynamic_phases == 1 ? "" : "s", s->qs.dynamic_steps, s->qs.dynamic_time);
+      printf("  dynamic      %ld phase%s, %ld explicit steps, %.4g s of dynamics\n", s->solver.qs.dynamic_phases,
+             s->solver.qs.dynamic_phases == 1 ? "" : "s", s->solver.qs.dynamic_steps, s->solver.qs.dynamic_time);
     if (!peri_is_quasi_static(s))
-      printf("  finished     %ld steps in %.3f s: %.1f steps/s, %.3g bond updates/s (%d threads)\n", s->step,
-             wall, wall > 0 ? (s->step - c.first_step) / wall : 0.0, wall > 0 ? updates / wall : 0.0,
+      printf("  finished     %ld steps in %.3f s: %.1f steps/s, %.3g bond updates/s (%d threads)\n", s->state.step,
+             wall, wall > 0 ? (s->state.step - c.first_step) / wall : 0.0, wall > 0 ? updates / wall : 0.0,
              omp_get_max_threads());
     printf("  broken bonds %ld of %lld\n", broken, (long long)peri_global_bonds(s));
     double tpl_bytes = 0.0;

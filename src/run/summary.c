@@ -21,12 +21,12 @@ static const char *const insulation_names[] = {"natural", "algebraic"};
 void peri_thermal_print_summary(const peri_sim *s, FILE *out) {
   const peri_thermal *th = s->thermal;
   if (!th) return;
-  if (s->solver == PERI_SOLVER_HEAT) {
+  if (s->solver.kind == PERI_SOLVER_HEAT) {
     peri_print_discretization(s, out, "heat conduction", "cut");
     fprintf(out, "  memory       %.1f MB estimated\n",
-            (peri_memory_estimate(s) + 16.0 * (double)s->bonds.n_bonds + 80.0 * s->p.n) / 1e6);
-    for (int m = 0; m < s->n_materials; ++m) {
-      const peri_material *mat = &s->materials[m];
+            (peri_memory_estimate(s) + 16.0 * (double)s->disc.bonds.n_bonds + 80.0 * s->disc.p.n) / 1e6);
+    for (int m = 0; m < s->mat.n_materials; ++m) {
+      const peri_material *mat = &s->mat.materials[m];
       fprintf(out, "  material     %s: rho %g, conductivity %g, specific heat %g, diffusivity %g\n", mat->name,
               mat->density, mat->conductivity, mat->specific_heat,
               mat->conductivity / (mat->density * mat->specific_heat));
@@ -35,10 +35,10 @@ void peri_thermal_print_summary(const peri_sim *s, FILE *out) {
   fprintf(out, "  thermal      kernel %s, quadrature %s, self term %s, insulation %s, bonds between "
           "materials %s\n", kernel_names[th->kernel], quad_names[th->quadrature], self_names[th->self_term],
           insulation_names[th->insulation], rule_names[th->bond_rule]);
-  if (s->solver == PERI_SOLVER_HEAT) {
+  if (s->solver.kind == PERI_SOLVER_HEAT) {
     fprintf(out, "  time step    %g s (%s, stable estimate %g s from the largest row sum %g 1/s), %ld steps "
-            "to t = %g s\n", s->dt, integrator_names[th->integrator], th->dt_stable, th->max_row_sum, s->steps,
-            s->dt * s->steps);
+            "to t = %g s\n", s->solver.dt, integrator_names[th->integrator], th->dt_stable, th->max_row_sum, s->solver.steps,
+            s->solver.dt * s->solver.steps);
   } else {
     fprintf(out, "  heat step    %g s (%s, stable estimate %g s), coupling %s%s\n", th->dt,
             integrator_names[th->integrator], th->dt_stable, coupling_names[th->coupling],
@@ -47,49 +47,49 @@ void peri_thermal_print_summary(const peri_sim *s, FILE *out) {
 }
 
 double peri_memory_estimate(const peri_sim *s) {
-  const double n = s->p.n, nb = (double)s->bonds.n_bonds;
+  const double n = s->disc.p.n, nb = (double)s->disc.bonds.n_bonds;
   /* x u v f b (5 x 3 doubles), volume, damage, material, block, flags, + model arrays */
   double per_node = 15 * 8 + 8 + 8 + 4 + 4 + 1 + 3;
-  if (s->p.theta) per_node += 3 * 8;
-  if (s->s0_node) per_node += 2 * 8;
+  if (s->disc.p.theta) per_node += 3 * 8;
+  if (s->mat.s0_node) per_node += 2 * 8;
   per_node += 6 * 8; /* the bond loops' copies of x and u (src/model/node_blocks.c) */
-  return n * per_node + (n + 1) * 8 + nb * (peri_bonds_bytes_per_bond(&s->bonds) + peri_node_blocks_bytes_bound());
+  return n * per_node + (n + 1) * 8 + nb * (peri_bonds_bytes_per_bond(&s->disc.bonds) + peri_node_blocks_bytes_bound());
 }
 
 static const char *model_plane(const peri_sim *s) {
-  if (s->geom.dim != 2) return "";
-  return s->geom.plane == PERI_PLANE_STRAIN ? ", plane strain" : ", plane stress";
+  if (s->disc.geom.dim != 2) return "";
+  return s->disc.geom.plane == PERI_PLANE_STRAIN ? ", plane strain" : ", plane stress";
 }
 
 void peri_print_discretization(const peri_sim *s, FILE *out, const char *model, const char *broken) {
   fprintf(out, "peri %s: %s\n", PERI_VERSION, s->deck_path);
-  fprintf(out, "  model        %s, %dD%s\n", model, s->geom.dim, s->solver == PERI_SOLVER_HEAT ? "" : model_plane(s));
-  fprintf(out, "  nodes        %d\n", s->p.n);
-  fprintf(out, "  bonds        %lld directed (%.1f per node), %ld %s\n", (long long)s->bonds.n_bonds,
-          s->p.n ? (double)s->bonds.n_bonds / s->p.n : 0.0, peri_broken_count(&s->bonds), broken);
-  fprintf(out, "  horizon      %g (m = %.4g, spacing %g)\n", s->geom.horizon, s->geom.horizon / s->geom.spacing,
-          s->geom.spacing);
+  fprintf(out, "  model        %s, %dD%s\n", model, s->disc.geom.dim, s->solver.kind == PERI_SOLVER_HEAT ? "" : model_plane(s));
+  fprintf(out, "  nodes        %d\n", s->disc.p.n);
+  fprintf(out, "  bonds        %lld directed (%.1f per node), %ld %s\n", (long long)s->disc.bonds.n_bonds,
+          s->disc.p.n ? (double)s->disc.bonds.n_bonds / s->disc.p.n : 0.0, peri_broken_count(&s->disc.bonds), broken);
+  fprintf(out, "  horizon      %g (m = %.4g, spacing %g)\n", s->disc.geom.horizon, s->disc.geom.horizon / s->disc.geom.spacing,
+          s->disc.geom.spacing);
 }
 
 void peri_print_summary(const peri_sim *s, FILE *out) {
-  if (s->solver == PERI_SOLVER_HEAT) { /* conduction only (docs/heat.md) */
+  if (s->solver.kind == PERI_SOLVER_HEAT) { /* conduction only (docs/heat.md) */
     peri_thermal_print_summary(s, out);
     peri_checkpoint_print_summary(s, out); /* docs/restart.md */
     return;
   }
-  peri_print_discretization(s, out, s->model->name, "broken");
+  peri_print_discretization(s, out, s->mat.model->name, "broken");
   fprintf(out, "  memory       %.1f MB estimated (%.1f bytes per directed bond, node blocks at most %.2f more)\n",
-          peri_memory_estimate(s) / 1e6, peri_bonds_bytes_per_bond(&s->bonds), peri_node_blocks_bytes_bound());
-  for (int m = 0; m < s->n_materials; ++m) {
-    const peri_material *mat = &s->materials[m];
+          peri_memory_estimate(s) / 1e6, peri_bonds_bytes_per_bond(&s->disc.bonds), peri_node_blocks_bytes_bound());
+  for (int m = 0; m < s->mat.n_materials; ++m) {
+    const peri_material *mat = &s->mat.materials[m];
     fprintf(out, "  material     %s: rho %g, E %g, nu %.4g, K %g, critical stretch %g%s\n", mat->name,
             mat->density, mat->E, mat->nu, mat->K, mat->lammps_s0 ? mat->s00 : mat->critical_stretch,
             mat->lammps_s0 ? " (s00, compression-dependent)" : "");
   }
   if (peri_is_quasi_static(s)) peri_print_quasi_static_summary(s, out);
   else
-    fprintf(out, "  time step    %g s (stable estimate %g s), %ld steps to t = %g s\n", s->dt,
-            peri_stable_dt(s), s->steps, s->dt * s->steps);
+    fprintf(out, "  time step    %g s (stable estimate %g s), %ld steps to t = %g s\n", s->solver.dt,
+            peri_stable_dt(s), s->solver.steps, s->solver.dt * s->solver.steps);
   if (s->thermal) peri_thermal_print_summary(s, out); /* thermomechanics (docs/heat.md) */
   peri_checkpoint_print_summary(s, out);               /* docs/restart.md */
 }

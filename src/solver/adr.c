@@ -9,8 +9,8 @@
 #include "peri/quasistatic.h"
 
 peri_qs_status peri_solve_adr(peri_sim *s) {
-  peri_particles *p = &s->p;
-  peri_quasi_static *q = &s->qs;
+  peri_particles *p = &s->disc.p;
+  peri_quasi_static *q = &s->solver.qs;
   const int32_t n = p->n_owned;
   const size_t n3 = 3 * (size_t)n;
   double *lambda = peri_malloc(sizeof(double) * n);

@@ -11,10 +11,10 @@ static void eval_at(peri_expr *e, const double *x, double t, double *out) {
 }
 
 void peri_apply_initial_conditions(peri_sim *s) {
-  peri_particles *p = &s->p;
-  for (int k = 0; k < s->n_bcs; ++k) {
-    const peri_bc *bc = &s->bcs[k];
-    const peri_region *r = &s->regions[bc->region];
+  peri_particles *p = &s->disc.p;
+  for (int k = 0; k < s->cond.n_bcs; ++k) {
+    const peri_bc *bc = &s->cond.bcs[k];
+    const peri_region *r = &s->cond.regions[bc->region];
     for (int32_t a = 0; a < r->count; ++a) {
       int32_t i = r->nodes[a];
       for (int d = 0; d < 3; ++d) {
@@ -22,15 +22,15 @@ void peri_apply_initial_conditions(peri_sim *s) {
         if (bc->kind == PERI_BC_INITIAL_DISPLACEMENT) eval_at(bc->value[d], &p->x[3 * i], 0.0, &p->u[3 * i + d]);
         if (bc->kind == PERI_BC_INITIAL_VELOCITY) eval_at(bc->value[d], &p->x[3 * i], 0.0, &p->v[3 * i + d]);
         if (bc->kind == PERI_BC_DISPLACEMENT || bc->kind == PERI_BC_VELOCITY)
-          s->prescribed[3 * i + d] = 1;
+          s->cond.prescribed[3 * i + d] = 1;
       }
     }
   }
   /* Prescribed displacements hold from t = 0. */
-  for (int k = 0; k < s->n_bcs; ++k) {
-    const peri_bc *bc = &s->bcs[k];
+  for (int k = 0; k < s->cond.n_bcs; ++k) {
+    const peri_bc *bc = &s->cond.bcs[k];
     if (bc->kind != PERI_BC_DISPLACEMENT) continue;
-    const peri_region *r = &s->regions[bc->region];
+    const peri_region *r = &s->cond.regions[bc->region];
     for (int32_t a = 0; a < r->count; ++a) {
       int32_t i = r->nodes[a];
       for (int d = 0; d < 3; ++d) eval_at(bc->value[d], &p->x[3 * i], 0.0, &p->u[3 * i + d]);
@@ -39,11 +39,11 @@ void peri_apply_initial_conditions(peri_sim *s) {
 }
 
 void peri_apply_prescribed_motion(peri_sim *s, double t, double dt) {
-  peri_particles *p = &s->p;
-  for (int k = 0; k < s->n_bcs; ++k) {
-    const peri_bc *bc = &s->bcs[k];
+  peri_particles *p = &s->disc.p;
+  for (int k = 0; k < s->cond.n_bcs; ++k) {
+    const peri_bc *bc = &s->cond.bcs[k];
     if (bc->kind != PERI_BC_DISPLACEMENT && bc->kind != PERI_BC_VELOCITY) continue;
-    const peri_region *r = &s->regions[bc->region];
+    const peri_region *r = &s->cond.regions[bc->region];
     for (int32_t a = 0; a < r->count; ++a) {
       int32_t i = r->nodes[a];
       const double *x = &p->x[3 * i];

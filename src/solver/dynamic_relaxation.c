@@ -13,8 +13,8 @@
 
 /* Pairwise damping force density with velocities vel into out (free and prescribed). */
 static void bond_damping_force(const peri_sim *s, double gamma, const double *vel, double *out) {
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
 #pragma omp parallel for schedule(dynamic, 256) if (p->n_owned > 8192)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double fi[3] = {0.0, 0.0, 0.0};
@@ -38,13 +38,13 @@ static void bond_damping_force(const peri_sim *s, double gamma, const double *ve
 }
 
 peri_qs_status peri_solve_dynamic_relaxation(peri_sim *s) {
-  peri_particles *p = &s->p;
-  peri_quasi_static *q = &s->qs;
+  peri_particles *p = &s->disc.p;
+  peri_quasi_static *q = &s->solver.qs;
   const int32_t n = p->n_owned;
   const size_t n3 = 3 * (size_t)n;
-  const double dt = s->dt, gamma = s->damping, gb = q->bond_damping;
+  const double dt = s->solver.dt, gamma = s->solver.damping, gb = q->bond_damping;
   double *inv_rho = peri_malloc(sizeof(double) * n);
-  for (int32_t i = 0; i < n; ++i) inv_rho[i] = 1.0 / s->materials[p->material[i]].density;
+  for (int32_t i = 0; i < n; ++i) inv_rho[i] = 1.0 / s->mat.materials[p->material[i]].density;
   double *vel = peri_calloc(3 * (size_t)(p->n > 0 ? p->n : 1), sizeof(double)); /* ghosts: bond damping */
   double *r = peri_malloc(sizeof(double) * n3);
   double *fd = gb > 0.0 ? peri_calloc(n3, sizeof(double)) : NULL;
@@ -56,13 +56,13 @@ peri_qs_status peri_solve_dynamic_relaxation(peri_sim *s) {
   for (size_t k = 0; k < n3; ++k) acc[k] = r[k] * inv_rho[k / 3];
   peri_qs_status status = res <= q->tolerance ? PERI_QS_CONVERGED : PERI_QS_NOT_CONVERGED;
   long it = 0;
-  const int dim = s->geom.dim;
+  const int dim = s->disc.geom.dim;
   for (; status == PERI_QS_NOT_CONVERGED && it < q->max_iterations; ++it) {
 #pragma omp parallel for schedule(static) if (n > 8192)
     for (int32_t i = 0; i < n; ++i)
       for (int d = 0; d < dim; ++d) {
         const size_t k = 3 * (size_t)i + d;
-        if (s->prescribed[k]) continue;
+        if (s->cond.prescribed[k]) continue;
         vel[k] += 0.5 * dt * acc[k]; /* v_(n+1/2) */
         p->u[k] += dt * vel[k];
       }
@@ -76,7 +76,7 @@ peri_qs_status peri_solve_dynamic_relaxation(peri_sim *s) {
     for (int32_t i = 0; i < n; ++i)
       for (int d = 0; d < dim; ++d) {
         const size_t k = 3 * (size_t)i + d;
-        if (s->prescribed[k]) continue;
+        if (s->cond.prescribed[k]) continue;
         /* a_(n+1) with the damping of the half-step velocity */
         acc[k] = (r[k] + (fd ? fd[k] : 0.0)) * inv_rho[i] - gamma * vel[k];
         vel[k] += 0.5 * dt * acc[k];

@@ -11,12 +11,12 @@
 /* External force density on each component: applied loads on free components, and on
  * prescribed ones the reaction rho a - f that enforces the motion. */
 static void external_load(const peri_sim *s, const double *v_old, double dt, double *load) {
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
   for (int32_t i = 0; i < p->n_owned; ++i) {
-    double rho = s->materials[p->material[i]].density;
+    double rho = s->mat.materials[p->material[i]].density;
     for (int d = 0; d < 3; ++d) {
       size_t c = 3 * (size_t)i + d;
-      load[c] = s->prescribed[c] ? rho * (p->v[c] - v_old[c]) / dt - p->f[c] : p->b[c];
+      load[c] = s->cond.prescribed[c] ? rho * (p->v[c] - v_old[c]) / dt - p->f[c] : p->b[c];
     }
   }
 }
@@ -34,12 +34,12 @@ typedef struct {
 } held_nodes;
 
 static held_nodes held_nodes_of(const peri_sim *s) {
-  const int32_t n = s->p.n_owned;
+  const int32_t n = s->disc.p.n_owned;
   held_nodes h = {peri_calloc(n > 0 ? (size_t)n : 1, 1), peri_malloc(sizeof(int32_t) * (n > 0 ? (size_t)n : 1)),
                   NULL, NULL, 0};
   for (int32_t i = 0; i < n; ++i) {
     for (int d = 0; d < 3; ++d)
-      if (s->prescribed[3 * (size_t)i + d]) h.mask[i] |= (uint8_t)(1u << d);
+      if (s->cond.prescribed[3 * (size_t)i + d]) h.mask[i] |= (uint8_t)(1u << d);
     if (h.mask[i]) h.slot[i] = h.count++;
   }
   h.node = peri_malloc(sizeof(int32_t) * (h.count > 0 ? (size_t)h.count : 1));
@@ -57,31 +57,31 @@ static void held_nodes_free(held_nodes *h) {
 }
 
 int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
-  peri_particles *p = &s->p;
-  const double dt = s->dt;
+  peri_particles *p = &s->disc.p;
+  const double dt = s->solver.dt;
   const int32_t n = p->n_owned;
   const size_t n3 = 3 * (size_t)n;
   double *inv_rho = peri_malloc(sizeof(double) * (n > 0 ? (size_t)n : 1));
-  for (int32_t i = 0; i < n; ++i) inv_rho[i] = 1.0 / s->materials[p->material[i]].density;
+  for (int32_t i = 0; i < n; ++i) inv_rho[i] = 1.0 / s->mat.materials[p->material[i]].density;
   held_nodes held = held_nodes_of(s);
   /* the last step's load stays in the sim: a checkpoint carries it (docs/restart.md) */
-  if (!s->step_load) s->step_load = peri_calloc(n3 > 0 ? n3 : 1, sizeof(double));
-  double *load_old = s->step_load;
-  const double damping = s->damping;
+  if (!s->state.step_load) s->state.step_load = peri_calloc(n3 > 0 ? n3 : 1, sizeof(double));
+  double *load_old = s->state.step_load;
+  const double damping = s->solver.damping;
   /* the step's external work summed per block of nodes as the pass goes (peri_sum_blocks) */
   const int64_t n_blocks = peri_sum_blocks_owned(s);
   double *block_work = peri_malloc(sizeof(double) * (n_blocks > 0 ? (size_t)n_blocks : 1));
 
-  peri_apply_loads(s, s->time);
+  peri_apply_loads(s, s->state.time);
   peri_exchange_state(s); /* ghost displacements (MPI ranks, docs/parallel.md) */
-  if (s->step == 0) { /* a restart resumes with the checkpoint's forces and load */
-    if (!s->forces_current) s->model->force(s);
+  if (s->state.step == 0) { /* a restart resumes with the checkpoint's forces and load */
+    if (!s->state.forces_current) s->mat.model->force(s);
     external_load(s, p->v, dt, load_old);
   }
-  s->forces_current = false;
+  s->state.forces_current = false;
   /* accelerations at t = 0 live in f + b */
   int status = PERI_OK;
-  for (long step = s->step; step < s->steps; ++step) {
+  for (long step = s->state.step; step < s->solver.steps; ++step) {
 #pragma omp parallel for schedule(static) if (held.count > 4096)
     for (int32_t k = 0; k < held.count; ++k)
       for (int d = 0; d < 3; ++d) {
@@ -98,17 +98,17 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
         p->u[c] += dt * p->v[c];
       }
     }
-    s->time += dt;
-    s->step = step + 1;
-    peri_apply_prescribed_motion(s, s->time, dt);
-    peri_apply_loads(s, s->time);
+    s->state.time += dt;
+    s->state.step = step + 1;
+    peri_apply_prescribed_motion(s, s->state.time, dt);
+    peri_apply_loads(s, s->state.time);
     /* what the force depends on besides u: the thermal strain of thermomechanics (docs/heat.md) */
-    if (peri_contributions_before_force(s, s->step, s->time) != PERI_OK) {
+    if (peri_contributions_before_force(s, s->state.step, s->state.time) != PERI_OK) {
       status = PERI_ERR_RUN;
       break;
     }
     peri_exchange_state(s);
-    s->model->force(s);
+    s->mat.model->force(s);
     /* one pass over the nodes: second half-step of the velocity, the external load of the
      * step (applied loads, or the reaction rho a - f of prescribed motion), its work by the
      * trapezoid rule, and the finiteness check */
@@ -130,7 +130,7 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
             load = p->b[c];
             du = dt * v_half;
           } else {
-            load = s->materials[p->material[i]].density * (p->v[c] - old[3 + d]) / dt - p->f[c];
+            load = s->mat.materials[p->material[i]].density * (p->v[c] - old[3 + d]) / dt - p->f[c];
             du = p->u[c] - old[d];
           }
           work += 0.5 * (load_old[c] + load) * du * p->volume[i];
@@ -143,12 +143,12 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
     }
     double step_total = 0.0; /* in fixed-order blocks: the same on any number of ranks */
     peri_sum_blocks(s, block_work, 1, &step_total);
-    s->external_work += step_total;
+    s->state.external_work += step_total;
     finite = peri_comm_all(finite); /* every rank stops together */
     /* NaN fails the comparison; the bound catches a blow-up before energies overflow */
-    if (!finite || !isfinite(s->external_work)) {
+    if (!finite || !isfinite(s->state.external_work)) {
       peri_error("the solution diverged at step %ld (t = %g): displacement or velocity is not "
-                 "finite; reduce the time step or check the loads", s->step, s->time);
+                 "finite; reduce the time step or check the loads", s->state.step, s->state.time);
       status = PERI_ERR_RUN;
     }
     if (status != PERI_OK) break;

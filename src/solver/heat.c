@@ -26,12 +26,12 @@ static void eval_sources(const peri_sim *s, double t) {
     const peri_thermal_bc *bc = &th->bcs[c];
     if (bc->kind == PERI_TBC_TEMPERATURE || bc->kind == PERI_TBC_INITIAL) continue;
     if (bc->kind == PERI_TBC_HEAT_FLUX && th->insulation == PERI_TINSULATION_ALGEBRAIC) continue;
-    const peri_region *r = &s->regions[bc->region];
+    const peri_region *r = &s->cond.regions[bc->region];
     const bool cv = peri_expr_is_constant(bc->value);
-    const double v0 = cv ? eval(bc->value, s->p.x, t) : 0.0;
+    const double v0 = cv ? eval(bc->value, s->disc.p.x, t) : 0.0;
     for (int32_t a = 0; a < r->count; ++a) {
       const int32_t i = r->nodes[a];
-      const double *x = &s->p.x[3 * i];
+      const double *x = &s->disc.p.x[3 * i];
       const double v = cv ? v0 : eval(bc->value, x, t);
       if (bc->kind == PERI_TBC_HEAT_SOURCE) th->source[i] += v;
       else if (bc->kind == PERI_TBC_HEAT_FLUX) th->source[i] += v / bc->layer;
@@ -45,7 +45,7 @@ static void eval_sources(const peri_sim *s, double t) {
 
 void peri_thermal_prepare(peri_sim *s) {
   peri_thermal *th = s->thermal;
-  const peri_bonds *b = &s->bonds;
+  const peri_bonds *b = &s->disc.bonds;
   const size_t n = (size_t)(th->n > 0 ? th->n : 1);
   if (!th->source) th->source = peri_calloc(n, sizeof(double));
   if (!th->sink) th->sink = peri_calloc(n, sizeof(double));
@@ -66,7 +66,7 @@ void peri_thermal_prepare(peri_sim *s) {
 
 void peri_thermal_rate(const peri_sim *s, const double *T, double t, double *out) {
   const peri_thermal *th = s->thermal;
-  const peri_bonds *b = &s->bonds;
+  const peri_bonds *b = &s->disc.bonds;
   eval_sources(s, t);
   const double cc = th->crack_conductance;
   const uint8_t *cut = th->cut;
@@ -88,12 +88,12 @@ void peri_thermal_rate(const peri_sim *s, const double *T, double t, double *out
 
 void peri_thermal_constrain(const peri_sim *s, double *T, double t) {
   peri_thermal *th = s->thermal;
-  const peri_bonds *b = &s->bonds;
-  const peri_particles *p = &s->p;
+  const peri_bonds *b = &s->disc.bonds;
+  const peri_particles *p = &s->disc.p;
   for (int c = 0; c < th->n_bcs; ++c) {
     const peri_thermal_bc *bc = &th->bcs[c];
     if (bc->kind != PERI_TBC_TEMPERATURE) continue;
-    const peri_region *r = &s->regions[bc->region];
+    const peri_region *r = &s->cond.regions[bc->region];
     for (int32_t a = 0; a < r->count; ++a) T[r->nodes[a]] = eval(bc->value, &p->x[3 * r->nodes[a]], t);
   }
   if (!th->alg_bc) return;
@@ -136,9 +136,9 @@ long peri_thermal_grow_cracks(peri_sim *s, double t) {
     const int64_t k = th->growing_bond[th->growing_next++];
     if (!th->cut[k]) ++n;
     th->cut[k] = 1;
-    s->bonds.broken[k] = 1;
+    s->disc.bonds.broken[k] = 1;
   }
-  if (n > 0) ++s->bonds.broken_edits;
+  if (n > 0) ++s->disc.bonds.broken_edits;
   return n;
 }
 
@@ -185,25 +185,25 @@ int peri_thermal_step(peri_sim *s, double dt) {
 
 void peri_thermal_update_strain(peri_sim *s) {
   const peri_thermal *th = s->thermal;
-  if (!s->thermal_strain) return;
-  const bool plane_strain = s->geom.dim == 2 && s->geom.plane == PERI_PLANE_STRAIN;
+  if (!s->state.thermal_strain) return;
+  const bool plane_strain = s->disc.geom.dim == 2 && s->disc.geom.plane == PERI_PLANE_STRAIN;
   for (int32_t i = 0; i < th->n; ++i) {
-    const peri_material *m = &s->materials[s->p.material[i]];
+    const peri_material *m = &s->mat.materials[s->disc.p.material[i]];
     const double alpha = plane_strain ? (1.0 + m->nu) * m->thermal_expansion : m->thermal_expansion;
-    s->thermal_strain[i] = alpha * (th->T[i] - th->T_ref[i]);
+    s->state.thermal_strain[i] = alpha * (th->T[i] - th->T_ref[i]);
   }
-  peri_sim_exchange(s, s->thermal_strain, 1); /* the bond stretch reads both ends */
+  peri_sim_exchange(s, s->state.thermal_strain, 1); /* the bond stretch reads both ends */
 }
 
 int peri_thermal_couple(peri_sim *s, long step, double t) {
   peri_thermal *th = s->thermal;
   if (th->every == 0) {
     /* heat advanced every `every` mechanical steps when its step is the longer one */
-    double ratio = floor(th->dt / s->dt * (1.0 + 1e-12));
+    double ratio = floor(th->dt / s->solver.dt * (1.0 + 1e-12));
     th->every = ratio >= 1.0 ? (long)fmin(ratio, 1e9) : 1;
-    th->substeps = ratio >= 1.0 ? 1 : (long)ceil(s->dt / th->dt * (1.0 - 1e-12));
+    th->substeps = ratio >= 1.0 ? 1 : (long)ceil(s->solver.dt / th->dt * (1.0 - 1e-12));
   }
-  if (step % th->every != 0 && step != s->steps) return PERI_OK;
+  if (step % th->every != 0 && step != s->solver.steps) return PERI_OK;
   const double span = t - th->time;
   if (!(span > 0.0)) return PERI_OK;
   /* sub-steps no longer than the heat time step */

@@ -72,9 +72,9 @@ static const char *parallel_lu(void) {
 }
 
 int peri_implicit_check_ranks(const peri_sim *s, int ranks) {
-  const bool lu = s->qs.linear_solver == PERI_LINEAR_DIRECT || s->qs.petsc_preconditioner == PERI_PC_LU;
+  const bool lu = s->solver.qs.linear_solver == PERI_LINEAR_DIRECT || s->solver.qs.petsc_preconditioner == PERI_PC_LU;
   if (ranks <= 1 || !lu || parallel_lu()) return PERI_OK;
-  const char *what = s->qs.linear_solver == PERI_LINEAR_DIRECT ? "linear_solver direct" : "petsc_preconditioner lu";
+  const char *what = s->solver.qs.linear_solver == PERI_LINEAR_DIRECT ? "linear_solver direct" : "petsc_preconditioner lu";
   peri_error("%s: the LU factorization of %s needs MUMPS or SuperLU_dist on %d ranks, and this PETSc has "
              "neither: use linear_solver cg or gmres (petsc_preconditioner gamg or jacobi), or run in one process",
              s->deck_path, what, ranks);
@@ -133,7 +133,7 @@ typedef struct implicit_ctx {
 
 /* u on free components from the Newton iterate. */
 static PetscErrorCode set_displacement(implicit_ctx *c, Vec x) {
-  peri_particles *p = &c->s->p;
+  peri_particles *p = &c->s->disc.p;
   const PetscScalar *xa;
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(x, &xa));
@@ -156,10 +156,10 @@ static PetscErrorCode form_function(SNES snes, Vec x, Vec F, void *vctx) {
   peri_qs_forces(s);
   c->rel = peri_qs_residual(s, c->r);
   PetscCall(VecGetArray(F, &fa));
-  for (int32_t i = 0; i < s->p.n_owned; ++i)
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i)
     for (int d = 0; d < c->dim; ++d) {
       const PetscInt e = (PetscInt)c->dim * i + d;
-      fa[e] = c->held[e] ? 0.0 : -s->p.volume[i] * c->r[3 * (size_t)i + d];
+      fa[e] = c->held[e] ? 0.0 : -s->disc.p.volume[i] * c->r[3 * (size_t)i + d];
     }
   PetscCall(VecRestoreArray(F, &fa));
   PetscFunctionReturn(0);
@@ -190,7 +190,7 @@ static void add_row(void *vctx, int32_t i, int32_t count, const int32_t *cols, c
   for (int32_t k = 0; k < count; ++k) c->order[k] = (struct column){global_node(c, cols[k]), k};
   qsort(c->order, (size_t)count, sizeof *c->order, by_column);
   const int dim = c->dim;
-  const double V = c->s->p.volume[i];
+  const double V = c->s->disc.p.volume[i];
   const size_t width = (size_t)count * dim; /* values row-major over the block row */
   for (int32_t k = 0; k < count; ++k) {
     c->cols[k] = c->order[k].col;
@@ -211,7 +211,7 @@ static PetscErrorCode form_jacobian(SNES snes, Vec x, Mat J, Mat P, void *vctx) 
   PetscCall(MatZeroEntries(P));
   c->A = P;
   c->error = 0;
-  c->s->model->tangent(c->s, add_row, c);
+  c->s->mat.model->tangent(c->s, add_row, c);
   peri_contributions_tangent(c->s, add_row, c); /* loads that depend on u (indenter) */
   PetscCall(c->error);
   PetscCall(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY));
@@ -242,7 +242,7 @@ static PetscErrorCode form_jacobian(SNES snes, Vec x, Mat J, Mat P, void *vctx) 
 static PetscErrorCode converged_test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal step, PetscReal fnorm,
                                      SNESConvergedReason *reason, void *vctx) {
   implicit_ctx *c = vctx;
-  const peri_quasi_static *q = &c->s->qs;
+  const peri_quasi_static *q = &c->s->solver.qs;
   (void)snes, (void)xnorm, (void)step;
   PetscFunctionBeginUser;
   if (history_count < HISTORY_MAX) history[history_count] = c->rel;
@@ -268,7 +268,7 @@ static PetscErrorCode update_linear_tolerance(SNES snes, PetscInt step) {
   PetscFunctionBeginUser;
   (void)step;
   PetscCall(SNESGetApplicationContext(snes, &c));
-  const peri_quasi_static *q = &c->s->qs;
+  const peri_quasi_static *q = &c->s->solver.qs;
   PetscCall(SNESGetKSP(snes, &ksp));
   PetscCall(KSPGetTolerances(ksp, &rtol, &atol, &dtol, &maxits));
   PetscCall(KSPSetTolerances(ksp, rtol, 1e-2 * q->tolerance * fmax(q->last_reference, q->reference), dtol, maxits));
@@ -277,11 +277,11 @@ static PetscErrorCode update_linear_tolerance(SNES snes, PetscInt step) {
 
 /* Block nonzeros of each row: the node, its intact bonds, and for reach 2 their intact bonds. */
 static PetscInt *count_blocks(const peri_sim *s, int reach) {
-  const peri_bonds *b = &s->bonds;
-  const int32_t n = s->p.n_owned;
+  const peri_bonds *b = &s->disc.bonds;
+  const int32_t n = s->disc.p.n_owned;
   PetscInt *count = peri_calloc((size_t)(n > 0 ? n : 1), sizeof(PetscInt));
-  int32_t *mark = peri_malloc(sizeof(int32_t) * (size_t)(s->p.n > 0 ? s->p.n : 1));
-  for (int32_t i = 0; i < s->p.n; ++i) mark[i] = -1;
+  int32_t *mark = peri_malloc(sizeof(int32_t) * (size_t)(s->disc.p.n > 0 ? s->disc.p.n : 1));
+  for (int32_t i = 0; i < s->disc.p.n; ++i) mark[i] = -1;
   for (int32_t i = 0; i < n; ++i) {
     PetscInt c = 1;
     mark[i] = i;
@@ -304,16 +304,16 @@ static PetscInt *count_blocks(const peri_sim *s, int reach) {
 /* Prescribed components, and every component of a node with no intact bond. */
 static void find_held(implicit_ctx *c) {
   const peri_sim *s = c->s;
-  const peri_bonds *b = &s->bonds;
+  const peri_bonds *b = &s->disc.bonds;
   c->held = peri_calloc((size_t)c->n_eq + 1, 1);
   c->held_rows = peri_malloc(sizeof(PetscInt) * ((size_t)c->n_eq + 1));
   c->n_held = 0;
-  for (int32_t i = 0; i < s->p.n_owned; ++i) {
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i) {
     bool bonded = false;
     for (int64_t k = b->offset[i]; k < b->offset[i + 1] && !bonded; ++k) bonded = !b->broken[k];
     for (int d = 0; d < c->dim; ++d) {
       const PetscInt e = (PetscInt)c->dim * i + d;
-      if (s->prescribed[3 * (size_t)i + d] || !bonded) {
+      if (s->cond.prescribed[3 * (size_t)i + d] || !bonded) {
         c->held[e] = 1;
         c->held_rows[c->n_held++] = (PetscInt)c->dim * global_node(c, i) + d;
       }
@@ -334,7 +334,7 @@ static PetscErrorCode create_matrix(implicit_ctx *c, Mat *A) {
   PetscCall(MatSetType(*A, MATAIJ));
   PetscCall(MatSetBlockSize(*A, c->dim));
   if (!c->global_id) {
-    PetscInt *blocks = count_blocks(s, s->model->tangent_reach);
+    PetscInt *blocks = count_blocks(s, s->mat.model->tangent_reach);
     PetscCall(MatXAIJSetPreallocation(*A, c->dim, blocks, NULL, NULL, NULL));
     free(blocks);
     PetscFunctionReturn(0);
@@ -348,7 +348,7 @@ static PetscErrorCode create_matrix(implicit_ctx *c, Mat *A) {
   peri_exchange_state(s); /* the tangent reads the ghosts' displacements */
   c->A = pattern;
   c->error = 0;
-  s->model->tangent(s, add_row, c); /* the indenter adds diagonal blocks only: present already */
+  s->mat.model->tangent(s, add_row, c); /* the indenter adds diagonal blocks only: present already */
   PetscCall(c->error);
   PetscCall(MatAssemblyBegin(pattern, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(pattern, MAT_FINAL_ASSEMBLY));
@@ -381,10 +381,10 @@ static PetscErrorCode configure_ksp(const peri_sim *s, KSP ksp, peri_linear_solv
   PetscCall(KSPSetTolerances(ksp, 1e-6, atol, PETSC_DEFAULT, 10000));
   static const PCType types[] = {PCGAMG, PCJACOBI, PCILU, PCLU, PCNONE};
   /* PETSc's ILU is sequential: on several ranks, block Jacobi with ILU(0) on each rank's block */
-  const bool ilu = s->qs.petsc_preconditioner == PERI_PC_ILU;
-  PetscCall(PCSetType(pc, distributed && ilu ? PCBJACOBI : types[s->qs.petsc_preconditioner]));
-  if (distributed && s->qs.petsc_preconditioner == PERI_PC_LU) PetscCall(PCFactorSetMatSolverType(pc, parallel_lu()));
-  if (s->qs.petsc_preconditioner == PERI_PC_GAMG) {
+  const bool ilu = s->solver.qs.petsc_preconditioner == PERI_PC_ILU;
+  PetscCall(PCSetType(pc, distributed && ilu ? PCBJACOBI : types[s->solver.qs.petsc_preconditioner]));
+  if (distributed && s->solver.qs.petsc_preconditioner == PERI_PC_LU) PetscCall(PCFactorSetMatSolverType(pc, parallel_lu()));
+  if (s->solver.qs.petsc_preconditioner == PERI_PC_GAMG) {
     /* the rigid-body modes let aggregation coarsen elasticity well */
     MatNullSpace rigid;
     PetscCall(MatNullSpaceCreateRigidBody(coords, &rigid));
@@ -398,7 +398,7 @@ static PetscErrorCode configure_ksp(const peri_sim *s, KSP ksp, peri_linear_solv
 static PetscErrorCode push_options(const peri_sim *s, PetscOptions *opts) {
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsCreate(opts));
-  if (s->qs.petsc_options[0]) PetscCall(PetscOptionsInsertString(*opts, s->qs.petsc_options));
+  if (s->solver.qs.petsc_options[0]) PetscCall(PetscOptionsInsertString(*opts, s->solver.qs.petsc_options));
   if (command_line_options) PetscCall(PetscOptionsInsertString(*opts, command_line_options));
   PetscCall(PetscOptionsPush(*opts));
   PetscFunctionReturn(0);
@@ -418,7 +418,7 @@ static void warn_unused_options(PetscOptions opts) {
 static PetscErrorCode solve(implicit_ctx *c, peri_linear_solver linear, long *newton, long *krylov,
                             SNESConvergedReason *reason) {
   peri_sim *s = c->s;
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
   const int dim = c->dim;
   Mat A;
   Vec x, F, coords;
@@ -449,11 +449,11 @@ static PetscErrorCode solve(implicit_ctx *c, peri_linear_solver linear, long *ne
   PetscCall(SNESSetConvergenceTest(snes, converged_test, c, NULL));
   PetscCall(SNESSetApplicationContext(snes, c));
   if (linear != PERI_LINEAR_DIRECT) PetscCall(SNESSetUpdate(snes, update_linear_tolerance));
-  PetscCall(SNESSetTolerances(snes, 0.0, 0.0, 0.0, (PetscInt)s->qs.max_iterations, 1000000));
+  PetscCall(SNESSetTolerances(snes, 0.0, 0.0, 0.0, (PetscInt)s->solver.qs.max_iterations, 1000000));
   PetscCall(SNESGetKSP(snes, &ksp));
   /* the scale of the residual is the reference force norm of the quasi-static measure */
-  const double scale = fmax(s->qs.last_reference, s->qs.reference);
-  PetscCall(configure_ksp(s, ksp, linear, A, coords, 1e-2 * s->qs.tolerance * scale));
+  const double scale = fmax(s->solver.qs.last_reference, s->solver.qs.reference);
+  PetscCall(configure_ksp(s, ksp, linear, A, coords, 1e-2 * s->solver.qs.tolerance * scale));
   PetscCall(push_options(s, &opts));
   PetscErrorCode solved = SNESSetFromOptions(snes); /* a bad option value fails here */
   if (!solved) solved = SNESSolve(snes, NULL, x);
@@ -477,16 +477,16 @@ static PetscErrorCode solve(implicit_ctx *c, peri_linear_solver linear, long *ne
 }
 
 peri_qs_status peri_solve_implicit(peri_sim *s) {
-  peri_quasi_static *q = &s->qs;
-  if (!s->model->tangent) {
-    peri_error("implicit: model %s has no tangent stiffness (use solver type nlcg)", s->model->name);
+  peri_quasi_static *q = &s->solver.qs;
+  if (!s->mat.model->tangent) {
+    peri_error("implicit: model %s has no tangent stiffness (use solver type nlcg)", s->mat.model->name);
     return PERI_QS_DIVERGED;
   }
   if (start_petsc() != PERI_OK) return PERI_QS_DIVERGED;
-  implicit_ctx c = {.s = s, .dim = s->geom.dim, .global_id = s->dd ? s->dd->global_id : NULL};
-  c.n_eq = (PetscInt)c.dim * s->p.n_owned;
-  c.n_eq_global = (PetscInt)c.dim * (s->dd ? (PetscInt)s->dd->n_global : (PetscInt)s->p.n_owned);
-  c.r = peri_malloc(sizeof(double) * 3 * (size_t)(s->p.n > 0 ? s->p.n : 1));
+  implicit_ctx c = {.s = s, .dim = s->disc.geom.dim, .global_id = s->par.dd ? s->par.dd->global_id : NULL};
+  c.n_eq = (PetscInt)c.dim * s->disc.p.n_owned;
+  c.n_eq_global = (PetscInt)c.dim * (s->par.dd ? (PetscInt)s->par.dd->n_global : (PetscInt)s->disc.p.n_owned);
+  c.r = peri_malloc(sizeof(double) * 3 * (size_t)(s->disc.p.n > 0 ? s->disc.p.n : 1));
   find_held(&c);
   q->solves++;
   history_count = 0;
@@ -507,18 +507,18 @@ peri_qs_status peri_solve_implicit(peri_sim *s) {
     err = solve(&c, linear, &newton, &krylov, &reason);
     if (err || reason != SNES_DIVERGED_LINEAR_SOLVE) break;
     if (linear == PERI_LINEAR_CG && c.shift == 0.0) {
-      if (!s->quiet && !told_gmres)
+      if (!s->out.quiet && !told_gmres)
         peri_warning("implicit: CG failed on an indefinite tangent at t = %g; GMRES takes over for such "
-                     "solves", s->time);
+                     "solves", s->state.time);
       told_gmres = true;
       linear = PERI_LINEAR_GMRES;
       continue;
     }
     if (c.shift >= 1e-2) break;
     c.shift = c.shift == 0.0 ? 1e-8 : 100.0 * c.shift;
-    if (!s->quiet && !told_shift)
+    if (!s->out.quiet && !told_shift)
       peri_warning("implicit: the tangent is singular at t = %g (a loose piece?); solving with a diagonal "
-                   "shift of %g |diag K| (reported once)", s->time, c.shift);
+                   "shift of %g |diag K| (reported once)", s->state.time, c.shift);
     told_shift = true;
   }
   /* forces and residual at the final state (the line search may have evaluated elsewhere) */
@@ -534,7 +534,7 @@ peri_qs_status peri_solve_implicit(peri_sim *s) {
   free(c.held);
   free(c.held_rows);
   if (err) {
-    peri_error("implicit: PETSc error %d during the solve at t = %g", (int)err, s->time);
+    peri_error("implicit: PETSc error %d during the solve at t = %g", (int)err, s->state.time);
     return PERI_QS_DIVERGED;
   }
   if (!isfinite(rel)) return PERI_QS_DIVERGED;

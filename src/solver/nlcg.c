@@ -26,7 +26,7 @@ typedef struct cg_work {
 static double evaluate(cg_work *w) {
   peri_qs_forces(w->s);
   double res = peri_qs_residual(w->s, w->r);
-  const peri_particles *p = &w->s->p;
+  const peri_particles *p = &w->s->disc.p;
 #pragma omp parallel for schedule(static) if (p->n_owned > 8192)
   for (int32_t i = 0; i < p->n_owned; ++i)
     for (int d = 0; d < 3; ++d) w->vr[3 * (size_t)i + d] = p->volume[i] * w->r[3 * (size_t)i + d];
@@ -36,9 +36,9 @@ static double evaluate(cg_work *w) {
 /* Pi(u) = sum V W - sum V b.u (node order blocks via peri_qs_dot). */
 static double potential(cg_work *w) {
   peri_sim *s = w->s;
-  peri_particles *p = &s->p;
+  peri_particles *p = &s->disc.p;
   peri_exchange_state(s); /* ghost displacements (MPI ranks) */
-  s->model->energy(s, w->wn);
+  s->mat.model->energy(s, w->wn);
   const int32_t n = p->n_owned;
   double *vb = peri_malloc(sizeof(double) * w->n3);
   for (int32_t i = 0; i < n; ++i)
@@ -61,8 +61,8 @@ static double max_abs(const double *x, size_t n) {
 }
 
 peri_qs_status peri_solve_nlcg(peri_sim *s) {
-  peri_particles *p = &s->p;
-  peri_quasi_static *q = &s->qs;
+  peri_particles *p = &s->disc.p;
+  peri_quasi_static *q = &s->solver.qs;
   const int32_t n = p->n_owned;
   const size_t n3 = 3 * (size_t)n;
   cg_work w = {.s = s, .n3 = n3};
@@ -85,7 +85,7 @@ peri_qs_status peri_solve_nlcg(peri_sim *s) {
   }
   q->solves++;
 
-  const double dx = s->geom.spacing;
+  const double dx = s->disc.geom.spacing;
   const int jmax = 5;
   double res = evaluate(&w);
   peri_qs_status status = res <= q->tolerance ? PERI_QS_CONVERGED : PERI_QS_NOT_CONVERGED;

@@ -11,7 +11,7 @@
 #include "peri/quasistatic.h"
 
 double peri_qs_dot(const peri_sim *s, const double *a, const double *b, int ncomp) {
-  const int32_t n = s->p.n_owned;
+  const int32_t n = s->disc.p.n_owned;
   double *terms = peri_malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
 #pragma omp parallel for schedule(static) if (n > 8192)
   for (int32_t i = 0; i < n; ++i) {
@@ -26,22 +26,22 @@ double peri_qs_dot(const peri_sim *s, const double *a, const double *b, int ncom
 }
 
 void peri_qs_density(const peri_sim *s, double fs, double *lambda) {
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
 #pragma omp parallel for schedule(static) if (p->n_owned > 8192)
   for (int32_t i = 0; i < p->n_owned; ++i) {
-    const peri_material *mi = &s->materials[p->material[i]];
+    const peri_material *mi = &s->mat.materials[p->material[i]];
     lambda[i] = 0.25 * fs * peri_node_stiffness_bound(s, i);
-    if (!(lambda[i] > 0.0)) lambda[i] = 0.25 * fs * mi->c_stable * p->volume[i] / s->geom.spacing;
+    if (!(lambda[i] > 0.0)) lambda[i] = 0.25 * fs * mi->c_stable * p->volume[i] / s->disc.geom.spacing;
   }
 }
 
 void peri_qs_apply_loading(peri_sim *s, double t) {
-  peri_particles *p = &s->p;
-  s->time = t;
-  for (int k = 0; k < s->n_bcs; ++k) {
-    const peri_bc *bc = &s->bcs[k];
+  peri_particles *p = &s->disc.p;
+  s->state.time = t;
+  for (int k = 0; k < s->cond.n_bcs; ++k) {
+    const peri_bc *bc = &s->cond.bcs[k];
     if (bc->kind != PERI_BC_DISPLACEMENT) continue;
-    const peri_region *r = &s->regions[bc->region];
+    const peri_region *r = &s->cond.regions[bc->region];
     for (int32_t a = 0; a < r->count; ++a) {
       const int32_t i = r->nodes[a];
       const double *x = &p->x[3 * i];
@@ -54,18 +54,18 @@ void peri_qs_apply_loading(peri_sim *s, double t) {
 }
 
 void peri_qs_forces(peri_sim *s) {
-  const bool breaking = s->breaking;
-  s->breaking = false;
+  const bool breaking = s->solver.breaking;
+  s->solver.breaking = false;
   peri_exchange_state(s); /* ghost displacements (MPI ranks) */
-  if (peri_loads_follow_deformation(s)) peri_apply_loads(s, s->time);
-  s->model->force(s);
-  s->breaking = breaking;
-  s->qs.force_evaluations++;
+  if (peri_loads_follow_deformation(s)) peri_apply_loads(s, s->state.time);
+  s->mat.model->force(s);
+  s->solver.breaking = breaking;
+  s->solver.qs.force_evaluations++;
 }
 
 double peri_qs_residual(const peri_sim *s, double *r) {
-  const peri_particles *p = &s->p;
-  const int dim = s->geom.dim;
+  const peri_particles *p = &s->disc.p;
+  const int dim = s->disc.geom.dim;
   const int32_t n = p->n_owned;
   /* per-node squares, summed in node order blocks */
   double *sq = peri_malloc(sizeof(double) * 2 * (size_t)(n > 0 ? n : 1));
@@ -77,7 +77,7 @@ double peri_qs_residual(const peri_sim *s, double *r) {
       const size_t c = 3 * (size_t)i + d;
       if (d >= dim) {
         r[c] = 0.0;
-      } else if (s->prescribed[c]) {
+      } else if (s->cond.prescribed[c]) {
         r[c] = 0.0;
         ref += V * V * p->f[c] * p->f[c];
       } else {
@@ -93,7 +93,7 @@ double peri_qs_residual(const peri_sim *s, double *r) {
   peri_sum_owned(s, sq, 2, sums); /* fixed-order blocks: any number of threads and ranks */
   const double res = sums[0], ref = sums[1];
   free(sq);
-  peri_quasi_static *q = (peri_quasi_static *)&s->qs; /* the running reference is bookkeeping */
+  peri_quasi_static *q = (peri_quasi_static *)&s->solver.qs; /* the running reference is bookkeeping */
   q->last_reference = sqrt(ref);
   const double scale = fmax(sqrt(ref), q->reference);
   if (!(scale > 0.0)) return res > 0.0 ? 1.0 : 0.0;

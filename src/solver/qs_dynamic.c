@@ -13,7 +13,7 @@
 
 typedef struct phase_ctx {
   const peri_qs_dynamic_switch *d;
-  double clock;               /* s->time before each step: the step evaluates loads at clock + dt = t */
+  double clock;               /* s->state.time before each step: the step evaluates loads at clock + dt = t */
   double dt;
   long load_step;             /* the load step shown in history rows */
   peri_step_hook hook;        /* the run's hook (history rows) */
@@ -28,20 +28,20 @@ typedef struct phase_ctx {
  * in that time has arrested (the default of arrest_steps). */
 static long wave_crossing_steps(const peri_sim *s, double dt) {
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (int32_t i = 0; i < s->p.n_owned; ++i)
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i)
     for (int d = 0; d < 3; ++d) {
-      lo[d] = fmin(lo[d], s->p.x[3 * i + d]);
-      hi[d] = fmax(hi[d], s->p.x[3 * i + d]);
+      lo[d] = fmin(lo[d], s->disc.p.x[3 * i + d]);
+      hi[d] = fmax(hi[d], s->disc.p.x[3 * i + d]);
     }
   double diagonal2 = 0.0;
-  for (int d = 0; d < s->geom.dim; ++d) {
+  for (int d = 0; d < s->disc.geom.dim; ++d) {
     const double extent = peri_comm_max(hi[d]) - peri_comm_min(lo[d]);
     if (isfinite(extent)) diagonal2 += extent * extent;
   }
   double speed = 0.0;
-  for (int m = 0; m < s->n_materials; ++m) {
-    const peri_material *mat = &s->materials[m];
-    speed = fmax(speed, sqrt(peri_pwave_modulus(&s->geom, mat->E, mat->nu, mat->K, mat->mu) / mat->density));
+  for (int m = 0; m < s->mat.n_materials; ++m) {
+    const peri_material *mat = &s->mat.materials[m];
+    speed = fmax(speed, sqrt(peri_pwave_modulus(&s->disc.geom, mat->E, mat->nu, mat->K, mat->mu) / mat->density));
   }
   if (!(speed > 0.0) || !(diagonal2 > 0.0)) return 1000;
   const double steps = ceil(2.0 * sqrt(diagonal2) / (speed * dt));
@@ -50,12 +50,12 @@ static long wave_crossing_steps(const peri_sim *s, double dt) {
 
 /* The time step of the dynamic phase: given, or safety_factor x the stable estimate. */
 static double phase_time_step(const peri_sim *s) {
-  const peri_qs_dynamic_switch *d = &s->qs.dynamic;
+  const peri_qs_dynamic_switch *d = &s->solver.qs.dynamic;
   return d->time_step > 0.0 ? d->time_step : d->safety_factor * peri_stable_dt(s);
 }
 
 void peri_qs_dynamic_summary(const peri_sim *s, FILE *out) {
-  const peri_qs_dynamic_switch *d = &s->qs.dynamic;
+  const peri_qs_dynamic_switch *d = &s->solver.qs.dynamic;
   if (!d->on) return;
   const double dt = phase_time_step(s);
   const long quiet = d->arrest_steps > 0 ? d->arrest_steps : wave_crossing_steps(s, dt);
@@ -68,22 +68,22 @@ void peri_qs_dynamic_summary(const peri_sim *s, FILE *out) {
 /* A history row of the dynamic phase through the run's hook. */
 static void report(peri_sim *s, phase_ctx *c) {
   if (!c->hook || c->stop) return;
-  const double clock = s->time;
-  const long step = s->step;
-  s->time = c->clock + c->dt; /* the held load level */
-  s->step = c->load_step;
+  const double clock = s->state.time;
+  const long step = s->state.step;
+  s->state.time = c->clock + c->dt; /* the held load level */
+  s->state.step = c->load_step;
   if (c->hook(s, c->hook_ctx)) c->stop = true;
-  s->time = clock;
-  s->step = step;
+  s->state.time = clock;
+  s->state.step = step;
 }
 
 /* After every explicit step: hold the load, track the kinetic energy and breaking, decide arrest. */
 static int after_step(peri_sim *s, void *vc) {
   phase_ctx *c = vc;
-  const long done = s->step;
-  s->time = c->clock; /* the next step evaluates the loads at t again */
-  s->qs.dynamic_time += c->dt;
-  s->qs.dynamic_steps++;
+  const long done = s->state.step;
+  s->state.time = c->clock; /* the next step evaluates the loads at t again */
+  s->solver.qs.dynamic_time += c->dt;
+  s->solver.qs.dynamic_steps++;
   const double ke = peri_kinetic_energy(s);
   const long broken = peri_global_broken(s);
   c->quiet = broken == c->broken ? c->quiet + 1 : 0;
@@ -96,10 +96,10 @@ static int after_step(peri_sim *s, void *vc) {
 }
 
 int peri_qs_dynamic_phase(peri_sim *s, double t, peri_step_hook hook, void *ctx, bool *stop) {
-  const peri_qs_dynamic_switch *d = &s->qs.dynamic;
+  const peri_qs_dynamic_switch *d = &s->solver.qs.dynamic;
   /* what the explicit integrator uses, restored afterwards */
-  const double dt_saved = s->dt, damping_saved = s->damping, work_saved = s->external_work;
-  const long step_saved = s->step, steps_saved = s->steps;
+  const double dt_saved = s->solver.dt, damping_saved = s->solver.damping, work_saved = s->state.external_work;
+  const long step_saved = s->state.step, steps_saved = s->solver.steps;
   struct peri_thermal *thermal_saved = s->thermal;
 
   phase_ctx c = {.d = d, .dt = phase_time_step(s), .load_step = step_saved + 1, .hook = hook, .hook_ctx = ctx};
@@ -107,15 +107,15 @@ int peri_qs_dynamic_phase(peri_sim *s, double t, peri_step_hook hook, void *ctx,
   c.quiet_needed = d->arrest_steps > 0 ? d->arrest_steps : wave_crossing_steps(s, c.dt);
   c.broken = peri_global_broken(s);
   const long broken_before = c.broken;
-  s->dt = c.dt;
-  s->damping = d->damping;
-  s->steps = d->max_dynamic_steps;
-  s->step = 0;
-  s->time = c.clock;
+  s->solver.dt = c.dt;
+  s->solver.damping = d->damping;
+  s->solver.steps = d->max_dynamic_steps;
+  s->state.step = 0;
+  s->state.time = c.clock;
   s->thermal = NULL; /* the temperature field is held with the load */
-  s->qs.phase = PERI_QS_PHASE_DYNAMIC;
-  s->qs.dynamic_phases++;
-  memset(s->p.v, 0, sizeof(double) * 3 * (size_t)s->p.n); /* from rest at the last equilibrium */
+  s->solver.qs.phase = PERI_QS_PHASE_DYNAMIC;
+  s->solver.qs.dynamic_phases++;
+  memset(s->disc.p.v, 0, sizeof(double) * 3 * (size_t)s->disc.p.n); /* from rest at the last equilibrium */
 
   int rc = peri_solve_explicit(s, after_step, &c);
   if (rc == PERI_OK) report(s, &c); /* the state at arrest */
@@ -124,19 +124,19 @@ int peri_qs_dynamic_phase(peri_sim *s, double t, peri_step_hook hook, void *ctx,
                  "(kinetic energy above %g of its peak); the load steps resume (raise "
                  "solver.dynamic_switch.max_dynamic_steps or damping)",
                  step_saved + 1, t, d->max_dynamic_steps, d->arrest_kinetic_energy);
-  if (!s->quiet && peri_comm_rank() == 0)
+  if (!s->out.quiet && peri_comm_rank() == 0)
     printf("  dynamic      load step %ld (t = %g): %ld steps (%.3g s), %ld bonds broken, %s\n", step_saved + 1, t,
-           s->step, (double)s->step * c.dt, c.broken - broken_before,
+           s->state.step, (double)s->state.step * c.dt, c.broken - broken_before,
            c.arrested ? (c.quiet >= c.quiet_needed ? "arrested (no bond broke)" : "arrested (kinetic energy)")
                       : "not arrested");
 
-  s->qs.phase = PERI_QS_PHASE_STATIC;
+  s->solver.qs.phase = PERI_QS_PHASE_STATIC;
   s->thermal = thermal_saved;
-  s->dt = dt_saved;
-  s->damping = damping_saved;
-  s->external_work = work_saved;
-  s->steps = steps_saved;
-  s->step = step_saved;
+  s->solver.dt = dt_saved;
+  s->solver.damping = damping_saved;
+  s->state.external_work = work_saved;
+  s->solver.steps = steps_saved;
+  s->state.step = step_saved;
   peri_qs_apply_loading(s, t); /* exactly the held load; velocities zero */
   *stop = c.stop;
   return rc;

@@ -23,12 +23,12 @@ const peri_qs_solver_ops *peri_qs_solver(peri_solver_kind kind) {
 }
 
 peri_qs_status peri_solve_equilibrium(peri_sim *s) {
-  const peri_qs_solver_ops *solver = peri_qs_solver(s->solver);
+  const peri_qs_solver_ops *solver = peri_qs_solver(s->solver.kind);
   return solver ? solver->solve(s) : PERI_QS_DIVERGED;
 }
 
 int peri_solver_check_ranks(const peri_sim *s, int ranks) {
-  const peri_qs_solver_ops *solver = peri_qs_solver(s->solver);
+  const peri_qs_solver_ops *solver = peri_qs_solver(s->solver.kind);
   if (ranks <= 1 || !solver || !solver->check_ranks) return PERI_OK;
   return solver->check_ranks(s, ranks);
 }

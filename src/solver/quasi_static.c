@@ -23,14 +23,14 @@ static const char *solver_name(peri_solver_kind k) {
 }
 
 void peri_print_quasi_static_summary(const peri_sim *s, FILE *out) {
-  const peri_quasi_static *q = &s->qs;
+  const peri_quasi_static *q = &s->solver.qs;
   fprintf(out, "  solver       %s (quasi-static), %ld load step%s to t = %g, tolerance %g, at most %ld "
-               "iterations per solve\n", solver_name(s->solver), q->load_steps, q->load_steps == 1 ? "" : "s",
-          s->end_time, q->tolerance, q->max_iterations);
-  if (s->solver == PERI_SOLVER_DYNAMIC_RELAXATION)
-    fprintf(out, "  relaxation   time step %g s, damping %g 1/s, bond damping %g\n", s->dt, s->damping,
+               "iterations per solve\n", solver_name(s->solver.kind), q->load_steps, q->load_steps == 1 ? "" : "s",
+          s->solver.end_time, q->tolerance, q->max_iterations);
+  if (s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION)
+    fprintf(out, "  relaxation   time step %g s, damping %g 1/s, bond damping %g\n", s->solver.dt, s->solver.damping,
             q->bond_damping);
-  if (s->breaking)
+  if (s->solver.breaking)
     fprintf(out, "  fracture     re-solve until no bond breaks%s\n",
             q->max_broken_per_step > 0 ? ", cut back above max_broken_per_step" : "");
   peri_qs_dynamic_summary(s, out); /* solver.dynamic_switch */
@@ -39,50 +39,50 @@ void peri_print_quasi_static_summary(const peri_sim *s, FILE *out) {
 /* Breaks every intact bond beyond its critical stretch at the current u (and refreshes the
  * forces); returns the number of directed bonds broken. */
 static long break_bonds(peri_sim *s) {
-  if (!s->breaking) return 0;
-  if (peri_loads_follow_deformation(s)) peri_apply_loads(s, s->time);
+  if (!s->solver.breaking) return 0;
+  if (peri_loads_follow_deformation(s)) peri_apply_loads(s, s->state.time);
   peri_exchange_state(s); /* ghost displacements (MPI ranks) */
-  long nb = s->model->force(s);
-  s->qs.force_evaluations++;
-  return s->dd ? peri_comm_sum_long(nb) : nb; /* every rank takes the same branch */
+  long nb = s->mat.model->force(s);
+  s->solver.qs.force_evaluations++;
+  return s->par.dd ? peri_comm_sum_long(nb) : nb; /* every rank takes the same branch */
 }
 
 /* After a converged solve: the reference force norm of later solves is at least this one. */
-static void converged(peri_sim *s) { s->qs.reference = fmax(s->qs.reference, s->qs.last_reference); }
+static void converged(peri_sim *s) { s->solver.qs.reference = fmax(s->solver.qs.reference, s->solver.qs.last_reference); }
 
 static int not_converged(peri_sim *s, peri_qs_status st, double t) {
   if (st == PERI_QS_DIVERGED)
     peri_error("%s: the solution diverged at load step %ld (t = %g): the residual is not finite",
-               solver_name(s->solver), s->step + 1, t);
+               solver_name(s->solver.kind), s->state.step + 1, t);
   else
     peri_error("%s: not converged at load step %ld (t = %g) after %ld iterations: relative residual "
                "%.3g > tolerance %g (raise solver.max_iterations, loosen solver.tolerance or take "
-               "more load_steps)", solver_name(s->solver), s->step + 1, t, s->qs.max_iterations,
-               s->qs.residual, s->qs.tolerance);
+               "more load_steps)", solver_name(s->solver.kind), s->state.step + 1, t, s->solver.qs.max_iterations,
+               s->solver.qs.residual, s->solver.qs.tolerance);
   return PERI_ERR_RUN;
 }
 
 int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
-  peri_particles *p = &s->p;
-  peri_quasi_static *q = &s->qs;
+  peri_particles *p = &s->disc.p;
+  peri_quasi_static *q = &s->solver.qs;
   const size_t n3 = 3 * (size_t)p->n_owned;
-  const size_t nbonds = (size_t)s->bonds.n_bonds;
+  const size_t nbonds = (size_t)s->disc.bonds.n_bonds;
   double *u_save = peri_malloc(sizeof(double) * n3);
   uint8_t *broken_save = peri_malloc(nbonds ? nbonds : 1);
-  const double T = s->end_time;
+  const double T = s->solver.end_time;
   const long N = q->load_steps;
-  double t_done = s->time;
+  double t_done = s->state.time;
   int rc = PERI_OK;
   bool stop = false; /* the hook asked to stop (during a dynamic phase) */
   /* from the load step reached: 0, or a checkpoint's (docs/restart.md) */
-  for (long n = s->step; n < N && rc == PERI_OK; ++n) {
+  for (long n = s->state.step; n < N && rc == PERI_OK; ++n) {
     const double t_target = T * (double)(n + 1) / (double)N;
     double inc = t_target - t_done;
     int cut = 0;
     while (t_done < t_target && rc == PERI_OK && !stop) {
       const double t = fmin(t_done + inc, t_target);
       memcpy(u_save, p->u, sizeof(double) * n3);
-      memcpy(broken_save, s->bonds.broken, nbonds);
+      memcpy(broken_save, s->disc.bonds.broken, nbonds);
       peri_qs_apply_loading(s, t);
       peri_qs_status st = peri_solve_equilibrium(s);
       if (st != PERI_QS_CONVERGED) {
@@ -101,8 +101,8 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
             !went_dynamic) {
           /* too many at once: undo and take half the increment */
           memcpy(p->u, u_save, sizeof(double) * n3);
-          memcpy(s->bonds.broken, broken_save, nbonds);
-          ++s->bonds.broken_edits;
+          memcpy(s->disc.bonds.broken, broken_save, nbonds);
+          ++s->disc.bonds.broken_edits;
           inc *= 0.5;
           ++cut;
           ++q->cutbacks;
@@ -119,7 +119,7 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
         }
         if (++rounds > q->max_fracture_iterations) {
           peri_error("%s: bonds still break after %ld re-solves at load step %ld (t = %g); raise "
-                     "solver.max_fracture_iterations", solver_name(s->solver), rounds - 1, n + 1, t);
+                     "solver.max_fracture_iterations", solver_name(s->solver.kind), rounds - 1, n + 1, t);
           rc = PERI_ERR_RUN;
           break;
         }
@@ -133,9 +133,9 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
       if (retry) continue;
       if (!stop) t_done = t;
     }
-    s->time = t_done;
+    s->state.time = t_done;
     if (rc != PERI_OK || stop) break;
-    s->step = n + 1;
+    s->state.step = n + 1;
     if (hook && hook(s, ctx)) break;
   }
   /* the run is static: no velocity to report */

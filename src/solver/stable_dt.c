@@ -5,24 +5,24 @@
 #include "model/bond_kernel.h"
 
 double peri_node_stiffness_bound(const peri_sim *s, int32_t i) {
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
   /* bond-based models carry the influence function in the pair force; state-based ones
    * are bounded by the equivalent PMB micromodulus alone */
-  const bool bond_based = s->model->fixed_poisson;
+  const bool bond_based = s->mat.model->fixed_poisson;
   const peri_family_eval fam = peri_family_eval_of(b);
   const peri_influence influence = bond_based ? fam.influence : PERI_INFLUENCE_CONSTANT;
-  const double ci = s->materials[p->material[i]].c_stable;
+  const double ci = s->mat.materials[p->material[i]].c_stable;
   const double *restrict x = p->x, *restrict V = p->volume;
   const int32_t *restrict neighbor = b->neighbor;
   const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
   const int64_t k0 = b->offset[i], k1 = b->offset[i + 1];
-  if (s->n_materials > 1) { /* c per pair: a scalar loop */
+  if (s->mat.n_materials > 1) { /* c per pair: a scalar loop */
     double stiffness = 0.0;
     for (int64_t k = k0; k < k1; ++k) {
       const int32_t j = neighbor[k];
       const double r0 = peri_bond_length(x, i, j);
-      const double c = 0.5 * (ci + s->materials[p->material[j]].c_stable);
+      const double c = 0.5 * (ci + s->mat.materials[p->material[j]].c_stable);
       stiffness += peri_eval_beta(&fam, r0) * V[j] * c * peri_eval_omega(&fam, influence, r0) / r0;
     }
     return stiffness;
@@ -39,19 +39,19 @@ double peri_node_stiffness_bound(const peri_sim *s, int32_t i) {
 }
 
 double peri_stable_dt(const peri_sim *s) {
-  const peri_particles *p = &s->p;
+  const peri_particles *p = &s->disc.p;
   double dt_bond = INFINITY;
 #pragma omp parallel for schedule(static) reduction(min : dt_bond)
   for (int32_t i = 0; i < p->n_owned; ++i) {
-    const peri_material *mi = &s->materials[p->material[i]];
+    const peri_material *mi = &s->mat.materials[p->material[i]];
     const double stiffness = peri_node_stiffness_bound(s, i);
     if (stiffness > 0.0) dt_bond = fmin(dt_bond, sqrt(2.0 * mi->density / stiffness));
   }
   double dt_cfl = INFINITY;
-  for (int m = 0; m < s->n_materials; ++m) {
-    const peri_material *mat = &s->materials[m];
-    double M = peri_pwave_modulus(&s->geom, mat->E, mat->nu, mat->K, mat->mu);
-    dt_cfl = fmin(dt_cfl, s->geom.spacing / sqrt(M / mat->density));
+  for (int m = 0; m < s->mat.n_materials; ++m) {
+    const peri_material *mat = &s->mat.materials[m];
+    double M = peri_pwave_modulus(&s->disc.geom, mat->E, mat->nu, mat->K, mat->mu);
+    dt_cfl = fmin(dt_cfl, s->disc.geom.spacing / sqrt(M / mat->density));
   }
   return fmin(dt_bond, dt_cfl);
 }

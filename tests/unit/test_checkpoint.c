@@ -66,9 +66,9 @@ static void fill(double *a, size_t n) {
 }
 
 static void scramble(peri_sim *s) {
-  const size_t n = (size_t)s->p.n_owned;
-  peri_particles *p = &s->p;
-  double *arrays1[] = {p->damage, p->theta, p->wvol, p->pstate, p->smin, s->s0_node, s->thermal_strain,
+  const size_t n = (size_t)s->disc.p.n_owned;
+  peri_particles *p = &s->disc.p;
+  double *arrays1[] = {p->damage, p->theta, p->wvol, p->pstate, p->smin, s->mat.s0_node, s->state.thermal_strain,
                        s->thermal->T};
   for (size_t k = 0; k < sizeof arrays1 / sizeof arrays1[0]; ++k) {
     cr_assert_not_null(arrays1[k], "array %zu missing: the deck should allocate it", k);
@@ -77,18 +77,18 @@ static void scramble(peri_sim *s) {
   fill(p->u, 3 * n);
   fill(p->v, 3 * n);
   fill(p->f, 3 * n);
-  s->step_load = peri_malloc(sizeof(double) * 3 * n);
-  fill(s->step_load, 3 * n);
-  for (int64_t k = 0; k < s->bonds.n_bonds; ++k) {
-    s->bonds.broken[k] = (uint8_t)((rng = rng * 6364136223846793005ULL + 1) >> 63);
+  s->state.step_load = peri_malloc(sizeof(double) * 3 * n);
+  fill(s->state.step_load, 3 * n);
+  for (int64_t k = 0; k < s->disc.bonds.n_bonds; ++k) {
+    s->disc.bonds.broken[k] = (uint8_t)((rng = rng * 6364136223846793005ULL + 1) >> 63);
     s->thermal->cut[k] = (uint8_t)((rng = rng * 6364136223846793005ULL + 1) >> 63);
   }
-  s->time = 1.2345678901234567e-5;
-  s->step = 77;
-  s->external_work = noise();
-  for (int d = 0; d < 3; ++d) s->indenter.force[d] = noise();
-  s->qs.reference = noise(), s->qs.last_reference = noise(), s->qs.residual = noise();
-  s->qs.iterations = 12345, s->qs.solves = 67, s->qs.force_evaluations = 8910, s->qs.cutbacks = 3;
+  s->state.time = 1.2345678901234567e-5;
+  s->state.step = 77;
+  s->state.external_work = noise();
+  for (int d = 0; d < 3; ++d) s->cond.indenter.force[d] = noise();
+  s->solver.qs.reference = noise(), s->solver.qs.last_reference = noise(), s->solver.qs.residual = noise();
+  s->solver.qs.iterations = 12345, s->solver.qs.solves = 67, s->solver.qs.force_evaluations = 8910, s->solver.qs.cutbacks = 3;
   s->thermal->time = 1.1e-5;
   s->thermal->every = 7;
   s->thermal->substeps = 2;
@@ -117,32 +117,32 @@ Test(checkpoint, round_trip_is_bitwise, .init = setup, .fini = teardown) {
   cr_assert_eq(peri_restart_load(&b, path), PERI_OK);
   peri_apply_initial_conditions(&b);
   peri_restart_apply(&b);
-  const size_t n = (size_t)a.p.n_owned, nb = (size_t)a.bonds.n_bonds;
-  expect_same(a.p.u, b.p.u, 3 * n, "u");
-  expect_same(a.p.v, b.p.v, 3 * n, "v");
-  expect_same(a.p.f, b.p.f, 3 * n, "f");
-  expect_same(a.step_load, b.step_load, 3 * n, "step_load");
-  expect_same(a.p.damage, b.p.damage, n, "damage");
-  expect_same(a.p.theta, b.p.theta, n, "theta");
-  expect_same(a.p.wvol, b.p.wvol, n, "wvol");
-  expect_same(a.p.pstate, b.p.pstate, n, "pstate");
-  expect_same(a.p.smin, b.p.smin, n, "smin");
-  expect_same(a.s0_node, b.s0_node, n, "s0");
-  expect_same(a.thermal_strain, b.thermal_strain, n, "thermal strain");
+  const size_t n = (size_t)a.disc.p.n_owned, nb = (size_t)a.disc.bonds.n_bonds;
+  expect_same(a.disc.p.u, b.disc.p.u, 3 * n, "u");
+  expect_same(a.disc.p.v, b.disc.p.v, 3 * n, "v");
+  expect_same(a.disc.p.f, b.disc.p.f, 3 * n, "f");
+  expect_same(a.state.step_load, b.state.step_load, 3 * n, "step_load");
+  expect_same(a.disc.p.damage, b.disc.p.damage, n, "damage");
+  expect_same(a.disc.p.theta, b.disc.p.theta, n, "theta");
+  expect_same(a.disc.p.wvol, b.disc.p.wvol, n, "wvol");
+  expect_same(a.disc.p.pstate, b.disc.p.pstate, n, "pstate");
+  expect_same(a.disc.p.smin, b.disc.p.smin, n, "smin");
+  expect_same(a.mat.s0_node, b.mat.s0_node, n, "s0");
+  expect_same(a.state.thermal_strain, b.state.thermal_strain, n, "thermal strain");
   expect_same(a.thermal->T, b.thermal->T, n, "T");
-  expect_same(a.indenter.force, b.indenter.force, 3, "indenter force");
-  cr_expect_eq(memcmp(a.bonds.broken, b.bonds.broken, nb), 0, "broken flags differ");
+  expect_same(a.cond.indenter.force, b.cond.indenter.force, 3, "indenter force");
+  cr_expect_eq(memcmp(a.disc.bonds.broken, b.disc.bonds.broken, nb), 0, "broken flags differ");
   cr_expect_eq(memcmp(a.thermal->cut, b.thermal->cut, nb), 0, "cut flags differ");
-  cr_expect_eq(a.time, b.time);
-  cr_expect_eq(a.step, b.step);
-  cr_expect_eq(a.external_work, b.external_work);
-  cr_expect_eq(a.qs.reference, b.qs.reference);
-  cr_expect_eq(a.qs.last_reference, b.qs.last_reference);
-  cr_expect_eq(a.qs.residual, b.qs.residual);
-  cr_expect_eq(a.qs.iterations, b.qs.iterations);
-  cr_expect_eq(a.qs.solves, b.qs.solves);
-  cr_expect_eq(a.qs.force_evaluations, b.qs.force_evaluations);
-  cr_expect_eq(a.qs.cutbacks, b.qs.cutbacks);
+  cr_expect_eq(a.state.time, b.state.time);
+  cr_expect_eq(a.state.step, b.state.step);
+  cr_expect_eq(a.state.external_work, b.state.external_work);
+  cr_expect_eq(a.solver.qs.reference, b.solver.qs.reference);
+  cr_expect_eq(a.solver.qs.last_reference, b.solver.qs.last_reference);
+  cr_expect_eq(a.solver.qs.residual, b.solver.qs.residual);
+  cr_expect_eq(a.solver.qs.iterations, b.solver.qs.iterations);
+  cr_expect_eq(a.solver.qs.solves, b.solver.qs.solves);
+  cr_expect_eq(a.solver.qs.force_evaluations, b.solver.qs.force_evaluations);
+  cr_expect_eq(a.solver.qs.cutbacks, b.solver.qs.cutbacks);
   cr_expect_eq(a.thermal->time, b.thermal->time);
   cr_expect_eq(a.thermal->every, b.thermal->every);
   cr_expect_eq(a.thermal->substeps, b.thermal->substeps);
@@ -173,7 +173,7 @@ Test(checkpoint, other_discretization_is_refused, .init = setup, .fini = teardow
   build(&b, "0.0008"); /* 15 x 10 nodes */
   cr_assert_eq(peri_checkpoint_write(&a, path, NULL), PERI_OK);
   cr_expect_eq(peri_restart_load(&b, path), PERI_ERR_INPUT);
-  cr_expect_null(b.restart);
+  cr_expect_null(b.state.restart);
   peri_sim_free(&a);
   peri_sim_free(&b);
 }
@@ -257,10 +257,10 @@ Test(checkpoint, written_when_due, .init = setup, .fini = teardown) {
   char file[160];
   const long steps[] = {7, 10, 15, 100};
   const bool dynamic[] = {false, true, false, false};
-  const bool expected[] = {false, false, true, true}; /* 100 = s.steps, the last step */
+  const bool expected[] = {false, false, true, true}; /* 100 = s.solver.steps, the last step */
   for (int k = 0; k < 4; ++k) {
-    s.step = steps[k];
-    s.qs.phase = dynamic[k] ? PERI_QS_PHASE_DYNAMIC : PERI_QS_PHASE_STATIC;
+    s.state.step = steps[k];
+    s.solver.qs.phase = dynamic[k] ? PERI_QS_PHASE_DYNAMIC : PERI_QS_PHASE_STATIC;
     cr_assert_eq(peri_checkpoint_after_step(&s, &done), PERI_OK);
     snprintf(file, sizeof file, "%s/c_%06ld.h5", scratch, steps[k]);
     cr_expect_eq(access(file, F_OK) == 0, expected[k], "step %ld%s: checkpoint %s", steps[k],

@@ -36,16 +36,16 @@ static void check_exact(double ax, double ay, double bx, double by) {
   cr_assert_eq(sim_from_string(&s, deck), 0);
   double a[2] = {ax, ay}, b[2] = {bx, by};
   long expected = 0, mismatched = 0;
-  for (int32_t i = 0; i < s.p.n; ++i)
-    for (int64_t k = s.bonds.offset[i]; k < s.bonds.offset[i + 1]; ++k) {
-      int32_t j = s.bonds.neighbor[k];
-      bool cut = crosses(&s.p.x[3 * i], &s.p.x[3 * j], a, b);
+  for (int32_t i = 0; i < s.disc.p.n; ++i)
+    for (int64_t k = s.disc.bonds.offset[i]; k < s.disc.bonds.offset[i + 1]; ++k) {
+      int32_t j = s.disc.bonds.neighbor[k];
+      bool cut = crosses(&s.disc.p.x[3 * i], &s.disc.p.x[3 * j], a, b);
       expected += cut;
-      mismatched += cut != (bool)s.bonds.broken[k];
+      mismatched += cut != (bool)s.disc.bonds.broken[k];
     }
   cr_expect(expected > 0);
   cr_expect_eq(mismatched, 0, "%ld bonds differ from the geometric crossing test", mismatched);
-  cr_expect_eq(peri_broken_count(&s.bonds), expected);
+  cr_expect_eq(peri_broken_count(&s.disc.bonds), expected);
   peri_sim_free(&s);
 }
 
@@ -60,13 +60,13 @@ Test(precrack, on_a_row_of_nodes) {
   peri_sim s;
   cr_assert_eq(sim_from_string(&s, deck), 0);
   long wrong = 0;
-  for (int32_t i = 0; i < s.p.n; ++i)
-    for (int64_t k = s.bonds.offset[i]; k < s.bonds.offset[i + 1]; ++k) {
-      int32_t j = s.bonds.neighbor[k];
-      double yi = s.p.x[3 * i + 1], yj = s.p.x[3 * j + 1];
+  for (int32_t i = 0; i < s.disc.p.n; ++i)
+    for (int64_t k = s.disc.bonds.offset[i]; k < s.disc.bonds.offset[i + 1]; ++k) {
+      int32_t j = s.disc.bonds.neighbor[k];
+      double yi = s.disc.p.x[3 * i + 1], yj = s.disc.p.x[3 * j + 1];
       /* the shift is along the normal (0, +1): the row y = 10.5 is below the crack */
       bool should = (yi <= 10.5 && yj > 10.5) || (yj <= 10.5 && yi > 10.5);
-      wrong += should != (bool)s.bonds.broken[k];
+      wrong += should != (bool)s.disc.bonds.broken[k];
     }
   cr_expect_eq(wrong, 0);
   peri_sim_free(&s);
@@ -88,19 +88,19 @@ Test(precrack, rectangle_3d) {
   peri_sim s;
   cr_assert_eq(sim_from_string(&s, deck), 0);
   long wrong = 0;
-  for (int32_t i = 0; i < s.p.n; ++i)
-    for (int64_t k = s.bonds.offset[i]; k < s.bonds.offset[i + 1]; ++k) {
-      int32_t j = s.bonds.neighbor[k];
-      const double *P = &s.p.x[3 * i], *Q = &s.p.x[3 * j];
+  for (int32_t i = 0; i < s.disc.p.n; ++i)
+    for (int64_t k = s.disc.bonds.offset[i]; k < s.disc.bonds.offset[i + 1]; ++k) {
+      int32_t j = s.disc.bonds.neighbor[k];
+      const double *P = &s.disc.p.x[3 * i], *Q = &s.disc.p.x[3 * j];
       bool should = false;
       if ((P[0] - 6.0) * (Q[0] - 6.0) < 0.0) {
         double t = (6.0 - P[0]) / (Q[0] - P[0]);
         double y = P[1] + t * (Q[1] - P[1]);
         should = y >= 3.2 && y <= 8.2;
       }
-      wrong += should != (bool)s.bonds.broken[k];
+      wrong += should != (bool)s.disc.bonds.broken[k];
     }
   cr_expect_eq(wrong, 0);
-  cr_expect(peri_broken_count(&s.bonds) > 0);
+  cr_expect(peri_broken_count(&s.disc.bonds) > 0);
   peri_sim_free(&s);
 }

@@ -41,28 +41,28 @@ static void add_dense(void *ctx, int32_t i, int32_t count, const int32_t *cols, 
 
 /* u = (R - I) x + 0.02 diag(1, -0.5, 0.3) x + noise: a rotation by 0.5 rad about z. */
 static void deform(peri_sim *s) {
-  const double c = cos(0.5), sn = sin(0.5), dx = s->geom.spacing;
+  const double c = cos(0.5), sn = sin(0.5), dx = s->disc.geom.spacing;
   srand(7);
-  for (int32_t i = 0; i < s->p.n; ++i) {
-    double *x = &s->p.x[3 * i], *u = &s->p.u[3 * i];
-    const double y[3] = {1.02 * x[0], 0.99 * x[1], s->geom.dim == 3 ? 1.006 * x[2] : 0.0};
+  for (int32_t i = 0; i < s->disc.p.n; ++i) {
+    double *x = &s->disc.p.x[3 * i], *u = &s->disc.p.u[3 * i];
+    const double y[3] = {1.02 * x[0], 0.99 * x[1], s->disc.geom.dim == 3 ? 1.006 * x[2] : 0.0};
     u[0] = c * y[0] - sn * y[1] - x[0];
     u[1] = sn * y[0] + c * y[1] - x[1];
     u[2] = y[2] - x[2];
-    for (int d = 0; d < s->geom.dim; ++d) u[d] += 1e-3 * dx * (rand() / (double)RAND_MAX - 0.5);
+    for (int d = 0; d < s->disc.geom.dim; ++d) u[d] += 1e-3 * dx * (rand() / (double)RAND_MAX - 0.5);
   }
 }
 
 /* Breaks, in both directions, the bonds that cross the plane x = 2 dx for y < 3 dx. */
 static long cut(peri_sim *s) {
-  const double dx = s->geom.spacing;
+  const double dx = s->disc.geom.spacing;
   long count = 0;
-  for (int32_t i = 0; i < s->p.n; ++i)
-    for (int64_t k = s->bonds.offset[i]; k < s->bonds.offset[i + 1]; ++k) {
-      const int32_t j = s->bonds.neighbor[k];
-      const double *xi = &s->p.x[3 * i], *xj = &s->p.x[3 * j];
+  for (int32_t i = 0; i < s->disc.p.n; ++i)
+    for (int64_t k = s->disc.bonds.offset[i]; k < s->disc.bonds.offset[i + 1]; ++k) {
+      const int32_t j = s->disc.bonds.neighbor[k];
+      const double *xi = &s->disc.p.x[3 * i], *xj = &s->disc.p.x[3 * j];
       if ((xi[0] - 2 * dx) * (xj[0] - 2 * dx) < 0 && xi[1] < 3 * dx && xj[1] < 3 * dx)
-        s->bonds.broken[k] = 1, ++count;
+        s->disc.bonds.broken[k] = 1, ++count;
     }
   return count;
 }
@@ -72,49 +72,49 @@ static void check(const char *deck_fmt, const char *model, const char *nu, bool 
   snprintf(deck, sizeof deck, deck_fmt, model, nu);
   peri_sim s;
   cr_assert_eq(sim_from_string(&s, deck), 0);
-  cr_assert(s.model->tangent != NULL, "model %s has no tangent", model);
-  s.breaking = false;
+  cr_assert(s.mat.model->tangent != NULL, "model %s has no tangent", model);
+  s.solver.breaking = false;
   deform(&s);
   cr_assert(cut(&s) > 0);
   if (thermal) {
-    s.thermal_strain = calloc((size_t)s.p.n + 1, sizeof(double));
-    for (int32_t i = 0; i < s.p.n; ++i) s.thermal_strain[i] = 2e-3 * (1 + (i % 5));
+    s.state.thermal_strain = calloc((size_t)s.disc.p.n + 1, sizeof(double));
+    for (int32_t i = 0; i < s.disc.p.n; ++i) s.state.thermal_strain[i] = 2e-3 * (1 + (i % 5));
   }
-  const size_t n = (size_t)s.p.n, n3 = 3 * n;
+  const size_t n = (size_t)s.disc.p.n, n3 = 3 * n;
   dense d = {n3, calloc(n3 * n3, sizeof(double))};
-  s.model->force(&s);
-  s.model->tangent(&s, add_dense, &d);
+  s.mat.model->force(&s);
+  s.mat.model->tangent(&s, add_dense, &d);
   double *fd = calloc(n3 * n3, sizeof(double)), *fp = malloc(sizeof(double) * n3);
-  const double h = 1e-6 * s.geom.spacing;
+  const double h = 1e-6 * s.disc.geom.spacing;
   for (size_t col = 0; col < n3; ++col) {
-    if ((int)(col % 3) >= s.geom.dim) continue;
-    const double u0 = s.p.u[col];
-    s.p.u[col] = u0 + h;
-    s.model->force(&s);
-    memcpy(fp, s.p.f, sizeof(double) * n3);
-    s.p.u[col] = u0 - h;
-    s.model->force(&s);
-    s.p.u[col] = u0;
-    for (size_t row = 0; row < n3; ++row) fd[row * n3 + col] = (fp[row] - s.p.f[row]) / (2 * h);
+    if ((int)(col % 3) >= s.disc.geom.dim) continue;
+    const double u0 = s.disc.p.u[col];
+    s.disc.p.u[col] = u0 + h;
+    s.mat.model->force(&s);
+    memcpy(fp, s.disc.p.f, sizeof(double) * n3);
+    s.disc.p.u[col] = u0 - h;
+    s.mat.model->force(&s);
+    s.disc.p.u[col] = u0;
+    for (size_t row = 0; row < n3; ++row) fd[row * n3 + col] = (fp[row] - s.disc.p.f[row]) / (2 * h);
   }
   double kmax = 0.0, err = 0.0, asym = 0.0;
   for (size_t a = 0; a < n3; ++a)
     for (size_t b = 0; b < n3; ++b) {
-      if ((int)(a % 3) >= s.geom.dim || (int)(b % 3) >= s.geom.dim) continue;
+      if ((int)(a % 3) >= s.disc.geom.dim || (int)(b % 3) >= s.disc.geom.dim) continue;
       const double k = d.K[a * n3 + b];
       kmax = fmax(kmax, fabs(k));
       err = fmax(err, fabs(k - fd[a * n3 + b]));
       /* V_i K_ij = (V_j K_ji)^T */
-      asym = fmax(asym, fabs(s.p.volume[a / 3] * k - s.p.volume[b / 3] * d.K[b * n3 + a]));
+      asym = fmax(asym, fabs(s.disc.p.volume[a / 3] * k - s.disc.p.volume[b / 3] * d.K[b * n3 + a]));
     }
-  const double vmax = s.p.volume[0];
+  const double vmax = s.disc.p.volume[0];
   cr_log_info("tangent %s %dD%s: max |K| %.4g, max |K - central difference| %.3g (%.2g relative), asymmetry "
-              "%.2g relative", model, s.geom.dim, thermal ? " thermal" : "", kmax, err, err / kmax,
+              "%.2g relative", model, s.disc.geom.dim, thermal ? " thermal" : "", kmax, err, err / kmax,
               asym / (vmax * kmax));
   cr_assert(kmax > 0.0);
   cr_expect(err <= 1e-6 * kmax, "%s %dD: tangent differs from the force's derivative by %g of max |K|", model,
-            s.geom.dim, err / kmax);
-  cr_expect(asym <= 1e-12 * vmax * kmax, "%s %dD: V K is not symmetric (%g)", model, s.geom.dim,
+            s.disc.geom.dim, err / kmax);
+  cr_expect(asym <= 1e-12 * vmax * kmax, "%s %dD: V K is not symmetric (%g)", model, s.disc.geom.dim,
             asym / (vmax * kmax));
   free(d.K);
   free(fd);

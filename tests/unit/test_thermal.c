@@ -80,18 +80,18 @@ static int build(peri_sim *s, int dim, double m, const char *extent, const char 
 static void check_linear(int dim, const char *extent, double lo, double hi, const char *extra) {
   peri_sim s;
   cr_assert_eq(build(&s, dim, 3.0, extent, "2*x - 3*y + 0.5*z + 7", extra, ""), 0);
-  double *rate = calloc(s.p.n_owned, sizeof(double));
+  double *rate = calloc(s.disc.p.n_owned, sizeof(double));
   peri_thermal_rate(&s, s.thermal->T, 0.0, rate);
   int checked = 0;
-  const double margin = s.geom.horizon + s.geom.spacing;
-  for (int32_t i = 0; i < s.p.n_owned; ++i) {
+  const double margin = s.disc.geom.horizon + s.disc.geom.spacing;
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i) {
     bool inside = true;
-    for (int d = 0; d < dim; ++d) inside = inside && s.p.x[3 * i + d] > lo + margin && s.p.x[3 * i + d] < hi - margin;
+    for (int d = 0; d < dim; ++d) inside = inside && s.disc.p.x[3 * i + d] > lo + margin && s.disc.p.x[3 * i + d] < hi - margin;
     if (!inside) continue;
     /* scale: one bond's worth of heat, sum |H| * |dT| */
     double scale = 0.0;
-    for (int64_t k = s.bonds.offset[i]; k < s.bonds.offset[i + 1]; ++k)
-      scale += s.thermal->H[k] * fabs(s.thermal->T[s.bonds.neighbor[k]] - s.thermal->T[i]);
+    for (int64_t k = s.disc.bonds.offset[i]; k < s.disc.bonds.offset[i + 1]; ++k)
+      scale += s.thermal->H[k] * fabs(s.thermal->T[s.disc.bonds.neighbor[k]] - s.thermal->T[i]);
     cr_expect(fabs(rate[i] * s.thermal->rhoc[i]) <= 1e-12 * scale, "dim %d node %d: rate %g (scale %g)", dim, i,
               rate[i], scale);
     checked++;
@@ -116,18 +116,18 @@ Test(thermal, conservation_of_heat_insulated) {
                      "precracks: [{from: [0.75, 0.2], to: [0.75, 1.1]}]\n"),
                0);
   double q0 = peri_thermal_total_heat(&s);
-  for (int k = 0; k < 200; ++k) cr_assert_eq(peri_thermal_step(&s, s.dt), 0);
+  for (int k = 0; k < 200; ++k) cr_assert_eq(peri_thermal_step(&s, s.solver.dt), 0);
   double q1 = peri_thermal_total_heat(&s);
   cr_expect(fabs(q1 - q0) <= 1e-13 * fabs(q0), "total heat %.17g -> %.17g", q0, q1);
   /* and the field did change */
   double spread = 0.0;
-  for (int32_t i = 0; i < s.p.n_owned; ++i) spread = fmax(spread, fabs(s.thermal->T[i]));
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i) spread = fmax(spread, fabs(s.thermal->T[i]));
   cr_expect(spread < 100.0);
   peri_sim_free(&s);
   /* 3D, Euler */
   cr_assert_eq(build(&s, 3, 2.0, "0.6, 0.5, 0.4", "x*y + 3*z", ", integrator: euler", ""), 0);
   q0 = peri_thermal_total_heat(&s);
-  for (int k = 0; k < 100; ++k) cr_assert_eq(peri_thermal_step(&s, s.dt), 0);
+  for (int k = 0; k < 100; ++k) cr_assert_eq(peri_thermal_step(&s, s.solver.dt), 0);
   q1 = peri_thermal_total_heat(&s);
   cr_expect(fabs(q1 - q0) <= 1e-13 * fabs(q0), "3D total heat %.17g -> %.17g", q0, q1);
   peri_sim_free(&s);
@@ -141,10 +141,10 @@ Test(thermal, cut_bond_carries_no_heat) {
   for (int variant = 0; variant < 2; ++variant) {
     peri_sim s;
     cr_assert_eq(build(&s, 2, 3.0, "1, 1", "x < 0.5 ? 100 : 0", variant ? ", crack_conductance: 0.5" : "", crack), 0);
-    for (int k = 0; k < 50; ++k) cr_assert_eq(peri_thermal_step(&s, s.dt), 0);
+    for (int k = 0; k < 50; ++k) cr_assert_eq(peri_thermal_step(&s, s.solver.dt), 0);
     double right = 0.0;
-    for (int32_t i = 0; i < s.p.n_owned; ++i)
-      if (s.p.x[3 * i] > 0.5) right = fmax(right, fabs(s.thermal->T[i]));
+    for (int32_t i = 0; i < s.disc.p.n_owned; ++i)
+      if (s.disc.p.x[3 * i] > 0.5) right = fmax(right, fabs(s.thermal->T[i]));
     if (variant == 0) cr_expect(right == 0.0, "heat crossed the crack: max T on the cold side %g", right);
     else cr_expect(right > 1.0, "partial conduction: the cold side stays at %g", right);
     peri_sim_free(&s);
@@ -156,14 +156,14 @@ Test(thermal, cut_bond_carries_no_heat) {
 Test(thermal, two_nodes) {
   peri_sim s;
   cr_assert_eq(build(&s, 1, 1.0, "0.2", "x < 0.1 ? 10 : 4", ", kernel: constant, self_term: none", ""), 0);
-  cr_assert_eq(s.p.n_owned, 2);
+  cr_assert_eq(s.disc.p.n_owned, 2);
   double rate[2];
   peri_thermal_rate(&s, s.thermal->T, 0.0, rate);
   /* 1D constant kernel k0 = kappa/delta, beta = 1/2 at |xi| = delta = dx, A_p = dx */
   double H = (3.0 / 0.1) * 0.5 * 0.1 / (0.1 * 0.1);
   int hot = s.thermal->T[0] > s.thermal->T[1] ? 0 : 1;
   cr_expect(fabs(rate[hot] - (-H * 6.0 / 10.0)) < 1e-12 * H, "rate %g, expected %g", rate[hot], -H * 6.0 / 10.0);
-  s.bonds.broken[0] = s.bonds.broken[1] = 1;
+  s.disc.bonds.broken[0] = s.disc.bonds.broken[1] = 1;
   peri_thermal_rate(&s, s.thermal->T, 0.0, rate);
   cr_expect(rate[0] == 0.0 && rate[1] == 0.0);
   peri_sim_free(&s);
@@ -225,15 +225,15 @@ Test(thermal, deck_errors) {
  * are not; a bond through a crack tip crosses the shifted crack just inside the tip and is
  * cut; one that crosses the line beside the tip is not. */
 static int32_t node_at(const peri_sim *s, double x, double y) {
-  for (int32_t i = 0; i < s->p.n_owned; ++i)
-    if (fabs(s->p.x[3 * i] - x) < 1e-9 && fabs(s->p.x[3 * i + 1] - y) < 1e-9) return i;
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i)
+    if (fabs(s->disc.p.x[3 * i] - x) < 1e-9 && fabs(s->disc.p.x[3 * i + 1] - y) < 1e-9) return i;
   return -1;
 }
 
 static bool cut(const peri_sim *s, double x1, double y1, double x2, double y2) {
   int32_t a = node_at(s, x1, y1), b = node_at(s, x2, y2);
   cr_assert(a >= 0 && b >= 0);
-  int64_t k = peri_bonds_find(&s->bonds, a, b), r = peri_bonds_find(&s->bonds, b, a);
+  int64_t k = peri_bonds_find(&s->disc.bonds, a, b), r = peri_bonds_find(&s->disc.bonds, b, a);
   cr_assert(k >= 0 && r >= 0);
   cr_assert_eq(s->thermal->cut[k], s->thermal->cut[r], "cut flags of the two directions differ");
   return s->thermal->cut[k];

@@ -27,8 +27,8 @@ static void build(peri_sim *s, int dim, const char *plane, const char *model, co
 
 static double max_force(const peri_sim *s) {
   double m = 0.0;
-  for (int32_t i = 0; i < s->p.n_owned; ++i)
-    for (int d = 0; d < 3; ++d) m = fmax(m, fabs(s->p.f[3 * i + d]));
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i)
+    for (int d = 0; d < 3; ++d) m = fmax(m, fabs(s->disc.p.f[3 * i + d]));
   return m;
 }
 
@@ -36,15 +36,15 @@ static void check_free(int dim, const char *plane, const char *model, const char
   peri_sim s;
   build(&s, dim, plane, model, nu, extent);
   const double dT = 100.0, alpha = 1.2e-5;
-  const bool strain = s.geom.dim == 2 && s.geom.plane == PERI_PLANE_STRAIN;
-  const double eps = (strain ? 1.0 + s.materials[0].nu : 1.0) * alpha * dT;
+  const bool strain = s.disc.geom.dim == 2 && s.disc.geom.plane == PERI_PLANE_STRAIN;
+  const double eps = (strain ? 1.0 + s.mat.materials[0].nu : 1.0) * alpha * dT;
   /* held at u = 0 the body pushes out: the reference force scale */
-  s.model->force(&s);
+  s.mat.model->force(&s);
   const double held = max_force(&s);
   cr_expect(held > 0.0);
-  for (int32_t i = 0; i < s.p.n_owned; ++i)
-    for (int d = 0; d < dim; ++d) s.p.u[3 * i + d] = eps * s.p.x[3 * i + d];
-  s.model->force(&s);
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i)
+    for (int d = 0; d < dim; ++d) s.disc.p.u[3 * i + d] = eps * s.disc.p.x[3 * i + d];
+  s.mat.model->force(&s);
   const double free_force = max_force(&s);
   cr_expect(free_force <= 1e-9 * held, "%s %dD%s: force %g at free expansion (held: %g)", model, dim, plane,
             free_force, held);
@@ -68,11 +68,11 @@ Test(thermal_mech, free_expansion_no_force) {
 static void check_constrained_bar(const char *model, const char *nu) {
   peri_sim s;
   build(&s, 1, "", model, nu, "0.05");
-  s.model->force(&s);
+  s.mat.model->force(&s);
   double sum = 0.0;
-  for (int32_t i = 0; i < s.p.n_owned; ++i)
-    if (s.p.x[3 * i] < 0.025) sum += s.p.f[3 * i] * s.p.volume[i];
-  const double sigma = sum / s.geom.cross_section, expected = -200e9 * 1.2e-5 * 100.0;
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i)
+    if (s.disc.p.x[3 * i] < 0.025) sum += s.disc.p.f[3 * i] * s.disc.p.volume[i];
+  const double sigma = sum / s.disc.geom.cross_section, expected = -200e9 * 1.2e-5 * 100.0;
   cr_expect(fabs(sigma / expected - 1.0) < 1e-9, "%s: stress %.10g, expected -E alpha dT = %.10g", model, sigma,
             expected);
   peri_sim_free(&s);
@@ -91,7 +91,7 @@ Test(thermal_mech, no_thermal_section_no_thermal_state) {
       "solver: {type: explicit, steps: 1}\noutput: {picture: false}\n";
   peri_sim s;
   cr_assert_eq(sim_from_string(&s, mech), 0);
-  cr_expect(s.thermal == NULL && s.thermal_strain == NULL);
+  cr_expect(s.thermal == NULL && s.state.thermal_strain == NULL);
   peri_sim_free(&s);
 }
 
@@ -110,15 +110,15 @@ Test(thermal_mech, broken_bonds_and_coupling) {
     peri_sim s;
     cr_assert_eq(sim_from_string(&s, text), 0);
     /* the mechanics breaks every bond across x = 0.01 */
-    for (int32_t i = 0; i < s.p.n_owned; ++i)
-      for (int64_t k = s.bonds.offset[i]; k < s.bonds.offset[i + 1]; ++k) {
-        int32_t j = s.bonds.neighbor[k];
-        if ((s.p.x[3 * i] < 0.01) != (s.p.x[3 * j] < 0.01)) s.bonds.broken[k] = 1;
+    for (int32_t i = 0; i < s.disc.p.n_owned; ++i)
+      for (int64_t k = s.disc.bonds.offset[i]; k < s.disc.bonds.offset[i + 1]; ++k) {
+        int32_t j = s.disc.bonds.neighbor[k];
+        if ((s.disc.p.x[3 * i] < 0.01) != (s.disc.p.x[3 * j] < 0.01)) s.disc.bonds.broken[k] = 1;
       }
     for (int k = 0; k < 20; ++k) cr_assert_eq(peri_thermal_step(&s, s.thermal->dt), 0);
     double cold = 0.0;
-    for (int32_t i = 0; i < s.p.n_owned; ++i)
-      if (s.p.x[3 * i] > 0.01) cold = fmax(cold, s.thermal->T[i]);
+    for (int32_t i = 0; i < s.disc.p.n_owned; ++i)
+      if (s.disc.p.x[3 * i] > 0.01) cold = fmax(cold, s.thermal->T[i]);
     if (mode == 0) cr_expect(cold == 0.0, "two_way: heat crossed broken bonds (max T %g)", cold);
     else cr_expect(cold > 1.0, "one_way: heat should cross (max T %g)", cold);
     peri_sim_free(&s);

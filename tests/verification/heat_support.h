@@ -42,8 +42,8 @@ static inline double example2_exact(double x, double t) {
 static inline double relative_difference(const peri_sim *s, double (*exact)(double, double, double, void *),
                                          double t, void *ctx) {
   double num = 0.0, den = 0.0;
-  for (int32_t i = 0; i < s->p.n_owned; ++i) {
-    const double *x = &s->p.x[3 * i];
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i) {
+    const double *x = &s->disc.p.x[3 * i];
     if (fabs(x[1] - 0.5) > 1e-9 || x[0] < -1e-9 || x[0] > 1.0 + 1e-9) continue;
     double e = exact(x[0], x[1], t, ctx);
     num += (e - s->thermal->T[i]) * (e - s->thermal->T[i]);
@@ -56,7 +56,7 @@ static inline double relative_difference(const peri_sim *s, double (*exact)(doub
 static inline int advance_to(peri_sim *s, double t) {
   double span = t - s->thermal->time;
   if (span <= 0.0) return 0;
-  long n = (long)ceil(span / s->dt * (1.0 - 1e-12));
+  long n = (long)ceil(span / s->solver.dt * (1.0 - 1e-12));
   double h = span / n;
   for (long k = 0; k < n; ++k)
     if (peri_thermal_step(s, h) != 0) return -1;

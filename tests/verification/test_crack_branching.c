@@ -15,17 +15,17 @@ typedef struct tip_track {
 static double tip_x(const peri_sim *s, double *phi) {
   peri_damage_index(s, phi);
   double x = -INFINITY;
-  for (int32_t i = 0; i < s->p.n_owned; ++i)
-    if (phi[i] >= 0.4 && fabs(s->p.x[3 * i + 1]) < 0.019) x = fmax(x, s->p.x[3 * i]);
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i)
+    if (phi[i] >= 0.4 && fabs(s->disc.p.x[3 * i + 1]) < 0.019) x = fmax(x, s->disc.p.x[3 * i]);
   return x;
 }
 
 static int sample(peri_sim *s, void *ctx) {
   tip_track *t = ctx;
-  if (s->step % 40) return 0;
+  if (s->state.step % 40) return 0;
   double x = tip_x(s, t->phi);
-  if (t->last_t > 0.0 && x > t->last_x) t->max_speed = fmax(t->max_speed, (x - t->last_x) / (s->time - t->last_t));
-  t->last_t = s->time;
+  if (t->last_t > 0.0 && x > t->last_x) t->max_speed = fmax(t->max_speed, (x - t->last_x) / (s->state.time - t->last_t));
+  t->last_t = s->state.time;
   t->last_x = x;
   return 0;
 }
@@ -33,7 +33,7 @@ static int sample(peri_sim *s, void *ctx) {
 Test(fracture, glass_crack_branching, .timeout = 300) {
   peri_sim s;
   cr_assert_eq(peri_sim_from_deck(&s, "examples/quickstart.yaml"), 0);
-  tip_track t = {.phi = malloc(sizeof(double) * s.p.n)};
+  tip_track t = {.phi = malloc(sizeof(double) * s.disc.p.n)};
   peri_apply_initial_conditions(&s);
   t.first_x = tip_x(&s, t.phi);
   cr_assert_eq(peri_solve_explicit(&s, sample, &t), 0);
@@ -51,9 +51,9 @@ Test(fracture, glass_crack_branching, .timeout = 300) {
    * branching point, roughly symmetric (their extents within a factor 2) */
   peri_damage_index(&s, t.phi);
   double up = 0.0, down = 0.0;
-  for (int32_t i = 0; i < s.p.n_owned; ++i) {
-    if (t.phi[i] < 0.4 || s.p.x[3 * i] < 0.0) continue;
-    double y = s.p.x[3 * i + 1];
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i) {
+    if (t.phi[i] < 0.4 || s.disc.p.x[3 * i] < 0.0) continue;
+    double y = s.disc.p.x[3 * i + 1];
     if (fabs(y) > 0.019) continue; /* not the loaded edges */
     up = fmax(up, y);
     down = fmax(down, -y);

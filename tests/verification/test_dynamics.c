@@ -24,13 +24,13 @@ static const char *bar_deck =
 static double pulse_peak(const peri_sim *s, double from) {
   /* position of the maximum of u for x > from, refined by a parabola through 3 nodes */
   int32_t best = -1;
-  for (int32_t i = 0; i < s->p.n_owned; ++i)
-    if (s->p.x[3 * i] > from && (best < 0 || s->p.u[3 * i] > s->p.u[3 * best])) best = i;
-  double dx = 1e-3, xm = s->p.x[3 * best];
-  double um = 0, up = 0, u0 = s->p.u[3 * best];
-  for (int32_t i = 0; i < s->p.n_owned; ++i) {
-    if (fabs(s->p.x[3 * i] - (xm - dx)) < 1e-9) um = s->p.u[3 * i];
-    if (fabs(s->p.x[3 * i] - (xm + dx)) < 1e-9) up = s->p.u[3 * i];
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i)
+    if (s->disc.p.x[3 * i] > from && (best < 0 || s->disc.p.u[3 * i] > s->disc.p.u[3 * best])) best = i;
+  double dx = 1e-3, xm = s->disc.p.x[3 * best];
+  double um = 0, up = 0, u0 = s->disc.p.u[3 * best];
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i) {
+    if (fabs(s->disc.p.x[3 * i] - (xm - dx)) < 1e-9) um = s->disc.p.u[3 * i];
+    if (fabs(s->disc.p.x[3 * i] - (xm + dx)) < 1e-9) up = s->disc.p.u[3 * i];
   }
   return xm + 0.5 * dx * (um - up) / (um - 2 * u0 + up);
 }
@@ -44,7 +44,7 @@ static void check_wave_speed(const char *model, const char *extra) {
   peri_apply_initial_conditions(&s);
   cr_assert_eq(peri_solve_explicit(&s, NULL, NULL), 0);
   double travelled = pulse_peak(&s, 0.5) - 0.5;
-  double speed = travelled / s.time;
+  double speed = travelled / s.state.time;
   cr_expect(fabs(speed / c0 - 1.0) < 0.02, "%s: wave speed %g, c0 = %g (%.2f%%)", model, speed, c0,
             100 * (speed / c0 - 1));
   peri_sim_free(&s);
@@ -78,7 +78,7 @@ typedef struct drift { double e0, worst; } drift;
 
 static int track(peri_sim *s, void *ctx) {
   drift *d = ctx;
-  if (s->step % 100 == 0) {
+  if (s->state.step % 100 == 0) {
     double e = total_energy(s);
     d->worst = fmax(d->worst, fabs(e / d->e0 - 1.0));
   }
@@ -93,10 +93,10 @@ static void check_energy(int dim, const char *model, const char *nu, const char 
   peri_sim s;
   cr_assert_eq(sim_from_string(&s, deck), 0);
   peri_apply_initial_conditions(&s);
-  s.model->force(&s);
+  s.mat.model->force(&s);
   drift d = {total_energy(&s), 0.0};
   cr_assert_eq(peri_solve_explicit(&s, track, &d), 0);
-  cr_expect(d.worst < 1e-3, "%dD %s: energy drift %.3g over %ld steps", dim, model, d.worst, s.step);
+  cr_expect(d.worst < 1e-3, "%dD %s: energy drift %.3g over %ld steps", dim, model, d.worst, s.state.step);
   cr_expect(peri_strain_energy(&s) > 1e-3 * d.e0, "the body must actually deform");
   peri_sim_free(&s);
 }

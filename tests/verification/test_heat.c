@@ -28,7 +28,7 @@ Test(heat, steady_state_of_a_bar_is_linear) {
   cr_assert_eq(sim_from_string(&s, deck), 0);
   cr_assert_eq(advance_to(&s, 4.0), 0);
   double worst = 0.0;
-  for (int32_t i = 0; i < s.p.n_owned; ++i) worst = fmax(worst, fabs(s.thermal->T[i] - s.p.x[3 * i]));
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i) worst = fmax(worst, fabs(s.thermal->T[i] - s.disc.p.x[3 * i]));
   /* slowest mode of the (nonlocal) bar ~ exp(-pi^2 t) = 7e-18 at t = 4 */
   cr_expect(worst < 1e-10, "steady state departs from T = x by %g", worst);
   peri_sim_free(&s);
@@ -58,7 +58,7 @@ static double run_chain(const char *integrator, double factor) {
     }
   }
   if (amplitude == 0.0)
-    for (int32_t i = 0; i < s.p.n_owned; ++i) amplitude = fmax(amplitude, fabs(s.thermal->T[i] - 0.5));
+    for (int32_t i = 0; i < s.disc.p.n_owned; ++i) amplitude = fmax(amplitude, fabs(s.thermal->T[i] - 0.5));
   peri_sim_free(&s);
   return amplitude;
 }
@@ -93,11 +93,11 @@ Test(heat, rk4_fourth_order) {
     dts[k] = k == 2 ? base / 16 : base / (1 << k);
     const long n = (long)llround(40 * base / dts[k]);
     for (long j = 0; j < n; ++j) cr_assert_eq(peri_thermal_step(&s, dts[k]), 0);
-    T[k] = malloc(sizeof(double) * s.p.n_owned);
-    memcpy(T[k], s.thermal->T, sizeof(double) * s.p.n_owned);
+    T[k] = malloc(sizeof(double) * s.disc.p.n_owned);
+    memcpy(T[k], s.thermal->T, sizeof(double) * s.disc.p.n_owned);
     if (k == 2) {
       double e0 = 0.0, e1 = 0.0;
-      for (int32_t i = 0; i < s.p.n_owned; ++i) {
+      for (int32_t i = 0; i < s.disc.p.n_owned; ++i) {
         e0 = fmax(e0, fabs(T[0][i] - T[2][i]));
         e1 = fmax(e1, fabs(T[1][i] - T[2][i]));
       }
@@ -127,11 +127,11 @@ Test(heat, free_bar_expands_by_alpha_dT) {
   peri_apply_initial_conditions(&s);
   cr_assert_eq(peri_solve_explicit(&s, NULL, NULL), 0);
   int32_t lo = 0, hi = 0;
-  for (int32_t i = 0; i < s.p.n_owned; ++i) {
-    if (s.p.x[3 * i] < s.p.x[3 * lo]) lo = i;
-    if (s.p.x[3 * i] > s.p.x[3 * hi]) hi = i;
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i) {
+    if (s.disc.p.x[3 * i] < s.disc.p.x[3 * lo]) lo = i;
+    if (s.disc.p.x[3 * i] > s.disc.p.x[3 * hi]) hi = i;
   }
-  double strain = (s.p.u[3 * hi] - s.p.u[3 * lo]) / (s.p.x[3 * hi] - s.p.x[3 * lo]);
+  double strain = (s.disc.p.u[3 * hi] - s.disc.p.u[3 * lo]) / (s.disc.p.x[3 * hi] - s.disc.p.x[3 * lo]);
   printf("free bar: strain %.6e (alpha dT = 1.2e-3), temperature %g\n", strain, s.thermal->T[0]);
   cr_expect(fabs(strain / 1.2e-3 - 1.0) < 1e-4, "strain %.8g, expected 1.2e-3", strain);
   peri_sim_free(&s);

@@ -29,8 +29,8 @@ static double wall(void) {
 static double section_u(const peri_sim *s, double x0) {
   double sum = 0.0;
   int count = 0;
-  for (int32_t i = 0; i < s->p.n_owned; ++i)
-    if (fabs(s->p.x[3 * i] - x0) < 0.5 * s->geom.spacing + 1e-12) sum += s->p.u[3 * i], ++count;
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i)
+    if (fabs(s->disc.p.x[3 * i] - x0) < 0.5 * s->disc.geom.spacing + 1e-12) sum += s->disc.p.u[3 * i], ++count;
   return count ? sum / count : NAN;
 }
 
@@ -69,10 +69,10 @@ static void check_tension_1d(const char *model, const char *nu, const char *extr
   const double end = section_u(&s, 1.0 - 0.5 * dx);
   cr_log_info("implicit 1D %s%s: Delta l %.6g mm (gauge, %.3f%%), end %.6g mm (%.3f%%); %ld Newton, %ld Krylov "
               "iterations, residual %.2g, %.3f s", model, extra, dl * 1e3, 100 * (dl / expected - 1), end * 1e3,
-              100 * (end / expected - 1), s.qs.iterations, s.qs.linear_iterations, s.qs.residual, seconds);
+              100 * (end / expected - 1), s.solver.qs.iterations, s.solver.qs.linear_iterations, s.solver.qs.residual, seconds);
   cr_expect(fabs(dl / expected - 1.0) < 0.02, "%s: gauge Delta l = %g m, FL/(EA) = %g m", model, dl, expected);
   cr_expect(fabs(end / expected - 1.0) < 0.02, "%s: end displacement %g m, FL/(EA) = %g m", model, end, expected);
-  cr_expect(s.qs.residual <= s.qs.tolerance);
+  cr_expect(s.solver.qs.residual <= s.solver.qs.tolerance);
   peri_sim_free(&s);
 }
 
@@ -122,9 +122,9 @@ static double plate_strain(const char *model, const char *nu, double dx, int m, 
   const double xa = (floor(0.025 / dx) + 0.5) * dx, xb = (floor(0.075 / dx) + 0.5) * dx;
   const double measured = (section_u(&s, xb) - section_u(&s, xa)) / (xb - xa), strain = 1.0e7 / 70e9;
   cr_log_info("2D %s %s m = %d: gauge strain %.6g (sigma/E = %.6g, %.3f%%); %ld iterations (%ld Krylov), %.3f s",
-              model, solver, m, measured, strain, 100 * (measured / strain - 1), s.qs.iterations,
-              s.qs.linear_iterations, seconds);
-  *its = s.qs.iterations;
+              model, solver, m, measured, strain, 100 * (measured / strain - 1), s.solver.qs.iterations,
+              s.solver.qs.linear_iterations, seconds);
+  *its = s.solver.qs.iterations;
   peri_sim_free(&s);
   return measured;
 }
@@ -172,17 +172,17 @@ Test(implicit, newton_quadratic) {
   cr_assert_eq(sim_from_string(&s, rotate2d), 0);
   peri_apply_initial_conditions(&s);
   /* first load step through the driver, the second by hand to read its residual history */
-  s.qs.load_steps = 1;
-  s.end_time = 0.5;
+  s.solver.qs.load_steps = 1;
+  s.solver.end_time = 0.5;
   cr_assert_eq(peri_solve_quasi_static(&s, NULL, NULL), 0);
   peri_qs_apply_loading(&s, 1.0);
-  cr_assert_eq(peri_solve_equilibrium(&s), PERI_QS_CONVERGED, "residual %g", s.qs.residual);
+  cr_assert_eq(peri_solve_equilibrium(&s), PERI_QS_CONVERGED, "residual %g", s.solver.qs.residual);
   double rho[64];
   const int n = peri_implicit_residual_history(rho, 64);
   cr_assert(n >= 3 && n <= 64, "%d Newton iterations", n);
   /* the end turned by 0.6 rad: the largest displacement is about 0.6 x 0.03 m */
   double umax = 0.0;
-  for (int32_t i = 0; i < s.p.n; ++i) umax = fmax(umax, hypot(s.p.u[3 * i], s.p.u[3 * i + 1]));
+  for (int32_t i = 0; i < s.disc.p.n; ++i) umax = fmax(umax, hypot(s.disc.p.u[3 * i], s.disc.p.u[3 * i + 1]));
   int pairs = 0;
   double worst = 0.0;
   for (int k = 0; k + 1 < n; ++k) {
@@ -212,12 +212,12 @@ static double plate_max_von_mises(const char *solver, long *iterations, double *
   double t0 = wall();
   cr_assert_eq(peri_solve_quasi_static(&s, NULL, NULL), 0, "%s: not converged", solver);
   *seconds = wall() - t0;
-  *iterations = s.qs.iterations;
+  *iterations = s.solver.qs.iterations;
   double vm = NAN;
   cr_assert_eq(peri_probe(&s, "max_von_mises", &vm), 0);
-  if (s.solver == PERI_SOLVER_IMPLICIT)
-    cr_log_info("plate with hole, implicit: %ld Newton, %ld Krylov iterations", s.qs.iterations,
-                s.qs.linear_iterations);
+  if (s.solver.kind == PERI_SOLVER_IMPLICIT)
+    cr_log_info("plate with hole, implicit: %ld Newton, %ld Krylov iterations", s.solver.qs.iterations,
+                s.solver.qs.linear_iterations);
   peri_sim_free(&s);
   return vm;
 }
@@ -265,7 +265,7 @@ static int record_step(peri_sim *s, void *ctx) {
   crack_path *c = ctx;
   double r[3];
   peri_region_reaction(s, 1, r); /* regions in deck order after the whole body: 1 is top */
-  if (c->steps < 8) c->broken[c->steps] = peri_broken_count(&s->bonds), c->reaction[c->steps] = r[1];
+  if (c->steps < 8) c->broken[c->steps] = peri_broken_count(&s->disc.bonds), c->reaction[c->steps] = r[1];
   c->steps++;
   return 0;
 }
@@ -280,7 +280,7 @@ static crack_path crack(const char *solver) {
   double t0 = wall();
   cr_assert_eq(peri_solve_quasi_static(&s, record_step, &c), 0, "%s: not converged", solver);
   cr_log_info("crack %s: %ld solves, %ld iterations, %.2f s; broken %ld %ld %ld %ld, reaction %.6g %.6g %.6g %.6g N",
-              solver, s.qs.solves, s.qs.iterations, wall() - t0, c.broken[0], c.broken[1], c.broken[2], c.broken[3],
+              solver, s.solver.qs.solves, s.solver.qs.iterations, wall() - t0, c.broken[0], c.broken[1], c.broken[2], c.broken[3],
               c.reaction[0], c.reaction[1], c.reaction[2], c.reaction[3]);
   peri_sim_free(&s);
   return c;

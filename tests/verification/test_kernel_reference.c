@@ -60,9 +60,9 @@ static void build(peri_sim *s, int dim, const char *model, const char *influence
  * (both directions), chosen by a hash of the pair. */
 static void damage_and_deform(peri_sim *s) {
   uint64_t state = 12345;
-  for (int32_t i = 0; i < s->p.n; ++i)
-    for (int d = 0; d < s->p.dim; ++d) s->p.u[3 * i + d] = 0.003 * DX * uniform(&state);
-  const peri_bonds *b = &s->bonds;
+  for (int32_t i = 0; i < s->disc.p.n; ++i)
+    for (int d = 0; d < s->disc.p.dim; ++d) s->disc.p.u[3 * i + d] = 0.003 * DX * uniform(&state);
+  const peri_bonds *b = &s->disc.bonds;
   for (int32_t i = 0; i < b->n_nodes; ++i)
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       const int32_t j = b->neighbor[k];
@@ -73,24 +73,24 @@ static void damage_and_deform(peri_sim *s) {
 
 static double bond_vectors(const peri_sim *s, int32_t i, int32_t j, double *r0, double y[3]) {
   double xi[3];
-  *r0 = peri_bond_xi(s->p.x, i, j, xi);
-  for (int d = 0; d < 3; ++d) y[d] = xi[d] + s->p.u[3 * j + d] - s->p.u[3 * i + d];
+  *r0 = peri_bond_xi(s->disc.p.x, i, j, xi);
+  for (int d = 0; d < 3; ++d) y[d] = xi[d] + s->disc.p.u[3 * j + d] - s->disc.p.u[3 * i + d];
   return sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
 }
 
 /* PMB: f_i = sum_j c_ij omega beta V_j s y/|y|, c_ij = (c_i + c_j)/2, over intact bonds. */
 static void reference_pmb(const peri_sim *s, double *f) {
-  const peri_bonds *b = &s->bonds;
-  for (int32_t i = 0; i < s->p.n_owned; ++i) {
+  const peri_bonds *b = &s->disc.bonds;
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i) {
     double fi[3] = {0, 0, 0};
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       if (b->broken[k]) continue;
       const int32_t j = b->neighbor[k];
       double r0, y[3];
       const double r = bond_vectors(s, i, j, &r0, y);
-      const double c = 0.5 * (s->materials[s->p.material[i]].micromodulus + s->materials[s->p.material[j]].micromodulus);
+      const double c = 0.5 * (s->mat.materials[s->disc.p.material[i]].micromodulus + s->mat.materials[s->disc.p.material[j]].micromodulus);
       const double pair = c * peri_bonds_omega(b, r0) * (r - r0) / r0;
-      for (int d = 0; d < 3; ++d) fi[d] += pair * peri_bonds_beta(b, r0) * s->p.volume[j] * y[d] / r;
+      for (int d = 0; d < 3; ++d) fi[d] += pair * peri_bonds_beta(b, r0) * s->disc.p.volume[j] * y[d] / r;
     }
     for (int d = 0; d < 3; ++d) f[3 * i + d] = fi[d];
   }
@@ -101,8 +101,8 @@ static void reference_pmb(const peri_sim *s, double *f) {
  * f_i = sum (t_ij + t_ji) M W, W = beta V_j, alpha_i = (alpha m)/m_i, m_i = sum w |xi|^2 W over
  * the whole reference family. */
 static void reference_lps(const peri_sim *s, double *f) {
-  const peri_bonds *b = &s->bonds;
-  const int32_t n = s->p.n_owned;
+  const peri_bonds *b = &s->disc.bonds;
+  const int32_t n = s->disc.p.n_owned;
   double *m = calloc((size_t)n, sizeof(double)), *theta = calloc((size_t)n, sizeof(double)),
          *P = calloc((size_t)n, sizeof(double));
   for (int32_t i = 0; i < n; ++i) {
@@ -111,11 +111,11 @@ static void reference_lps(const peri_sim *s, double *f) {
       const int32_t j = b->neighbor[k];
       double r0, y[3];
       const double r = bond_vectors(s, i, j, &r0, y);
-      const double w = peri_bonds_omega(b, r0) * peri_bonds_beta(b, r0) * s->p.volume[j];
+      const double w = peri_bonds_omega(b, r0) * peri_bonds_beta(b, r0) * s->disc.p.volume[j];
       m[i] += w * r0 * r0;
       if (!b->broken[k]) we += w * (r - r0) * r0;
     }
-    theta[i] = s->materials[s->p.material[i]].n_theta * we / m[i];
+    theta[i] = s->mat.materials[s->disc.p.material[i]].n_theta * we / m[i];
   }
   for (int32_t i = 0; i < n; ++i)
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
@@ -123,7 +123,7 @@ static void reference_lps(const peri_sim *s, double *f) {
       const int32_t j = b->neighbor[k];
       double r0, y[3];
       const double r = bond_vectors(s, i, j, &r0, y);
-      const double w = peri_bonds_omega(b, r0) * peri_bonds_beta(b, r0) * s->p.volume[j];
+      const double w = peri_bonds_omega(b, r0) * peri_bonds_beta(b, r0) * s->disc.p.volume[j];
       P[i] += w * (r - r0 - theta[i] * r0 / 3.0) * r0;
     }
   for (int32_t i = 0; i < n; ++i) {
@@ -137,12 +137,12 @@ static void reference_lps(const peri_sim *s, double *f) {
       const int32_t ends[2] = {i, j};
       for (int a = 0; a < 2; ++a) {
         const int32_t q = ends[a];
-        const peri_material *mat = &s->materials[s->p.material[q]];
+        const peri_material *mat = &s->mat.materials[s->disc.p.material[q]];
         const double alpha = mat->alpha_m / m[q];
         t += mat->n_theta * (mat->K_theta * theta[q] - alpha * P[q] / 3.0) * omega * r0 / m[q] +
              alpha * omega * (e - theta[q] * r0 / 3.0);
       }
-      for (int d = 0; d < 3; ++d) fi[d] += t * peri_bonds_beta(b, r0) * s->p.volume[j] * y[d] / r;
+      for (int d = 0; d < 3; ++d) fi[d] += t * peri_bonds_beta(b, r0) * s->disc.p.volume[j] * y[d] / r;
     }
     for (int d = 0; d < 3; ++d) f[3 * i + d] = fi[d];
   }
@@ -155,9 +155,9 @@ static void check_forces(int dim, const char *model, const char *influence, cons
   peri_sim s;
   build(&s, dim, model, influence, pv);
   damage_and_deform(&s);
-  s.breaking = false;
-  s.model->force(&s);
-  const size_t n3 = 3 * (size_t)s.p.n_owned;
+  s.solver.breaking = false;
+  s.mat.model->force(&s);
+  const size_t n3 = 3 * (size_t)s.disc.p.n_owned;
   double *ref = calloc(n3, sizeof(double));
   if (strcmp(model, "pmb") == 0)
     reference_pmb(&s, ref);
@@ -165,7 +165,7 @@ static void check_forces(int dim, const char *model, const char *influence, cons
     reference_lps(&s, ref);
   double scale = 0.0, worst = 0.0;
   for (size_t a = 0; a < n3; ++a) scale = fmax(scale, fabs(ref[a]));
-  for (size_t a = 0; a < n3; ++a) worst = fmax(worst, fabs(s.p.f[a] - ref[a]));
+  for (size_t a = 0; a < n3; ++a) worst = fmax(worst, fabs(s.disc.p.f[a] - ref[a]));
   cr_log_info("%s %dD %s %s: max |f - f_ref| = %.3g of max |f| %.3g", model, dim, influence, pv, worst / scale, scale);
   cr_assert_gt(scale, 0.0);
   cr_expect_leq(worst, 1e-12 * scale, "%s %dD %s %s: forces differ by %.3g of the largest", model, dim, influence,
@@ -187,8 +187,8 @@ static void check_breaking(const char *model) {
   peri_sim s;
   build(&s, 2, model, "constant", "linear");
   damage_and_deform(&s);
-  for (size_t a = 0; a < 3 * (size_t)s.p.n; ++a) s.p.u[a] *= 1.6; /* strains around the critical stretch */
-  const peri_bonds *b = &s.bonds;
+  for (size_t a = 0; a < 3 * (size_t)s.disc.p.n; ++a) s.disc.p.u[a] *= 1.6; /* strains around the critical stretch */
+  const peri_bonds *b = &s.disc.bonds;
   uint8_t *expect = malloc((size_t)b->n_bonds);
   long n_expect = 0;
   for (int32_t i = 0; i < b->n_nodes; ++i)
@@ -196,12 +196,12 @@ static void check_breaking(const char *model) {
       const int32_t j = b->neighbor[k];
       double r0, y[3];
       const double stretch = (bond_vectors(&s, i, j, &r0, y) - r0) / r0;
-      const double s0 = fmin(s.materials[s.p.material[i]].critical_stretch, s.materials[s.p.material[j]].critical_stretch);
+      const double s0 = fmin(s.mat.materials[s.disc.p.material[i]].critical_stretch, s.mat.materials[s.disc.p.material[j]].critical_stretch);
       expect[k] = b->broken[k] || stretch > s0;
       n_expect += expect[k] && !b->broken[k];
     }
-  s.breaking = true;
-  const long n_broken = s.model->force(&s);
+  s.solver.breaking = true;
+  const long n_broken = s.mat.model->force(&s);
   long wrong = 0;
   for (int64_t k = 0; k < b->n_bonds; ++k) wrong += expect[k] != b->broken[k];
   cr_log_info("%s: %ld bonds broken by one evaluation, expected %ld", model, n_broken, n_expect);
@@ -215,29 +215,29 @@ static void check_breaking(const char *model) {
 Test(kernel_reference, pmb_breaking) { check_breaking("pmb"); }
 Test(kernel_reference, lps_breaking) { check_breaking("lps"); }
 
-/* Forces by the block path and by the one-node path (s->generic_bond_loops) into a and b. */
+/* Forces by the block path and by the one-node path (s->disc.generic_bond_loops) into a and b. */
 static double forces_both_paths(peri_sim *s, double *a, double *b) {
-  const size_t bytes = sizeof(double) * 3 * (size_t)s->p.n_owned;
-  s->generic_bond_loops = false;
-  s->model->force(s);
-  memcpy(a, s->p.f, bytes);
-  const double in_blocks = (double)s->node_blocks->block_bonds / (double)s->bonds.offset[s->p.n_owned];
-  s->generic_bond_loops = true;
-  s->model->force(s);
-  memcpy(b, s->p.f, bytes);
-  s->generic_bond_loops = false;
+  const size_t bytes = sizeof(double) * 3 * (size_t)s->disc.p.n_owned;
+  s->disc.generic_bond_loops = false;
+  s->mat.model->force(s);
+  memcpy(a, s->disc.p.f, bytes);
+  const double in_blocks = (double)s->disc.node_blocks->block_bonds / (double)s->disc.bonds.offset[s->disc.p.n_owned];
+  s->disc.generic_bond_loops = true;
+  s->mat.model->force(s);
+  memcpy(b, s->disc.p.f, bytes);
+  s->disc.generic_bond_loops = false;
   return in_blocks;
 }
 
 /* Strain energy densities by both paths: whether they agree bit for bit. */
 static bool energies_agree(peri_sim *s) {
-  const size_t n = (size_t)s->p.n_owned;
+  const size_t n = (size_t)s->disc.p.n_owned;
   double *a = calloc(n, sizeof(double)), *b = calloc(n, sizeof(double));
-  s->generic_bond_loops = false;
-  s->model->energy(s, a);
-  s->generic_bond_loops = true;
-  s->model->energy(s, b);
-  s->generic_bond_loops = false;
+  s->disc.generic_bond_loops = false;
+  s->mat.model->energy(s, a);
+  s->disc.generic_bond_loops = true;
+  s->mat.model->energy(s, b);
+  s->disc.generic_bond_loops = false;
   double largest = 0.0;
   for (size_t i = 0; i < n; ++i) largest = fmax(largest, fabs(a[i]));
   const bool same = largest > 0.0 && memcmp(a, b, sizeof(double) * n) == 0;
@@ -250,10 +250,10 @@ static void check_paths(int dim, const char *model, const char *influence, const
   peri_sim s;
   build(&s, dim, model, influence, pv);
   damage_and_deform(&s);
-  const size_t n3 = 3 * (size_t)s.p.n_owned, bytes = sizeof(double) * n3;
+  const size_t n3 = 3 * (size_t)s.disc.p.n_owned, bytes = sizeof(double) * n3;
   double *a = malloc(bytes), *b = malloc(bytes);
   /* 1. damaged before the first evaluation */
-  s.breaking = false;
+  s.solver.breaking = false;
   const double in_blocks = forces_both_paths(&s, a, b);
   cr_log_info("%s %dD %s %s: %.3f of the bonds in node blocks", model, dim, influence, pv, in_blocks);
   cr_assert_gt(in_blocks, 0.5, "the test needs node blocks");
@@ -262,21 +262,21 @@ static void check_paths(int dim, const char *model, const char *influence, const
   /* 2. bonds broken by the force loop: the evaluation that breaks them gives the same forces
    * and breaks the same bonds on both paths (the block path recomputes a block whose nodes
    * lost bonds as a block, the other path node by node) */
-  for (size_t k = 0; k < 3 * (size_t)s.p.n; ++k) s.p.u[k] *= 1.6;
-  peri_bonds *bonds = &s.bonds;
+  for (size_t k = 0; k < 3 * (size_t)s.disc.p.n; ++k) s.disc.p.u[k] *= 1.6;
+  peri_bonds *bonds = &s.disc.bonds;
   uint8_t *broken_before = malloc((size_t)bonds->n_bonds), *broken_generic_flags = malloc((size_t)bonds->n_bonds);
   memcpy(broken_before, bonds->broken, (size_t)bonds->n_bonds);
-  s.breaking = true;
-  s.generic_bond_loops = true;
-  const long broken_generic = s.model->force(&s);
-  memcpy(b, s.p.f, bytes);
+  s.solver.breaking = true;
+  s.disc.generic_bond_loops = true;
+  const long broken_generic = s.mat.model->force(&s);
+  memcpy(b, s.disc.p.f, bytes);
   memcpy(broken_generic_flags, bonds->broken, (size_t)bonds->n_bonds);
   memcpy(bonds->broken, broken_before, (size_t)bonds->n_bonds);
   ++bonds->broken_edits;
-  s.generic_bond_loops = false;
-  const long broken = s.model->force(&s);
-  memcpy(a, s.p.f, bytes);
-  s.breaking = false;
+  s.disc.generic_bond_loops = false;
+  const long broken = s.mat.model->force(&s);
+  memcpy(a, s.disc.p.f, bytes);
+  s.solver.breaking = false;
   cr_assert_gt(broken, 100, "the test must break bonds");
   cr_expect_eq(broken, broken_generic);
   cr_expect(memcmp(bonds->broken, broken_generic_flags, (size_t)bonds->n_bonds) == 0,

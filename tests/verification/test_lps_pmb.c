@@ -52,7 +52,7 @@ static void build(peri_sim *s, const lp_case *c, const char *material, const cha
            c->dim, c->dim != 2 ? "" : c->plane == PERI_PLANE_STRAIN ? "plane: strain\n" : "plane: stress\n", material,
            DX, M_RATIO, c->dim == 2 ? "  thickness: 1.0e-3\n" : "", disc_extra, box);
   cr_assert_eq(sim_from_string(s, deck), 0, "deck:\n%s", deck);
-  s->breaking = false;
+  s->solver.breaking = false;
 }
 
 static void build_lps(peri_sim *s, const lp_case *c, const char *weighted_volume) {
@@ -70,13 +70,13 @@ static void build_pmb(peri_sim *s, const lp_case *c, double micromodulus) {
 
 /* Smooth, deterministic, non-affine displacement of size ~1e-4 |x|. */
 static void set_field(peri_sim *s, int dim, double half) {
-  for (int32_t i = 0; i < s->p.n; ++i) {
-    const double *x = &s->p.x[3 * i];
+  for (int32_t i = 0; i < s->disc.p.n; ++i) {
+    const double *x = &s->disc.p.x[3 * i];
     double a = x[0] / half, b = x[1] / half, c = x[2] / half, g[3];
     g[0] = 0.8 * a - 0.3 * b + 0.2 * c + 0.5 * sin(2.1 * a + 1.3 * b - 0.7 * c + 0.4) + 0.6 * a * b - 0.4 * c * c;
     g[1] = -0.2 * a + 0.5 * b + 0.3 * c + 0.4 * cos(1.7 * a - 0.9 * b + 1.1 * c) + 0.3 * a * a - 0.5 * b * c;
     g[2] = 0.1 * a - 0.4 * b + 0.7 * c + 0.3 * sin(1.2 * a + 2.3 * b + 0.8 * c - 0.5) + 0.45 * a * c;
-    for (int d = 0; d < 3; ++d) s->p.u[3 * i + d] = d < dim ? 1e-4 * half * g[d] : 0.0;
+    for (int d = 0; d < 3; ++d) s->disc.p.u[3 * i + d] = d < dim ? 1e-4 * half * g[d] : 0.0;
   }
 }
 
@@ -129,7 +129,7 @@ static double analytic_weighted_volume(int dim) {
 
 static double depth(const peri_sim *s, const lp_case *c, int32_t i) {
   double h = 0.5 * c->n * DX, d = INFINITY;
-  for (int k = 0; k < c->dim; ++k) d = fmin(d, h - fabs(s->p.x[3 * i + k]));
+  for (int k = 0; k < c->dim; ++k) d = fmin(d, h - fabs(s->disc.p.x[3 * i + k]));
   return d;
 }
 
@@ -142,14 +142,14 @@ static double norm3(const double *v) { return sqrt(v[0] * v[0] + v[1] * v[1] + v
 static void interior_diff(const peri_sim *a, const peri_sim *b, const lp_case *c, double *diff, double *ref) {
   *diff = *ref = 0.0;
   int count = 0;
-  for (int32_t i = 0; i < a->p.n_owned; ++i) {
+  for (int32_t i = 0; i < a->disc.p.n_owned; ++i) {
     for (int d = 0; d < 3; ++d)
-      cr_assert_eq(a->p.x[3 * i + d], b->p.x[3 * i + d], "the two runs order their nodes differently");
+      cr_assert_eq(a->disc.p.x[3 * i + d], b->disc.p.x[3 * i + d], "the two runs order their nodes differently");
     if (!interior(a, c, i)) continue;
     double v[3];
-    for (int d = 0; d < 3; ++d) v[d] = a->p.f[3 * i + d] - b->p.f[3 * i + d];
+    for (int d = 0; d < 3; ++d) v[d] = a->disc.p.f[3 * i + d] - b->disc.p.f[3 * i + d];
     *diff = fmax(*diff, norm3(v));
-    *ref = fmax(*ref, norm3(&b->p.f[3 * i]));
+    *ref = fmax(*ref, norm3(&b->disc.p.f[3 * i]));
     count++;
   }
   cr_assert_gt(count, 0, "no interior nodes");
@@ -171,15 +171,15 @@ static void check_discrete(const lp_case *c) {
   build_lps(&lps, c, "discrete");
   double m = lattice_weighted_volume(c->dim);
   /* the code's discrete m of interior nodes is the lattice sum */
-  for (int32_t i = 0; i < lps.p.n_owned; ++i)
+  for (int32_t i = 0; i < lps.disc.p.n_owned; ++i)
     if (depth(&lps, c, i) > DELTA + DX)
-      cr_assert(fabs(lps.p.wvol[i] / m - 1.0) < 1e-12, "m_i = %.17g, lattice sum %.17g", lps.p.wvol[i], m);
+      cr_assert(fabs(lps.disc.p.wvol[i] / m - 1.0) < 1e-12, "m_i = %.17g, lattice sum %.17g", lps.disc.p.wvol[i], m);
   build_pmb(&pmb, c, 2.0 * t.alpha_m / m);
   double half = 0.5 * c->n * DX;
   set_field(&lps, c->dim, half);
   set_field(&pmb, c->dim, half);
-  lps.model->force(&lps);
-  pmb.model->force(&pmb);
+  lps.mat.model->force(&lps);
+  pmb.mat.model->force(&pmb);
   double diff, ref;
   interior_diff(&lps, &pmb, c, &diff, &ref);
   cr_expect(ref > 1e-7 * force_scale(c, &t), "the field gives no interior force (%.3g)", ref);
@@ -193,8 +193,8 @@ static void check_discrete(const lp_case *c) {
  * in this file; m_i is B_i (discrete) or the analytic m. Returns into f, and into F the
  * sum of the magnitudes of the pair-force terms (the rounding scale of f). */
 static void reduced_lps_force(const peri_sim *s, const lps_theory *t, bool analytic, double *f, double *F) {
-  const peri_particles *p = &s->p;
-  const peri_bonds *b = &s->bonds;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
   int32_t n = p->n_owned;
   double *theta = calloc((size_t)n, sizeof(double)), *m = calloc((size_t)n, sizeof(double)),
          *B = calloc((size_t)n, sizeof(double));
@@ -244,14 +244,14 @@ static void check_reduced_form(const lp_case *c, const char *weighted_volume) {
   peri_sim s;
   build_lps(&s, c, weighted_volume);
   set_field(&s, c->dim, 0.5 * c->n * DX);
-  s.model->force(&s);
-  double *f = calloc(3 * (size_t)s.p.n_owned, sizeof(double)), *F = calloc((size_t)s.p.n_owned, sizeof(double));
+  s.mat.model->force(&s);
+  double *f = calloc(3 * (size_t)s.disc.p.n_owned, sizeof(double)), *F = calloc((size_t)s.disc.p.n_owned, sizeof(double));
   reduced_lps_force(&s, &t, weighted_volume[0] == 'a', f, F);
   double worst = 0.0;
   int32_t at = -1;
-  for (int32_t i = 0; i < s.p.n_owned; ++i) {
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i) {
     double v[3];
-    for (int d = 0; d < 3; ++d) v[d] = s.p.f[3 * i + d] - f[3 * i + d];
+    for (int d = 0; d < 3; ++d) v[d] = s.disc.p.f[3 * i + d] - f[3 * i + d];
     if (norm3(v) / F[i] > worst) worst = norm3(v) / F[i], at = i;
   }
   cr_expect(worst <= 1e-10, "dim %d plane %d nu %g %s: node %d (depth %g dx) differs from the reduced form by %.3g "
@@ -280,8 +280,8 @@ static void check_analytic(const lp_case *c) {
   double half = 0.5 * c->n * DX;
   set_field(&lps, c->dim, half);
   set_field(&pmb, c->dim, half);
-  lps.model->force(&lps);
-  pmb.model->force(&pmb);
+  lps.mat.model->force(&lps);
+  pmb.mat.model->force(&pmb);
   double diff, ref, tol = 2.0 * fabs(B / m - 1.0);
   interior_diff(&lps, &pmb, c, &diff, &ref);
   cr_expect(diff <= tol * ref, "dim %d plane %d: |f_LPS - f_PMB| / |f_PMB| = %.4f > 2 |B/m - 1| = %.4f", c->dim,
@@ -316,8 +316,8 @@ Test(lps_pmb, differs_3d_nu_fifth) {
   double half = 0.5 * d3_fifth.n * DX;
   set_field(&lps, 3, half);
   set_field(&pmb, 3, half);
-  lps.model->force(&lps);
-  pmb.model->force(&pmb);
+  lps.mat.model->force(&lps);
+  pmb.mat.model->force(&pmb);
   double diff, ref;
   interior_diff(&lps, &pmb, &d3_fifth, &diff, &ref);
   cr_expect(diff > 0.01 * ref, "nu = 0.2: |f_LPS - f_PMB| / |f_PMB| = %.4f, expected > 1%%", diff / ref);

@@ -29,7 +29,7 @@ static int record(peri_sim *s, void *ctx) {
   curve *c = ctx;
   double r[3];
   peri_region_reaction(s, c->load, r);
-  if (s->qs.phase == PERI_QS_PHASE_DYNAMIC) {
+  if (s->solver.qs.phase == PERI_QS_PHASE_DYNAMIC) {
     c->dynamic_rows++;
     return 0;
   }
@@ -58,28 +58,28 @@ Test(notched_beam, complete_failure) {
                         "solver.dynamic_switch.when_broken_exceeds=40"};
   peri_sim s;
   cr_assert_eq(peri_sim_from_deck_with(&s, "examples/notched_beam_3pb.yaml", sizeof sets / sizeof *sets, sets), 0);
-  s.quiet = true;
+  s.out.quiet = true;
   curve c = {.load = -1};
   int left = -1, right = -1;
-  for (int r = 1; r < s.n_regions; ++r) {
-    if (!strcmp(s.regions[r].name, "load")) c.load = r;
-    if (!strcmp(s.regions[r].name, "left_support")) left = r;
-    if (!strcmp(s.regions[r].name, "right_support")) right = r;
+  for (int r = 1; r < s.cond.n_regions; ++r) {
+    if (!strcmp(s.cond.regions[r].name, "load")) c.load = r;
+    if (!strcmp(s.cond.regions[r].name, "left_support")) left = r;
+    if (!strcmp(s.cond.regions[r].name, "right_support")) right = r;
   }
   cr_assert(c.load > 0 && left > 0 && right > 0, "the example's regions are load, left_support, right_support");
-  cr_assert_eq(s.regions[left].count, 1, "pin: one node");
-  cr_assert_eq(s.regions[right].count, 1, "roller: one node");
-  cr_assert_eq(s.regions[c.load].count, 2, "load: the two top nodes next to the midline");
+  cr_assert_eq(s.cond.regions[left].count, 1, "pin: one node");
+  cr_assert_eq(s.cond.regions[right].count, 1, "roller: one node");
+  cr_assert_eq(s.cond.regions[c.load].count, 2, "load: the two top nodes next to the midline");
   peri_apply_initial_conditions(&s);
   cr_assert_eq(peri_solve_quasi_static(&s, record, &c), 0, "the run did not finish");
 
   /* LEFM peak: span between the support nodes, W = 25 mm, a = 5 mm, B = 5 mm, E = 3 GPa, G0 = 300 J/m^2 */
-  const double span = s.p.x[3 * s.regions[right].nodes[0]] - s.p.x[3 * s.regions[left].nodes[0]];
+  const double span = s.disc.p.x[3 * s.cond.regions[right].nodes[0]] - s.disc.p.x[3 * s.cond.regions[left].nodes[0]];
   const double W = 0.025, a = 0.005, B = 5e-3, K = sqrt(3.0e9 * 300.0);
   const double lefm = K * B * pow(W, 1.5) / (span * astm_f(a / W));
 
   /* damage next to the midline, row by row above the notch */
-  double *phi = malloc(sizeof(double) * (size_t)s.p.n);
+  double *phi = malloc(sizeof(double) * (size_t)s.disc.p.n);
   peri_damage_index(&s, phi);
   const int rows = (int)lround(W / dx);
   double weakest = 1.0, weakest_y = 0.0;
@@ -87,19 +87,19 @@ Test(notched_beam, complete_failure) {
     const double y = (row + 0.5) * dx;
     if (y < a) continue; /* the notch */
     double most = 0.0;
-    for (int32_t i = 0; i < s.p.n; ++i)
-      if (fabs(fabs(s.p.x[3 * i]) - 0.5 * dx) < 1e-9 && fabs(s.p.x[3 * i + 1] - y) < 1e-9) most = fmax(most, phi[i]);
+    for (int32_t i = 0; i < s.disc.p.n; ++i)
+      if (fabs(fabs(s.disc.p.x[3 * i]) - 0.5 * dx) < 1e-9 && fabs(s.disc.p.x[3 * i + 1] - y) < 1e-9) most = fmax(most, phi[i]);
     if (most < weakest) weakest = most, weakest_y = y;
   }
   free(phi);
   cr_log_info("notched beam (dx 2.5 mm): peak %.2f N (LEFM %.2f N, span %.1f mm), final %.4f N (%.3f%% of the "
               "peak), weakest midline damage %.3f at y = %.2f mm, %ld dynamic phases (%ld steps, %ld rows)",
               c.peak, lefm, span * 1e3, c.last, 100 * c.last / c.peak, weakest, weakest_y * 1e3,
-              s.qs.dynamic_phases, s.qs.dynamic_steps, c.dynamic_rows);
+              s.solver.qs.dynamic_phases, s.solver.qs.dynamic_steps, c.dynamic_rows);
   cr_expect(fabs(c.peak / lefm - 1.0) < 0.15, "peak %g N, LEFM %g N", c.peak, lefm);
   cr_expect(c.last < 0.01 * c.peak, "final reaction %g N is not below 1%% of the peak %g N", c.last, c.peak);
   cr_expect(weakest >= 0.3, "the crack does not cross the row y = %g mm: midline damage %g", weakest_y * 1e3,
             weakest);
-  cr_expect(s.qs.dynamic_phases >= 1 && c.dynamic_rows >= 1, "no dynamic phase (%ld)", s.qs.dynamic_phases);
+  cr_expect(s.solver.qs.dynamic_phases >= 1 && c.dynamic_rows >= 1, "no dynamic phase (%ld)", s.solver.qs.dynamic_phases);
   peri_sim_free(&s);
 }

@@ -51,23 +51,23 @@ static void build(peri_sim *s, const patch_case *c) {
            c->dim, c->dim != 2 ? "" : c->plane == PERI_PLANE_STRAIN ? "plane: strain\n" : "plane: stress\n", mat,
            DX, c->m, c->dim == 2 ? "  thickness: 1.0e-3\n" : "", lo, hi);
   cr_assert_eq(sim_from_string(s, deck), 0, "deck:\n%s", deck);
-  s->breaking = false;
-  cr_assert_eq(s->p.n, (int32_t)pow(c->n, c->dim), "node count");
+  s->solver.breaking = false;
+  cr_assert_eq(s->disc.p.n, (int32_t)pow(c->n, c->dim), "node count");
 }
 
 /* Distance of node i from the nearest face of the block. */
 static double depth(const peri_sim *s, const patch_case *c, int32_t i) {
   double half = 0.5 * c->n * DX, d = INFINITY;
-  for (int k = 0; k < c->dim; ++k) d = fmin(d, half - fabs(s->p.x[3 * i + k]));
+  for (int k = 0; k < c->dim; ++k) d = fmin(d, half - fabs(s->disc.p.x[3 * i + k]));
   return d;
 }
 
 static void set_affine(peri_sim *s, const double H[3][3]) {
-  for (int32_t i = 0; i < s->p.n; ++i)
+  for (int32_t i = 0; i < s->disc.p.n; ++i)
     for (int a = 0; a < 3; ++a) {
       double u = 0.0;
-      for (int b = 0; b < 3; ++b) u += H[a][b] * s->p.x[3 * i + b];
-      s->p.u[3 * i + a] = u;
+      for (int b = 0; b < 3; ++b) u += H[a][b] * s->disc.p.x[3 * i + b];
+      s->disc.p.u[3 * i + a] = u;
     }
 }
 
@@ -112,12 +112,12 @@ static void check_patch_force(const patch_case *c) {
   double H[3][3];
   gradient_of_dim(c->dim, H);
   set_affine(&s, H);
-  s.model->force(&s);
+  s.mat.model->force(&s);
   double limit = 2.0 * c->m * DX + DX, bound = 1e-10 * force_scale(c) * frobenius(H), worst = 0.0;
   int count = 0;
-  for (int32_t i = 0; i < s.p.n_owned; ++i) {
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i) {
     if (depth(&s, c, i) <= limit) continue;
-    const double *f = &s.p.f[3 * i];
+    const double *f = &s.disc.p.f[3 * i];
     double mag = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
     worst = fmax(worst, mag);
     count++;
@@ -127,8 +127,8 @@ static void check_patch_force(const patch_case *c) {
             c->dim, (int)c->plane, worst, bound, count);
   /* The surface does feel the deformation (the check above is not vacuous). */
   double surface = 0.0;
-  for (int32_t i = 0; i < s.p.n_owned; ++i)
-    if (depth(&s, c, i) < DX) surface = fmax(surface, fabs(s.p.f[3 * i]) + fabs(s.p.f[3 * i + 1]));
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i)
+    if (depth(&s, c, i) < DX) surface = fmax(surface, fabs(s.disc.p.f[3 * i]) + fabs(s.disc.p.f[3 * i + 1]));
   cr_expect(surface > 1e-3 * force_scale(c) * frobenius(H), "surface force %.3g unexpectedly small", surface);
   peri_sim_free(&s);
 }
@@ -159,11 +159,11 @@ static double energy_error(const patch_case *c) {
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) eps[a][b] = (a < c->dim && b < c->dim) ? e[a][b] : 0.0;
   set_affine(&s, eps);
-  double *W = calloc((size_t)s.p.n, sizeof(double));
-  s.model->energy(&s, W);
+  double *W = calloc((size_t)s.disc.p.n, sizeof(double));
+  s.mat.model->energy(&s, W);
   double W0 = classical_energy(c, eps), worst = 0.0, limit = c->m * DX + 0.5 * DX;
   int count = 0;
-  for (int32_t i = 0; i < s.p.n_owned; ++i) {
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i) {
     if (depth(&s, c, i) <= limit) continue; /* W_i needs only i's own family full */
     worst = fmax(worst, fabs(W[i] / W0 - 1.0));
     count++;

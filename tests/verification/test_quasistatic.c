@@ -20,8 +20,8 @@ static double wall(void) {
 static double section_u(const peri_sim *s, double x0) {
   double sum = 0.0;
   int count = 0;
-  for (int32_t i = 0; i < s->p.n_owned; ++i)
-    if (fabs(s->p.x[3 * i] - x0) < 0.5 * s->geom.spacing + 1e-12) sum += s->p.u[3 * i], ++count;
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i)
+    if (fabs(s->disc.p.x[3 * i] - x0) < 0.5 * s->disc.geom.spacing + 1e-12) sum += s->disc.p.u[3 * i], ++count;
   return count ? sum / count : NAN;
 }
 
@@ -58,7 +58,7 @@ static double tension_3d(const char *model, const char *nu, const char *solver, 
   double end = section_u(&s, 1.0 - 0.5 * dx);
   cr_log_info("uniform tension %s %s: Delta l %.6g mm (gauge), end displacement %.6g mm, error %.3f%%; "
               "%ld iterations, %ld force evaluations, %.2f s", model, solver, dl * 1e3, end * 1e3,
-              100 * (dl / expected - 1), s.qs.iterations, s.qs.force_evaluations, t1 - t0);
+              100 * (dl / expected - 1), s.solver.qs.iterations, s.solver.qs.force_evaluations, t1 - t0);
   peri_sim_free(&s);
   return dl;
 }
@@ -100,7 +100,7 @@ static void check_tension_1d(const char *model, const char *nu, const char *solv
   double end = section_u(&s, 1.0 - 0.5 * dx);
   cr_log_info("uniform tension 1D %s %s: Delta l %.6g mm (gauge, %.3f%%), end displacement %.6g mm (%.3f%%); "
               "%ld iterations, %ld force evaluations, %.2f s", model, solver, dl * 1e3, 100 * (dl / expected - 1),
-              end * 1e3, 100 * (end / expected - 1), s.qs.iterations, s.qs.force_evaluations, t1 - t0);
+              end * 1e3, 100 * (end / expected - 1), s.solver.qs.iterations, s.solver.qs.force_evaluations, t1 - t0);
   cr_expect(fabs(dl / expected - 1.0) < 0.02, "%s %s: gauge Delta l = %g m, FL/(EA) = %g m", model, solver, dl,
             expected);
   cr_expect(fabs(end / expected - 1.0) < 0.02, "%s %s: end displacement %g m, FL/(EA) = %g m", model, solver,
@@ -175,11 +175,11 @@ static void check_fracture(const char *solver, const char *extra, bool expect_cu
   const double expected = 200e9 * 0.01 * 1.0e-3;
   cr_log_info("1D fracture %s%s: peak %.6g N (E A s0 = %.6g, %.2f%%), final %.3g N, %ld broken, %ld cut-backs, "
               "%ld solves", solver, extra, c.peak, expected, 100 * (c.peak / expected - 1), c.last,
-              peri_broken_count(&s.bonds), s.qs.cutbacks, s.qs.solves);
+              peri_broken_count(&s.disc.bonds), s.solver.qs.cutbacks, s.solver.qs.solves);
   cr_expect(c.steps == 200);
   cr_expect(fabs(c.peak / expected - 1) < 0.02, "peak reaction %g N, E A s0 = %g N", c.peak, expected);
   cr_expect(fabs(c.last) < 1e-6 * expected, "the broken bar still carries %g N", c.last);
-  cr_expect(!expect_cutback || s.qs.cutbacks > 0, "no cut-back although max_broken_per_step was exceeded");
+  cr_expect(!expect_cutback || s.solver.qs.cutbacks > 0, "no cut-back although max_broken_per_step was exceeded");
   peri_sim_free(&s);
 }
 

@@ -52,7 +52,7 @@ static void build(peri_sim *s, const rigid_case *c) {
            c->dim, c->dim != 2 ? "" : c->plane == PERI_PLANE_STRAIN ? "plane: strain\n" : "plane: stress\n", mat,
            DX, M_RATIO, shapes);
   cr_assert_eq(sim_from_string(s, deck), 0, "deck:\n%s", deck);
-  s->breaking = false;
+  s->solver.breaking = false;
 }
 
 /* S = c V_H: the force density of a full family with every bond at unit stretch, with
@@ -67,8 +67,8 @@ static double force_scale(const rigid_case *c) {
 
 static double max_force(const peri_sim *s) {
   double worst = 0.0;
-  for (int32_t i = 0; i < s->p.n_owned; ++i) {
-    const double *f = &s->p.f[3 * i];
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i) {
+    const double *f = &s->disc.p.f[3 * i];
     worst = fmax(worst, sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
   }
   return worst;
@@ -86,9 +86,9 @@ static void check_translation(const rigid_case *c) {
   peri_sim s;
   build(&s, c);
   const double t[3] = {1.0e-3, -2.0e-3, 0.5e-3}; /* of the order of dx */
-  for (int32_t i = 0; i < s.p.n; ++i)
-    for (int a = 0; a < c->dim; ++a) s.p.u[3 * i + a] = t[a];
-  s.model->force(&s);
+  for (int32_t i = 0; i < s.disc.p.n; ++i)
+    for (int a = 0; a < c->dim; ++a) s.disc.p.u[3 * i + a] = t[a];
+  s.mat.model->force(&s);
   double worst = max_force(&s), bound = RIGID_TOL * force_scale(c);
   cr_expect(worst <= bound, "%s dim %d plane %d translation: max |f| = %.3g > %.3g", c->model, c->dim,
             (int)c->plane, worst, bound);
@@ -111,15 +111,15 @@ static void check_rotation(const rigid_case *c) {
       K2[a][b] = 0.0;
       for (int k = 0; k < 3; ++k) K2[a][b] += K[a][k] * K[k][b];
     }
-  for (int32_t i = 0; i < s.p.n; ++i) {
-    const double *x = &s.p.x[3 * i];
+  for (int32_t i = 0; i < s.disc.p.n; ++i) {
+    const double *x = &s.disc.p.x[3 * i];
     for (int a = 0; a < 3; ++a) {
       double kx = 0.0, k2x = 0.0;
       for (int b = 0; b < 3; ++b) kx += K[a][b] * x[b], k2x += K2[a][b] * x[b];
-      s.p.u[3 * i + a] = sa * kx + ca1 * k2x;
+      s.disc.p.u[3 * i + a] = sa * kx + ca1 * k2x;
     }
   }
-  s.model->force(&s);
+  s.mat.model->force(&s);
   double worst = max_force(&s), bound = RIGID_TOL * force_scale(c);
   cr_expect(worst <= bound, "%s dim %d plane %d rotation: max |f| = %.3g > %.3g", c->model, c->dim, (int)c->plane,
             worst, bound);
@@ -132,9 +132,9 @@ static void check_rotation(const rigid_case *c) {
 static void check_stretch_is_seen(const rigid_case *c) {
   peri_sim s;
   build(&s, c);
-  for (int32_t i = 0; i < s.p.n; ++i)
-    for (int a = 0; a < c->dim; ++a) s.p.u[3 * i + a] = 1e-6 * s.p.x[3 * i + a];
-  s.model->force(&s);
+  for (int32_t i = 0; i < s.disc.p.n; ++i)
+    for (int a = 0; a < c->dim; ++a) s.disc.p.u[3 * i + a] = 1e-6 * s.disc.p.x[3 * i + a];
+  s.mat.model->force(&s);
   double worst = max_force(&s), S = force_scale(c);
   cr_expect(worst > 0.01 * 1e-6 * S, "%s dim %d: a 1e-6 stretch gives only max |f| = %.3g (S = %.3g)", c->model,
             c->dim, worst, S);

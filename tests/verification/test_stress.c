@@ -38,9 +38,9 @@ static void check_homogeneous(const char *plane) {
   peri_sim s;
   cr_assert_eq(sim_from_string(&s, deck), 0);
   const double H[2][2] = {{1.0e-4, 0.3e-4}, {-0.1e-4, -0.5e-4}};
-  const int32_t n = s.p.n_owned;
+  const int32_t n = s.disc.p.n_owned;
   for (int32_t i = 0; i < n; ++i)
-    for (int a = 0; a < 2; ++a) s.p.u[3 * i + a] = H[a][0] * s.p.x[3 * i] + H[a][1] * s.p.x[3 * i + 1];
+    for (int a = 0; a < 2; ++a) s.disc.p.u[3 * i + a] = H[a][0] * s.disc.p.x[3 * i] + H[a][1] * s.disc.p.x[3 * i + 1];
   double *sig = malloc(sizeof(double) * 9 * n), *eps = malloc(sizeof(double) * 9 * n);
   cr_assert_eq(peri_stress(&s, sig), 0);
   peri_strain(&s, eps);
@@ -55,13 +55,13 @@ static void check_homogeneous(const char *plane) {
     s11 = lam * (e11 + e22) + 2 * mu * e11;
     s22 = lam * (e11 + e22) + 2 * mu * e22;
   }
-  const double scale = fabs(s11) + fabs(s22) + fabs(s12), delta = s.geom.horizon;
+  const double scale = fabs(s11) + fabs(s22) + fabs(s12), delta = s.disc.geom.horizon;
   double worst_strain = 0.0, worst_stress = 0.0;
   int interior = 0;
   for (int32_t i = 0; i < n; ++i) {
     const double *e = &eps[9 * i];
     worst_strain = fmax(worst_strain, fabs(e[0] - e11) + fabs(e[4] - e22) + fabs(e[1] - e12) + fabs(e[3] - e12));
-    const double x = s.p.x[3 * i], y = s.p.x[3 * i + 1];
+    const double x = s.disc.p.x[3 * i], y = s.disc.p.x[3 * i + 1];
     /* the stress of i uses the dilatation of its neighbours: unaffected beyond 2 delta */
     const double d = 2 * delta + 1e-3;
     if (x < d || y < d || x > 0.04 - d || y > 0.04 - d) continue;
@@ -85,8 +85,8 @@ Test(stress, homogeneous_plane_strain) { check_homogeneous("strain"); }
 
 Test(stress, von_mises_and_principal) {
   peri_sim s = {0};
-  s.geom.dim = 2;
-  s.geom.plane = PERI_PLANE_STRESS;
+  s.disc.geom.dim = 2;
+  s.disc.geom.plane = PERI_PLANE_STRESS;
   const double uni[9] = {5, 0, 0, 0, 0, 0, 0, 0, 0}, shear[9] = {0, 2, 0, 2, 0, 0, 0, 0, 0};
   cr_expect(fabs(peri_von_mises(&s, uni, 0.3) - 5.0) < 1e-12);
   cr_expect(fabs(peri_von_mises(&s, shear, 0.3) - 2.0 * sqrt(3.0)) < 1e-12);
@@ -94,11 +94,11 @@ Test(stress, von_mises_and_principal) {
   peri_principal_stresses(&s, shear, 0.3, pr);
   cr_expect(fabs(pr[0] - 2) < 1e-12 && fabs(pr[1]) < 1e-12 && fabs(pr[2] + 2) < 1e-12);
   /* plane strain: s33 = nu (s11 + s22); equibiaxial 1, 1 with nu = 0.5 is hydrostatic */
-  s.geom.plane = PERI_PLANE_STRAIN;
+  s.disc.geom.plane = PERI_PLANE_STRAIN;
   const double bi[9] = {1, 0, 0, 0, 1, 0, 0, 0, 0};
   cr_expect(fabs(peri_von_mises(&s, bi, 0.5)) < 1e-12);
   /* 3D: a rotated uniaxial tension 3 along (1,1,1)/sqrt3 */
-  s.geom.dim = 3;
+  s.disc.geom.dim = 3;
   double t[9];
   for (int a = 0; a < 9; ++a) t[a] = 1.0;
   peri_principal_stresses(&s, t, 0.3, pr);
@@ -140,11 +140,11 @@ Test(stress, plate_with_hole_small) {
   const double top = probe(&a, "stress_xx@0.0495,0.0355"), bottom = probe(&a, "stress_xx@0.0495,0.0145");
   const double scf = probe(&a, "max:stress_xx@x=0.0495") / far;
   const double vm_a = probe(&a, "max_von_mises");
-  long it_a = a.qs.iterations;
+  long it_a = a.solver.qs.iterations;
   peri_sim_free(&a);
   solve_plate(&b, "adr", &tb);
   const double vm_b = probe(&b, "max_von_mises");
-  long it_b = b.qs.iterations;
+  long it_b = b.solver.qs.iterations;
   peri_sim_free(&b);
   cr_log_info("plate with hole (delta 3 mm, m 3): far field %.6g Pa (nominal %.6g), SCF %.4f (top %.6g, bottom "
               "%.6g); max von Mises nlcg %.6g (%ld it, %.2f s), adr %.6g (%ld it, %.2f s), differ %.3g%%",

@@ -36,20 +36,20 @@ static void check(int dim, const char *plane, const char *model, double nu, cons
   peri_sim s;
   cr_assert_eq(sim_from_string(&s, text), 0, "deck:\n%s", text);
   const double E = 200e9, alpha = 1.2e-5, dT = 100.0;
-  const bool strain = dim == 2 && s.geom.plane == PERI_PLANE_STRAIN;
+  const bool strain = dim == 2 && s.disc.geom.plane == PERI_PLANE_STRAIN;
   const double expected = (dim == 2 && !strain) ? -E * alpha * dT / (1.0 - nu) : -E * alpha * dT / (1.0 - 2.0 * nu);
-  double *sigma = malloc(sizeof(double) * 9 * (size_t)s.p.n);
+  double *sigma = malloc(sizeof(double) * 9 * (size_t)s.disc.p.n);
   cr_assert_eq(peri_stress(&s, sigma), 0);
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (int32_t i = 0; i < s.p.n_owned; ++i)
-    for (int d = 0; d < dim; ++d) lo[d] = fmin(lo[d], s.p.x[3 * i + d]), hi[d] = fmax(hi[d], s.p.x[3 * i + d]);
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i)
+    for (int d = 0; d < dim; ++d) lo[d] = fmin(lo[d], s.disc.p.x[3 * i + d]), hi[d] = fmax(hi[d], s.disc.p.x[3 * i + d]);
   double worst = 0.0;
   int count = 0;
-  const double depth = 2.0 * s.geom.horizon + s.geom.spacing;
-  for (int32_t i = 0; i < s.p.n_owned; ++i) {
+  const double depth = 2.0 * s.disc.geom.horizon + s.disc.geom.spacing;
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i) {
     bool interior = true;
     for (int d = 0; d < dim; ++d)
-      interior = interior && s.p.x[3 * i + d] - lo[d] > depth && hi[d] - s.p.x[3 * i + d] > depth;
+      interior = interior && s.disc.p.x[3 * i + d] - lo[d] > depth && hi[d] - s.disc.p.x[3 * i + d] > depth;
     if (!interior) continue;
     for (int d = 0; d < dim; ++d) worst = fmax(worst, fabs(sigma[9 * i + 4 * d] / expected - 1.0));
     for (int a = 0; a < dim; ++a)

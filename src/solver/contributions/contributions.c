@@ -13,7 +13,7 @@ static const peri_contribution_ops *const contributions[] = {
 #define N_CONTRIBUTIONS (sizeof contributions / sizeof contributions[0])
 
 void peri_apply_loads(peri_sim *s, double t) {
-  peri_particles *p = &s->p;
+  peri_particles *p = &s->disc.p;
   const peri_contribution_ops *first = NULL;
   for (size_t k = 0; k < N_CONTRIBUTIONS && !first; ++k)
     if (contributions[k]->add_load && contributions[k]->active(s)) first = contributions[k];

@@ -5,19 +5,19 @@
 static bool is_load(const peri_bc *bc) { return bc->kind == PERI_BC_BODY_FORCE || bc->kind == PERI_BC_TRACTION; }
 
 static bool loads_active(const peri_sim *s) {
-  for (int k = 0; k < s->n_bcs; ++k)
-    if (is_load(&s->bcs[k])) return true;
+  for (int k = 0; k < s->cond.n_bcs; ++k)
+    if (is_load(&s->cond.bcs[k])) return true;
   return false;
 }
 
 static void add_loads(peri_sim *s, double t, bool sets) {
   (void)sets; /* reaches the nodes of its regions only: never asked to set every node */
-  peri_particles *p = &s->p;
-  for (int k = 0; k < s->n_bcs; ++k) {
-    const peri_bc *bc = &s->bcs[k];
+  peri_particles *p = &s->disc.p;
+  for (int k = 0; k < s->cond.n_bcs; ++k) {
+    const peri_bc *bc = &s->cond.bcs[k];
     if (!is_load(bc)) continue;
     const double scale = bc->kind == PERI_BC_TRACTION ? 1.0 / bc->layer : 1.0;
-    const peri_region *r = &s->regions[bc->region];
+    const peri_region *r = &s->cond.regions[bc->region];
     for (int32_t a = 0; a < r->count; ++a) {
       int32_t i = r->nodes[a];
       const double *x = &p->x[3 * i];

@@ -9,8 +9,8 @@
  * force density as LAMMPS peri does (its per-atom "force" is a force density). With
  * `overwrite` the pass sets b of the owned nodes instead of adding to it (no other load). */
 static void apply_indenter(peri_sim *s, double t, bool overwrite) {
-  peri_indenter *ind = &s->indenter;
-  peri_particles *p = &s->p;
+  peri_indenter *ind = &s->cond.indenter;
+  peri_particles *p = &s->disc.p;
   double c[3] = {0.0, 0.0, 0.0};
   for (int d = 0; d < 3; ++d)
     if (ind->center[d]) c[d] = peri_expr_eval(ind->center[d], 0.0, 0.0, 0.0, t);
@@ -52,11 +52,11 @@ static void apply_indenter(peri_sim *s, double t, bool overwrite) {
 /* The indenter's force density k (R - r)^2 n on nodes inside it depends on u_i:
  * d b_i / d u_i = k [(R - r)^2 / r (I - n n^T) - 2 (R - r) n n^T]. */
 static void indenter_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
-  const peri_indenter *ind = &s->indenter;
-  const peri_particles *p = &s->p;
+  const peri_indenter *ind = &s->cond.indenter;
+  const peri_particles *p = &s->disc.p;
   double centre[3] = {0.0, 0.0, 0.0};
   for (int d = 0; d < 3; ++d)
-    if (ind->center[d]) centre[d] = peri_expr_eval(ind->center[d], 0.0, 0.0, 0.0, s->time);
+    if (ind->center[d]) centre[d] = peri_expr_eval(ind->center[d], 0.0, 0.0, 0.0, s->state.time);
   const double R = ind->radius, k = ind->stiffness;
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double y[3], r2 = 0.0;
@@ -76,7 +76,7 @@ static void indenter_tangent(const peri_sim *s, peri_tangent_add_fn add, void *c
   }
 }
 
-static bool indenter_active(const peri_sim *s) { return s->indenter.on; }
+static bool indenter_active(const peri_sim *s) { return s->cond.indenter.on; }
 
 const peri_contribution_ops peri_contribution_indenter = {
     .name = "indenter",
