@@ -59,7 +59,7 @@ int peri_solver_check_ranks(const peri_sim *s, int ranks);
  * message when a solve does not converge (the state reached is kept). */
 int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx);
 
-/* solver.dynamic_switch (docs/solvers.md section 4, src/solver/qs_dynamic_parse.c): reads the
+/* solver.dynamic_switch (docs/solvers.md section 4, src/deck/qs_dynamic_parse.c): reads the
  * mapping into s->solver.qs.dynamic (off when absent). Returns PERI_OK or PERI_ERR_INPUT. */
 int peri_qs_dynamic_parse(peri_sim *s, const peri_node *solver);
 /* Summary line of the dynamic switch (time step, damping, arrest criteria). */

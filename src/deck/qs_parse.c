@@ -99,7 +99,7 @@ int peri_quasi_static_parse(peri_sim *s, const peri_node *it) {
                                "'bond_damping' (pairwise, Le 2014 eq. 2.43); near critical is fastest");
   s->solver.breaking = true;
   TRY(peri_deck_bool(it, "breaking", false, &s->solver.breaking));
-  TRY(peri_qs_dynamic_parse(s, it)); /* dynamic_switch (src/solver/qs_dynamic_parse.c) */
+  TRY(peri_qs_dynamic_parse(s, it)); /* dynamic_switch (src/deck/qs_dynamic_parse.c) */
   for (int k = 0; k < s->cond.n_bcs; ++k) {
     peri_bc_kind kind = s->cond.bcs[k].kind;
     if (kind == PERI_BC_VELOCITY || kind == PERI_BC_INITIAL_VELOCITY || kind == PERI_BC_INITIAL_DISPLACEMENT)

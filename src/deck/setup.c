@@ -664,8 +664,8 @@ static int parse_output(parse_ctx *c) {
         o->fields[o->n_fields++] = peri_strdup(f->scalar);
       }
     }
-    TRY(peri_plot_parse(s, it)); /* output.plot (src/solver/history_plot.c) */
-    TRY(peri_checkpoint_parse(s, it)); /* output.checkpoint_* (src/io/checkpoint_keys.c) */
+    TRY(peri_plot_parse(s, it)); /* output.plot (src/deck/plot_keys.c) */
+    TRY(peri_checkpoint_parse(s, it)); /* output.checkpoint_* (src/deck/checkpoint_keys.c) */
     const peri_node *pic = peri_deck_get(it, "picture");
     if (pic && pic->kind == PERI_NODE_MAPPING) {
       static const char *const pkeys[] = {"field", "width", NULL};
@@ -795,7 +795,7 @@ int peri_sim_from_deck_with(peri_sim *s, const char *path, int n_sets, const cha
   s->par.threads = 0;
   peri_node *root = peri_deck_load(path);
   if (!root) return PERI_ERR_INPUT;
-  peri_node **keep = NULL; /* --set overrides (src/io/overrides.c) */
+  peri_node **keep = NULL; /* --set overrides (src/deck/overrides.c) */
   int rc = peri_deck_apply_overrides(root, n_sets, sets, &keep);
   parse_ctx c = {.s = s, .root = root, .failure = NULL};
   if (rc == PERI_OK) rc = build(&c);

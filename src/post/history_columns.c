@@ -31,7 +31,7 @@ static void add_per_region_axis(column_list *c, const peri_sim *s, const char *w
     }
 }
 
-/* Conduction only (src/solver/heat_run.c). */
+/* Conduction only (src/run/heat_run.c). */
 static void heat_columns(column_list *c, const peri_sim *s) {
   static const char *const fixed[] = {"time", "step", "total_heat", "min_temperature", "max_temperature",
                                       "broken_bond_fraction"};
@@ -45,7 +45,7 @@ static void heat_columns(column_list *c, const peri_sim *s) {
   }
 }
 
-/* Mechanical runs, explicit and quasi-static (src/solver/run.c). */
+/* Mechanical runs, explicit and quasi-static (src/run/run.c). */
 static void mechanical_columns(column_list *c, const peri_sim *s) {
   static const char *const fixed[] = {"time", "step", "kinetic_energy", "strain_energy", "external_work",
                                       "energy_balance", "broken_bond_fraction"};
