@@ -12,6 +12,7 @@
 #include "peri/probe.h"
 #include "peri/quasistatic.h"
 #include "peri/run.h"
+#include "peri/setup.h"
 #include "peri/sim.h"
 
 static void usage(FILE *out) {

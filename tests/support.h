@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <unistd.h>
+#include "peri/setup.h"
 #include "peri/sim.h"
 
 /* Writes yaml to a temporary file and builds the simulation from it. Returns the status

@@ -13,7 +13,6 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
-#include "peri/deck.h"
 #include "peri/sim.h"
 
 /* Version of the file layout; a reader takes this version and older ones. */
@@ -26,30 +25,14 @@ typedef struct peri_checkpoint_progress {
   long history_rows; /* history.csv rows written after the header */
 } peri_checkpoint_progress;
 
-/* Reads output.checkpoint_every and output.checkpoint_file of the `output` mapping.
- * Returns PERI_OK or PERI_ERR_INPUT after a positioned message. */
-int peri_checkpoint_parse(peri_sim *s, const peri_node *output);
-
 /* Whether this build reads and writes checkpoints (it was built with HDF5). */
 bool peri_checkpoint_supported(void);
-
-/* Path of the checkpoint of the current step: output.checkpoint_file with "{step}"
- * replaced by the step number, relative to the output directory unless absolute;
- * default <directory>/<basename>.h5. */
-void peri_checkpoint_path(const peri_sim *s, char *out, size_t size);
-
-/* Summary line of the checkpoint settings (nothing without output.checkpoint_every). */
-void peri_checkpoint_print_summary(const peri_sim *s, FILE *out);
 
 /* Writes the state of s to path (through path.tmp and a rename, so a crash never leaves a
  * half-written file). On MPI ranks it is collective: rank 0 gathers the arrays in global
  * order and writes, and every rank returns the same status. Returns PERI_OK, or
  * PERI_ERR_RUN with a message. */
 int peri_checkpoint_write(const peri_sim *s, const char *path, const peri_checkpoint_progress *done);
-
-/* Writes the checkpoint when one is due after this step (every checkpoint_every steps and
- * at the last step; nothing without output.checkpoint_every). Collective on MPI ranks. */
-int peri_checkpoint_after_step(const peri_sim *s, const peri_checkpoint_progress *done);
 
 /* Reads the checkpoint `path` for the simulation s, built from the deck as usual (with the
  * output directory already final; on MPI ranks every rank reads it, before peri_decompose,
@@ -85,7 +68,6 @@ long peri_restart_frames(const peri_sim *s, long *n_listed, const double **times
  * another number of columns, with a warning). Returns NULL with *rows = -1 on an output
  * failure. */
 struct peri_frames;
-const double *peri_restart_resume(peri_sim *s, struct peri_frames *frames, int n_columns, long *rows);
 
 void peri_restart_free(struct peri_restart *r);
 

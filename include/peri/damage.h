@@ -11,7 +11,5 @@ bool peri_precrack_cuts(const peri_precrack *c, double dx, const double xi[3], c
 /* Marks every bond crossing any pre-crack broken, in both directions. Returns the number
  * of directed bonds cut. */
 long peri_precracks_apply(peri_sim *s);
-/* Volume-weighted damage index phi_i = 1 - sum chi beta V / sum beta V (docs/model_reference.md 7.3). */
-void peri_damage_index(const peri_sim *s, double *phi);
 
 #endif

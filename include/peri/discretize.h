@@ -36,13 +36,6 @@ typedef struct peri_grid_params {
  * shape is unbounded (PERI_SHAPE_ALL) or the grid would exceed 2^31 nodes. */
 int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g);
 
-/* Reads a node file in the Peridigm/PeriLab text format: one node per line,
- * "x y [z] block volume" (dim + 2 columns), '#' comments and blank lines skipped.
- * block_to_material maps block ids (1-based) to material indices; blocks beyond
- * n_blocks are an error. Errors name path:line and exit status 2 (returns PERI_ERR_INPUT). */
-int peri_nodefile_read(peri_particles *p, const char *path, int dim,
-                       const int32_t *block_to_material, int n_blocks);
-
 /* Permutation that orders nodes in rows along the axis with the longest rows (rows one
  * `spacing` wide), the rows along a Morton (Z-order) curve of the other two axes; ties
  * broken by index (deterministic). perm has n entries. */

@@ -3,7 +3,6 @@
 #define PERI_FRAMES_H
 #include <stddef.h>
 #include "peri/sim.h"
-#include "peri/solver.h"
 
 typedef struct peri_frames peri_frames;
 /* Creates the output directory and the .pvd; NULL (with a message) on failure. */

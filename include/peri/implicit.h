@@ -5,7 +5,6 @@
 #ifndef PERI_IMPLICIT_H
 #define PERI_IMPLICIT_H
 #include <stdbool.h>
-#include "peri/deck.h"
 #include "peri/quasistatic.h"
 
 /* solver.linear_solver */
@@ -26,12 +25,6 @@ typedef enum {
 
 /* Whether this build has the implicit solver. */
 bool peri_implicit_available(void);
-
-/* Reads the implicit keys of the `solver` mapping (linear_solver, petsc_preconditioner,
- * newton_tolerance, petsc_options) into s->solver.qs; rejects them for other solver types and
- * rejects type implicit in a build without PETSc. Called by peri_quasi_static_parse after
- * the shared keys. Returns PERI_OK or PERI_ERR_INPUT after a positioned message. */
-int peri_implicit_parse(peri_sim *s, const peri_node *solver);
 
 /* PETSc options from the command line (peri run --petsc-options "..."), applied after the
  * deck's solver.petsc_options. The string is copied. */

@@ -4,27 +4,14 @@
 #ifndef PERI_QUASISTATIC_H
 #define PERI_QUASISTATIC_H
 #include <stdio.h>
-#include "peri/deck.h"
 #include "peri/sim.h"
 #include "peri/solver.h"
-
-/* Whether the solver is one of the quasi-static ones (adr, dynamic_relaxation, nlcg, implicit). */
-static inline bool peri_is_quasi_static(const peri_sim *s) {
-  return s->solver.kind == PERI_SOLVER_ADR || s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION || s->solver.kind == PERI_SOLVER_NLCG ||
-         s->solver.kind == PERI_SOLVER_IMPLICIT;
-}
 
 /* The solver keys that only quasi-static solvers take (for the deck's key list). */
 #define PERI_QUASI_STATIC_KEYS                                                                   \
   "load_steps", "tolerance", "max_iterations", "stiffness_factor", "bond_damping",               \
       "preconditioner", "max_broken_per_step", "max_cutbacks", "max_fracture_iterations",          \
       "linear_solver", "petsc_preconditioner", "newton_tolerance", "petsc_options", "dynamic_switch"
-
-/* Reads the quasi-static keys of the `solver` mapping (type already set in s->solver.kind) and
- * the shared ones it uses (end_time, time_step, safety_factor, damping, breaking); sets
- * s->solver.steps = load_steps. Explicit: rejects the quasi-static keys. Returns PERI_OK or
- * PERI_ERR_INPUT after a positioned message. */
-int peri_quasi_static_parse(peri_sim *s, const peri_node *solver);
 
 /* Result of one solve at fixed loads. */
 typedef enum { PERI_QS_CONVERGED = 0, PERI_QS_NOT_CONVERGED = 1, PERI_QS_DIVERGED = 2 } peri_qs_status;
@@ -59,9 +46,6 @@ int peri_solver_check_ranks(const peri_sim *s, int ranks);
  * message when a solve does not converge (the state reached is kept). */
 int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx);
 
-/* solver.dynamic_switch (docs/solvers.md section 4, src/deck/qs_dynamic_parse.c): reads the
- * mapping into s->solver.qs.dynamic (off when absent). Returns PERI_OK or PERI_ERR_INPUT. */
-int peri_qs_dynamic_parse(peri_sim *s, const peri_node *solver);
 /* Summary line of the dynamic switch (time step, damping, arrest criteria). */
 void peri_qs_dynamic_summary(const peri_sim *s, FILE *out);
 /* A dynamic phase (src/solver/qs_dynamic.c): from the current state, explicit dynamics with
@@ -70,7 +54,6 @@ void peri_qs_dynamic_summary(const peri_sim *s, FILE *out);
  * hook with s->solver.qs.phase = dynamic every history_every steps and at the end (history rows).
  * *stop is set when the hook asks to stop. Returns PERI_OK or PERI_ERR_RUN (diverged). */
 int peri_qs_dynamic_phase(peri_sim *s, double t, peri_step_hook hook, void *ctx, bool *stop);
-
 
 /* Summary line(s) for the solver settings. */
 void peri_print_quasi_static_summary(const peri_sim *s, FILE *out);

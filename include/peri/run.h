@@ -15,4 +15,9 @@ double peri_memory_estimate(const peri_sim *s);
  * message (what was written so far is kept). */
 int peri_run(peri_sim *s);
 
+/* Summary lines for `peri check` / `run`. */
+void peri_thermal_print_summary(const peri_sim *s, FILE *out);
+/* Heat-only run driver (solver type heat): frames, history, picture. */
+int peri_run_heat(peri_sim *s);
+
 #endif

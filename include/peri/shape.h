@@ -2,7 +2,6 @@
 #ifndef PERI_SHAPE_H
 #define PERI_SHAPE_H
 #include <stdbool.h>
-#include "peri/deck.h"
 
 typedef enum {
   PERI_SHAPE_BOX,      /* min[3], max[3]: box (3D), rectangle (2D), interval (1D) */
@@ -23,18 +22,6 @@ typedef struct peri_shape {
   double *vertices; /* [2*n_vertices] */
 } peri_shape;
 
-/* Parses a shape mapping such as
- *   {shape: box, min: [0, 0], max: [0.1, 0.04]}
- *   {shape: circle, center: [0.05, 0.02], radius: 0.01}      (alias: disk, sphere)
- *   {shape: cylinder, center: [0,0,0], axis: z, radius: 0.025, inner_radius: 0.02, length: 0.1}
- *   {shape: polygon, vertices: [[0,0], [1,0], [0,1]]}
- *   {shape: all}
- * For dim < 3 the missing coordinates of min/max/center are 0 (boxes are unbounded in the
- * unused directions). `extra_keys` (NULL-terminated, may be NULL) are keys the caller
- * reads from the same mapping (e.g. "material", "name"); they are allowed here.
- * Returns PERI_OK or PERI_ERR_INPUT with a message. */
-int peri_shape_parse(const peri_node *map, int dim, const char *section,
-                     const char *const *extra_keys, peri_shape *out);
 /* Whether point x (3 components) lies inside (boundary inclusive, tolerance tol). */
 bool peri_shape_contains(const peri_shape *s, int dim, const double x[3], double tol);
 /* Axis-aligned bounding box; false for PERI_SHAPE_ALL. */

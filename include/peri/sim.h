@@ -197,18 +197,17 @@ typedef struct peri_sim {
   struct peri_thermal *thermal;  /* heat conduction (docs/heat.md), NULL without */
 } peri_sim;
 
+/* Whether the solver is one of the quasi-static ones (adr, dynamic_relaxation, nlcg, implicit). */
+static inline bool peri_is_quasi_static(const peri_sim *s) {
+  return s->solver.kind == PERI_SOLVER_ADR || s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION || s->solver.kind == PERI_SOLVER_NLCG ||
+         s->solver.kind == PERI_SOLVER_IMPLICIT;
+}
+
 /* Ghost values of a per-node field from their owners (a no-op in a single process). A
  * kernel that reads field[j] of a neighbour j calls it after the pass that computes the
  * field of the owned nodes. */
 static inline void peri_sim_exchange(peri_sim *s, double *field, int ncomp) {
   if (s->par.exchange) s->par.exchange(s, field, ncomp);
 }
-
-/* Reads the deck and builds the simulation: every input error is reported (exit status 2)
- * before any work. `overrides` are "--output DIR" etc. applied after parsing. */
-int peri_sim_from_deck(peri_sim *s, const char *path);
-/* The same with "key.path=value" overrides applied to the deck first (--set). */
-int peri_sim_from_deck_with(peri_sim *s, const char *path, int n_sets, const char *const *sets);
-void peri_sim_free(peri_sim *s);
 
 #endif

@@ -18,14 +18,6 @@ void peri_apply_prescribed_motion(peri_sim *s, double t, double dt);
 /* The loads (peri_apply_loads) and everything else a step adds to the model's force. */
 #include "peri/contribution.h"
 
-/* Global quantities. */
-double peri_kinetic_energy(const peri_sim *s);
-double peri_strain_energy(peri_sim *s);
-/* Total linear momentum sum rho V v. */
-void peri_linear_momentum(const peri_sim *s, double out[3]);
-/* Reaction on a region: -sum_i f_i V_i over its nodes (internal force density f). */
-void peri_region_reaction(const peri_sim *s, int region, double out[3]);
-
 /* Per-step callback for output; return nonzero to stop. */
 typedef int (*peri_step_hook)(peri_sim *s, void *ctx);
 

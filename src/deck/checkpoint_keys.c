@@ -6,6 +6,7 @@
 #include "peri/comm.h"
 #include "peri/error.h"
 #include "peri/output.h"
+#include "peri/setup.h"
 
 int peri_checkpoint_parse(peri_sim *s, const peri_node *output) {
   peri_output *o = &s->out;

@@ -3,6 +3,7 @@
 #include <string.h>
 #include "peri/error.h"
 #include "peri/implicit.h"
+#include "peri/setup.h"
 
 #define TRY(expr)                   \
   do {                              \
@@ -15,14 +16,6 @@ static const char *const implicit_keys[] = {"linear_solver", "petsc_precondition
 
 /* Newton needs few iterations: more than this many means it is not converging. */
 enum { DEFAULT_NEWTON_ITERATIONS = 50 };
-
-bool peri_implicit_available(void) {
-#ifdef PERI_HAVE_PETSC
-  return true;
-#else
-  return false;
-#endif
-}
 
 /* PETSc options are "-name [value] -name [value] ...": the string must start with an option. */
 static int check_petsc_options(const peri_node *at, const char *text) {

@@ -4,6 +4,7 @@
 #include <string.h>
 #include "peri/error.h"
 #include "peri/history.h"
+#include "peri/setup.h"
 
 int peri_plot_parse(peri_sim *s, const peri_node *output) {
   const peri_node *plot = peri_deck_get(output, "plot");

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "peri/error.h"
 #include "peri/quasistatic.h"
+#include "peri/setup.h"
 
 #define TRY(expr)                   \
   do {                              \

@@ -4,6 +4,7 @@
 #include "peri/error.h"
 #include "peri/implicit.h"
 #include "peri/quasistatic.h"
+#include "peri/setup.h"
 
 static const char *const qs_keys[] = {PERI_QUASI_STATIC_KEYS, NULL};
 

@@ -5,12 +5,15 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/checkpoint.h"
+#include "peri/conduction.h"
 #include "peri/constants.h"
 #include "peri/damage.h"
 #include "peri/deck.h"
 #include "peri/decompose.h"
 #include "peri/discretize.h"
 #include "peri/error.h"
+#include "peri/nodefile.h"
+#include "peri/setup.h"
 #include "peri/sim.h"
 #include "peri/solver.h"
 #include "peri/history.h"

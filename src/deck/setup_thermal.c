@@ -5,8 +5,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/conduction.h"
 #include "peri/damage.h"
 #include "peri/error.h"
+#include "peri/heat.h"
 #include "peri/thermal.h"
 #include "setup_parts.h"
 

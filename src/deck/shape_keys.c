@@ -2,6 +2,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/setup.h"
 #include "peri/shape.h"
 #include "peri/error.h"
 

@@ -12,7 +12,6 @@
 #include <string.h>
 #include "peri/checkpoint.h"
 #include "peri/error.h"
-#include "peri/frames.h"
 
 /* Next line of `in` into a growing buffer, without its newline; false at the end. */
 static bool read_line(FILE *in, char **line, size_t *cap) {

@@ -3,7 +3,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/comm.h"
-#include "peri/damage.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
 

@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include "peri/decompose.h"
 #include "peri/error.h"
-#include "peri/solver.h"
 
 static double *node_terms(const peri_sim *s, int ncomp) {
   return peri_calloc((size_t)(s->disc.p.n_owned > 0 ? s->disc.p.n_owned : 1) * (size_t)ncomp, sizeof(double));

@@ -5,8 +5,11 @@
 #include <string.h>
 #include "peri/comm.h"
 #include "peri/damage.h"
+#include "peri/damage_index.h"
 #include "peri/decompose.h"
+#include "peri/energies.h"
 #include "peri/error.h"
+#include "peri/heat_quantities.h"
 #include "peri/output.h"
 #include "peri/frames.h"
 #include "peri/stress.h"

@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/error.h"
+#include "peri/heat_quantities.h"
 #include "peri/history.h"
-#include "peri/quasistatic.h"
 #include "peri/thermal.h"
 
 typedef struct column_list {

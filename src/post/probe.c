@@ -3,9 +3,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/energies.h"
 #include "peri/error.h"
 #include "peri/probe.h"
-#include "peri/solver.h"
 #include "peri/stress.h"
 
 typedef struct probe {

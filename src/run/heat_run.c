@@ -8,12 +8,16 @@
 #include <time.h>
 #include <unistd.h>
 #include "peri/checkpoint.h"
+#include "peri/checkpoint_schedule.h"
 #include "peri/comm.h"
 #include "peri/damage.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/frames.h"
+#include "peri/heat.h"
+#include "peri/heat_quantities.h"
 #include "peri/history.h"
+#include "peri/history_log.h"
 #include "peri/output.h"
 #include "peri/run.h"
 #include "peri/thermal.h"

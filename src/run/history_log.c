@@ -4,10 +4,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/checkpoint.h"
+#include "peri/checkpoint_schedule.h"
 #include "peri/comm.h"
 #include "peri/error.h"
 #include "peri/frames.h"
 #include "peri/history.h"
+#include "peri/history_log.h"
 #include "peri/output.h"
 
 int peri_history_log_open(peri_history_log *h, const peri_sim *s) {

@@ -7,6 +7,7 @@
 #include "peri/comm.h"
 #include "peri/error.h"
 #include "peri/history.h"
+#include "peri/history_log.h"
 #include "peri/plot.h"
 
 void peri_plot_series_init(peri_plot_series *p, const peri_sim *s, char *const *names, int count) {

@@ -6,13 +6,17 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include "peri/checkpoint_schedule.h"
 #include "peri/comm.h"
 #include "peri/checkpoint.h"
 #include "peri/damage.h"
 #include "peri/decompose.h"
+#include "peri/energies.h"
 #include "peri/error.h"
 #include "peri/frames.h"
+#include "peri/heat_quantities.h"
 #include "peri/history.h"
+#include "peri/history_log.h"
 #include "peri/model.h"
 #include "peri/output.h"
 #include "peri/run.h"

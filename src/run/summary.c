@@ -3,6 +3,7 @@
  * checkpoints. */
 #include <stdio.h>
 #include "peri/checkpoint.h"
+#include "peri/checkpoint_schedule.h"
 #include "peri/damage.h"
 #include "peri/model.h"
 #include "peri/quasistatic.h"

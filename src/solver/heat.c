@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/comm.h"
+#include "peri/conduction.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/sim.h"

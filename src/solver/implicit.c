@@ -41,6 +41,14 @@ int peri_implicit_residual_history(double *out, int max) {
   return history_count;
 }
 
+bool peri_implicit_available(void) {
+#ifdef PERI_HAVE_PETSC
+  return true;
+#else
+  return false;
+#endif
+}
+
 #ifndef PERI_HAVE_PETSC
 
 peri_qs_status peri_solve_implicit(peri_sim *s) {

@@ -8,6 +8,7 @@
 #include "peri/comm.h"
 #include "peri/constants.h"
 #include "peri/decompose.h"
+#include "peri/energies.h"
 #include "peri/error.h"
 #include "peri/quasistatic.h"
 

@@ -11,8 +11,10 @@
 #include <string.h>
 #include <unistd.h>
 #include "peri/checkpoint.h"
+#include "peri/checkpoint_schedule.h"
 #include "peri/error.h"
 #include "peri/output.h"
+#include "peri/setup.h"
 #include "peri/solver.h"
 #include "peri/thermal.h"
 #include "support.h"

@@ -7,6 +7,7 @@
 #include <unistd.h>
 #include "peri/discretize.h"
 #include "peri/error.h"
+#include "peri/nodefile.h"
 
 static const double PI = 3.14159265358979323846;
 

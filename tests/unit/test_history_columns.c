@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 #include "peri/history.h"
+#include "peri/history_log.h"
+#include "peri/setup.h"
 #include "support.h"
 
 static const char *mechanical =

@@ -2,6 +2,7 @@
 #include <criterion/criterion.h>
 #include <math.h>
 #include "peri/damage.h"
+#include "peri/setup.h"
 #include "support.h"
 
 /* Independent crossing test by parametric intersection: the segments p + s(q - p) and

@@ -7,6 +7,7 @@
 #include <unistd.h>
 #include "peri/deck.h"
 #include "peri/error.h"
+#include "peri/setup.h"
 #include "peri/shape.h"
 
 static char msg[4096];

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/model.h"
+#include "peri/setup.h"
 #include "support.h"
 
 static const char *deck2d =

@@ -4,6 +4,10 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include "peri/conduction.h"
+#include "peri/heat.h"
+#include "peri/heat_quantities.h"
+#include "peri/setup.h"
 #include "peri/thermal.h"
 #include "support.h"
 

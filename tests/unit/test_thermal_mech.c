@@ -4,7 +4,9 @@
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>
+#include "peri/heat.h"
 #include "peri/model.h"
+#include "peri/setup.h"
 #include "peri/thermal.h"
 #include "support.h"
 

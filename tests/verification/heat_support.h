@@ -4,6 +4,7 @@
 #ifndef PERI_TEST_HEAT_SUPPORT_H
 #define PERI_TEST_HEAT_SUPPORT_H
 #include <math.h>
+#include "peri/heat.h"
 #include "peri/thermal.h"
 #include "support.h"
 

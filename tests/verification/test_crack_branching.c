@@ -4,6 +4,8 @@
 #include <criterion/criterion.h>
 #include <math.h>
 #include "peri/damage.h"
+#include "peri/damage_index.h"
+#include "peri/setup.h"
 #include "peri/solver.h"
 
 typedef struct tip_track {

@@ -2,6 +2,8 @@
  * conservation of a freely vibrating body (Elasticity 5). */
 #include <criterion/criterion.h>
 #include <math.h>
+#include "peri/energies.h"
+#include "peri/setup.h"
 #include "peri/solver.h"
 #include "support.h"
 

@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/conduction.h"
+#include "peri/setup.h"
 #include "peri/solver.h"
 #include "heat_support.h"
 

@@ -4,6 +4,7 @@
  * with half and quarter boundary areas, the 8-neighbour self-term at half distance, the
  * zero-flux rule re-imposed after every RK4 stage). The relative differences along
  * y = 0.5 (paper eq. 13) against the series of paper eq. 18 reproduce Table 1 within 3%. */
+#include "peri/setup.h"
 #include <criterion/criterion.h>
 #include <stdio.h>
 #include <stdlib.h>

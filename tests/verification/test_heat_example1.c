@@ -4,6 +4,7 @@
  * at least linearly with delta (paper: rates 1.09-1.11 for m = 5.2-6.9).
  * Default scheme: the bonds' linear partial volumes, the own-cell term, and the Dirichlet
  * condition held on a layer of delta + dx/2 outside the square (docs/model_reference.md 11.3). */
+#include "peri/setup.h"
 #include <criterion/criterion.h>
 #include <stdio.h>
 #include "heat_support.h"

@@ -14,9 +14,11 @@
 #include <math.h>
 #include <time.h>
 #include "peri/damage.h"
+#include "peri/energies.h"
 #include "peri/implicit.h"
 #include "peri/probe.h"
 #include "peri/quasistatic.h"
+#include "peri/setup.h"
 #include "support.h"
 
 static double wall(void) {

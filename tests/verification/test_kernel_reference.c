@@ -13,6 +13,7 @@
 #include <string.h>
 #include "model/node_blocks.h"
 #include "peri/damage.h"
+#include "peri/setup.h"
 #include "support.h"
 
 #define N_SIDE 20

@@ -9,6 +9,7 @@
  * (2) with the analytic m the difference is the (B/m - 1) term; (3) at nu = 0.2 the
  * dilatation term does not vanish; (4) the LPS force of every node, surface included,
  * equals the reduced form above evaluated independently in this file. */
+#include "peri/setup.h"
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>

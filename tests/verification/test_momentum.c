@@ -5,6 +5,8 @@
 #include <criterion/criterion.h>
 #include <math.h>
 #include "peri/damage.h"
+#include "peri/energies.h"
+#include "peri/setup.h"
 #include "peri/solver.h"
 
 Test(momentum, fragmenting_cylinder_conserves_momentum, .timeout = 300) {

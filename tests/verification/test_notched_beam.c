@@ -17,7 +17,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/damage.h"
+#include "peri/damage_index.h"
+#include "peri/energies.h"
 #include "peri/quasistatic.h"
+#include "peri/setup.h"
 
 typedef struct curve {
   int load;                     /* region index of the loading nodes */

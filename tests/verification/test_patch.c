@@ -2,6 +2,7 @@
  * interior nodes of a regular grid carry no net internal force, and their strain-energy
  * density equals the classical 1/2 eps:C:eps. PMB and LPS, in 1D, 2D plane stress, 2D
  * plane strain and 3D, built through decks with the default partial-volume rule (linear). */
+#include "peri/setup.h"
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>

@@ -7,7 +7,9 @@
 #include <math.h>
 #include <time.h>
 #include "peri/damage.h"
+#include "peri/energies.h"
 #include "peri/quasistatic.h"
+#include "peri/setup.h"
 #include "support.h"
 
 static double wall(void) {

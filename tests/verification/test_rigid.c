@@ -2,6 +2,7 @@
  * rotation give zero internal force on every node, surface nodes included, for PMB and
  * LPS in 2D (both planes) and 3D (translation also in 1D). The bodies have a hole so that
  * the surface is not only flat faces. */
+#include "peri/setup.h"
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>

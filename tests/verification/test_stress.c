@@ -17,6 +17,7 @@
 #include <time.h>
 #include "peri/probe.h"
 #include "peri/quasistatic.h"
+#include "peri/setup.h"
 #include "peri/stress.h"
 #include "support.h"
 

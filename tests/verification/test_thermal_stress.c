@@ -14,6 +14,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include "peri/setup.h"
 #include "peri/stress.h"
 #include "support.h"
 

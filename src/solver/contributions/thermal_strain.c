@@ -2,7 +2,7 @@
  * advanced to the step's time (sub-cycled, src/solver/heat.c) and the thermal strain of
  * every node set from its temperature; the models subtract it from the bond stretch. */
 #include "peri/contribution.h"
-#include "peri/thermal.h"
+#include "peri/heat.h"
 
 static bool thermal_active(const peri_sim *s) { return s->thermal != NULL; }
 
