@@ -5,6 +5,8 @@
 #include "peri/sim.h"
 
 typedef struct peri_frames peri_frames;
+/* Names of the per-node fields a frame can hold (output.fields), NULL-terminated. */
+extern const char *const peri_frame_fields[];
 /* Creates the output directory and the .pvd; NULL (with a message) on failure. */
 peri_frames *peri_frames_open(const peri_sim *s);
 int peri_frames_write(peri_frames *f, peri_sim *s);

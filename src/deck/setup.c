@@ -12,6 +12,7 @@
 #include "peri/decompose.h"
 #include "peri/discretize.h"
 #include "peri/error.h"
+#include "peri/frames.h"
 #include "peri/nodefile.h"
 #include "peri/setup.h"
 #include "peri/sim.h"
@@ -605,11 +606,6 @@ static int parse_solver(parse_ctx *c) {
   return PERI_OK;
 }
 
-static const char *const field_names[] = {"displacement", "velocity", "force", "damage", "dilatation",
-                                          "material", "volume", "strain_energy_density",
-                                          "block", "stress", "strain", "von_mises",
-                                          "principal_stress", "temperature", "heat_flux", NULL};
-
 static int parse_output(parse_ctx *c) {
   peri_sim *s = c->s;
   peri_output *o = &s->out;
@@ -649,18 +645,19 @@ static int parse_output(parse_ctx *c) {
       for (int k = 0; k < fields->count; ++k) {
         const peri_node *f = fields->items[k];
         int which = -1;
-        for (int n = 0; field_names[n] && f->scalar; ++n)
-          if (strcmp(field_names[n], f->scalar) == 0) which = n;
+        for (int n = 0; peri_frame_fields[n] && f->scalar; ++n)
+          if (strcmp(peri_frame_fields[n], f->scalar) == 0) which = n;
         if (which < 0) {
           int best = 0, best_d = 1 << 30;
-          for (int n = 0; field_names[n]; ++n) {
-            int dd = f->scalar ? peri_edit_distance(f->scalar, field_names[n]) : 99;
+          for (int n = 0; peri_frame_fields[n]; ++n) {
+            int dd = f->scalar ? peri_edit_distance(f->scalar, peri_frame_fields[n]) : 99;
             if (dd < best_d) best_d = dd, best = n;
           }
-          return peri_deck_error(f, "unknown output field '%s'; did you mean '%s'? (fields: displacement, "
-                                    "velocity, force, damage, dilatation, material, volume, "
-                                    "strain_energy_density, block, stress, strain, von_mises, "
-                                    "principal_stress, temperature, heat_flux)", f->scalar ? f->scalar : "", field_names[best]);
+          char list[1024] = "";
+          for (int n = 0; peri_frame_fields[n]; ++n)
+            snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", n ? ", " : "", peri_frame_fields[n]);
+          return peri_deck_error(f, "unknown output field '%s'; did you mean '%s'? (fields: %s)",
+                                 f->scalar ? f->scalar : "", peri_frame_fields[best], list);
         }
         if (!strcmp(f->scalar, "dilatation") && s->mat.model != peri_model_find("lps"))
           return peri_deck_error(f, "output field 'dilatation': the %s model has no dilatation", s->mat.model->name);
@@ -674,12 +671,12 @@ static int parse_output(parse_ctx *c) {
       static const char *const pkeys[] = {"field", "width", NULL};
       TRY(peri_deck_allow(pic, "output.picture", pkeys));
       int which = 3;
-      TRY(peri_deck_choice(pic, "field", false, field_names, &which));
-      if (!strcmp(field_names[which], "dilatation") && s->mat.model != peri_model_find("lps"))
+      TRY(peri_deck_choice(pic, "field", false, peri_frame_fields, &which));
+      if (!strcmp(peri_frame_fields[which], "dilatation") && s->mat.model != peri_model_find("lps"))
         return peri_deck_error(peri_deck_get(pic, "field"), "picture field 'dilatation': the %s model has no "
                                "dilatation", s->mat.model->name);
       free(o->picture_field);
-      o->picture_field = peri_strdup(field_names[which]);
+      o->picture_field = peri_strdup(peri_frame_fields[which]);
       long width = o->picture_width;
       TRY(peri_deck_int(pic, "width", false, &width));
       if (width < 64 || width > 10000) return peri_deck_error(peri_deck_get(pic, "width"), "key 'width': must be in 64..10000 pixels");

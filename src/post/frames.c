@@ -93,6 +93,13 @@ static int write_pieces(peri_frames *f, peri_sim *s, const peri_field *fields, i
   return peri_comm_max_int(rc);
 }
 
+/* The fields output.fields and output.picture accept. A new field is its name here and its
+ * branch in peri_frames_write below. */
+const char *const peri_frame_fields[] = {"displacement", "velocity", "force", "damage", "dilatation",
+                                         "material", "volume", "strain_energy_density",
+                                         "block", "stress", "strain", "von_mises",
+                                         "principal_stress", "temperature", "heat_flux", NULL};
+
 int peri_frames_write(peri_frames *f, peri_sim *s) {
   const peri_particles *p = &s->disc.p;
   current_positions(s, f->points);

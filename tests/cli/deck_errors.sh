@@ -114,6 +114,15 @@ check_both "$D/err_region_typo.yaml" "topp" "unknown region 'topp'; did you mean
 check_both "$D/err_region_unknown.yaml" "middle" "unknown region 'middle'"
 pass "(h) unknown region 'topp' (did you mean 'top') and 'middle'"
 
+# (i) an unknown output field, at the position of the name, with a suggestion and the list
+# of the fields a frame can hold
+deck="$TMP/err_field.yaml"
+sed 's/^  every: 10$/  every: 10\n  fields: [damage, dammage]/' "$D/valid_small.yaml" >"$deck"
+grep -q "dammage" "$deck" || fail "could not make the output field fixture"
+check_both "$deck" "dammage" "unknown output field 'dammage'; did you mean 'damage'?"
+expect_stderr_contains "(fields: displacement, velocity, force, damage, dilatation, material, volume, strain_energy_density, block, stress, strain, von_mises, principal_stress, temperature, heat_flux)"
+pass "(i) unknown output field 'dammage': did you mean 'damage', and the list of fields"
+
 # the same deck given through a relative path is named as given
 rel="tests/cli/decks/err_unknown_key.yaml"
 if [[ -f "$rel" ]]; then
