@@ -1,6 +1,9 @@
-/* Solvers and the pieces they share: loads, prescribed motion, energies. */
+/* Solvers and the pieces they share: the stable time step, initial conditions and
+ * prescribed motion, and the explicit integrator. The loads and everything else a step adds
+ * to the model's force are contributions (peri/contribution.h). */
 #ifndef PERI_SOLVER_H
 #define PERI_SOLVER_H
+#include "peri/contribution.h"
 #include "peri/sim.h"
 
 /* Stable time step estimate (docs/model_reference.md 13.2) without the safety factor:
@@ -15,9 +18,6 @@ void peri_apply_initial_conditions(peri_sim *s);
 /* Prescribed displacement/velocity at time t for the step t - dt -> t: sets u and v of
  * prescribed components. */
 void peri_apply_prescribed_motion(peri_sim *s, double t, double dt);
-/* The loads (peri_apply_loads) and everything else a step adds to the model's force. */
-#include "peri/contribution.h"
-
 /* Per-step callback for output; return nonzero to stop. */
 typedef int (*peri_step_hook)(peri_sim *s, void *ctx);
 
