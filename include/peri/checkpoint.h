@@ -74,7 +74,9 @@ void peri_restart_free(struct peri_restart *r);
 /* What a run wrote into `directory` up to its checkpoint (src/io/checkpoint_output.c):
  * the first `rows` rows of history.csv into *history ([*history_rows][*history_columns])
  * and the first `frames` frames listed in <basename>.pvd (times and file names). A missing
- * file, or one with fewer entries, gives a warning and what there is. Returns PERI_OK. */
+ * file gives a warning and nothing; one with fewer entries than the checkpoint records is
+ * the output of another run: an error, PERI_ERR_INPUT (what was read is returned all the
+ * same, for the caller to free). */
 int peri_restart_read_output(const char *directory, const char *basename, long rows, long frames,
                              double **history, long *history_rows, int *history_columns,
                              double **frame_times, char ***frame_files, long *frames_listed);

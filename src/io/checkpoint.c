@@ -23,6 +23,7 @@
 #define _POSIX_C_SOURCE 200809L
 #endif
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -566,6 +567,16 @@ static hid_t group_open(reader *r, const char *name, bool required) {
   return g;
 }
 
+/* Whether an attribute or dataset holds exactly one element: reading more into one value
+ * would write past it. */
+static bool one_value(hid_t obj, bool dataset) {
+  hid_t space = dataset ? H5Dget_space(obj) : H5Aget_space(obj);
+  if (space < 0) return false;
+  const bool one = H5Sget_simple_extent_npoints(space) == 1;
+  H5Sclose(space);
+  return one;
+}
+
 static void attr_get(reader *r, hid_t loc, const char *name, hid_t mem_type, void *out) {
   if (r->failed || loc < 0) return;
   if (H5Aexists(loc, name) <= 0) {
@@ -573,7 +584,8 @@ static void attr_get(reader *r, hid_t loc, const char *name, hid_t mem_type, voi
     return;
   }
   hid_t a = H5Aopen(loc, name, H5P_DEFAULT);
-  if (a < 0 || H5Aread(a, mem_type, out) < 0) bad(r, "cannot read attribute '%s' (damaged file)", name);
+  if (a < 0 || !one_value(a, false)) bad(r, "attribute '%s' is not a single value (damaged file)", name);
+  else if (H5Aread(a, mem_type, out) < 0) bad(r, "cannot read attribute '%s' (damaged file)", name);
   if (a >= 0) H5Aclose(a);
 }
 
@@ -599,7 +611,7 @@ static char *get_string(reader *r, hid_t loc, const char *name, bool dataset) {
   hid_t obj = dataset ? H5Dopen2(loc, name, H5P_DEFAULT) : H5Aopen(loc, name, H5P_DEFAULT);
   hid_t t = obj < 0 ? -1 : dataset ? H5Dget_type(obj) : H5Aget_type(obj);
   char *out = NULL;
-  if (t >= 0 && H5Tget_class(t) == H5T_STRING && !H5Tis_variable_str(t)) {
+  if (t >= 0 && H5Tget_class(t) == H5T_STRING && !H5Tis_variable_str(t) && one_value(obj, dataset)) {
     const size_t size = H5Tget_size(t);
     out = peri_calloc(size + 1, 1);
     if ((dataset ? H5Dread(obj, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) : H5Aread(obj, t, out)) < 0) {
@@ -626,7 +638,9 @@ static void *get_array(reader *r, hid_t loc, const char *name, hid_t mem_type, s
   hid_t d = H5Dopen2(loc, name, H5P_DEFAULT);
   hid_t space = d < 0 ? -1 : H5Dget_space(d);
   hsize_t dims[2] = {0, 0};
-  const int rank = space < 0 ? -1 : H5Sget_simple_extent_dims(space, dims, NULL);
+  /* the rank first: the extent of a dataset of more dimensions would not fit in dims */
+  const int ndims = space < 0 ? -1 : H5Sget_simple_extent_ndims(space);
+  const int rank = ndims < 1 || ndims > 2 ? -1 : H5Sget_simple_extent_dims(space, dims, NULL);
   const int want_rank = ncomp > 1 ? 2 : 1;
   void *out = NULL;
   if (rank != want_rank || dims[0] != rows || (ncomp > 1 && dims[1] != (hsize_t)ncomp)) {
@@ -663,6 +677,21 @@ static double *get_work_array(reader *r, hid_t loc, const char *name, size_t n, 
         name);
   }
   return a;
+}
+
+/* A count or index of the checkpoint must lie in 0..max before anything uses it: a damaged
+ * or crafted file must not size an allocation or index an array. */
+static void check_range(reader *r, const char *attribute, long value, long max, const char *why) {
+  if (r->failed || (value >= 0 && value <= max)) return;
+  peri_error("checkpoint '%s': attribute %s is %ld, outside 0..%ld (%s): the file is damaged or not a peri checkpoint",
+             r->path, attribute, value, max, why);
+  r->failed = true;
+}
+
+static void check_finite(reader *r, const char *attribute, double value) {
+  if (r->failed || isfinite(value)) return;
+  peri_error("checkpoint '%s': attribute %s is %g, not a finite number (damaged file)", r->path, attribute, value);
+  r->failed = true;
 }
 
 /* Reads and checks everything; fills *out. */
@@ -739,12 +768,17 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
   out->done.frames = get_long(r, g, "frames");
   out->done.history_rows = get_long(r, g, "history_rows");
   group_close(g);
-  if (!r->failed && (out->step < 0 || out->step > s->solver.steps)) {
+  check_range(r, "/state/step", out->step, LONG_MAX, "a step number");
+  if (!r->failed && out->step > s->solver.steps) {
     char what[256];
     snprintf(what, sizeof what, "it is at step %ld, beyond the deck's last step %ld (raise solver.end_time or "
              "solver.steps to continue)", out->step, s->solver.steps);
     bad(r, "%s", what);
   }
+  check_finite(r, "/state/time", out->time);
+  check_finite(r, "/state/external_work", out->external_work);
+  /* the first frame and at most one per step after it */
+  check_range(r, "/state/frames", out->done.frames, out->step + 1, "frames written up to the checkpoint's step");
   const bool timed = s->solver.kind == PERI_SOLVER_EXPLICIT || s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION ||
                      s->solver.kind == PERI_SOLVER_HEAT; /* the others have no time step */
   if (!r->failed && timed && dt != s->solver.dt)
@@ -770,7 +804,7 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
   out->n_bonds = s->disc.bonds.n_bonds;
   out->broken = get_array(r, g, "broken", H5T_NATIVE_UINT8, 1, (hsize_t)s->disc.bonds.n_bonds, 1, true);
   for (int64_t k = 0; out->broken && !r->failed && k < s->disc.bonds.n_bonds; ++k)
-    if (out->broken[k] > 1) bad(r, "%s", "bond flags other than 0 and 1 (damaged file)");
+    if (out->broken[k] > 1) bad(r, "%s", "dataset /bonds/broken has flags other than 0 and 1 (damaged file)");
   group_close(g);
 
   g = group_open(r, "indenter", true);
@@ -791,6 +825,16 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
   out->qs.dynamic_phases = get_long(r, g, "dynamic_phases");
   out->qs.dynamic_steps = get_long(r, g, "dynamic_steps");
   group_close(g);
+  check_range(r, "/quasi_static/iterations", out->qs.iterations, LONG_MAX, "a count");
+  check_range(r, "/quasi_static/solves", out->qs.solves, LONG_MAX, "a count");
+  check_range(r, "/quasi_static/force_evaluations", out->qs.force_evaluations, LONG_MAX, "a count");
+  check_range(r, "/quasi_static/cutbacks", out->qs.cutbacks, LONG_MAX, "a count");
+  check_range(r, "/quasi_static/dynamic_phases", out->qs.dynamic_phases, out->step, "at most one per load step");
+  check_range(r, "/quasi_static/dynamic_steps", out->qs.dynamic_steps, LONG_MAX - out->step - 1, "a count");
+  /* the first row, at most one per step, and those of dynamic phases (at most one per dynamic step) */
+  if (!r->failed)
+    check_range(r, "/state/history_rows", out->done.history_rows, out->step + 1 + out->qs.dynamic_steps,
+                "history rows written up to the checkpoint's step");
 
   g = group_open(r, "thermal", false);
   if (!r->failed && (g >= 0) != (s->thermal != NULL))
@@ -802,10 +846,16 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
     out->growing_next = get_long(r, g, "growing_next");
     out->every = get_long(r, g, "every");
     out->substeps = get_long(r, g, "substeps");
+    check_finite(r, "/thermal/time", out->thermal_time);
+    /* 0 for both until the coupling has set them (src/solver/heat.c) */
+    check_range(r, "/thermal/every", out->every, 1000000000L, "mechanical steps per heat step");
+    check_range(r, "/thermal/substeps", out->substeps, LONG_MAX, "heat steps per mechanical step");
     out->T = get_doubles(r, g, "T", n, 1, true);
     out->cut = get_array(r, g, "cut", H5T_NATIVE_UINT8, 1, (hsize_t)s->disc.bonds.n_bonds, 1, s->thermal->own_cut);
     if (!r->failed && (out->growing_next < 0 || out->growing_next > s->thermal->n_growing_bonds))
-      bad(r, "%s", "the growing-crack position does not match the deck's growing cracks");
+      bad(r, "%s", "attribute /thermal/growing_next does not match the deck's growing cracks");
+    for (int64_t k = 0; out->cut && !r->failed && k < s->disc.bonds.n_bonds; ++k)
+      if (out->cut[k] > 1) bad(r, "%s", "dataset /thermal/cut has flags other than 0 and 1 (damaged file)");
     if (!r->failed) { /* which bonds those cuts were, for the ranks' shares (peri_restart_apply) */
       const size_t cuts = (size_t)out->growing_next;
       out->growing_cut = peri_malloc(sizeof(int64_t) * (cuts > 0 ? cuts : 1));

@@ -55,34 +55,48 @@ static bool parse_row(const char *line, int n, double *out) {
   return *c == '\0';
 }
 
-static void read_history(const char *directory, long rows, double **history, long *n_rows, int *n_columns) {
+/* The first `rows` rows of history.csv. The arrays grow with the rows the file holds, never
+ * with the count the checkpoint claims. A missing file is a warning (a restart into another
+ * directory); one with fewer complete rows than the checkpoint records is not the output of
+ * the run that wrote the checkpoint, and an error. */
+static int read_history(const char *directory, long rows, double **history, long *n_rows, int *n_columns) {
   *history = NULL;
   *n_rows = 0;
   *n_columns = 0;
-  if (rows <= 0) return;
+  if (rows <= 0) return PERI_OK;
   char path[4200];
   snprintf(path, sizeof path, "%s/history.csv", directory);
   FILE *in = fopen(path, "r");
   if (!in) {
     peri_warning("restart: cannot read '%s' (%s): history.csv starts again at the checkpoint", path, strerror(errno));
-    return;
+    return PERI_OK;
   }
   char *line = NULL;
   size_t cap = 0;
   if (read_line(in, &line, &cap)) {
     const int n = header_columns(line);
-    double *values = peri_malloc(sizeof(double) * (size_t)rows * (size_t)n);
-    long got = 0;
-    while (got < rows && read_line(in, &line, &cap) && parse_row(line, n, values + (size_t)got * (size_t)n)) ++got;
+    double *row = peri_malloc(sizeof(double) * (size_t)n);
+    double *values = NULL;
+    long got = 0, capacity = 0;
+    while (got < rows && read_line(in, &line, &cap) && parse_row(line, n, row)) {
+      if (got == capacity) values = peri_realloc(values, sizeof(double) * (size_t)n * (size_t)(capacity = 2 * capacity + 64));
+      memcpy(values + (size_t)got * (size_t)n, row, sizeof(double) * (size_t)n);
+      ++got;
+    }
+    free(row);
     *history = values;
     *n_rows = got;
     *n_columns = n;
   }
-  if (*n_rows < rows)
-    peri_warning("restart: '%s' has %ld complete rows of the %ld written up to the checkpoint; history.csv "
-                 "continues after them", path, *n_rows, rows);
   free(line);
   fclose(in);
+  if (*n_rows < rows) {
+    peri_error("restart: '%s' holds %ld complete rows, but the checkpoint records %ld written up to it: the "
+               "directory holds the output of another run (restart into the directory of the run that wrote the "
+               "checkpoint, or into a new one with --output)", path, *n_rows, rows);
+    return PERI_ERR_INPUT;
+  }
+  return PERI_OK;
 }
 
 /* The value of attribute `name` in an XML tag, unescaped, newly allocated; NULL if absent. */
@@ -115,28 +129,33 @@ static char *xml_attribute(const char *tag, const char *name) {
   return out;
 }
 
-static void read_frames(const char *directory, const char *basename, long frames, double **times, char ***files,
-                        long *listed) {
+/* The first `frames` frames listed in the .pvd, read as read_history reads rows. */
+static int read_frames(const char *directory, const char *basename, long frames, double **times, char ***files,
+                       long *listed) {
   *times = NULL;
   *files = NULL;
   *listed = 0;
-  if (frames <= 0) return;
+  if (frames <= 0) return PERI_OK;
   char path[4200];
   snprintf(path, sizeof path, "%s/%s.pvd", directory, basename);
   FILE *in = fopen(path, "r");
   if (!in) {
     peri_warning("restart: cannot read '%s' (%s): the new .pvd lists the frames written after the checkpoint "
                  "only", path, strerror(errno));
-    return;
+    return PERI_OK;
   }
-  *times = peri_malloc(sizeof(double) * (size_t)frames);
-  *files = peri_calloc((size_t)frames, sizeof(char *));
   char *line = NULL;
   size_t cap = 0;
+  long capacity = 0;
   while (*listed < frames && read_line(in, &line, &cap)) {
     if (!strstr(line, "<DataSet ")) continue;
     char *time = xml_attribute(line, "timestep"), *file = xml_attribute(line, "file");
     if (time && file) {
+      if (*listed == capacity) {
+        capacity = 2 * capacity + 16;
+        *times = peri_realloc(*times, sizeof(double) * (size_t)capacity);
+        *files = peri_realloc(*files, sizeof(char *) * (size_t)capacity);
+      }
       (*times)[*listed] = strtod(time, NULL);
       (*files)[(*listed)++] = file;
       file = NULL;
@@ -144,16 +163,21 @@ static void read_frames(const char *directory, const char *basename, long frames
     free(time);
     free(file);
   }
-  if (*listed < frames)
-    peri_warning("restart: '%s' lists %ld of the %ld frames written up to the checkpoint", path, *listed, frames);
   free(line);
   fclose(in);
+  if (*listed < frames) {
+    peri_error("restart: '%s' lists %ld frames, but the checkpoint records %ld written up to it: the directory "
+               "holds the output of another run (restart into the directory of the run that wrote the checkpoint, "
+               "or into a new one with --output)", path, *listed, frames);
+    return PERI_ERR_INPUT;
+  }
+  return PERI_OK;
 }
 
 int peri_restart_read_output(const char *directory, const char *basename, long rows, long frames,
                              double **history, long *history_rows, int *history_columns,
                              double **frame_times, char ***frame_files, long *frames_listed) {
-  read_history(directory, rows, history, history_rows, history_columns);
-  read_frames(directory, basename, frames, frame_times, frame_files, frames_listed);
-  return PERI_OK;
+  const int rc = read_history(directory, rows, history, history_rows, history_columns);
+  const int frames_rc = read_frames(directory, basename, frames, frame_times, frame_files, frames_listed);
+  return rc != PERI_OK ? rc : frames_rc;
 }
