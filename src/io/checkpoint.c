@@ -28,6 +28,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <fcntl.h>
 #include <string.h>
 #include "peri/checkpoint.h"
 #include "peri/comm.h"
@@ -484,13 +485,10 @@ static void write_contents(writer *w, const peri_sim *s, const state_view *v, co
   }
 }
 
-/* Writes the view to path through path.tmp and a rename (one process: rank 0). */
-static int write_file(const peri_sim *s, const state_view *v, const char *path, const peri_checkpoint_progress *done) {
-  H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* our messages, not the library's error stack */
-  const size_t len = strlen(path);
-  char *tmp = peri_malloc(len + sizeof ".tmp");
-  memcpy(tmp, path, len);
-  memcpy(tmp + len, ".tmp", sizeof ".tmp");
+/* The view as an HDF5 file `name`, on disk or only in memory; *size (if not NULL) gets the
+ * file's size before it is closed. False if any HDF5 call failed. */
+static bool build_file(const peri_sim *s, const state_view *v, const char *name, const peri_checkpoint_progress *done,
+                       bool in_memory, hsize_t *size) {
   writer w = {.failed = false};
   /* no modification times in the file: the same state gives the same bytes */
   w.dcpl = H5Pcreate(H5P_DATASET_CREATE);
@@ -503,29 +501,63 @@ static int write_file(const peri_sim *s, const state_view *v, const char *path, 
    * damaged attributes (time, step, ...) are detected too; readable by HDF5 >= 1.8 */
   hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
   H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_LATEST);
-  w.file = H5Fcreate(tmp, H5F_ACC_TRUNC, fcpl, fapl);
+  /* in memory, grown 64 KiB at a time: its size overestimates the file on disk by less */
+  if (in_memory) H5Pset_fapl_core(fapl, (size_t)1 << 16, 0);
+  w.file = H5Fcreate(name, H5F_ACC_TRUNC, fcpl, fapl);
   H5Pclose(fapl);
-  int rc = PERI_OK;
   if (w.file < 0) {
-    peri_error("cannot write checkpoint '%s': cannot create '%s' (does the directory exist and is it writable?)",
-               path, tmp);
-    rc = PERI_ERR_RUN;
+    w.failed = true;
   } else {
     write_contents(&w, s, v, done);
+    if (size && (w.failed || H5Fget_filesize(w.file, size) < 0)) w.failed = true;
     if (H5Fclose(w.file) < 0) w.failed = true;
-    if (!w.failed && rename(tmp, path) != 0) {
-      peri_error("cannot write checkpoint '%s': %s", path, strerror(errno));
-      remove(tmp);
-      rc = PERI_ERR_RUN;
-    } else if (w.failed) {
-      peri_error("cannot write checkpoint '%s': HDF5 write failed (disk full?)", path);
-      remove(tmp);
-      rc = PERI_ERR_RUN;
-    }
   }
   H5Pclose(fcpl);
   H5Pclose(w.dcpl);
   H5Pclose(w.gcpl);
+  return !w.failed;
+}
+
+/* Allocates `size` bytes of disk for `path` (it holds zeros until HDF5 truncates and writes
+ * it); false with errno set when the disk has no room. */
+static bool reserve_space(const char *path, hsize_t size) {
+  FILE *f = fopen(path, "wb");
+  if (!f) return false;
+  const int err = size > 0 ? posix_fallocate(fileno(f), 0, (off_t)size) : 0;
+  fclose(f);
+  errno = err;
+  return err == 0;
+}
+
+/* Writes the view to path through path.tmp and a rename (one process: rank 0). An HDF5
+ * file whose writes fail (a full disk) cannot be closed, and the library then crashes at
+ * exit; so the file is first built in memory to learn its size, that much disk is
+ * reserved, and only then does HDF5 write it. */
+static int write_file(const peri_sim *s, const state_view *v, const char *path, const peri_checkpoint_progress *done) {
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* our messages, not the library's error stack */
+  const size_t len = strlen(path);
+  char *tmp = peri_malloc(len + sizeof ".tmp");
+  memcpy(tmp, path, len);
+  memcpy(tmp + len, ".tmp", sizeof ".tmp");
+  int rc = PERI_OK;
+  hsize_t size = 0;
+  if (!build_file(s, v, tmp, done, true, &size)) {
+    peri_error("cannot write checkpoint '%s': HDF5 could not build it in memory (out of memory?)", path);
+    rc = PERI_ERR_RUN;
+  } else if (!reserve_space(tmp, size)) {
+    peri_error("cannot write checkpoint '%s': cannot write '%s' (%llu bytes): %s", path, tmp,
+               (unsigned long long)size, strerror(errno));
+    remove(tmp);
+    rc = PERI_ERR_RUN;
+  } else if (!build_file(s, v, tmp, done, false, NULL)) {
+    peri_error("cannot write checkpoint '%s': HDF5 write of '%s' failed (disk full?)", path, tmp);
+    remove(tmp);
+    rc = PERI_ERR_RUN;
+  } else if (rename(tmp, path) != 0) {
+    peri_error("cannot write checkpoint '%s': %s", path, strerror(errno));
+    remove(tmp);
+    rc = PERI_ERR_RUN;
+  }
   free(tmp);
   return rc;
 }
