@@ -44,6 +44,11 @@ int peri_implicit_parse(peri_sim *s, const peri_node *solver);
 /* Reads output.checkpoint_every and output.checkpoint_file of the `output` mapping.
  * Returns PERI_OK or PERI_ERR_INPUT after a positioned message. */
 int peri_checkpoint_parse(peri_sim *s, const peri_node *output);
+/* Refuses an output.checkpoint_file that would overwrite a file of the run (history.csv,
+ * the .pvd, frames, picture, plot) or one it reads (the deck, its node file), once the
+ * output section is read (src/deck/checkpoint_names.c). PERI_OK or PERI_ERR_INPUT after a
+ * message at the key. */
+int peri_checkpoint_check_names(const peri_sim *s, const peri_node *root);
 
 /* output.plot: {x: COLUMN, y: COLUMN}. peri_plot_parse reads the names (with the rest of
  * `output`); peri_plot_check, once the whole simulation is set up (thermal columns

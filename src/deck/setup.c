@@ -704,7 +704,7 @@ static int parse_output(parse_ctx *c) {
   o->every = every >= 1 ? every : 0;
   if (frames >= 0) o->every = -frames; /* resolved once the step count is known */
   o->history_every = history_every >= 1 ? history_every : 0;
-  return PERI_OK;
+  return peri_checkpoint_check_names(s, c->root); /* src/deck/checkpoint_names.c */
 }
 
 /* ---------------------------------------------------------------- assembly */
