@@ -8,6 +8,7 @@
 #include "peri/comm.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
+#include "peri/history_log.h"
 #include "peri/implicit.h"
 #include "peri/probe.h"
 #include "peri/quasistatic.h"
@@ -297,6 +298,7 @@ static int command(int argc, char **argv) {
         sim.out.directory = strdup(output);
       }
       if (restart) rc = peri_restart_load(&sim, restart); /* checked before any output (docs/restart.md) */
+      if (rc == PERI_OK && restart) rc = peri_restart_check_history(&sim); /* the same history.csv columns */
       if (rc == PERI_OK && !strcmp(command, "run")) rc = peri_solver_check_ranks(&sim, peri_comm_size()); /* MPI ranks */
       if (rc == PERI_OK && (!quiet || !strcmp(command, "check"))) peri_print_summary(&sim, stdout);
       if (rc == PERI_OK && restart && !quiet) peri_restart_print(&sim, stdout);

@@ -56,6 +56,8 @@ void peri_restart_apply(peri_sim *s);
 /* The history.csv rows kept from before the checkpoint ([rows][n_columns], row-major), or
  * NULL when there are none. */
 const double *peri_restart_history(const peri_sim *s, long *rows, int *n_columns);
+/* The column names of the history.csv those rows come from (NULL when no row is kept). */
+char *const *peri_restart_history_names(const peri_sim *s, int *n_columns);
 
 /* The frames of the .pvd kept from before the checkpoint: the number of frames written by
  * then (the index of the next frame), and those of them listed in the output directory's
@@ -72,13 +74,14 @@ struct peri_frames;
 void peri_restart_free(struct peri_restart *r);
 
 /* What a run wrote into `directory` up to its checkpoint (src/io/checkpoint_output.c):
- * the first `rows` rows of history.csv into *history ([*history_rows][*history_columns])
+ * the first `rows` rows of history.csv into *history ([*history_rows][*history_columns]) and
+ * its column names into *history_names
  * and the first `frames` frames listed in <basename>.pvd (times and file names). A missing
  * file gives a warning and nothing; one with fewer entries than the checkpoint records is
  * the output of another run: an error, PERI_ERR_INPUT (what was read is returned all the
  * same, for the caller to free). */
 int peri_restart_read_output(const char *directory, const char *basename, long rows, long frames,
-                             double **history, long *history_rows, int *history_columns,
+                             double **history, long *history_rows, int *history_columns, char ***history_names,
                              double **frame_times, char ***frame_files, long *frames_listed);
 
 #endif

@@ -41,6 +41,11 @@ int peri_history_log_record(peri_history_log *h);
 /* A restarted run: puts the checkpoint's state into s, continues the .pvd series in frames
  * and records again the rows written before the checkpoint (peri_restart_resume). */
 int peri_history_log_resume(peri_history_log *h, peri_sim *s, struct peri_frames *frames);
+/* A restart whose history.csv has other columns than the deck's run writes (a region or a
+ * heat field added or removed) cannot continue it without losing or misplacing rows: the
+ * error names the columns added and removed. PERI_OK or PERI_ERR_INPUT, before any output
+ * (docs/restart.md). */
+int peri_restart_check_history(const peri_sim *s);
 void peri_history_log_close(peri_history_log *h);
 
 #endif

@@ -58,6 +58,7 @@ struct peri_restart {
   double *history;
   long history_rows;
   int history_columns;
+  char **history_names;
   long frames_listed;
   double *frame_times;
   char **frame_files;
@@ -73,6 +74,8 @@ void peri_restart_free(struct peri_restart *r) {
   free(r->growing_cut);
   for (long k = 0; k < r->frames_listed; ++k) free(r->frame_files[k]);
   free(r->frame_files);
+  for (int k = 0; r->history_names && k < r->history_columns; ++k) free(r->history_names[k]);
+  free(r->history_names);
   free(r->path);
   free(r);
 }
@@ -82,6 +85,12 @@ const double *peri_restart_history(const peri_sim *s, long *rows, int *n_columns
   *rows = r ? r->history_rows : 0;
   *n_columns = r ? r->history_columns : 0;
   return r && r->history_rows > 0 ? r->history : NULL;
+}
+
+char *const *peri_restart_history_names(const peri_sim *s, int *n_columns) {
+  const struct peri_restart *r = s->state.restart;
+  *n_columns = r && r->history_names ? r->history_columns : 0;
+  return r ? r->history_names : NULL;
 }
 
 long peri_restart_frames(const peri_sim *s, long *n_listed, const double **times, char *const **files) {
@@ -956,7 +965,7 @@ int peri_restart_load(peri_sim *s, const char *path) {
   int rc = read_file(s, path, r);
   if (rc == PERI_OK)
     rc = peri_restart_read_output(s->out.directory, s->out.basename, r->done.history_rows, r->done.frames,
-                                  &r->history, &r->history_rows, &r->history_columns, &r->frame_times,
+                                  &r->history, &r->history_rows, &r->history_columns, &r->history_names, &r->frame_times,
                                   &r->frame_files, &r->frames_listed);
   if (rc != PERI_OK) {
     peri_restart_free(r);

@@ -28,15 +28,32 @@ static bool read_line(FILE *in, char **line, size_t *cap) {
   return ch == '\n'; /* a last line without its newline was cut off mid-write */
 }
 
-/* Columns of a CSV header (quoted names may hold commas). */
-static int header_columns(const char *line) {
+/* The column names of a CSV header, newly allocated; quoted names may hold commas and
+ * doubled quotes (src/io/history_writer.c writes them so). */
+static char **header_names(const char *line, int *count) {
   int n = 1;
   bool quoted = false;
   for (const char *c = line; *c; ++c) {
     if (*c == '"') quoted = !quoted;
     else if (*c == ',' && !quoted) ++n;
   }
-  return n;
+  char **names = peri_calloc((size_t)n, sizeof(char *));
+  const char *c = line;
+  for (int k = 0; k < n; ++k) {
+    char *name = peri_malloc(strlen(c) + 1);
+    size_t len = 0;
+    quoted = false;
+    for (; *c && (quoted || *c != ','); ++c) {
+      if (*c == '"' && quoted && c[1] == '"') name[len++] = *c++;
+      else if (*c == '"') quoted = !quoted;
+      else name[len++] = *c;
+    }
+    name[len] = '\0';
+    names[k] = name;
+    if (*c == ',') ++c;
+  }
+  *count = n;
+  return names;
 }
 
 /* Parses one row of n numbers; false if it is not one. */
@@ -59,8 +76,10 @@ static bool parse_row(const char *line, int n, double *out) {
  * with the count the checkpoint claims. A missing file is a warning (a restart into another
  * directory); one with fewer complete rows than the checkpoint records is not the output of
  * the run that wrote the checkpoint, and an error. */
-static int read_history(const char *directory, long rows, double **history, long *n_rows, int *n_columns) {
+static int read_history(const char *directory, long rows, double **history, long *n_rows, int *n_columns,
+                        char ***names) {
   *history = NULL;
+  *names = NULL;
   *n_rows = 0;
   *n_columns = 0;
   if (rows <= 0) return PERI_OK;
@@ -74,7 +93,8 @@ static int read_history(const char *directory, long rows, double **history, long
   char *line = NULL;
   size_t cap = 0;
   if (read_line(in, &line, &cap)) {
-    const int n = header_columns(line);
+    int n = 0;
+    *names = header_names(line, &n);
     double *row = peri_malloc(sizeof(double) * (size_t)n);
     double *values = NULL;
     long got = 0, capacity = 0;
@@ -175,9 +195,9 @@ static int read_frames(const char *directory, const char *basename, long frames,
 }
 
 int peri_restart_read_output(const char *directory, const char *basename, long rows, long frames,
-                             double **history, long *history_rows, int *history_columns,
+                             double **history, long *history_rows, int *history_columns, char ***history_names,
                              double **frame_times, char ***frame_files, long *frames_listed) {
-  const int rc = read_history(directory, rows, history, history_rows, history_columns);
+  const int rc = read_history(directory, rows, history, history_rows, history_columns, history_names);
   const int frames_rc = read_frames(directory, basename, frames, frame_times, frame_files, frames_listed);
   return rc != PERI_OK ? rc : frames_rc;
 }

@@ -1,6 +1,8 @@
 /* history.csv of a run, shared by the mechanical and heat drivers (include/peri/history.h):
  * the column list, the row being filled, the rows replayed after a restart, and the series
  * of output.plot. Rank 0 writes the file. */
+#include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "peri/checkpoint.h"
@@ -42,6 +44,46 @@ int peri_history_log_resume(peri_history_log *h, peri_sim *s, struct peri_frames
   return PERI_OK;
 }
 
+/* The names of `names` that `other` lacks, as "'a', 'b'" into out; their count. */
+static int missing_names(char *const *names, int n, char *const *other, int n_other, char *out, size_t size) {
+  int count = 0;
+  size_t len = 0;
+  out[0] = '\0';
+  for (int k = 0; k < n; ++k) {
+    bool found = false;
+    for (int j = 0; j < n_other && !found; ++j) found = !strcmp(names[k], other[j]);
+    if (found) continue;
+    if (len < size) len += (size_t)snprintf(out + len, size - len, "%s'%s'", count ? ", " : "", names[k]);
+    ++count;
+  }
+  return count;
+}
+
+int peri_restart_check_history(const peri_sim *s) {
+  int n_kept = 0, n = 0;
+  char *const *kept = peri_restart_history_names(s, &n_kept);
+  if (!kept) return PERI_OK; /* no rows kept */
+  char **names = peri_history_columns(s, &n);
+  bool same = n == n_kept;
+  for (int k = 0; same && k < n; ++k) same = !strcmp(names[k], kept[k]);
+  if (!same) {
+    char added[2048], removed[2048], what[4200] = "";
+    const int n_added = missing_names(names, n, kept, n_kept, added, sizeof added);
+    const int n_removed = missing_names(kept, n_kept, names, n, removed, sizeof removed);
+    if (n_added) snprintf(what, sizeof what, "the deck adds the column%s %s", n_added == 1 ? "" : "s", added);
+    if (n_removed)
+      snprintf(what + strlen(what), sizeof what - strlen(what), "%sthe deck no longer has the column%s %s",
+               n_added ? " and " : "", n_removed == 1 ? "" : "s", removed);
+    if (!n_added && !n_removed) snprintf(what, sizeof what, "the columns are in another order");
+    peri_error("restart: '%s/history.csv' has %d columns and this deck's run writes %d: %s. Its rows cannot be "
+               "continued in one file; restart into another directory (--output DIR) to start a new history.csv "
+               "at the checkpoint, or restart with the deck the checkpoint was written with", s->out.directory,
+               n_kept, n, what);
+  }
+  peri_history_columns_free(names, n);
+  return same ? PERI_OK : PERI_ERR_INPUT;
+}
+
 void peri_history_log_close(peri_history_log *h) {
   peri_history_close(h->file);
   free(h->row);
@@ -61,10 +103,9 @@ const double *peri_restart_resume(peri_sim *s, peri_frames *frames, int n_column
   }
   int columns = 0;
   const double *kept = peri_restart_history(s, rows, &columns);
-  if (kept && columns != n_columns) {
-    peri_warning("restart: history.csv has %d columns, this run writes %d; its rows are not kept", columns,
-                 n_columns);
-    *rows = 0;
+  if (kept && columns != n_columns) { /* refused before the run (peri_restart_check_history) */
+    peri_error("restart: history.csv has %d columns, this run writes %d", columns, n_columns);
+    *rows = -1;
     return NULL;
   }
   if (!kept) *rows = 0;

@@ -218,12 +218,17 @@ Test(checkpoint, output_readers_return_what_was_written, .init = setup, .fini = 
   peri_pvd_close(p);
 
   double *history = NULL, *frame_times = NULL;
-  char **frame_files = NULL;
+  char **frame_files = NULL, **column_names = NULL;
   long n_rows = 0, n_frames = 0;
   int n_columns = 0;
-  cr_assert_eq(peri_restart_read_output(scratch, "run", 4, 2, &history, &n_rows, &n_columns, &frame_times,
-                                        &frame_files, &n_frames), PERI_OK);
+  cr_assert_eq(peri_restart_read_output(scratch, "run", 4, 2, &history, &n_rows, &n_columns, &column_names,
+                                        &frame_times, &frame_files, &n_frames), PERI_OK);
   cr_assert_eq(n_columns, 3);
+  for (int c = 0; c < 3; ++c) {
+    cr_expect_str_eq(column_names[c], names[c]);
+    free(column_names[c]);
+  }
+  free(column_names);
   cr_assert_eq(n_rows, 4);
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 3; ++c) {
