@@ -275,3 +275,40 @@ Test(checkpoint, written_when_due, .init = setup, .fini = teardown) {
   }
   peri_sim_free(&s);
 }
+
+/* A checkpoint that records more history rows or frames than the output directory holds
+ * (2^61 once sized the arrays they were read into, and overflowed them) is refused, and
+ * what was read is handed back to be freed; the arrays grow with what the files hold. */
+Test(checkpoint, output_readers_refuse_more_than_the_files_hold, .init = setup, .fini = teardown) {
+  const char *names[] = {"time", "step"};
+  char csv[160], pvd[160];
+  snprintf(csv, sizeof csv, "%s/history.csv", scratch);
+  snprintf(pvd, sizeof pvd, "%s/run.pvd", scratch);
+  peri_history *h = peri_history_open(csv, 2, names);
+  cr_assert_not_null(h);
+  for (int r = 0; r < 3; ++r) cr_assert_eq(peri_history_write(h, (double[]){0.5 * r, r}), PERI_OK);
+  peri_history_close(h);
+  peri_pvd *p = peri_pvd_open(pvd);
+  cr_assert_not_null(p);
+  cr_assert_eq(peri_pvd_add(p, 0.0, "run_000000.vtu"), PERI_OK);
+  peri_pvd_close(p);
+  const long claims[][2] = {{(long)1 << 61, 1}, {3, (long)1 << 61}, {4, 1}, {3, 2}, {3, 1}};
+  const int expected[] = {PERI_ERR_INPUT, PERI_ERR_INPUT, PERI_ERR_INPUT, PERI_ERR_INPUT, PERI_OK};
+  for (int k = 0; k < 5; ++k) {
+    double *history = NULL, *frame_times = NULL;
+    char **frame_files = NULL, **column_names = NULL;
+    long n_rows = 0, n_frames = 0;
+    int n_columns = 0;
+    cr_expect_eq(peri_restart_read_output(scratch, "run", claims[k][0], claims[k][1], &history, &n_rows, &n_columns,
+                                          &column_names, &frame_times, &frame_files, &n_frames),
+                 expected[k], "%ld rows and %ld frames claimed", claims[k][0], claims[k][1]);
+    cr_expect_leq(n_rows, 3);
+    cr_expect_leq(n_frames, 1);
+    free(history);
+    free(frame_times);
+    for (long f = 0; f < n_frames; ++f) free(frame_files[f]);
+    free(frame_files);
+    for (int c = 0; c < n_columns; ++c) free(column_names[c]);
+    free(column_names);
+  }
+}
