@@ -1,5 +1,6 @@
 /* Builds a simulation from a deck. Every input error is reported with its position
  * before any work starts (exit status 2). The keys are documented in docs/deck.md. */
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -528,7 +529,7 @@ static int parse_conditions(parse_ctx *c) {
     bc->kind = (peri_bc_kind)kind;
     const char *rname = "all";
     TRY(peri_deck_string(it, "region", false, &rname));
-    int r = peri_setup_find_region(s, peri_deck_get(it, "region") ? peri_deck_get(it, "region") : it, rname);
+    int r = peri_setup_find_region(s, peri_deck_get(c->root, "regions"), peri_deck_get(it, "region") ? peri_deck_get(it, "region") : it, rname);
     if (r < 0) return -r;
     bc->region = r;
     TRY(parse_components(s, it, bc->value, true));
@@ -713,6 +714,32 @@ static const char *const top_keys[] = {"dimension", "plane", "discretization", "
                                        "interfaces", "regions", "precracks", "boundary_conditions",
                                        "indenter", "solver", "output", "thermal", NULL};
 
+/* A count derived from the ratio of two deck numbers, such as end_time / time_step. The
+ * ratio is rounded up (less a rounding allowance); a count that a long cannot hold is an
+ * input error at `at`, not a negative step count. */
+static int step_count(const peri_node *at, const char *ratio_name, const char *count_name,
+                      double ratio, long *out) {
+  const double count = ceil(ratio - 1e-9);
+  if (!(count < 9223372036854775808.0)) /* 2^63: LONG_MAX + 1, exact as a double */
+    return peri_deck_error(at, "%s = %.3g %s, more than the largest count %ld; use a "
+                           "longer time step or a shorter end time", ratio_name, count,
+                           count_name, LONG_MAX);
+  *out = (long)count;
+  return PERI_OK;
+}
+
+/* Coupled heat conduction advances in sub-steps of thermal.time_step; their number over
+ * the run must be countable too (src/solver/heat.c counts them in a long). */
+static int check_heat_substeps(const peri_sim *s, const peri_node *root) {
+  const peri_thermal *th = s->thermal;
+  if (!th || s->solver.kind == PERI_SOLVER_HEAT || !(th->dt > 0.0)) return PERI_OK;
+  const peri_node *thermal = peri_deck_get(root, "thermal");
+  const peri_node *at = peri_deck_get(thermal, "time_step");
+  long ignored;
+  return step_count(at ? at : thermal, "run time / thermal time_step",
+                    "heat sub-steps", (double)s->solver.steps * (s->solver.dt / th->dt), &ignored);
+}
+
 static int build(parse_ctx *c) {
   peri_sim *s = c->s;
   const peri_node *root = c->root;
@@ -773,10 +800,15 @@ static int build(parse_ctx *c) {
   }
   if (!(s->solver.dt > 0.0) || !isfinite(s->solver.dt))
     return peri_deck_error(peri_deck_get(root, "solver"), "solver: cannot estimate a time step (no bonds?); give time_step");
-  if (s->solver.steps < 0) s->solver.steps = (long)ceil(s->solver.end_time / s->solver.dt - 1e-9);
+  if (s->solver.steps < 0) {
+    const peri_node *solver = peri_deck_get(root, "solver");
+    TRY(step_count(peri_deck_get(solver, "end_time"), "end_time / time_step", "steps",
+                   s->solver.end_time / s->solver.dt, &s->solver.steps));
+  }
+  TRY(check_heat_substeps(s, root));
   if (s->out.every < 0) {
-    long frames = -s->out.every;
-    s->out.every = frames > 0 ? (s->solver.steps + frames - 1) / frames : 0;
+    long frames = -s->out.every; /* frames per run, rounded up; steps + frames could overflow */
+    s->out.every = frames > 0 ? s->solver.steps / frames + (s->solver.steps % frames != 0) : 0;
   } else if (s->out.every == 0 && !peri_deck_get(peri_deck_get(root, "output"), "every") &&
              !peri_deck_get(peri_deck_get(root, "output"), "frames")) { /* (frames: 0, the first and last only) */
     s->out.every = s->solver.steps >= 10 ? s->solver.steps / 10 : 1;
