@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "peri/checkpoint.h"
 #include "peri/conduction.h"
 #include "peri/constants.h"
@@ -247,7 +248,7 @@ static int parse_interfaces(parse_ctx *c) {
 static const char *const discretization_keys[] = {
     "spacing", "horizon", "m", "placement", "origin", "thickness", "cross_section",
     "partial_volume", "influence", "weighted_volume", "fill", "remove", "node_file", "blocks",
-    "volume", NULL};
+    "volume", "max_nodes", NULL};
 
 static int parse_shape_list(const peri_node *list, int dim, const char *section,
                             const char *const *extra, peri_shape **shapes, int *count) {
@@ -258,6 +259,45 @@ static int parse_shape_list(const peri_node *list, int dim, const char *section,
   *shapes = peri_calloc(list->count, sizeof(peri_shape));
   for (int k = 0; k < list->count; ++k)
     TRY(peri_shape_parse(list->items[k], dim, section, extra, &(*shapes)[k]));
+  return PERI_OK;
+}
+
+/* Bytes a node costs at least before its bonds: x u v f b, volume, damage, material,
+ * block, flags, the bond loops' copies of x and u, its CSR offset (src/run/summary.c). */
+enum { GRID_BYTES_PER_NODE = 200, GRID_BYTES_PER_BOND = 5 };
+
+static double physical_memory(void) {
+  long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page_size > 0 ? (double)pages * (double)page_size : 0.0;
+}
+
+/* The grid's size from its fill shapes' bounding boxes, before any node is made: a grid
+ * larger than the machine's memory (or than max_nodes, when given) is an input error
+ * found at once, instead of a generation that runs for minutes and exhausts the memory.
+ * `m` is horizon / spacing, for the bonds per node. */
+static int check_grid_size(const peri_node *d, const peri_grid_params *gp, double m) {
+  const double nodes = peri_grid_points_bound(gp);
+  const double family = gp->dim == 3 ? 4.0 / 3.0 * M_PI * m * m * m
+                        : gp->dim == 2 ? M_PI * m * m : 2.0 * m;
+  const double bytes = nodes * (GRID_BYTES_PER_NODE + GRID_BYTES_PER_BOND * family);
+  const peri_node *limit = peri_deck_get(d, "max_nodes");
+  if (limit) {
+    long max_nodes = 0;
+    TRY(peri_deck_int(d, "max_nodes", true, &max_nodes));
+    if (max_nodes < 1) return peri_deck_error(limit, "key 'max_nodes': must be >= 1");
+    if (nodes > (double)max_nodes)
+      return peri_deck_error(limit, "key 'max_nodes': the fill shapes' bounding boxes hold up to "
+                             "%.4g grid points at spacing %g, more than max_nodes = %ld; use a "
+                             "coarser spacing or raise max_nodes", nodes, gp->spacing, max_nodes);
+    return PERI_OK;
+  }
+  const double memory = physical_memory();
+  if (memory > 0.0 && bytes > memory)
+    return peri_deck_error(peri_deck_get(d, "spacing"), "discretization: spacing %g gives up to "
+                           "%.4g nodes (the grid points in the fill shapes' bounding boxes), at "
+                           "least %.3g GB at m = %.3g, more than this machine's memory (%.3g "
+                           "GB); use a coarser spacing, or set discretization.max_nodes to "
+                           "allow that many nodes", gp->spacing, nodes, bytes / 1e9, m, memory / 1e9);
   return PERI_OK;
 }
 
@@ -272,7 +312,7 @@ static int parse_discretization(parse_ctx *c) {
   if (!node_file == !fill)
     return peri_deck_error(d, "discretization: give exactly one of 'fill' (shapes on a grid) or "
                               "'node_file' (x y [z] block volume)");
-  static const char *const grid_only[] = {"placement", "origin", "remove", NULL};
+  static const char *const grid_only[] = {"placement", "origin", "remove", "max_nodes", NULL};
   for (int k = 0; node_file && grid_only[k]; ++k)
     if (peri_deck_get(d, grid_only[k]))
       return peri_deck_error(peri_deck_key_node(d, grid_only[k]), "key '%s': only with 'fill' (a node "
@@ -350,6 +390,7 @@ static int parse_discretization(parse_ctx *c) {
     const peri_node *remove = peri_deck_get(d, "remove");
     if (rc == PERI_OK && remove)
       rc = parse_shape_list(remove, g->dim, "discretization.remove", NULL, &gp.remove, &gp.n_remove);
+    if (rc == PERI_OK) rc = check_grid_size(d, &gp, isnan(m) ? horizon / g->spacing : m);
     if (rc == PERI_OK && peri_grid_generate(p, &gp) < 0) rc = PERI_ERR_INPUT;
     for (int k = 0; k < gp.n_fill; ++k) peri_shape_free(&gp.fill[k].shape);
     for (int k = 0; k < gp.n_remove; ++k) peri_shape_free(&gp.remove[k]);
