@@ -38,8 +38,8 @@ typedef struct peri_grid_params {
 int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g);
 
 /* An upper bound of the nodes the grid can have, before generating it: the grid points
- * in the bounding boxes of the fill shapes, each with one spacing of margin (0 when a
- * fill shape is unbounded). Cheap: no point is tested. */
+ * in the bounding boxes of the fill shapes, each with one or two spacings of margin (0
+ * when a fill shape is unbounded). Cheap: no point is tested. */
 double peri_grid_points_bound(const peri_grid_params *g);
 
 /* Permutation that orders nodes in rows along the axis with the longest rows (rows one

@@ -6,7 +6,7 @@
 #  - a 1 m cube at 1 mm (10^9 nodes, at least 100 bytes each) is refused with exit 2 and
 #    the estimate, at once and within 4 GB of address space (the scan ran out of it);
 #  - discretization.max_nodes replaces the memory limit: the bound is the grid points in
-#    the shapes' bounding boxes, one spacing of margin on each side;
+#    the shapes' bounding boxes, with a margin of one or two spacings on each side;
 #  - overlapping shapes give each node once (the union).
 # Usage: bash tests/cli/grid_size.sh PATH_TO_PERI   (from the repository root)
 set -u
