@@ -559,7 +559,9 @@ void peri_deck_free(peri_node *root) {
 int peri_deck_key_index(const peri_node *map, const char *key) {
   if (!map || map->kind != PERI_NODE_MAPPING) return -1;
   const deck_node *mapping = hidden(map);
-  int low = 0, high = mapping->order ? mapping->ordered : 0;
+  /* a mapping whose keys were moved out (--set) is searched one by one */
+  int ordered = mapping->order && mapping->ordered <= map->count ? mapping->ordered : 0;
+  int low = 0, high = ordered;
   while (low < high) {
     int middle = low + (high - low) / 2;
     int index = mapping->order[middle];
@@ -570,7 +572,7 @@ int peri_deck_key_index(const peri_node *map, const char *key) {
     else
       high = middle;
   }
-  for (int i = mapping->order ? mapping->ordered : 0; i < map->count; i++)
+  for (int i = ordered; i < map->count; i++)
     if (strcmp(map->keys[i]->scalar, key) == 0) return i;
   return -1;
 }
