@@ -22,14 +22,15 @@ static int compare_scan_order(const void *a, const void *b) {
 }
 
 /* The lattice origin: given, or (cell centres) the lower corner of the fill shapes'
- * bounds; false when a fill shape is unbounded. */
-static bool grid_origin(const peri_grid_params *g, double origin[3]) {
+ * bounds; false when a fill shape is unbounded (with a message when `report`). */
+static bool grid_origin(const peri_grid_params *g, bool report, double origin[3]) {
   double lo[3] = {0, 0, 0};
   for (int s = 0; s < g->n_fill; s++) {
     double slo[3], shi[3];
     if (!peri_shape_bounds(&g->fill[s].shape, g->dim, slo, shi)) {
-      peri_error("grid: fill shape %d is unbounded (shape: all); a grid needs bounded shapes",
-                 s + 1);
+      if (report)
+        peri_error("grid: fill shape %d is unbounded (shape: all); a grid needs bounded shapes",
+                   s + 1);
       return false;
     }
     for (int d = 0; d < g->dim; d++)
@@ -69,7 +70,7 @@ static double shape_range(const peri_grid_params *g, int s, const double origin[
 
 double peri_grid_points_bound(const peri_grid_params *g) {
   double origin[3];
-  if (g->n_fill <= 0 || !(g->spacing > 0) || !grid_origin(g, origin)) return 0;
+  if (g->n_fill <= 0 || !(g->spacing > 0) || !grid_origin(g, false, origin)) return 0;
   double total = 0;
   for (int s = 0; s < g->n_fill; s++) {
     int64_t kmin[3], kmax[3];
@@ -95,7 +96,7 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
     return -1;
   }
   double origin[3];
-  if (!grid_origin(g, origin)) return -1;
+  if (!grid_origin(g, true, origin)) return -1;
   double scanned = 0;
   for (int s = 0; s < g->n_fill; s++) {
     int64_t kmin[3], kmax[3];

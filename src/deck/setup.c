@@ -759,12 +759,11 @@ static const char *const top_keys[] = {"dimension", "plane", "discretization", "
  * ratio is rounded up (less a rounding allowance); a count that a long cannot hold is an
  * input error at `at`, not a negative step count. */
 static int step_count(const peri_node *at, const char *ratio_name, const char *count_name,
-                      double ratio, long *out) {
+                      const char *remedy, double ratio, long *out) {
   const double count = ceil(ratio - 1e-9);
   if (!(count < 9223372036854775808.0)) /* 2^63: LONG_MAX + 1, exact as a double */
-    return peri_deck_error(at, "%s = %.3g %s, more than the largest count %ld; use a "
-                           "longer time step or a shorter end time", ratio_name, count,
-                           count_name, LONG_MAX);
+    return peri_deck_error(at, "%s = %.3g %s, more than the largest count %ld; %s", ratio_name,
+                           count, count_name, LONG_MAX, remedy);
   *out = (long)count;
   return PERI_OK;
 }
@@ -777,8 +776,8 @@ static int check_heat_substeps(const peri_sim *s, const peri_node *root) {
   const peri_node *thermal = peri_deck_get(root, "thermal");
   const peri_node *at = peri_deck_get(thermal, "time_step");
   long ignored;
-  return step_count(at ? at : thermal, "run time / thermal time_step",
-                    "heat sub-steps", (double)s->solver.steps * (s->solver.dt / th->dt), &ignored);
+  return step_count(at ? at : thermal, "run time / thermal time_step", "heat sub-steps",
+                    "use a longer thermal time_step or a shorter run", (double)s->solver.steps * (s->solver.dt / th->dt), &ignored);
 }
 
 static int build(parse_ctx *c) {
@@ -844,7 +843,7 @@ static int build(parse_ctx *c) {
   if (s->solver.steps < 0) {
     const peri_node *solver = peri_deck_get(root, "solver");
     TRY(step_count(peri_deck_get(solver, "end_time"), "end_time / time_step", "steps",
-                   s->solver.end_time / s->solver.dt, &s->solver.steps));
+                   "use a longer time step or a shorter end time", s->solver.end_time / s->solver.dt, &s->solver.steps));
   }
   TRY(check_heat_substeps(s, root));
   if (s->out.every < 0) {
