@@ -46,3 +46,14 @@ run_peri run "$deck" --quiet --output "$TMP/out"
 expect_status 2
 expect_no_path "$TMP/out"
 pass "thermal time_step of 1e-300 s is refused at the key"
+
+# conduction only (solver type heat): end_time / time_step counts the heat steps
+deck="$TMP/heat.yaml"
+sed -e 's/^solver: {type: heat, steps: 60}$/solver: {type: heat, end_time: 10, time_step: 1.0e-300}/' \
+  -e '/checkpoint/d' "$DECKS/restart_heat.yaml" >"$deck"
+locate "end_time: 10" "$deck"
+LOC_COL=$((LOC_COL + 10))
+run_peri check "$deck"
+expect_status 2
+expect_stderr_contains "$deck:$LOC_LINE:$LOC_COL: error: end_time / time_step = 1e+301 steps"
+pass "solver type heat: 1e301 heat steps are refused at end_time"
