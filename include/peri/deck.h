@@ -46,6 +46,8 @@ int peri_edit_distance(const char *a, const char *b);
 peri_node *peri_deck_get(const peri_node *map, const char *key);
 /* The node of the key itself (for error positions), or NULL. */
 const peri_node *peri_deck_key_node(const peri_node *map, const char *key);
+/* The position of `key` among the mapping's keys, or -1; a binary search. */
+int peri_deck_key_index(const peri_node *map, const char *key);
 
 /* Typed accessors. Each returns PERI_OK, or PERI_ERR_INPUT after printing a message that
  * names file:line:col, the key, what was expected and what was found. When the key is

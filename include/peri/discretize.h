@@ -31,10 +31,16 @@ typedef struct peri_grid_params {
 } peri_grid_params;
 
 /* Generates the nodes (boundary inclusive with a tolerance of 1e-9 dx, both for fill and
- * remove). Node volume = dx^dim (x thickness in 2D, x cross_section in 1D); block = index
- * of the fill shape + 1. Returns the number of nodes, or -1 with a message when a fill
+ * remove), scanning each fill shape's own bounding box, in the order of a scan over the
+ * box around all of them (z slowest, x fastest). Node volume = dx^dim (x thickness in
+ * 2D, x cross_section in 1D); block = index of the fill shape + 1. Returns the number of nodes, or -1 with a message when a fill
  * shape is unbounded (PERI_SHAPE_ALL) or the grid would exceed 2^31 nodes. */
 int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g);
+
+/* An upper bound of the nodes the grid can have, before generating it: the grid points
+ * in the bounding boxes of the fill shapes, each with one or two spacings of margin (0
+ * when a fill shape is unbounded). Cheap: no point is tested. */
+double peri_grid_points_bound(const peri_grid_params *g);
 
 /* Permutation that orders nodes in rows along the axis with the longest rows (rows one
  * `spacing` wide), the rows along a Morton (Z-order) curve of the other two axes; ties

@@ -5,10 +5,41 @@
 #include <string.h>
 #include "peri/error.h"
 
+/* Messages quote deck text, file names and values a user typed; a control character
+ * among them (ESC, BEL, CR) written raw would act on the terminal instead of being
+ * seen, so each is written as an escape such as \x1b or \r. UTF-8 is kept. */
+static void write_escaped(FILE *stream, const char *text) {
+  for (const unsigned char *c = (const unsigned char *)text; *c; c++) {
+    switch (*c) {
+    case '\n': fputs("\\n", stream); break;
+    case '\r': fputs("\\r", stream); break;
+    case '\t': fputs("\\t", stream); break;
+    default:
+      if (*c < 0x20 || *c == 0x7f)
+        fprintf(stream, "\\x%02x", *c);
+      else
+        fputc(*c, stream);
+    }
+  }
+}
+
+static void vwrite_escaped(const char *fmt, va_list ap) {
+  va_list copy;
+  va_copy(copy, ap);
+  int length = vsnprintf(NULL, 0, fmt, copy);
+  va_end(copy);
+  char stack[512];
+  char *text = length >= 0 && (size_t)length < sizeof stack ? stack : NULL;
+  if (!text && length >= 0) text = malloc((size_t)length + 1);
+  if (text) vsnprintf(text, (size_t)length + 1, fmt, ap);
+  write_escaped(stderr, text ? text : fmt);
+  fputc('\n', stderr);
+  if (text != stack) free(text);
+}
+
 static void vreport(const char *kind, const char *fmt, va_list ap) {
   fprintf(stderr, "peri: %s: ", kind);
-  vfprintf(stderr, fmt, ap);
-  fputc('\n', stderr);
+  vwrite_escaped(fmt, ap);
 }
 
 void peri_error(const char *fmt, ...) {
@@ -28,9 +59,9 @@ void peri_warning(const char *fmt, ...) {
 void peri_error_at(const char *file, int line, int col, const char *fmt, ...) {
   va_list ap;
   va_start(ap, fmt);
-  fprintf(stderr, "%s:%d:%d: error: ", file, line, col);
-  vfprintf(stderr, fmt, ap);
-  fputc('\n', stderr);
+  write_escaped(stderr, file);
+  fprintf(stderr, ":%d:%d: error: ", line, col);
+  vwrite_escaped(fmt, ap);
   va_end(ap);
 }
 

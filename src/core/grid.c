@@ -1,8 +1,83 @@
 /* Uniform-grid discretization: nodes at cell centres or lattice points inside the fill
- * shapes and outside the removed shapes. */
+ * shapes and outside the removed shapes. Each fill shape is scanned over its own bounding
+ * box, so two small shapes far apart cost their own nodes, not the box around both. */
 #include <math.h>
+#include <stdlib.h>
 #include "peri/discretize.h"
 #include "peri/error.h"
+
+/* A grid point by its integer lattice index, with the fill shape that owns it. */
+typedef struct {
+  int64_t k[3];
+  int32_t owner;
+} grid_point;
+
+/* The order of a scan over one box: z slowest, then y, then x. Nodes are added in this
+ * order whatever the shapes, as a scan over the box around all of them would add them. */
+static int compare_scan_order(const void *a, const void *b) {
+  const grid_point *p = a, *q = b;
+  for (int d = 2; d >= 0; d--)
+    if (p->k[d] != q->k[d]) return p->k[d] < q->k[d] ? -1 : 1;
+  return 0;
+}
+
+/* The lattice origin: given, or (cell centres) the lower corner of the fill shapes'
+ * bounds; false when a fill shape is unbounded (with a message when `report`). */
+static bool grid_origin(const peri_grid_params *g, bool report, double origin[3]) {
+  double lo[3] = {0, 0, 0};
+  for (int s = 0; s < g->n_fill; s++) {
+    double slo[3], shi[3];
+    if (!peri_shape_bounds(&g->fill[s].shape, g->dim, slo, shi)) {
+      if (report)
+        peri_error("grid: fill shape %d is unbounded (shape: all); a grid needs bounded shapes",
+                   s + 1);
+      return false;
+    }
+    for (int d = 0; d < g->dim; d++)
+      if (s == 0 || slo[d] < lo[d]) lo[d] = slo[d];
+  }
+  for (int d = 0; d < 3; d++) {
+    origin[d] = 0.0;
+    if (d >= g->dim) continue;
+    if (g->origin_given)
+      origin[d] = g->origin[d];
+    else if (g->placement == PERI_PLACE_CENTERS)
+      origin[d] = lo[d];
+  }
+  return true;
+}
+
+/* Index range of fill shape s, one extra on each side: containment (with the tolerance)
+ * decides, so rounding here cannot drop a boundary node. Returns the number of points. */
+static double shape_range(const peri_grid_params *g, int s, const double origin[3],
+                          int64_t kmin[3], int64_t kmax[3]) {
+  double slo[3], shi[3];
+  peri_shape_bounds(&g->fill[s].shape, g->dim, slo, shi);
+  double off = g->placement == PERI_PLACE_CENTERS ? 0.5 : 0.0;
+  double total = 1;
+  for (int d = 0; d < 3; d++) {
+    kmin[d] = kmax[d] = 0;
+    if (d >= g->dim) continue;
+    double a = floor((slo[d] - origin[d]) / g->spacing - off) - 1;
+    double b = ceil((shi[d] - origin[d]) / g->spacing - off) + 1;
+    total *= b - a + 1;
+    if (!isfinite(total) || total > 1e18) return INFINITY;
+    kmin[d] = (int64_t)a;
+    kmax[d] = (int64_t)b;
+  }
+  return total;
+}
+
+double peri_grid_points_bound(const peri_grid_params *g) {
+  double origin[3];
+  if (g->n_fill <= 0 || !(g->spacing > 0) || !grid_origin(g, false, origin)) return 0;
+  double total = 0;
+  for (int s = 0; s < g->n_fill; s++) {
+    int64_t kmin[3], kmax[3];
+    total += shape_range(g, s, origin, kmin, kmax);
+  }
+  return total;
+}
 
 int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
   int dim = g->dim;
@@ -20,72 +95,72 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
     peri_error("grid: no shape to fill");
     return -1;
   }
-  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  double origin[3];
+  if (!grid_origin(g, true, origin)) return -1;
+  double scanned = 0;
   for (int s = 0; s < g->n_fill; s++) {
-    double slo[3], shi[3];
-    if (!peri_shape_bounds(&g->fill[s].shape, dim, slo, shi)) {
-      peri_error("grid: fill shape %d is unbounded (shape: all); a grid needs bounded shapes",
-                 s + 1);
-      return -1;
-    }
-    for (int d = 0; d < dim; d++) {
-      if (s == 0 || slo[d] < lo[d]) lo[d] = slo[d];
-      if (s == 0 || shi[d] > hi[d]) hi[d] = shi[d];
-    }
+    int64_t kmin[3], kmax[3];
+    scanned += shape_range(g, s, origin, kmin, kmax);
   }
-  double origin[3] = {0, 0, 0};
+  if (!(scanned <= 4.0 * INT32_MAX)) {
+    peri_error("grid: spacing %g over the fill shapes' bounding boxes would exceed 2^31 nodes", dx);
+    return -1;
+  }
   double off = g->placement == PERI_PLACE_CENTERS ? 0.5 : 0.0;
-  for (int d = 0; d < dim; d++) {
-    if (g->origin_given)
-      origin[d] = g->origin[d];
-    else if (g->placement == PERI_PLACE_CENTERS)
-      origin[d] = lo[d];
-  }
-  /* Index range covering the bounds, one extra on each side; containment (with the
-   * tolerance) decides, so rounding here cannot drop a boundary node. */
   double tol = 1e-9 * dx;
-  int64_t kmin[3] = {0, 0, 0}, kmax[3] = {0, 0, 0};
-  double total = 1;
-  for (int d = 0; d < dim; d++) {
-    double a = floor((lo[d] - origin[d]) / dx - off) - 1;
-    double b = ceil((hi[d] - origin[d]) / dx - off) + 1;
-    total *= b - a + 1;
-    if (!isfinite(total) || total > 4.0 * INT32_MAX) {
-      peri_error("grid: spacing %g over the fill shapes' bounding box would exceed 2^31 nodes", dx);
-      return -1;
-    }
-    kmin[d] = (int64_t)a;
-    kmax[d] = (int64_t)b;
-  }
-  double vol = pow(dx, dim);
-  if (dim == 2 && g->thickness > 0) vol *= g->thickness;
-  if (dim == 1 && g->cross_section > 0) vol *= g->cross_section;
 
-  int64_t count = 0;
+  /* Each shape keeps the points it owns: a point belongs to the last fill shape that
+   * contains it, so a point also inside a later shape is left to that one. */
+  grid_point *points = NULL;
+  int64_t count = 0, capacity = 0;
+  bool in_scan_order = true;
   double x[3] = {0, 0, 0};
-  for (int64_t k2 = kmin[2]; k2 <= kmax[2]; k2++) {
-    if (dim > 2) x[2] = origin[2] + ((double)k2 + off) * dx;
-    for (int64_t k1 = kmin[1]; k1 <= kmax[1]; k1++) {
-      if (dim > 1) x[1] = origin[1] + ((double)k1 + off) * dx;
-      for (int64_t k0 = kmin[0]; k0 <= kmax[0]; k0++) {
-        x[0] = origin[0] + ((double)k0 + off) * dx;
-        int owner = -1;
-        for (int s = g->n_fill - 1; s >= 0 && owner < 0; s--)
-          if (peri_shape_contains(&g->fill[s].shape, dim, x, tol)) owner = s;
-        if (owner < 0) continue;
-        bool removed = false;
-        for (int r = 0; r < g->n_remove && !removed; r++)
-          removed = peri_shape_contains(&g->remove[r], dim, x, tol);
-        if (removed) continue;
-        if (count >= INT32_MAX) {
-          peri_error("grid: more than 2^31 nodes; use a coarser spacing");
-          peri_particles_free(p);
-          return -1;
+  for (int s = 0; s < g->n_fill; s++) {
+    int64_t kmin[3], kmax[3];
+    shape_range(g, s, origin, kmin, kmax);
+    for (int64_t k2 = kmin[2]; k2 <= kmax[2]; k2++) {
+      if (dim > 2) x[2] = origin[2] + ((double)k2 + off) * dx;
+      for (int64_t k1 = kmin[1]; k1 <= kmax[1]; k1++) {
+        if (dim > 1) x[1] = origin[1] + ((double)k1 + off) * dx;
+        for (int64_t k0 = kmin[0]; k0 <= kmax[0]; k0++) {
+          x[0] = origin[0] + ((double)k0 + off) * dx;
+          if (!peri_shape_contains(&g->fill[s].shape, dim, x, tol)) continue;
+          bool later = false;
+          for (int t = s + 1; t < g->n_fill && !later; t++)
+            later = peri_shape_contains(&g->fill[t].shape, dim, x, tol);
+          if (later) continue;
+          bool removed = false;
+          for (int r = 0; r < g->n_remove && !removed; r++)
+            removed = peri_shape_contains(&g->remove[r], dim, x, tol);
+          if (removed) continue;
+          if (count >= INT32_MAX) {
+            peri_error("grid: more than 2^31 nodes; use a coarser spacing");
+            free(points);
+            return -1;
+          }
+          if (count == capacity) {
+            capacity = capacity ? 2 * capacity : 1024;
+            points = peri_realloc(points, (size_t)capacity * sizeof *points);
+          }
+          grid_point *point = &points[count];
+          *point = (grid_point){{k0, k1, k2}, s};
+          if (count > 0 && compare_scan_order(&points[count - 1], point) > 0) in_scan_order = false;
+          count++;
         }
-        peri_particles_add(p, x, vol, g->fill[owner].material, owner + 1);
-        count++;
       }
     }
   }
+  if (!in_scan_order) qsort(points, (size_t)count, sizeof *points, compare_scan_order);
+
+  double vol = pow(dx, dim);
+  if (dim == 2 && g->thickness > 0) vol *= g->thickness;
+  if (dim == 1 && g->cross_section > 0) vol *= g->cross_section;
+  for (int64_t i = 0; i < count; i++) {
+    for (int d = 0; d < 3; d++)
+      x[d] = d < dim ? origin[d] + ((double)points[i].k[d] + off) * dx : 0.0;
+    int32_t owner = points[i].owner;
+    peri_particles_add(p, x, vol, g->fill[owner].material, owner + 1);
+  }
+  free(points);
   return count;
 }

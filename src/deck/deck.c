@@ -27,6 +27,9 @@ typedef struct {
   peri_node pub;
   bool is_null;  /* a plain scalar spelled as YAML null: empty, ~, null */
   char *section; /* MAPPING: its path for messages, "" for the root, "materials.glass" */
+  int *order;    /* MAPPING: indices of the first `ordered` keys, sorted by text, so that a
+                  * lookup in a mapping of 100,000 regions is a binary search */
+  int ordered;   /* keys appended later (--set) are searched one by one */
 } deck_node;
 
 static const deck_node *hidden(const peri_node *node) { return (const deck_node *)node; }
@@ -270,6 +273,7 @@ static void free_node(peri_node *node) {
   free(node->keys);
   free(node->scalar);
   free(((deck_node *)node)->section);
+  free(((deck_node *)node)->order);
   free(node);
 }
 
@@ -344,6 +348,51 @@ static peri_node *build_sequence(loader *ld, yaml_event_t *start, const char *se
   return NULL;
 }
 
+typedef struct {
+  const char *text;
+  int index;
+} key_entry;
+
+static int compare_keys(const void *a, const void *b) {
+  const key_entry *x = a, *y = b;
+  int by_text = strcmp(x->text, y->text);
+  if (by_text) return by_text;
+  return (x->index > y->index) - (x->index < y->index);
+}
+
+/* Sorts the keys of a finished mapping (O(n log n), where comparing each new key with
+ * every earlier one took minutes on 100,000 regions) and reports a duplicate: the one
+ * that comes first in the deck, at its second occurrence, as a reader going down the
+ * deck would meet it. False after reporting. */
+static bool order_keys(deck_node *mapping) {
+  const peri_node *node = &mapping->pub;
+  int n = node->count;
+  key_entry *entries = peri_malloc((size_t)(n ? n : 1) * sizeof *entries);
+  for (int i = 0; i < n; i++) entries[i] = (key_entry){node->keys[i]->scalar, i};
+  qsort(entries, (size_t)n, sizeof *entries, compare_keys);
+  int duplicate = -1, first = -1;
+  for (int i = 1; i < n; i++) {
+    bool repeats = strcmp(entries[i].text, entries[i - 1].text) == 0;
+    bool starts_run = i == 1 || strcmp(entries[i - 1].text, entries[i - 2].text) != 0;
+    if (repeats && starts_run && (duplicate < 0 || entries[i].index < duplicate)) {
+      duplicate = entries[i].index;
+      first = entries[i - 1].index;
+    }
+  }
+  if (duplicate >= 0) {
+    const peri_node *key = node->keys[duplicate], *earlier = node->keys[first];
+    peri_deck_error(key, "duplicate key '%s' (first given at line %d, column %d)",
+                    key->scalar, earlier->line, earlier->col);
+    free(entries);
+    return false;
+  }
+  mapping->order = peri_malloc((size_t)(n ? n : 1) * sizeof *mapping->order);
+  for (int i = 0; i < n; i++) mapping->order[i] = entries[i].index;
+  mapping->ordered = n;
+  free(entries);
+  return true;
+}
+
 static peri_node *build_mapping(loader *ld, yaml_event_t *start, const char *section,
                                 int depth) {
   deck_node *mapping = new_node(ld, PERI_NODE_MAPPING, start->start_mark);
@@ -355,7 +404,8 @@ static peri_node *build_mapping(loader *ld, yaml_event_t *start, const char *sec
     if (!next_event(ld, &event)) break;
     if (event.type == YAML_MAPPING_END_EVENT) {
       yaml_event_delete(&event);
-      return node;
+      if (order_keys(mapping)) return node;
+      break;
     }
     if (event.type == YAML_SEQUENCE_START_EVENT || event.type == YAML_MAPPING_START_EVENT) {
       error_at_mark(ld, event.start_mark, "%s", "a mapping key must be a name, not a list or "
@@ -365,13 +415,6 @@ static peri_node *build_mapping(loader *ld, yaml_event_t *start, const char *sec
     }
     peri_node *key = build_node(ld, &event, section, depth + 1);
     if (!key) break;
-    const peri_node *first = peri_deck_key_node(node, key->scalar);
-    if (first) {
-      peri_deck_error(key, "duplicate key '%s' (first given at line %d, column %d)",
-                      key->scalar, first->line, first->col);
-      free_node(key);
-      break;
-    }
     yaml_event_t value_event;
     if (!next_event(ld, &value_event)) {
       free_node(key);
@@ -513,18 +556,35 @@ void peri_deck_free(peri_node *root) {
 
 /* ---- lookup ------------------------------------------------------------------------ */
 
+int peri_deck_key_index(const peri_node *map, const char *key) {
+  if (!map || map->kind != PERI_NODE_MAPPING) return -1;
+  const deck_node *mapping = hidden(map);
+  /* a mapping whose keys were moved out (--set) is searched one by one */
+  int ordered = mapping->order && mapping->ordered <= map->count ? mapping->ordered : 0;
+  int low = 0, high = ordered;
+  while (low < high) {
+    int middle = low + (high - low) / 2;
+    int index = mapping->order[middle];
+    int by_text = strcmp(map->keys[index]->scalar, key);
+    if (by_text == 0) return index;
+    if (by_text < 0)
+      low = middle + 1;
+    else
+      high = middle;
+  }
+  for (int i = ordered; i < map->count; i++)
+    if (strcmp(map->keys[i]->scalar, key) == 0) return i;
+  return -1;
+}
+
 peri_node *peri_deck_get(const peri_node *map, const char *key) {
-  if (!map || map->kind != PERI_NODE_MAPPING) return NULL;
-  for (int i = 0; i < map->count; i++)
-    if (strcmp(map->keys[i]->scalar, key) == 0) return map->items[i];
-  return NULL;
+  int index = peri_deck_key_index(map, key);
+  return index < 0 ? NULL : map->items[index];
 }
 
 const peri_node *peri_deck_key_node(const peri_node *map, const char *key) {
-  if (!map || map->kind != PERI_NODE_MAPPING) return NULL;
-  for (int i = 0; i < map->count; i++)
-    if (strcmp(map->keys[i]->scalar, key) == 0) return map->keys[i];
-  return NULL;
+  int index = peri_deck_key_index(map, key);
+  return index < 0 ? NULL : map->keys[index];
 }
 
 static const char *section_name(const peri_node *map) {

@@ -4,9 +4,12 @@
 #include "peri/error.h"
 #include "setup_parts.h"
 
-int peri_setup_find_region(const peri_sim *s, const peri_node *at, const char *name) {
-  for (int r = 0; r < s->cond.n_regions; ++r)
-    if (strcmp(s->cond.regions[r].name, name) == 0) return r;
+int peri_setup_find_region(const peri_sim *s, const peri_node *regions, const peri_node *at,
+                           const char *name) {
+  if (strcmp(name, "all") == 0) return 0;
+  /* regions[k + 1] is the deck's k-th region: a binary search, not a scan per condition */
+  int index = peri_deck_key_index(regions, name);
+  if (index >= 0 && index + 1 < s->cond.n_regions) return index + 1;
   int best = -1, best_d = 1 << 30;
   for (int r = 0; r < s->cond.n_regions; ++r) {
     int d = peri_edit_distance(name, s->cond.regions[r].name);

@@ -1,9 +1,11 @@
 /* Builds a simulation from a deck. Every input error is reported with its position
  * before any work starts (exit status 2). The keys are documented in docs/deck.md. */
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "peri/checkpoint.h"
 #include "peri/conduction.h"
 #include "peri/constants.h"
@@ -246,7 +248,7 @@ static int parse_interfaces(parse_ctx *c) {
 static const char *const discretization_keys[] = {
     "spacing", "horizon", "m", "placement", "origin", "thickness", "cross_section",
     "partial_volume", "influence", "weighted_volume", "fill", "remove", "node_file", "blocks",
-    "volume", NULL};
+    "volume", "max_nodes", NULL};
 
 static int parse_shape_list(const peri_node *list, int dim, const char *section,
                             const char *const *extra, peri_shape **shapes, int *count) {
@@ -257,6 +259,45 @@ static int parse_shape_list(const peri_node *list, int dim, const char *section,
   *shapes = peri_calloc(list->count, sizeof(peri_shape));
   for (int k = 0; k < list->count; ++k)
     TRY(peri_shape_parse(list->items[k], dim, section, extra, &(*shapes)[k]));
+  return PERI_OK;
+}
+
+/* Bytes a node costs at least before its bonds: x u v f b, volume, damage, material,
+ * block, flags, the bond loops' copies of x and u, its CSR offset (src/run/summary.c). */
+enum { GRID_BYTES_PER_NODE = 200, GRID_BYTES_PER_BOND = 5 };
+
+static double physical_memory(void) {
+  long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page_size > 0 ? (double)pages * (double)page_size : 0.0;
+}
+
+/* The grid's size from its fill shapes' bounding boxes, before any node is made: a grid
+ * larger than the machine's memory (or than max_nodes, when given) is an input error
+ * found at once, instead of a generation that runs for minutes and exhausts the memory.
+ * `m` is horizon / spacing, for the bonds per node. */
+static int check_grid_size(const peri_node *d, const peri_grid_params *gp, double m) {
+  const double nodes = peri_grid_points_bound(gp);
+  const double family = gp->dim == 3 ? 4.0 / 3.0 * M_PI * m * m * m
+                        : gp->dim == 2 ? M_PI * m * m : 2.0 * m;
+  const double bytes = nodes * (GRID_BYTES_PER_NODE + GRID_BYTES_PER_BOND * family);
+  const peri_node *limit = peri_deck_get(d, "max_nodes");
+  if (limit) {
+    long max_nodes = 0;
+    TRY(peri_deck_int(d, "max_nodes", true, &max_nodes));
+    if (max_nodes < 1) return peri_deck_error(limit, "key 'max_nodes': must be >= 1");
+    if (nodes > (double)max_nodes)
+      return peri_deck_error(limit, "key 'max_nodes': the fill shapes' bounding boxes hold up to "
+                             "%.4g grid points at spacing %g, more than max_nodes = %ld; use a "
+                             "coarser spacing or raise max_nodes", nodes, gp->spacing, max_nodes);
+    return PERI_OK;
+  }
+  const double memory = physical_memory();
+  if (memory > 0.0 && bytes > memory)
+    return peri_deck_error(peri_deck_get(d, "spacing"), "discretization: spacing %g gives up to "
+                           "%.4g nodes (the grid points in the fill shapes' bounding boxes), at "
+                           "least %.3g GB at m = %.3g, more than this machine's memory (%.3g "
+                           "GB); use a coarser spacing, or set discretization.max_nodes to "
+                           "allow that many nodes", gp->spacing, nodes, bytes / 1e9, m, memory / 1e9);
   return PERI_OK;
 }
 
@@ -271,7 +312,7 @@ static int parse_discretization(parse_ctx *c) {
   if (!node_file == !fill)
     return peri_deck_error(d, "discretization: give exactly one of 'fill' (shapes on a grid) or "
                               "'node_file' (x y [z] block volume)");
-  static const char *const grid_only[] = {"placement", "origin", "remove", NULL};
+  static const char *const grid_only[] = {"placement", "origin", "remove", "max_nodes", NULL};
   for (int k = 0; node_file && grid_only[k]; ++k)
     if (peri_deck_get(d, grid_only[k]))
       return peri_deck_error(peri_deck_key_node(d, grid_only[k]), "key '%s': only with 'fill' (a node "
@@ -349,6 +390,7 @@ static int parse_discretization(parse_ctx *c) {
     const peri_node *remove = peri_deck_get(d, "remove");
     if (rc == PERI_OK && remove)
       rc = parse_shape_list(remove, g->dim, "discretization.remove", NULL, &gp.remove, &gp.n_remove);
+    if (rc == PERI_OK) rc = check_grid_size(d, &gp, isnan(m) ? horizon / g->spacing : m);
     if (rc == PERI_OK && peri_grid_generate(p, &gp) < 0) rc = PERI_ERR_INPUT;
     for (int k = 0; k < gp.n_fill; ++k) peri_shape_free(&gp.fill[k].shape);
     for (int k = 0; k < gp.n_remove; ++k) peri_shape_free(&gp.remove[k]);
@@ -528,7 +570,7 @@ static int parse_conditions(parse_ctx *c) {
     bc->kind = (peri_bc_kind)kind;
     const char *rname = "all";
     TRY(peri_deck_string(it, "region", false, &rname));
-    int r = peri_setup_find_region(s, peri_deck_get(it, "region") ? peri_deck_get(it, "region") : it, rname);
+    int r = peri_setup_find_region(s, peri_deck_get(c->root, "regions"), peri_deck_get(it, "region") ? peri_deck_get(it, "region") : it, rname);
     if (r < 0) return -r;
     bc->region = r;
     TRY(parse_components(s, it, bc->value, true));
@@ -713,6 +755,31 @@ static const char *const top_keys[] = {"dimension", "plane", "discretization", "
                                        "interfaces", "regions", "precracks", "boundary_conditions",
                                        "indenter", "solver", "output", "thermal", NULL};
 
+/* A count derived from the ratio of two deck numbers, such as end_time / time_step. The
+ * ratio is rounded up (less a rounding allowance); a count that a long cannot hold is an
+ * input error at `at`, not a negative step count. */
+static int step_count(const peri_node *at, const char *ratio_name, const char *count_name,
+                      const char *remedy, double ratio, long *out) {
+  const double count = ceil(ratio - 1e-9);
+  if (!(count < 9223372036854775808.0)) /* 2^63: LONG_MAX + 1, exact as a double */
+    return peri_deck_error(at, "%s = %.3g %s, more than the largest count %ld; %s", ratio_name,
+                           count, count_name, LONG_MAX, remedy);
+  *out = (long)count;
+  return PERI_OK;
+}
+
+/* Coupled heat conduction advances in sub-steps of thermal.time_step; their number over
+ * the run must be countable too (src/solver/heat.c counts them in a long). */
+static int check_heat_substeps(const peri_sim *s, const peri_node *root) {
+  const peri_thermal *th = s->thermal;
+  if (!th || s->solver.kind == PERI_SOLVER_HEAT || !(th->dt > 0.0)) return PERI_OK;
+  const peri_node *thermal = peri_deck_get(root, "thermal");
+  const peri_node *at = peri_deck_get(thermal, "time_step");
+  long ignored;
+  return step_count(at ? at : thermal, "run time / thermal time_step", "heat sub-steps",
+                    "use a longer thermal time_step or a shorter run", (double)s->solver.steps * (s->solver.dt / th->dt), &ignored);
+}
+
 static int build(parse_ctx *c) {
   peri_sim *s = c->s;
   const peri_node *root = c->root;
@@ -773,10 +840,15 @@ static int build(parse_ctx *c) {
   }
   if (!(s->solver.dt > 0.0) || !isfinite(s->solver.dt))
     return peri_deck_error(peri_deck_get(root, "solver"), "solver: cannot estimate a time step (no bonds?); give time_step");
-  if (s->solver.steps < 0) s->solver.steps = (long)ceil(s->solver.end_time / s->solver.dt - 1e-9);
+  if (s->solver.steps < 0) {
+    const peri_node *solver = peri_deck_get(root, "solver");
+    TRY(step_count(peri_deck_get(solver, "end_time"), "end_time / time_step", "steps",
+                   "use a longer time step or a shorter end time", s->solver.end_time / s->solver.dt, &s->solver.steps));
+  }
+  TRY(check_heat_substeps(s, root));
   if (s->out.every < 0) {
-    long frames = -s->out.every;
-    s->out.every = frames > 0 ? (s->solver.steps + frames - 1) / frames : 0;
+    long frames = -s->out.every; /* frames per run, rounded up; steps + frames could overflow */
+    s->out.every = frames > 0 ? s->solver.steps / frames + (s->solver.steps % frames != 0) : 0;
   } else if (s->out.every == 0 && !peri_deck_get(peri_deck_get(root, "output"), "every") &&
              !peri_deck_get(peri_deck_get(root, "output"), "frames")) { /* (frames: 0, the first and last only) */
     s->out.every = s->solver.steps >= 10 ? s->solver.steps / 10 : 1;

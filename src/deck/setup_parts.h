@@ -20,7 +20,9 @@ bool peri_setup_is_thermal_bc(const peri_node *item);
 int peri_setup_thermal(peri_sim *s, const peri_node *root);
 
 /* Index of the region called `name`; on failure prints a message at `at` (with a
- * suggestion for a misspelling) and returns -PERI_ERR_INPUT (region_lookup.c). */
-int peri_setup_find_region(const peri_sim *s, const peri_node *at, const char *name);
+ * suggestion for a misspelling) and returns -PERI_ERR_INPUT (region_lookup.c). `regions`
+ * is the deck's regions mapping (or NULL), whose keys are the regions after 'all'. */
+int peri_setup_find_region(const peri_sim *s, const peri_node *regions, const peri_node *at,
+                           const char *name);
 
 #endif

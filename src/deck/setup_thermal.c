@@ -74,7 +74,8 @@ int peri_setup_heat_material(peri_sim *s, const peri_node *key, const peri_node 
 
 /* ---------------------------------------------------------------- conditions */
 
-static int parse_thermal_bc(peri_sim *s, const peri_node *it, peri_thermal_bc *bc) {
+static int parse_thermal_bc(peri_sim *s, const peri_node *regions, const peri_node *it,
+                            peri_thermal_bc *bc) {
   int kind = 0;
   TRY(peri_deck_choice(it, "type", true, thermal_bc_types, &kind));
   static const char *const k_value[] = {"type", "region", "value", NULL};
@@ -87,7 +88,7 @@ static int parse_thermal_bc(peri_sim *s, const peri_node *it, peri_thermal_bc *b
   bc->kind = kinds[kind];
   const char *rname = "all";
   TRY(peri_deck_string(it, "region", false, &rname));
-  int r = peri_setup_find_region(s, peri_deck_get(it, "region") ? peri_deck_get(it, "region") : it, rname);
+  int r = peri_setup_find_region(s, regions, peri_deck_get(it, "region") ? peri_deck_get(it, "region") : it, rname);
   if (r < 0) return -r;
   bc->region = r;
   bc->layer = s->disc.geom.spacing;
@@ -318,7 +319,7 @@ int peri_setup_thermal(peri_sim *s, const peri_node *root) {
   th->bcs = peri_calloc((size_t)n_thermal_bcs + 1, sizeof(peri_thermal_bc));
   for (int k = 0; bcs && bcs->kind == PERI_NODE_SEQUENCE && k < bcs->count; ++k) {
     if (!peri_setup_is_thermal_bc(bcs->items[k])) continue;
-    TRY(parse_thermal_bc(s, bcs->items[k], &th->bcs[th->n_bcs++]));
+    TRY(parse_thermal_bc(s, peri_deck_get(root, "regions"), bcs->items[k], &th->bcs[th->n_bcs++]));
   }
   const peri_node *grow = peri_deck_get(sec, "growing_cracks");
   if (grow) TRY(parse_growing(s, grow));

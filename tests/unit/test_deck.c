@@ -160,6 +160,33 @@ Test(deck_load, duplicate_key, .init = cr_redirect_stderr) {
   expect_stderr("deck.yaml:4:3: error: duplicate key 'b' (first given at line 3, column 3)\n");
 }
 
+/* With several repeated keys, the one met first going down the deck is reported, at its
+ * second occurrence, whatever the order of the names. */
+Test(deck_load, first_duplicate_in_deck_order, .init = cr_redirect_stderr) {
+  cr_assert_null(peri_deck_parse_string("z: 1\nb: 2\nb: 3\nz: 4\nb: 5\n", "deck.yaml"));
+  expect_stderr("deck.yaml:3:1: error: duplicate key 'b' (first given at line 2, column 1)\n");
+}
+
+Test(deck_lookup, key_index_in_a_large_mapping) {
+  enum { KEYS = 5000 };
+  char *text = malloc(KEYS * 24);
+  size_t length = 0;
+  for (int i = KEYS - 1; i >= 0; i--) length += (size_t)sprintf(text + length, "k%d: %d\n", i, i);
+  peri_node *root = peri_deck_parse_string(text, "deck.yaml");
+  free(text);
+  cr_assert_not_null(root);
+  for (int i = 0; i < KEYS; i += 7) {
+    char key[16];
+    sprintf(key, "k%d", i);
+    int index = peri_deck_key_index(root, key);
+    cr_assert_eq(index, KEYS - 1 - i, "%s at %d", key, index);
+    cr_assert_str_eq(root->items[index]->scalar, key + 1);
+  }
+  cr_assert_eq(peri_deck_key_index(root, "k5000"), -1);
+  cr_assert_null(peri_deck_get(root, "missing"));
+  peri_deck_free(root);
+}
+
 Test(deck_load, anchor_rejected, .init = cr_redirect_stderr) {
   cr_assert_null(peri_deck_parse_string("a: &v 1\n", "deck.yaml"));
   expect_stderr("deck.yaml:1:4: error: anchors are not supported ('&v'); "
