@@ -21,6 +21,9 @@ mpi_init() {
   command -v mpirun >/dev/null 2>&1 || fail "peri is built with MPI but mpirun is missing (scripts/install-deps)"
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
   export OMP_NUM_THREADS=1
+  # every collective call is checked for agreement between the ranks (docs/parallel.md): a
+  # branch taken differently on two ranks stops the run with a message instead of a hang
+  export PERI_CHECK_COLLECTIVES=${PERI_CHECK_COLLECTIVES:-1}
 }
 
 run_peri_mpi() {
