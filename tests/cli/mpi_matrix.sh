@@ -6,8 +6,9 @@
 # and runs with the check of the sequence of collectives (PERI_CHECK_COLLECTIVES=1); it must
 # exit 0, and history.csv on 2 and 3 ranks must be that of one process: equal to a relative
 # 1e-12 (bit for bit in practice), and to 1e-9 for implicit at tolerance 1e-11 without
-# breaking, whose Krylov iterates depend on the split (docs/solvers.md section 9). Skipped
-# when peri was built without MPI.
+# breaking, whose Krylov iterates depend on the split (docs/solvers.md section 9). Two runs
+# that fail (a state that is not finite, runaway growth) must exit 1 on 2 ranks with the
+# message of one process. Skipped when peri was built without MPI.
 # Usage: bash tests/cli/mpi_matrix.sh PATH_TO_PERI   (from the repository root)
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
@@ -57,4 +58,22 @@ else
   echo "skip: implicit (peri built without PETSc)"
 fi
 matrix_case heat "$DECKS/matrix_heat.yaml" --set solver.steps=30 --set output.every=30
+# failures on 2 ranks stop every rank at the same point as one process: a quasi-static state
+# that is not finite (qs_not_finite.sh) and the runaway growth of an explicit run
+# (explicit_runaway.sh); exit 1 and the message of one process
+failure_case() {
+  local name=$1 pattern=$2
+  shift 2
+  run_peri "$@" --quiet --output "$TMP/$name-np1"
+  expect_status 1
+  local message
+  message=$(grep -E "$pattern" "$RUN_STDERR" | head -n 1)
+  [[ -n "$message" ]] || fail "$name: no message matching '$pattern' in one process"
+  run_peri_mpi 2 "$@" --quiet --output "$TMP/$name-np2"
+  expect_status 1
+  expect_stderr_contains "$message"
+  pass "$name on 2 ranks: exit 1 with the message of one process"
+}
+failure_case not-finite "diverged at load step" run "$DECKS/qs_bar_huge_load.yaml" --set solver.type=adr
+failure_case runaway "diverged at step" run "$DECKS/diverge.yaml" --set solver.steps=20
 echo "PASS: $CLI_NAME"
