@@ -26,7 +26,8 @@ peri_qs_status peri_solve_adr(peri_sim *s) {
   double res = peri_qs_residual(s, r);
   peri_qs_status status = PERI_QS_NOT_CONVERGED;
   long it = 0;
-  if (res <= q->tolerance) status = PERI_QS_CONVERGED;
+  if (!isfinite(res)) status = PERI_QS_DIVERGED; /* the loads or the start are not finite */
+  else if (res <= q->tolerance) status = PERI_QS_CONVERGED;
   /* first half step: U'^(1/2) = Lambda^-1 F^0 / 2 */
   for (; status == PERI_QS_NOT_CONVERGED && it < q->max_iterations; ++it) {
     double c = 0.0;

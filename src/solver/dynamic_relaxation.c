@@ -55,6 +55,7 @@ peri_qs_status peri_solve_dynamic_relaxation(peri_sim *s) {
   double res = peri_qs_residual(s, r);
   for (size_t k = 0; k < n3; ++k) acc[k] = r[k] * inv_rho[k / 3];
   peri_qs_status status = res <= q->tolerance ? PERI_QS_CONVERGED : PERI_QS_NOT_CONVERGED;
+  if (!isfinite(res)) status = PERI_QS_DIVERGED; /* the loads or the start are not finite */
   long it = 0;
   const int dim = s->disc.geom.dim;
   for (; status == PERI_QS_NOT_CONVERGED && it < q->max_iterations; ++it) {

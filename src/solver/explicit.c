@@ -5,8 +5,24 @@
 #include "peri/comm.h"
 #include "peri/contribution.h"
 #include "peri/decompose.h"
+#include "peri/energies.h"
 #include "peri/error.h"
 #include "peri/solver.h"
+
+/* Runaway growth (docs/solvers.md section 10). Without a heat source the energy of the body
+ * is bounded by what was put into it: KE + SE = KE_0 + SE_0 + W - (damping and broken bonds,
+ * both >= 0), with W the work of the loads and of the prescribed motion, |W| <= the sum of the
+ * steps' |work|. The kinetic energy checked is that of the half-step velocities (the current
+ * velocity on prescribed components): the last half kick of a full-step velocity is paid by
+ * work the next step counts, so a body struck from rest would otherwise show kinetic energy
+ * before any work. A stable velocity-Verlet run keeps the balance up to its discretization
+ * error (a few per cent; at most a factor 1/(1 - (w dt/2)^2) for a mode of frequency w, a
+ * large one only within a hair of the stability limit), far below RUNAWAY_FACTOR, while an
+ * unstable one multiplies its kinetic energy at every step and passes it within a few steps.
+ * The sum rides on the pass and the collective that already sum the step's work, in the same
+ * fixed-order blocks, so every rank takes the same decision. Heating (the thermal strain of
+ * thermomechanics) adds energy that no load accounts for: no check there. */
+#define RUNAWAY_FACTOR 1000.0
 
 /* External force density on each component: applied loads on free components, and on
  * prescribed ones the reaction rho a - f that enforces the motion. */
@@ -70,7 +86,8 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
   const double damping = s->solver.damping;
   /* the step's external work summed per block of nodes as the pass goes (peri_sum_blocks) */
   const int64_t n_blocks = peri_sum_blocks_owned(s);
-  double *block_work = peri_malloc(sizeof(double) * (n_blocks > 0 ? (size_t)n_blocks : 1));
+  /* per block: the step's work, then the kinetic energy (the runaway check) */
+  double *block_sums = peri_malloc(sizeof(double) * 2 * (n_blocks > 0 ? (size_t)n_blocks : 1));
 
   peri_apply_loads(s, s->state.time);
   peri_exchange_state(s); /* ghost displacements (MPI ranks, docs/parallel.md) */
@@ -79,6 +96,9 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
     external_load(s, p->v, dt, load_old);
   }
   s->state.forces_current = false;
+  /* the energy put into the body so far: the initial energy, then the steps' |work| */
+  const bool check_runaway = !s->thermal;
+  double energy_in = check_runaway ? peri_kinetic_energy(s) + peri_strain_energy(s) : 0.0;
   /* accelerations at t = 0 live in f + b */
   int status = PERI_OK;
   for (long step = s->state.step; step < s->solver.steps; ++step) {
@@ -116,10 +136,10 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
 #pragma omp parallel for schedule(static) reduction(&& : finite)
     for (int64_t k = 0; k < n_blocks; ++k) {
       const int32_t i0 = (int32_t)(k * PERI_SUM_BLOCK), i1 = i0 + PERI_SUM_BLOCK < n ? i0 + PERI_SUM_BLOCK : n;
-      double work_sum = 0.0;
+      double work_sum = 0.0, ke_sum = 0.0;
       for (int32_t i = i0; i < i1; ++i) {
         const double *old = held.mask[i] ? &held.old[6 * (size_t)held.slot[i]] : NULL;
-        double work = 0.0;
+        double work = 0.0, v2 = 0.0;
         for (int d = 0; d < 3; ++d) {
           size_t c = 3 * (size_t)i + d;
           double load, du;
@@ -129,7 +149,9 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
             p->v[c] = (v_half + 0.5 * dt * a) / (1.0 + 0.5 * dt * damping);
             load = p->b[c];
             du = dt * v_half;
+            v2 += v_half * v_half;
           } else {
+            v2 += p->v[c] * p->v[c];
             load = s->mat.materials[p->material[i]].density * (p->v[c] - old[3 + d]) / dt - p->f[c];
             du = p->u[c] - old[d];
           }
@@ -138,24 +160,34 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
           finite = finite && fabs(p->u[c]) < 1e100 && fabs(p->v[c]) < 1e100;
         }
         work_sum += work;
+        ke_sum += 0.5 * p->volume[i] / inv_rho[i] * v2;
       }
-      block_work[k] = work_sum;
+      block_sums[2 * k] = work_sum;
+      block_sums[2 * k + 1] = ke_sum;
     }
-    double step_total = 0.0; /* in fixed-order blocks: the same on any number of ranks */
-    peri_sum_blocks(s, block_work, 1, &step_total);
+    double totals[2] = {0.0, 0.0}; /* in fixed-order blocks: the same on any number of ranks */
+    peri_sum_blocks(s, block_sums, 2, totals);
+    const double step_total = totals[0], kinetic = totals[1];
     s->state.external_work += step_total;
+    energy_in += fabs(step_total);
     finite = peri_comm_all(finite); /* every rank stops together */
     /* NaN fails the comparison; the bound catches a blow-up before energies overflow */
     if (!finite || !isfinite(s->state.external_work)) {
       peri_error("the solution diverged at step %ld (t = %g): displacement or velocity is not "
                  "finite; reduce the time step or check the loads", s->state.step, s->state.time);
       status = PERI_ERR_RUN;
+    } else if (check_runaway && kinetic > RUNAWAY_FACTOR * energy_in) {
+      peri_error("the solution diverged at step %ld (t = %g): the kinetic energy %.3g J exceeds %g times "
+                 "the energy put into the body (%.3g J: the initial energy and the work of the loads); "
+                 "the time step %g s is too large for stability: reduce solver.time_step or "
+                 "solver.safety_factor", s->state.step, s->state.time, kinetic, RUNAWAY_FACTOR, energy_in, dt);
+      status = PERI_ERR_RUN;
     }
     if (status != PERI_OK) break;
     if (hook && hook(s, ctx)) break;
   }
   free(inv_rho);
-  free(block_work);
+  free(block_sums);
   held_nodes_free(&held);
   return status;
 }

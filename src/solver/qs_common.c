@@ -75,6 +75,7 @@ double peri_qs_residual(const peri_sim *s, double *r) {
     const double V = p->volume[i];
     for (int d = 0; d < 3; ++d) {
       const size_t c = 3 * (size_t)i + d;
+      if (d < dim && !isfinite(p->u[c])) res = NAN; /* a displacement that is not finite fails the state */
       if (d >= dim) {
         r[c] = 0.0;
       } else if (s->cond.prescribed[c]) {
@@ -95,6 +96,10 @@ double peri_qs_residual(const peri_sim *s, double *r) {
   free(sq);
   peri_quasi_static *q = (peri_quasi_static *)&s->solver.qs; /* the running reference is bookkeeping */
   q->last_reference = sqrt(ref);
+  /* A state that is not finite (displacements, forces, loads), or whose norms overflow, has
+   * no meaningful residual: infinite, so that no comparison with the tolerance passes (a NaN
+   * would, below, where the scale ignores it) and the solvers report it as diverged. */
+  if (!isfinite(res) || !isfinite(ref)) return INFINITY;
   const double scale = fmax(sqrt(ref), q->reference);
   if (!(scale > 0.0)) return res > 0.0 ? 1.0 : 0.0;
   return sqrt(res) / scale;

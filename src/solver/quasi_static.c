@@ -50,16 +50,38 @@ static long break_bonds(peri_sim *s) {
 /* After a converged solve: the reference force norm of later solves is at least this one. */
 static void converged(peri_sim *s) { s->solver.qs.reference = fmax(s->solver.qs.reference, s->solver.qs.last_reference); }
 
-static int not_converged(peri_sim *s, peri_qs_status st, double t) {
+/* The message of a solve that failed with no cut-back left. */
+static int not_converged(peri_sim *s, peri_qs_status st, double t, int cuts) {
+  char halved[64] = "";
+  if (cuts > 0) snprintf(halved, sizeof halved, ", the increment halved %d time%s", cuts, cuts == 1 ? "" : "s");
   if (st == PERI_QS_DIVERGED)
-    peri_error("%s: the solution diverged at load step %ld (t = %g): the residual is not finite",
-               solver_name(s->solver.kind), s->state.step + 1, t);
+    peri_error("%s: the solution diverged at load step %ld (t = %g%s): the displacements, forces or "
+               "residual are not finite (check the loads; take more load_steps or raise solver.max_cutbacks)",
+               solver_name(s->solver.kind), s->state.step + 1, t, halved);
   else
-    peri_error("%s: not converged at load step %ld (t = %g) after %ld iterations: relative residual "
+    peri_error("%s: not converged at load step %ld (t = %g%s) after %ld iterations: relative residual "
                "%.3g > tolerance %g (raise solver.max_iterations, loosen solver.tolerance or take "
-               "more load_steps)", solver_name(s->solver.kind), s->state.step + 1, t, s->solver.qs.max_iterations,
-               s->solver.qs.residual, s->solver.qs.tolerance);
+               "more load_steps)", solver_name(s->solver.kind), s->state.step + 1, t, halved,
+               s->solver.qs.max_iterations, s->solver.qs.residual, s->solver.qs.tolerance);
   return PERI_ERR_RUN;
+}
+
+/* Back to the state at the start of the load step (displacements and bonds), with half the
+ * increment: after too many broken bonds, or a solve that failed. */
+static void undo_step(peri_sim *s, const double *u_save, const uint8_t *broken_save, double *inc, int *cut) {
+  memcpy(s->disc.p.u, u_save, sizeof(double) * 3 * (size_t)s->disc.p.n_owned);
+  memcpy(s->disc.bonds.broken, broken_save, (size_t)s->disc.bonds.n_bonds);
+  ++s->disc.bonds.broken_edits;
+  *inc *= 0.5;
+  ++*cut;
+  ++s->solver.qs.cutbacks;
+}
+
+/* The compression-dependent s0 of every node follows the last force evaluation; a failed
+ * solve may have left it not finite, so its retry starts from the s0 of the step's start.
+ * (A cut-back after too many broken bonds keeps the last s0, as it always has.) */
+static void restore_s0(peri_sim *s, const double *s0_save) {
+  if (s0_save) memcpy(s->mat.s0_node, s0_save, sizeof(double) * (size_t)s->disc.p.n);
 }
 
 int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
@@ -69,6 +91,7 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
   const size_t nbonds = (size_t)s->disc.bonds.n_bonds;
   double *u_save = peri_malloc(sizeof(double) * n3);
   uint8_t *broken_save = peri_malloc(nbonds ? nbonds : 1);
+  double *s0_save = s->mat.s0_node ? peri_malloc(sizeof(double) * (size_t)(p->n > 0 ? p->n : 1)) : NULL;
   const double T = s->solver.end_time;
   const long N = q->load_steps;
   double t_done = s->state.time;
@@ -83,15 +106,22 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
       const double t = fmin(t_done + inc, t_target);
       memcpy(u_save, p->u, sizeof(double) * n3);
       memcpy(broken_save, s->disc.bonds.broken, nbonds);
+      if (s0_save) memcpy(s0_save, s->mat.s0_node, sizeof(double) * (size_t)p->n);
       peri_qs_apply_loading(s, t);
       peri_qs_status st = peri_solve_equilibrium(s);
+      bool retry = false, went_dynamic = false;
       if (st != PERI_QS_CONVERGED) {
-        rc = not_converged(s, st, t);
+        /* not converged, or not finite: undo and take half the increment while cut-backs are left */
+        if (cut < q->max_cutbacks) {
+          undo_step(s, u_save, broken_save, &inc, &cut);
+          restore_s0(s, s0_save);
+          continue;
+        }
+        rc = not_converged(s, st, t, cut);
         break;
       }
       converged(s);
       long broken = 0, rounds = 0, since_dynamic = 0;
-      bool retry = false, went_dynamic = false;
       for (;;) {
         long nb = break_bonds(s);
         broken += nb;
@@ -100,12 +130,7 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
         if (q->max_broken_per_step > 0 && broken > q->max_broken_per_step && cut < q->max_cutbacks &&
             !went_dynamic) {
           /* too many at once: undo and take half the increment */
-          memcpy(p->u, u_save, sizeof(double) * n3);
-          memcpy(s->disc.bonds.broken, broken_save, nbonds);
-          ++s->disc.bonds.broken_edits;
-          inc *= 0.5;
-          ++cut;
-          ++q->cutbacks;
+          undo_step(s, u_save, broken_save, &inc, &cut);
           retry = true;
           break;
         }
@@ -125,7 +150,15 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
         }
         st = peri_solve_equilibrium(s);
         if (st != PERI_QS_CONVERGED) {
-          rc = not_converged(s, st, t);
+          /* as for the first solve; after a dynamic phase (its history rows are written) the
+           * step is not undone */
+          if (cut < q->max_cutbacks && !went_dynamic) {
+            undo_step(s, u_save, broken_save, &inc, &cut);
+            restore_s0(s, s0_save);
+            retry = true;
+            break;
+          }
+          rc = not_converged(s, st, t, cut);
           break;
         }
         converged(s);
@@ -142,5 +175,6 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
   memset(p->v, 0, sizeof(double) * 3 * (size_t)p->n);
   free(u_save);
   free(broken_save);
+  free(s0_save);
   return rc;
 }

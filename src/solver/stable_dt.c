@@ -1,5 +1,6 @@
 /* Stable time step estimate (docs/model_reference.md 13.2; Ongaro 2022 eqs. 1.105-1.108). */
 #include <math.h>
+#include "peri/comm.h"
 #include "peri/constants.h"
 #include "peri/solver.h"
 #include "model/bond_kernel.h"
@@ -53,5 +54,11 @@ double peri_stable_dt(const peri_sim *s) {
     double M = peri_pwave_modulus(&s->disc.geom, mat->E, mat->nu, mat->K, mat->mu);
     dt_cfl = fmin(dt_cfl, s->disc.geom.spacing / sqrt(M / mat->density));
   }
-  return fmin(dt_bond, dt_cfl);
+  /* On MPI ranks each rank sees only its owned nodes: the minimum over every rank is the
+   * single-process value (each node's bound is computed from its family in the global order,
+   * and a minimum is exact), and every rank must step with the same dt (a dynamic phase
+   * decides its arrest from the step count: different counts leave ranks in different
+   * collectives). Before the decomposition every rank holds the whole problem. */
+  const double dt = fmin(dt_bond, dt_cfl);
+  return s->par.dd ? peri_comm_min(dt) : dt;
 }

@@ -1,13 +1,17 @@
 # Helpers for the MPI command-line tests (tests/cli/mpi_*.sh). Sourced after assert.bash:
 #
 #   mpi_init                  # SKIP (exit 0) when peri was built without MPI
-#   run_peri_mpi N ARGS...    # mpirun -np N peri ARGS..., like run_peri
+#   run_peri_mpi N ARGS...    # mpirun -np N peri ARGS..., like run_peri; fails the test when
+#                             # it runs longer than MPI_TIMEOUT seconds (ranks that hang)
 #   compare_histories A B "$MPI_TOL"  # (lib/assert.bash) every value equal to a relative MPI_TOL
 #
 # The runs may start as root (containers) and on more ranks than cores (--oversubscribe);
 # each rank uses one OpenMP thread. These settings stay here, out of users' way.
 
 MPI_TOL=1e-12
+# a run that has not ended after this many seconds hangs (ranks waiting in different
+# collectives): the test fails instead of waiting for ctest's limit
+MPI_TIMEOUT=${MPI_TIMEOUT:-300}
 
 mpi_init() {
   if ! "$PERI" --help 2>/dev/null | grep -q 'this build has MPI'; then
@@ -17,6 +21,9 @@ mpi_init() {
   command -v mpirun >/dev/null 2>&1 || fail "peri is built with MPI but mpirun is missing (scripts/install-deps)"
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
   export OMP_NUM_THREADS=1
+  # every collective call is checked for agreement between the ranks (docs/parallel.md): a
+  # branch taken differently on two ranks stops the run with a message instead of a hang
+  export PERI_CHECK_COLLECTIVES=${PERI_CHECK_COLLECTIVES:-1}
 }
 
 run_peri_mpi() {
@@ -24,8 +31,12 @@ run_peri_mpi() {
   shift
   RUN_CMD="mpirun -np $np peri $*"
   # waiting ranks yield the core: other tests (ctest -j) and ranks share few cores
-  mpirun --oversubscribe --mca mpi_yield_when_idle 1 -np "$np" "$PERI" "$@" >"$RUN_STDOUT" 2>"$RUN_STDERR" </dev/null
+  timeout -k 10 "$MPI_TIMEOUT" mpirun --oversubscribe --mca mpi_yield_when_idle 1 -np "$np" "$PERI" "$@" \
+    >"$RUN_STDOUT" 2>"$RUN_STDERR" </dev/null
   RUN_STATUS=$?
+  if [[ $RUN_STATUS -eq 124 || $RUN_STATUS -eq 137 ]]; then
+    fail "no end after $MPI_TIMEOUT s on $np ranks: the ranks hang (PERI_CHECK_COLLECTIVES=1 shows where they part)"
+  fi
   return 0
 }
 
