@@ -11,8 +11,8 @@
 #include "peri/sim.h"
 #include "quiet.h"
 
-static char work_dir[64];       /* the output directory: empty, so no rows or frames are kept */
-static char checkpoint_path[96];
+static char work_dir[256];      /* the output directory: empty, so no rows or frames are kept */
+static char checkpoint_path[288];
 static const char *deck_path;
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
@@ -22,7 +22,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv) {
   deck_path = getenv("PERI_FUZZ_CHECKPOINT_DECK");
   if (!deck_path) deck_path = PERI_FUZZ_CHECKPOINT_DECK; /* the source tree's copy */
   const char *dir = getenv("TMPDIR");
-  snprintf(work_dir, sizeof work_dir, "%s/peri-fuzz-ckpt-XXXXXX", dir && strlen(dir) < 30 ? dir : "/tmp");
+  snprintf(work_dir, sizeof work_dir, "%s/peri-fuzz-ckpt-XXXXXX", dir && strlen(dir) < 200 ? dir : "/tmp");
   if (!mkdtemp(work_dir)) abort();
   snprintf(checkpoint_path, sizeof checkpoint_path, "%s/input.h5", work_dir);
   return 0;

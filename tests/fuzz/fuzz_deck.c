@@ -19,7 +19,7 @@
 enum { MAX_NODES = 5000 };
 static const double MAX_BONDS = 5.0e5;
 
-static char deck_path[64];
+static char deck_path[256];
 
 /* Quiet library (errors go to stderr on every rejected deck) and one deck file reused for
  * every input. */
@@ -28,7 +28,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv) {
   (void)argv;
   silence_library();
   const char *dir = getenv("TMPDIR");
-  snprintf(deck_path, sizeof deck_path, "%s/peri-fuzz-deck-XXXXXX.yaml", dir && strlen(dir) < 30 ? dir : "/tmp");
+  snprintf(deck_path, sizeof deck_path, "%s/peri-fuzz-deck-XXXXXX.yaml", dir && strlen(dir) < 200 ? dir : "/tmp");
   int fd = mkstemps(deck_path, 5);
   if (fd < 0) abort();
   close(fd);

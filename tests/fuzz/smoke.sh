@@ -17,6 +17,8 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 work=$(mktemp -d "${TMPDIR:-/tmp}/peri-fuzz-smoke.XXXXXX") || exit 1
 trap 'rm -rf -- "$work"' EXIT
 mkdir -p "$work/corpus" "$work/artifacts"
+# the targets write their deck or checkpoint file under TMPDIR: removed with the rest
+export TMPDIR="$work"
 
 # one thread: the bond loops would otherwise take every core for tiny problems
 export OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive
