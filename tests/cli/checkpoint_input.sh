@@ -9,10 +9,7 @@
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
 cli_init "$@"
-if ! "$PERI" check "$DECKS/restart_heat.yaml" >/dev/null 2>&1; then
-  echo "SKIP: $CLI_NAME: peri was built without HDF5 (checkpoints need it: scripts/install-deps)"
-  exit 0
-fi
+skip_without_checkpoints
 PY=""
 for candidate in python3 /usr/bin/python3; do
   if command -v "$candidate" >/dev/null && "$candidate" -c 'import h5py' 2>/dev/null; then

@@ -10,10 +10,7 @@
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
 cli_init "$@"
-if ! "$PERI" check "$DECKS/restart_heat.yaml" >/dev/null 2>&1; then
-  echo "SKIP: $CLI_NAME: peri was built without HDF5 (checkpoints need it: scripts/install-deps)"
-  exit 0
-fi
+skip_without_checkpoints
 every=(--set output.checkpoint_every=50 --set 'output.checkpoint_file=checkpoint_{step}.h5')
 
 # the run without trouble, for comparison

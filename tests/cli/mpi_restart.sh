@@ -20,10 +20,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
 source "$(dirname "${BASH_SOURCE[0]}")/lib/mpi.bash"
 cli_init "$@"
 mpi_init
-if ! "$PERI" check "$DECKS/restart_heat.yaml" >/dev/null 2>&1; then
-  echo "SKIP: $CLI_NAME: peri was built without HDF5 (checkpoints need it: scripts/install-deps)"
-  exit 0
-fi
+skip_without_checkpoints
 command -v h5dump >/dev/null || fail "h5dump is needed (Debian package hdf5-tools, see scripts/install-deps)"
 
 every=(--set output.checkpoint_every=50 --set 'output.checkpoint_file=checkpoint_{step}.h5')

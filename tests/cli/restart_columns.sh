@@ -9,10 +9,7 @@
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
 cli_init "$@"
-if ! "$PERI" check "$DECKS/restart_heat.yaml" >/dev/null 2>&1; then
-  echo "SKIP: $CLI_NAME: peri was built without HDF5 (checkpoints need it: scripts/install-deps)"
-  exit 0
-fi
+skip_without_checkpoints
 every=(--set output.checkpoint_every=50 --set 'output.checkpoint_file=checkpoint_{step}.h5')
 run_peri run "$DECKS/plate_pmb.yaml" --quiet --output "$TMP/run" "${every[@]}" --set solver.steps=100
 expect_status 0

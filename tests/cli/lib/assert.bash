@@ -186,3 +186,12 @@ compare_histories() {
       if (rows_a != rows_b) { printf "%s has %d lines, %s has %d\n", fa, rows_a, fb, rows_b; exit 1 }
     }' "$1" "$2"
 }
+
+# Ends the test as skipped (status 0, a SKIP line) when peri was built without HDF5: the
+# deck with output.checkpoint_every is then refused, and checkpoints cannot be tested.
+skip_without_checkpoints() {
+  if ! "$PERI" check "$DECKS/restart_heat.yaml" >/dev/null 2>&1; then
+    echo "SKIP: $CLI_NAME: peri was built without HDF5 (checkpoints need it: scripts/install-deps)"
+    exit 0
+  fi
+}
