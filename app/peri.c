@@ -5,6 +5,7 @@
 #include <string.h>
 #include <time.h>
 #include "peri/checkpoint.h"
+#include "peri/clock.h"
 #include "peri/comm.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
@@ -63,12 +64,6 @@ static void usage(FILE *out) {
           "this build has no MPI: install libopenmpi-dev and rebuild"
 #endif
   );
-}
-
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
 /* Runs the solver of a built simulation without output. */
@@ -169,12 +164,12 @@ static int sweep(const char *deck, int n_sets, const char **sets, int n_lists, s
         all[n_sets + l] = owned[l];
       }
       peri_sim s;
-      double t0 = now();
+      double t0 = peri_seconds();
       rc = peri_sim_from_deck_with(&s, deck, n_all, all);
       if (rc == PERI_OK && pass == 1) {
         s.out.quiet = true;
         rc = solve_quietly(&s);
-        double t1 = now();
+        double t1 = peri_seconds();
         printf("|");
         for (int l = 0; l < n_lists; ++l) printf(" %s |", lists[l].values[v]);
         for (int q = 0; q < n_q && rc == PERI_OK; ++q) {

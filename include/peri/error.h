@@ -1,6 +1,7 @@
 /* Error reporting and exit statuses shared by the library and the program. */
 #ifndef PERI_ERROR_H
 #define PERI_ERROR_H
+#include <stdarg.h>
 #include <stddef.h>
 
 /* Status codes returned by library functions; they are also the program's exit codes. */
@@ -17,6 +18,9 @@ void peri_warning(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* Prints "<file>:<line>:<col>: error: <message>" on stderr (line/col 1-based). */
 void peri_error_at(const char *file, int line, int col, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
+
+/* The text of a printf-style format and its arguments, allocated (free it). */
+char *peri_vformat(const char *fmt, va_list ap);
 
 /* Allocation that aborts the run with a message instead of returning NULL. */
 void *peri_malloc(size_t bytes);

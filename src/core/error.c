@@ -23,18 +23,22 @@ static void write_escaped(FILE *stream, const char *text) {
   }
 }
 
-static void vwrite_escaped(const char *fmt, va_list ap) {
+char *peri_vformat(const char *fmt, va_list ap) {
   va_list copy;
   va_copy(copy, ap);
   int length = vsnprintf(NULL, 0, fmt, copy);
   va_end(copy);
-  char stack[512];
-  char *text = length >= 0 && (size_t)length < sizeof stack ? stack : NULL;
-  if (!text && length >= 0) text = malloc((size_t)length + 1);
-  if (text) vsnprintf(text, (size_t)length + 1, fmt, ap);
-  write_escaped(stderr, text ? text : fmt);
+  if (length < 0) length = 0;
+  char *text = peri_malloc((size_t)length + 1);
+  vsnprintf(text, (size_t)length + 1, fmt, ap);
+  return text;
+}
+
+static void vwrite_escaped(const char *fmt, va_list ap) {
+  char *text = peri_vformat(fmt, ap);
+  write_escaped(stderr, text);
   fputc('\n', stderr);
-  if (text != stack) free(text);
+  free(text);
 }
 
 static void vreport(const char *kind, const char *fmt, va_list ap) {

@@ -97,12 +97,7 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
   }
   double origin[3];
   if (!grid_origin(g, true, origin)) return -1;
-  double scanned = 0;
-  for (int s = 0; s < g->n_fill; s++) {
-    int64_t kmin[3], kmax[3];
-    scanned += shape_range(g, s, origin, kmin, kmax);
-  }
-  if (!(scanned <= 4.0 * INT32_MAX)) {
+  if (!(peri_grid_points_bound(g) <= 4.0 * INT32_MAX)) {
     peri_error("grid: spacing %g over the fill shapes' bounding boxes would exceed 2^31 nodes", dx);
     return -1;
   }

@@ -140,7 +140,7 @@ int peri_checkpoint_check_names(const peri_sim *s, const peri_node *root) {
   for (int k = 0; k < n; ++k) {
     bool same = collide(checkpoint, files[k].pattern);
     if (!same && !strchr(checkpoint, '#') && !strchr(files[k].pattern, '#')) {
-      /* the same file under another name (a hard link) */
+      /* the same file under another name (a symbolic link to it) */
       char real_a[PATH_MAX], real_b[PATH_MAX];
       same = realpath(checkpoint, real_a) && realpath(files[k].pattern, real_b) && !strcmp(real_a, real_b);
     }

@@ -36,21 +36,10 @@ static const deck_node *hidden(const peri_node *node) { return (const deck_node 
 
 /* ---- messages ---------------------------------------------------------------------- */
 
-static char *vformat(const char *fmt, va_list ap) {
-  va_list copy;
-  va_copy(copy, ap);
-  int length = vsnprintf(NULL, 0, fmt, copy);
-  va_end(copy);
-  if (length < 0) length = 0;
-  char *text = peri_malloc((size_t)length + 1);
-  vsnprintf(text, (size_t)length + 1, fmt, ap);
-  return text;
-}
-
 int peri_deck_error(const peri_node *at, const char *fmt, ...) {
   va_list ap;
   va_start(ap, fmt);
-  char *message = vformat(fmt, ap);
+  char *message = peri_vformat(fmt, ap);
   va_end(ap);
   if (at)
     peri_error_at(at->file, at->line, at->col, "%s", message);

@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include "peri/checkpoint.h"
 #include "peri/checkpoint_schedule.h"
+#include "peri/clock.h"
 #include "peri/comm.h"
 #include "peri/damage.h"
 #include "peri/decompose.h"
@@ -21,12 +22,6 @@
 #include "peri/output.h"
 #include "peri/run.h"
 #include "peri/thermal.h"
-
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 typedef struct heat_ctx {
   peri_frames *frames;
@@ -86,7 +81,7 @@ int peri_run_heat(peri_sim *s) {
     if (rc == PERI_OK) rc = write_history(s, &c);
   }
   rc = peri_comm_max_int(rc); /* every rank starts, or none */
-  const double t_start = now();
+  const double t_start = peri_seconds();
   const long first_step = s->state.step; /* a restart's checkpoint, else 0 */
   double t_last = t_start;
   for (long step = s->state.step; step < s->solver.steps && rc == PERI_OK; ++step) {
@@ -102,7 +97,7 @@ int peri_run_heat(peri_sim *s) {
     const peri_checkpoint_progress done = {peri_frames_written(c.frames), c.log.rows};
     if (rc == PERI_OK) rc = peri_checkpoint_after_step(s, &done); /* docs/restart.md */
     if (progress) {
-      double t = now();
+      double t = peri_seconds();
       if (t - t_last > 0.5 && t - t_start > 1.0) {
         double rate = (s->state.step - first_step) / (t - t_start);
         fprintf(stderr, "\r  step %ld/%ld  t = %.4g s  %.0f steps/s  eta %.0f s   ", s->state.step, s->solver.steps, s->state.time,
@@ -111,7 +106,7 @@ int peri_run_heat(peri_sim *s) {
       }
     }
   }
-  const double wall = now() - t_start;
+  const double wall = peri_seconds() - t_start;
   if (progress) fprintf(stderr, "\r%80s\r", "");
   char picture[4300] = "", plot[4400] = "";
   /* drawn even when the run failed: the curve so far */

@@ -7,6 +7,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "peri/checkpoint_schedule.h"
+#include "peri/clock.h"
 #include "peri/comm.h"
 #include "peri/checkpoint.h"
 #include "peri/damage.h"
@@ -24,12 +25,6 @@
 #include "peri/quasistatic.h"
 #include "peri/stress.h"
 #include "peri/thermal.h"
-
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 typedef struct run_ctx {
   peri_frames *frames;
@@ -120,7 +115,7 @@ static int step_hook(peri_sim *s, void *ctx) {
     return 1;
   }
   if (c->progress) {
-    double t = now();
+    double t = peri_seconds();
     if (t - c->t_last_progress > 0.5 && t - c->t_start > 1.0) {
       double rate = (s->state.step - c->first_step) / (t - c->t_start);
       fprintf(stderr, "\r  step %ld/%ld  t = %.4g s  %.0f steps/s  eta %.0f s   ", s->state.step, s->solver.steps,
@@ -156,12 +151,12 @@ int peri_run(peri_sim *s) {
     s->state.forces_current = !peri_is_quasi_static(s);
   }
   rc = peri_comm_max_int(rc);
-  c.t_start = c.t_last_progress = now();
+  c.t_start = c.t_last_progress = peri_seconds();
   c.first_step = s->state.step;
   if (rc == PERI_OK)
     rc = peri_is_quasi_static(s) ? peri_solve_quasi_static(s, step_hook, &c) : peri_solve_explicit(s, step_hook, &c);
   if (c.failed) rc = PERI_ERR_RUN;
-  double wall = now() - c.t_start;
+  double wall = peri_seconds() - c.t_start;
   if (c.progress) fprintf(stderr, "\r%80s\r", "");
   char picture[4300] = "", plot[4400] = "";
   /* drawn even when the run failed: the curve so far */

@@ -24,10 +24,8 @@ peri_qs_status peri_solve_adr(peri_sim *s) {
 
   peri_qs_forces(s);
   double res = peri_qs_residual(s, r);
-  peri_qs_status status = PERI_QS_NOT_CONVERGED;
+  peri_qs_status status = peri_qs_status_of(s, res); /* diverged: the loads or the start are not finite */
   long it = 0;
-  if (!isfinite(res)) status = PERI_QS_DIVERGED; /* the loads or the start are not finite */
-  else if (res <= q->tolerance) status = PERI_QS_CONVERGED;
   /* first half step: U'^(1/2) = Lambda^-1 F^0 / 2 */
   for (; status == PERI_QS_NOT_CONVERGED && it < q->max_iterations; ++it) {
     double c = 0.0;
@@ -61,8 +59,7 @@ peri_qs_status peri_solve_adr(peri_sim *s) {
     r = swap;
     peri_qs_forces(s);
     res = peri_qs_residual(s, r);
-    if (!isfinite(res)) status = PERI_QS_DIVERGED;
-    else if (res <= q->tolerance) status = PERI_QS_CONVERGED;
+    status = peri_qs_status_of(s, res);
   }
   q->iterations += it;
   q->residual = res;

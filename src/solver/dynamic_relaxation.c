@@ -54,8 +54,7 @@ peri_qs_status peri_solve_dynamic_relaxation(peri_sim *s) {
   peri_qs_forces(s);
   double res = peri_qs_residual(s, r);
   for (size_t k = 0; k < n3; ++k) acc[k] = r[k] * inv_rho[k / 3];
-  peri_qs_status status = res <= q->tolerance ? PERI_QS_CONVERGED : PERI_QS_NOT_CONVERGED;
-  if (!isfinite(res)) status = PERI_QS_DIVERGED; /* the loads or the start are not finite */
+  peri_qs_status status = peri_qs_status_of(s, res); /* diverged: the loads or the start are not finite */
   long it = 0;
   const int dim = s->disc.geom.dim;
   for (; status == PERI_QS_NOT_CONVERGED && it < q->max_iterations; ++it) {
@@ -82,8 +81,7 @@ peri_qs_status peri_solve_dynamic_relaxation(peri_sim *s) {
         acc[k] = (r[k] + (fd ? fd[k] : 0.0)) * inv_rho[i] - gamma * vel[k];
         vel[k] += 0.5 * dt * acc[k];
       }
-    if (!isfinite(res)) status = PERI_QS_DIVERGED;
-    else if (res <= q->tolerance) status = PERI_QS_CONVERGED;
+    status = peri_qs_status_of(s, res);
   }
   free(acc);
   q->iterations += it;

@@ -88,8 +88,7 @@ peri_qs_status peri_solve_nlcg(peri_sim *s) {
   const double dx = s->disc.geom.spacing;
   const int jmax = 5;
   double res = evaluate(&w);
-  peri_qs_status status = res <= q->tolerance ? PERI_QS_CONVERGED : PERI_QS_NOT_CONVERGED;
-  if (!isfinite(res)) status = PERI_QS_DIVERGED; /* the loads or the start are not finite */
+  peri_qs_status status = peri_qs_status_of(s, res); /* diverged: the loads or the start are not finite */
   for (size_t k = 0; k < n3; ++k) z[k] = pre[k] * w.vr[k];
   memcpy(d, z, sizeof(double) * n3);
   double delta_new = peri_qs_dot(s, w.vr, z, 3);

@@ -104,3 +104,8 @@ double peri_qs_residual(const peri_sim *s, double *r) {
   if (!(scale > 0.0)) return res > 0.0 ? 1.0 : 0.0;
   return sqrt(res) / scale;
 }
+
+peri_qs_status peri_qs_status_of(const peri_sim *s, double residual) {
+  if (!isfinite(residual)) return PERI_QS_DIVERGED;
+  return residual <= s->solver.qs.tolerance ? PERI_QS_CONVERGED : PERI_QS_NOT_CONVERGED;
+}
