@@ -18,5 +18,14 @@ long peri_frames_written(const peri_frames *f);
 /* Writes <directory>/<field>.png of the picture field; its path into path_out. */
 int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n);
 void peri_frames_close(peri_frames *f);
+/* Components of a frame field in this simulation: 1, 3 or 9, and 0 for a field it does not
+ * have (dilatation without LPS, temperature and heat_flux without heat). */
+int peri_frame_field_components(const peri_sim *s, const char *name);
+/* The SI unit of a frame field ("1" for a dimensionless one, "" for a number such as the
+ * material index), docs/deck.md section 15. */
+const char *peri_frame_field_unit(const char *name);
+/* Each history.csv row of the run (output.format exodus: the file's global variables at the
+ * frame of the same time). */
+void peri_frames_history(peri_frames *f, const double *row);
 
 #endif

@@ -14,4 +14,8 @@ void peri_history_columns_free(char **names, int count);
 /* Whether history.csv has a column of that name. */
 bool peri_history_has_column(const peri_sim *s, const char *name);
 
+/* The SI unit of a history.csv column ("1" for a ratio or a count), NULL for a name that is
+ * not a column of peri's (history_units.csv, plot axes). */
+const char *peri_history_unit(const char *column);
+
 #endif

@@ -31,6 +31,7 @@ typedef struct peri_history_log {
   int n_columns;
   long rows;                 /* rows recorded (a checkpoint records it) */
   peri_plot_series plot;     /* the columns of output.plot */
+  struct peri_frames *frames; /* receives each row (the Exodus file's global variables), or NULL */
 } peri_history_log;
 
 /* Opens <directory>/history.csv on rank 0 and the plot series; PERI_OK or PERI_ERR_RUN

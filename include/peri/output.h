@@ -6,7 +6,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
-/* A named per-node field: ncomp = 1 (scalar) or 3 (vector, stride 3). Exactly one of
+/* A named per-node field: ncomp = 1 (scalar), 3 (vector, stride 3) or 9 (tensor). Exactly one of
  * data / idata is set (idata: int32 per node, written as Int32). */
 typedef struct peri_field {
   const char *name;
@@ -21,6 +21,10 @@ typedef struct peri_field {
  * message naming the path. */
 int peri_vtu_write(const char *path, int32_t n, const double *points,
                    const peri_field *fields, int n_fields, bool compress);
+
+/* The same with the frame's time as the FieldData array TimeValue (NaN: none). */
+int peri_vtu_write_at(const char *path, double time, int32_t n, const double *points,
+                      const peri_field *fields, int n_fields, bool compress);
 
 /* A parallel VTU index (.pvtu) of the pieces written by the ranks of a distributed run
  * (`pieces`: .vtu paths relative to the .pvtu; `fields`: names and types, no data needed). */
@@ -43,6 +47,10 @@ peri_history *peri_history_open(const char *path, int n_columns, const char *con
  * the array), whether or not the file opened. */
 peri_history *peri_history_open_in(const char *directory, int n_columns, char **names);
 int peri_history_write(peri_history *h, const double *values);
+/* <directory>/history_units.csv beside history.csv: the same header line, then one line with
+ * the unit of each column, so that readers of history.csv are unchanged. Returns 0 or
+ * PERI_ERR_RUN with a message. */
+int peri_history_units_write(const char *directory, int n_columns, char *const *names, const char *const *units);
 void peri_history_close(peri_history *h);
 
 /* PNG picture of a scalar field on a 2D node cloud (x,y of `points`, [3n]): each node a
@@ -53,6 +61,16 @@ void peri_history_close(peri_history *h);
 int peri_png_write_field(const char *path, int32_t n, const double *points,
                          const double *values, double vmin, double vmax, double dot,
                          int width_px, const char *title);
+
+/* The same with axes: a frame around the node cloud with ticks and values in model units, the
+ * axis labels (e.g. "x [m]"), ticks at round values on the colour bar and the value's name
+ * and unit under it (e.g. "damage [1]"). NULL axes: as peri_png_write_field. */
+typedef struct peri_png_axes {
+  const char *x_label, *y_label, *value_label;
+} peri_png_axes;
+int peri_png_write_field_axes(const char *path, int32_t n, const double *points, const double *values,
+                              double vmin, double vmax, double dot, int width_px, const char *title,
+                              const peri_png_axes *axes);
 
 /* Creates a directory and its parents (like mkdir -p). Returns 0 or PERI_ERR_RUN. */
 int peri_mkdir_p(const char *path);

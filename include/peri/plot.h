@@ -10,4 +10,7 @@
 int peri_plot_write(const char *path, const double *x, const double *y, size_t n, const char *xlabel,
                     const char *ylabel, const char *title, int width, int height);
 
+/* A tick step of 1, 2 or 5 times a power of ten giving about `want` intervals of span. */
+double peri_plot_nice_step(double span, int want);
+
 #endif

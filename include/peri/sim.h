@@ -110,6 +110,11 @@ typedef struct peri_output {
   long checkpoint_every;        /* steps between checkpoints (0: none; docs/restart.md) */
   char *checkpoint_file;        /* checkpoint path, "{step}" = step number (NULL: <basename>.h5) */
   bool quiet;                   /* no summary and no progress line */
+  bool vtu, exodus;             /* output.format: the VTU series, the Exodus II file (docs/output.md) */
+  int picture_normal;           /* 3D pictures: axis normal to the picture plane (0 x, 1 y, 2 z) */
+  bool picture_projection;      /* 3D pictures: every node seen along the normal (else a slice) */
+  bool picture_at_given;        /* 3D slice: at picture_at (else the middle of the body) */
+  double picture_at;
 } peri_output;
 
 /* The discretization: geometry, nodes, bonds and the bond loops' work items. */

@@ -120,6 +120,8 @@ int peri_checkpoint_check_names(const peri_sim *s, const peri_node *root) {
   } while (0)
   ADD("the run's history.csv", "history.csv");
   ADD("the run's .pvd", "%s.pvd", o->basename);
+  ADD("the run's history_units.csv", "history_units.csv");
+  if (o->exodus) ADD("the run's Exodus file", "%s.e", o->basename);
   ADD("a frame of the run", "%s_#.vtu", o->basename);
   ADD("a frame of the run", "%s_#.pvtu", o->basename);
   ADD("a frame piece of the run", "%s_#_#.vtu", o->basename);

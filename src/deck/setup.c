@@ -654,7 +654,7 @@ static int parse_output(parse_ctx *c) {
   const peri_node *it = peri_deck_get(c->root, "output");
   static const char *const keys[] = {"directory", "every", "frames", "fields", "compress",
                                      "history_every", "picture", "plot", "checkpoint_every",
-                                     "checkpoint_file", NULL};
+                                     "checkpoint_file", "format", NULL};
   /* defaults */
   const char *base = strrchr(s->deck_path, '/');
   base = base ? base + 1 : s->deck_path;
@@ -662,7 +662,9 @@ static int parse_output(parse_ctx *c) {
   char *dot = strrchr(o->basename, '.');
   if (dot) *dot = '\0';
   o->compress = true;
-  o->picture = s->disc.geom.dim == 2;
+  o->picture = s->disc.geom.dim >= 2; /* 3D: a slice through the middle (docs/output.md) */
+  o->picture_normal = 2;
+  o->vtu = true;
   o->picture_field = peri_strdup("damage");
   o->picture_width = 1200;
   long every = -1, frames = -1, history_every = -1;
@@ -674,6 +676,7 @@ static int parse_output(parse_ctx *c) {
     TRY(peri_deck_int(it, "frames", false, &frames));
     TRY(peri_deck_int(it, "history_every", false, &history_every));
     TRY(peri_deck_bool(it, "compress", false, &o->compress));
+    TRY(peri_output_format_parse(s, it)); /* output.format (src/deck/output_keys.c) */
     if (every >= 0 && frames >= 0) return peri_deck_error(it, "output: give only one of 'every' or 'frames'");
     if (peri_deck_get(it, "every") && every < 1) return peri_deck_error(peri_deck_get(it, "every"), "key 'every': must be >= 1");
     if (peri_deck_get(it, "frames") && frames < 0) return peri_deck_error(peri_deck_get(it, "frames"), "key 'frames': must be >= 0");
@@ -710,7 +713,7 @@ static int parse_output(parse_ctx *c) {
     TRY(peri_checkpoint_parse(s, it)); /* output.checkpoint_* (src/deck/checkpoint_keys.c) */
     const peri_node *pic = peri_deck_get(it, "picture");
     if (pic && pic->kind == PERI_NODE_MAPPING) {
-      static const char *const pkeys[] = {"field", "width", NULL};
+      static const char *const pkeys[] = {"field", "width", "view", "normal", "at", NULL};
       TRY(peri_deck_allow(pic, "output.picture", pkeys));
       int which = 3;
       TRY(peri_deck_choice(pic, "field", false, peri_frame_fields, &which));
@@ -724,12 +727,13 @@ static int parse_output(parse_ctx *c) {
       if (width < 64 || width > 10000) return peri_deck_error(peri_deck_get(pic, "width"), "key 'width': must be in 64..10000 pixels");
       o->picture_width = (int)width;
       o->picture = true;
+      TRY(peri_picture_view_parse(s, pic)); /* output.picture view, normal, at (src/deck/output_keys.c) */
     } else if (pic) {
       TRY(peri_deck_bool(it, "picture", false, &o->picture));
     }
-    if (o->picture && s->disc.geom.dim != 2) {
+    if (o->picture && s->disc.geom.dim < 2) {
       const peri_node *at = pic ? pic : it;
-      return peri_deck_error(at, "key 'picture': pictures are drawn for 2D problems only");
+      return peri_deck_error(at, "key 'picture': pictures are drawn for 2D and 3D problems only");
     }
   }
   if (!o->fields) {

@@ -25,4 +25,10 @@ int peri_setup_thermal(peri_sim *s, const peri_node *root);
 int peri_setup_find_region(const peri_sim *s, const peri_node *regions, const peri_node *at,
                            const char *name);
 
+/* output.format: vtu (default), exodus or both; exodus is an error at the key in a peri built
+ * without the Exodus II library (output_keys.c). */
+int peri_output_format_parse(peri_sim *s, const peri_node *output);
+/* output.picture's view, normal and at (3D only; output_keys.c). */
+int peri_picture_view_parse(peri_sim *s, const peri_node *picture);
+
 #endif

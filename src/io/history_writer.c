@@ -3,6 +3,7 @@
 #define _POSIX_C_SOURCE 200809L
 #endif
 #include <errno.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -91,4 +92,30 @@ peri_history *peri_history_open_in(const char *directory, int n_columns, char **
   for (int j = 0; j < n_columns; ++j) free(names[j]);
   free(names);
   return h;
+}
+
+int peri_history_units_write(const char *directory, int n_columns, char *const *names, const char *const *units) {
+  size_t len = strlen(directory) + sizeof "/history_units.csv";
+  char *path = peri_malloc(len);
+  snprintf(path, len, "%s/history_units.csv", directory);
+  FILE *out = fopen(path, "w");
+  if (!out) {
+    peri_error("cannot write '%s': %s", path, strerror(errno));
+    free(path);
+    return PERI_ERR_RUN;
+  }
+  errno = 0;
+  for (int row = 0; row < 2; ++row) {
+    for (int c = 0; c < n_columns; c++) {
+      if (c > 0) fputc(',', out);
+      csv_name_write(out, row == 0 ? names[c] : units[c]);
+    }
+    fputc('\n', out);
+  }
+  bool failed = ferror(out) != 0;
+  int saved = errno;
+  if (fclose(out) != 0 && !failed) failed = true, saved = errno;
+  if (failed) peri_error("cannot write '%s': %s", path, strerror(saved ? saved : EIO));
+  free(path);
+  return failed ? PERI_ERR_RUN : PERI_OK;
 }

@@ -11,8 +11,8 @@
 #include "peri/error.h"
 #include "peri/plot.h"
 
-/* A tick step of 1, 2 or 5 times a power of ten giving about `want` intervals. */
-static double nice_step(double span, int want) {
+double peri_plot_nice_step(double span, int want) {
+  if (!(span > 0.0) || !isfinite(span) || want < 1) return 0.0; /* no ticks */
   double raw = span / want, p = pow(10.0, floor(log10(raw))), f = raw / p;
   return (f < 1.5 ? 1.0 : f < 3.5 ? 2.0 : f < 7.5 ? 5.0 : 10.0) * p;
 }
@@ -54,7 +54,7 @@ int peri_plot_write(const char *path, const double *x, const double *y, size_t n
   char label[64];
   /* grid, ticks and tick labels */
   cairo_set_line_width(cr, 1.0);
-  double sx = nice_step(x1 - x0, 6), sy = nice_step(y1 - y0, 6);
+  double sx = peri_plot_nice_step(x1 - x0, 6), sy = peri_plot_nice_step(y1 - y0, 6);
   for (double t = ceil(x0 / sx) * sx; t <= x1 + 1e-9 * sx; t += sx) {
     double v = fabs(t) < 1e-9 * sx ? 0.0 : t;
     cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);

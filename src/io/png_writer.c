@@ -1,7 +1,9 @@
 /* PNG picture of a scalar field on a 2D node cloud, drawn with cairo.
  *
  * Layout, top to bottom: margin, title, plot (node cloud at a uniform scale, y up), gap,
- * horizontal colour bar, min/max labels, margin. */
+ * horizontal colour bar, min/max labels, margin. With axes (peri_png_write_field_axes): the
+ * plot has a frame with ticks and labelled axes on its left and bottom, and the colour bar
+ * ticks at round values and the name and unit of the value below it. */
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L
 #endif
@@ -13,6 +15,7 @@
 #include <string.h>
 #include "peri/error.h"
 #include "peri/output.h"
+#include "peri/plot.h"
 
 /* Matplotlib's viridis (lib/matplotlib/_cm_listed.py, _viridis_data; CC0, by Smith, van der
  * Walt and Firing), every 16th of its 256 entries plus the last, interpolated linearly in
@@ -83,10 +86,13 @@ typedef struct layout {
   double xmin, ymax;                     /* model point drawn at (plot_x, plot_y) */
   double bar_x, bar_y, bar_w, bar_h;
   double label_baseline;
+  bool axes;
+  double extent_x, extent_y;             /* model extent drawn (with the half-dot pad) */
+  double value_label_baseline;
 } layout;
 
-static layout compute_layout(int32_t n, const double *points, double dot, int width_px) {
-  layout L = {.width = width_px};
+static layout compute_layout(int32_t n, const double *points, double dot, int width_px, bool axes) {
+  layout L = {.width = width_px, .axes = axes};
   double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
   for (int32_t i = 0; i < n; i++) {
     double x = points[3 * i], y = points[3 * i + 1];
@@ -108,7 +114,11 @@ static layout compute_layout(int32_t n, const double *points, double dot, int wi
   double bar_h = fmax(6.0, L.font_size);
   double label_h = 1.5 * L.font_size;
 
-  L.plot_w = fmax(1.0, width_px - 2 * L.margin);
+  /* axes: tick labels and the rotated axis label on the left, tick labels and the axis label
+   * below, and a line for the value's name under the colour bar's labels */
+  const double axis_left = axes ? 6.5 * L.font_size : 0.0, axis_below = axes ? 3.2 * L.font_size : 0.0;
+  if (axes) label_h += 1.6 * L.font_size;
+  L.plot_w = fmax(1.0, width_px - 2 * L.margin - axis_left);
   /* Uniform scale; a very tall cloud is capped at 4 widths and centred horizontally. */
   double max_plot_h = 4.0 * L.plot_w;
   if (extent_x > 0)
@@ -119,15 +129,18 @@ static layout compute_layout(int32_t n, const double *points, double dot, int wi
   L.plot_h = fmax(1.0, ceil(extent_y * L.scale));
 
   L.title_baseline = L.margin + 1.2 * L.font_size;
-  L.plot_x = L.margin + (L.plot_w - extent_x * L.scale) / 2;
+  L.plot_x = L.margin + axis_left + (L.plot_w - extent_x * L.scale) / 2;
   L.plot_y = L.margin + title_h + (L.plot_h - extent_y * L.scale) / 2;
   L.xmin = xmin;
   L.ymax = ymax;
-  L.bar_x = L.margin;
+  L.extent_x = extent_x;
+  L.extent_y = extent_y;
+  L.bar_x = L.margin + axis_left;
   L.bar_w = L.plot_w;
-  L.bar_y = L.margin + title_h + L.plot_h + gap;
+  L.bar_y = L.margin + title_h + L.plot_h + axis_below + gap;
   L.bar_h = bar_h;
   L.label_baseline = L.bar_y + bar_h + 1.2 * L.font_size;
+  L.value_label_baseline = L.label_baseline + 1.6 * L.font_size;
   L.height = (int)ceil(L.bar_y + bar_h + label_h + L.margin);
   return L;
 }
@@ -198,6 +211,21 @@ static void draw_colour_bar(cairo_t *cr, const layout *L, double vmin, double vm
 
   char label[64];
   cairo_text_extents_t ext;
+  if (L->axes) { /* ticks at round values, labels centred on them and kept inside the image */
+    const double step = peri_plot_nice_step(vmax - vmin, 5);
+    for (double t = ceil(vmin / step) * step; step > 0 && t <= vmax + 1e-9 * step; t += step) {
+      const double v = fabs(t) < 1e-9 * step ? 0.0 : t, x = L->bar_x + (v - vmin) / (vmax - vmin) * L->bar_w;
+      cairo_move_to(cr, x, L->bar_y + L->bar_h);
+      cairo_line_to(cr, x, L->bar_y + L->bar_h + 0.3 * L->font_size);
+      cairo_stroke(cr);
+      snprintf(label, sizeof label, "%.4g", v);
+      cairo_text_extents(cr, label, &ext);
+      double left = fmin(fmax(x - ext.x_advance / 2, 1.0), L->width - ext.x_advance - 1.0);
+      cairo_move_to(cr, left, L->label_baseline + 0.2 * L->font_size);
+      cairo_show_text(cr, label);
+    }
+    return;
+  }
   snprintf(label, sizeof label, "%.4g", vmin);
   cairo_move_to(cr, L->bar_x, L->label_baseline);
   cairo_show_text(cr, label);
@@ -205,6 +233,60 @@ static void draw_colour_bar(cairo_t *cr, const layout *L, double vmin, double vm
   cairo_text_extents(cr, label, &ext);
   cairo_move_to(cr, L->bar_x + L->bar_w - ext.x_advance, L->label_baseline);
   cairo_show_text(cr, label);
+}
+
+/* A frame around the drawn region, ticks at round model coordinates on its bottom and left
+ * edges with their values, the axis labels, and the value's name under the colour bar. */
+static void draw_axes(cairo_t *cr, const layout *L, const peri_png_axes *axes) {
+  const double x0 = L->plot_x, y0 = L->plot_y, w = L->extent_x * L->scale, h = L->extent_y * L->scale;
+  const double fs = L->font_size;
+  cairo_set_line_width(cr, 1);
+  cairo_rectangle(cr, x0, y0, w, h);
+  cairo_stroke(cr);
+  char label[64];
+  cairo_text_extents_t ext;
+  const double xmin = L->xmin, ymin = L->ymax - L->extent_y;
+  const int want_x = w > 12 * fs ? 5 : 2, want_y = h > 8 * fs ? 5 : 2;
+  const double sx = peri_plot_nice_step(L->extent_x, want_x), sy = peri_plot_nice_step(L->extent_y, want_y);
+  /* (a zero extent, a cloud on one line, has no ticks across it) */
+  for (double t = ceil(xmin / sx) * sx; sx > 0 && t <= xmin + L->extent_x + 1e-9 * sx; t += sx) {
+    const double v = fabs(t) < 1e-9 * sx ? 0.0 : t, x = x0 + (v - xmin) * L->scale;
+    cairo_move_to(cr, x, y0 + h);
+    cairo_line_to(cr, x, y0 + h + 0.3 * fs);
+    cairo_stroke(cr);
+    snprintf(label, sizeof label, "%.4g", v);
+    cairo_text_extents(cr, label, &ext);
+    cairo_move_to(cr, x - ext.x_advance / 2, y0 + h + 1.4 * fs);
+    cairo_show_text(cr, label);
+  }
+  for (double t = ceil(ymin / sy) * sy; sy > 0 && t <= ymin + L->extent_y + 1e-9 * sy; t += sy) {
+    const double v = fabs(t) < 1e-9 * sy ? 0.0 : t, y = y0 + (L->ymax - v) * L->scale;
+    cairo_move_to(cr, x0, y);
+    cairo_line_to(cr, x0 - 0.3 * fs, y);
+    cairo_stroke(cr);
+    snprintf(label, sizeof label, "%.4g", v);
+    cairo_text_extents(cr, label, &ext);
+    cairo_move_to(cr, x0 - ext.x_advance - 0.5 * fs, y + 0.35 * fs);
+    cairo_show_text(cr, label);
+  }
+  if (axes->x_label) {
+    cairo_text_extents(cr, axes->x_label, &ext);
+    cairo_move_to(cr, x0 + (w - ext.x_advance) / 2, y0 + h + 2.9 * fs);
+    cairo_show_text(cr, axes->x_label);
+  }
+  if (axes->y_label) {
+    cairo_save(cr);
+    cairo_text_extents(cr, axes->y_label, &ext);
+    cairo_move_to(cr, L->margin + 1.0 * fs, y0 + (h + ext.x_advance) / 2);
+    cairo_rotate(cr, -M_PI / 2);
+    cairo_show_text(cr, axes->y_label);
+    cairo_restore(cr);
+  }
+  if (axes->value_label) {
+    cairo_text_extents(cr, axes->value_label, &ext);
+    cairo_move_to(cr, L->bar_x + (L->bar_w - ext.x_advance) / 2, L->value_label_baseline);
+    cairo_show_text(cr, axes->value_label);
+  }
 }
 
 static void draw_title(cairo_t *cr, const layout *L, const char *title) {
@@ -252,13 +334,19 @@ static int save_png(cairo_surface_t *surface, const char *path) {
 int peri_png_write_field(const char *path, int32_t n, const double *points,
                          const double *values, double vmin, double vmax, double dot,
                          int width_px, const char *title) {
+  return peri_png_write_field_axes(path, n, points, values, vmin, vmax, dot, width_px, title, NULL);
+}
+
+int peri_png_write_field_axes(const char *path, int32_t n, const double *points, const double *values,
+                              double vmin, double vmax, double dot, int width_px, const char *title,
+                              const peri_png_axes *axes) {
   if (width_px < 1 || n < 0 || (n > 0 && (!points || !values))) {
     peri_error("cannot write '%s': invalid picture (width %d px, %d nodes)", path, width_px,
                (int)n);
     return PERI_ERR_RUN;
   }
   resolve_range(n, values, &vmin, &vmax);
-  layout L = compute_layout(n, points, dot, width_px);
+  layout L = compute_layout(n, points, dot, width_px, axes != NULL);
 
   cairo_surface_t *surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, L.width, L.height);
   if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
@@ -277,6 +365,7 @@ int peri_png_write_field(const char *path, int32_t n, const double *points,
   cairo_set_source_rgb(cr, 0, 0, 0);
   draw_title(cr, &L, title);
   draw_colour_bar(cr, &L, vmin, vmax);
+  if (axes) draw_axes(cr, &L, axes);
 
   cairo_status_t draw_status = cairo_status(cr);
   cairo_destroy(cr);

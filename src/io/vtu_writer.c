@@ -4,6 +4,7 @@
 #define _POSIX_C_SOURCE 200809L
 #endif
 #include <errno.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -134,7 +135,7 @@ static int write_cells(FILE *out, int32_t n, bool compress) {
   return status;
 }
 
-static int write_document(FILE *out, int32_t n, const double *points, const peri_field *fields,
+static int write_document(FILE *out, double time, int32_t n, const double *points, const peri_field *fields,
                           int n_fields, bool compress) {
   size_t count = (size_t)n;
   fputs("<?xml version=\"1.0\"?>\n", out);
@@ -144,6 +145,9 @@ static int write_document(FILE *out, int32_t n, const double *points, const peri
           host_is_little_endian() ? "LittleEndian" : "BigEndian",
           compress ? " compressor=\"vtkZLibDataCompressor\"" : "");
   fputs("  <UnstructuredGrid>\n", out);
+  if (isfinite(time)) /* the frame's time, which ParaView shows when the file is opened alone */
+    fprintf(out, "    <FieldData>\n      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
+                 "format=\"ascii\">%.17g</DataArray>\n    </FieldData>\n", time);
   fprintf(out, "    <Piece NumberOfPoints=\"%d\" NumberOfCells=\"%d\">\n", (int)n, (int)n);
 
   int status = 0;
@@ -197,6 +201,11 @@ static bool frame_is_valid(const char *path, int32_t n, const double *points,
 
 int peri_vtu_write(const char *path, int32_t n, const double *points,
                    const peri_field *fields, int n_fields, bool compress) {
+  return peri_vtu_write_at(path, NAN, n, points, fields, n_fields, compress);
+}
+
+int peri_vtu_write_at(const char *path, double time, int32_t n, const double *points,
+                      const peri_field *fields, int n_fields, bool compress) {
   if (!frame_is_valid(path, n, points, fields, n_fields)) return PERI_ERR_RUN;
 
   /* Written beside the target and renamed, so a reader never sees a half file. */
@@ -212,7 +221,7 @@ int peri_vtu_write(const char *path, int32_t n, const double *points,
     return PERI_ERR_RUN;
   }
   errno = 0;
-  int status = write_document(out, n, points, fields, n_fields, compress);
+  int status = write_document(out, time, n, points, fields, n_fields, compress);
   if (status != 0) {
     fclose(out);
     remove(tmp_path);

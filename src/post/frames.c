@@ -1,4 +1,5 @@
-/* Frames: gathers the requested per-node fields and writes VTU + PVD and the picture. */
+/* Frames: gathers the requested per-node fields and writes the VTU series (VTU + PVD), the
+ * Exodus II file (frames_exodus.c) and the picture (frames_picture.c). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,9 +15,12 @@
 #include "peri/frames.h"
 #include "peri/stress.h"
 #include "peri/thermal.h"
+#include "frames_parts.h"
 
 struct peri_frames {
-  peri_pvd *pvd;
+  peri_pvd *pvd;                 /* rank 0, output.format vtu or both */
+  peri_frames_exodus *exodus;    /* output.format exodus or both */
+  int32_t *node_id;              /* [n_owned]: 1 + the node's global index, the Exodus node id */
   int count;
   double *points, *damage, *energy;
   double *stress, *strain, *von_mises, *principal; /* allocated when first asked for */
@@ -45,7 +49,7 @@ peri_frames *peri_frames_open(const peri_sim *s) {
   int failed = peri_comm_rank() == 0 && peri_mkdir_p(s->out.directory) != PERI_OK;
   snprintf(path, sizeof path, "%s/%s.pvd", s->out.directory, s->out.basename);
   peri_frames *f = peri_calloc(1, sizeof *f);
-  if (!failed && peri_comm_rank() == 0) {
+  if (!failed && peri_comm_rank() == 0 && s->out.vtu) {
     f->pvd = peri_pvd_open(path);
     failed = !f->pvd;
   }
@@ -54,6 +58,21 @@ peri_frames *peri_frames_open(const peri_sim *s) {
     free(f);
     return NULL;
   }
+  if (s->out.exodus) {
+    /* a restart writes beside the old file and replaces it once its steps are copied */
+    char create[4300];
+    snprintf(path, sizeof path, "%s/%s.e", s->out.directory, s->out.basename);
+    snprintf(create, sizeof create, "%s%s", path, s->state.restart ? ".restart" : "");
+    f->exodus = peri_frames_exodus_open(s, path, create);
+    if (!f->exodus) {
+      peri_pvd_close(f->pvd);
+      free(f);
+      return NULL;
+    }
+  }
+  const size_t n_owned = (size_t)s->disc.p.n_owned;
+  f->node_id = peri_malloc(sizeof(int32_t) * (n_owned > 0 ? n_owned : 1));
+  for (size_t i = 0; i < n_owned; ++i) f->node_id[i] = 1 + (s->par.dd ? s->par.dd->global_id[i] : (int32_t)i);
   f->points = peri_malloc(sizeof(double) * 3 * (size_t)s->disc.p.n);
   f->damage = peri_malloc(sizeof(double) * (size_t)s->disc.p.n);
   return f;
@@ -72,7 +91,7 @@ static int write_pieces(peri_frames *f, peri_sim *s, const peri_field *fields, i
   if (s->disc.p.n_owned > 0) {
     snprintf(file, sizeof file, "%s_%06d_%d.vtu", s->out.basename, f->count, d->rank);
     snprintf(path, sizeof path, "%s/%s", s->out.directory, file);
-    rc = peri_vtu_write(path, s->disc.p.n_owned, f->points, fields, nf, s->out.compress);
+    rc = peri_vtu_write_at(path, s->state.time, s->disc.p.n_owned, f->points, fields, nf, s->out.compress);
   }
   if (d->rank == 0 && rc == PERI_OK) {
     char **pieces = peri_calloc((size_t)d->size, sizeof(char *));
@@ -89,7 +108,6 @@ static int write_pieces(peri_frames *f, peri_sim *s, const peri_field *fields, i
     for (int k = 0; k < n_pieces; ++k) free(pieces[k]);
     free(pieces);
   }
-  f->count++;
   return peri_comm_max_int(rc);
 }
 
@@ -100,62 +118,114 @@ const char *const peri_frame_fields[] = {"displacement", "velocity", "force", "d
                                          "block", "stress", "strain", "von_mises",
                                          "principal_stress", "temperature", "heat_flux", NULL};
 
-int peri_frames_write(peri_frames *f, peri_sim *s) {
+int peri_frame_field_components(const peri_sim *s, const char *name) {
+  if (!strcmp(name, "dilatation")) return s->disc.p.theta ? 1 : 0; /* the model has no dilatation */
+  if (!strcmp(name, "temperature")) return s->thermal ? 1 : 0;
+  if (!strcmp(name, "heat_flux")) return s->thermal ? 3 : 0;
+  if (!strcmp(name, "displacement") || !strcmp(name, "velocity") || !strcmp(name, "force") ||
+      !strcmp(name, "principal_stress"))
+    return 3;
+  if (!strcmp(name, "stress") || !strcmp(name, "strain")) return 9;
+  for (int k = 0; peri_frame_fields[k]; ++k)
+    if (!strcmp(name, peri_frame_fields[k])) return 1;
+  return 0;
+}
+
+/* The units of docs/deck.md section 15: SI, "1" for a ratio, "" for a number that counts. */
+const char *peri_frame_field_unit(const char *name) {
+  static const struct {
+    const char *name, *unit;
+  } units[] = {{"displacement", "m"},     {"velocity", "m/s"},       {"force", "N/m^3"},
+               {"damage", "1"},           {"dilatation", "1"},       {"material", ""},
+               {"volume", "m^3"},         {"strain_energy_density", "J/m^3"}, {"block", ""},
+               {"stress", "Pa"},          {"strain", "1"},           {"von_mises", "Pa"},
+               {"principal_stress", "Pa"}, {"temperature", "K"},     {"heat_flux", "W/m^2"},
+               {"node_id", ""},           {"reference_position", "m"}};
+  for (size_t k = 0; k < sizeof units / sizeof units[0]; ++k)
+    if (!strcmp(units[k].name, name)) return units[k].unit;
+  return "";
+}
+
+/* The fields of output.fields that this run has, pointing at this rank's owned nodes; their
+ * count, or -1 when the stress could not be recovered. */
+static int frame_fields(peri_frames *f, peri_sim *s, peri_field *fields, int capacity) {
   const peri_particles *p = &s->disc.p;
-  current_positions(s, f->points);
   peri_damage_index(s, f->damage);
-  peri_field fields[16];
   int nf = 0;
   bool stress_done = false;
-  for (int k = 0; k < s->out.n_fields && nf < 16; ++k) {
+  for (int k = 0; k < s->out.n_fields && nf < capacity; ++k) {
     const char *name = s->out.fields[k];
-    peri_field fl = {.name = name, .ncomp = 1};
-    if (!strcmp(name, "displacement")) fl.ncomp = 3, fl.data = p->u;
-    else if (!strcmp(name, "velocity")) fl.ncomp = 3, fl.data = p->v;
-    else if (!strcmp(name, "force")) fl.ncomp = 3, fl.data = p->f;
+    peri_field fl = {.name = name, .ncomp = peri_frame_field_components(s, name)};
+    if (fl.ncomp == 0) continue;
+    if (!strcmp(name, "displacement")) fl.data = p->u;
+    else if (!strcmp(name, "velocity")) fl.data = p->v;
+    else if (!strcmp(name, "force")) fl.data = p->f;
     else if (!strcmp(name, "damage")) fl.data = f->damage;
-    else if (!strcmp(name, "dilatation")) {
-      if (!p->theta) continue; /* the model has no dilatation */
-      fl.data = p->theta;
-    } else if (!strcmp(name, "material")) fl.idata = p->material;
+    else if (!strcmp(name, "dilatation")) fl.data = p->theta;
+    else if (!strcmp(name, "material")) fl.idata = p->material;
     else if (!strcmp(name, "block")) fl.idata = p->block;
     else if (!strcmp(name, "volume")) fl.data = p->volume;
     else if (!strcmp(name, "strain_energy_density")) {
       peri_strain_energy(s);
       fl.data = s->disc.p.energy;
     } else if (!strcmp(name, "stress") || !strcmp(name, "von_mises") || !strcmp(name, "principal_stress")) {
-      if (!stress_done && compute_stress(f, s) != PERI_OK) return PERI_ERR_RUN;
+      if (!stress_done && compute_stress(f, s) != PERI_OK) return -1;
       stress_done = true;
-      if (!strcmp(name, "stress")) fl.ncomp = 9, fl.data = f->stress;
+      if (!strcmp(name, "stress")) fl.data = f->stress;
       else if (!strcmp(name, "von_mises")) fl.data = f->von_mises;
-      else fl.ncomp = 3, fl.data = f->principal;
-    } else if (!strcmp(name, "temperature") && s->thermal) {
+      else fl.data = f->principal;
+    } else if (!strcmp(name, "temperature")) {
       fl.data = s->thermal->T;
-    } else if (!strcmp(name, "heat_flux") && s->thermal) { /* into-flux, Bobaru & Duangpanya 2012 eq. 7 */
+    } else if (!strcmp(name, "heat_flux")) { /* into-flux, Bobaru & Duangpanya 2012 eq. 7 */
       peri_thermal_flux(s);
-      fl.ncomp = 3, fl.data = s->thermal->flux;
+      fl.data = s->thermal->flux;
     } else if (!strcmp(name, "strain")) {
       if (!f->strain) f->strain = peri_malloc(sizeof(double) * 9 * (size_t)p->n_owned);
       peri_strain(s, f->strain);
-      fl.ncomp = 9, fl.data = f->strain;
+      fl.data = f->strain;
     } else continue;
     fields[nf++] = fl;
   }
-  char file[512], path[4700];
-  if (s->par.dd) return write_pieces(f, s, fields, nf);
-  snprintf(file, sizeof file, "%s_%06d.vtu", s->out.basename, f->count);
-  snprintf(path, sizeof path, "%s/%s", s->out.directory, file);
-  int rc = peri_vtu_write(path, p->n_owned, f->points, fields, nf, s->out.compress);
-  if (rc != PERI_OK) return rc;
-  f->count++;
-  return peri_pvd_add(f->pvd, s->state.time, file);
+  return nf;
+}
+
+enum { MAX_FRAME_FIELDS = 24 };
+
+int peri_frames_write(peri_frames *f, peri_sim *s) {
+  const peri_particles *p = &s->disc.p;
+  peri_field fields[MAX_FRAME_FIELDS];
+  int nf = frame_fields(f, s, fields, MAX_FRAME_FIELDS - 2);
+  if (nf < 0) return PERI_ERR_RUN;
+  int rc = PERI_OK;
+  if (f->exodus) rc = peri_frames_exodus_write(f->exodus, s, fields, nf);
+  if (rc == PERI_OK && s->out.vtu) {
+    /* every VTU frame: the node's id and reference position, so that a node is followed
+     * from frame to frame and its motion read without the first frame */
+    fields[nf++] = (peri_field){.name = "node_id", .ncomp = 1, .idata = f->node_id};
+    fields[nf++] = (peri_field){.name = "reference_position", .ncomp = 3, .data = p->x};
+    current_positions(s, f->points);
+    if (s->par.dd) rc = write_pieces(f, s, fields, nf);
+    else {
+      char file[512], path[4700];
+      snprintf(file, sizeof file, "%s_%06d.vtu", s->out.basename, f->count);
+      snprintf(path, sizeof path, "%s/%s", s->out.directory, file);
+      rc = peri_vtu_write_at(path, s->state.time, p->n_owned, f->points, fields, nf, s->out.compress);
+      if (rc == PERI_OK) rc = peri_pvd_add(f->pvd, s->state.time, file);
+    }
+  }
+  if (rc == PERI_OK) f->count++;
+  return rc;
+}
+
+void peri_frames_history(peri_frames *f, const double *row) {
+  if (f && f->exodus) peri_frames_exodus_history(f->exodus, row);
 }
 
 int peri_frames_resume(peri_frames *f, long next, long n_listed, const double *times, char *const *files) {
   f->count = (int)next;
   for (long k = 0; f->pvd && k < n_listed; ++k) /* MPI ranks: rank 0 keeps the .pvd */
     if (peri_pvd_add(f->pvd, times[k], files[k]) != PERI_OK) return PERI_ERR_RUN;
-  return PERI_OK;
+  return f->exodus ? peri_frames_exodus_resume(f->exodus, next) : PERI_OK;
 }
 
 long peri_frames_written(const peri_frames *f) { return f->count; }
@@ -207,32 +277,63 @@ int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
     for (int32_t i = 0; i < p->n_owned; ++i) values[i] = !strcmp(name, "block") ? p->block[i] : p->material[i];
   }
   snprintf(path_out, n, "%s/%s.png", s->out.directory, name);
-  char title[256];
-  snprintf(title, sizeof title, "%s  (t = %.4g s)", name, s->state.time);
-  int rc = PERI_OK;
-  if (s->par.dd) { /* MPI ranks: rank 0 draws every node, gathered in global order */
-    const size_t all = (size_t)peri_global_nodes(s);
-    double *points = s->par.dd->rank == 0 ? peri_malloc(sizeof(double) * 3 * (all > 0 ? all : 1)) : NULL;
-    double *every = s->par.dd->rank == 0 ? peri_malloc(sizeof(double) * (all > 0 ? all : 1)) : NULL;
-    peri_gather_owned(s, f->points, 3, points);
-    peri_gather_owned(s, values, 1, every);
-    if (s->par.dd->rank == 0)
-      rc = peri_png_write_field(path_out, (int32_t)all, points, every, vmin, vmax, s->disc.geom.spacing,
-                                s->out.picture_width, title);
-    free(points);
-    free(every);
-    rc = peri_comm_max_int(rc);
-  } else {
-    rc = peri_png_write_field(path_out, p->n_owned, f->points, values, vmin, vmax, s->disc.geom.spacing,
-                              s->out.picture_width, title);
-  }
+  /* rank 0 draws every node, gathered in global order (a copy in a single process) */
+  const bool root = peri_comm_rank() == 0;
+  const size_t all = (size_t)peri_global_nodes(s), room = all > 0 ? all : 1;
+  double *points = root ? peri_malloc(sizeof(double) * 3 * room) : NULL;
+  double *reference = root ? peri_malloc(sizeof(double) * 3 * room) : NULL;
+  double *every = root ? peri_malloc(sizeof(double) * room) : NULL;
+  peri_gather_owned(s, f->points, 3, points);
+  peri_gather_owned(s, p->x, 3, reference);
+  peri_gather_owned(s, values, 1, every);
   free(values);
-  return rc;
+  int rc = PERI_OK;
+  if (root) {
+    const bool magnitude = peri_frame_field_components(s, name) == 3 && strcmp(name, "principal_stress");
+    char value_label[160], title[320], x_label[16] = "x [m]", y_label[16] = "y [m]";
+    const char *unit = peri_frame_field_unit(name);
+    snprintf(value_label, sizeof value_label, "%s%s%s [%s]", magnitude ? "|" : "",
+             !strcmp(name, "principal_stress") ? "largest principal stress" : !strcmp(name, "stress") ? "von Mises stress"
+             : !strcmp(name, "strain") ? "strain norm" : name, magnitude ? "|" : "", *unit ? unit : "-");
+    snprintf(title, sizeof title, "%s  (t = %.4g s)", name, s->state.time);
+    int32_t drawn = (int32_t)all;
+    if (s->disc.geom.dim == 3) { /* the view of output.picture: a slice or a projection */
+      const int a = s->out.picture_normal, u = a == 0 ? 1 : 0, v = a == 2 ? 1 : 2;
+      double lo = INFINITY, hi = -INFINITY;
+      for (size_t k = 0; k < all; ++k) lo = fmin(lo, reference[3 * k + a]), hi = fmax(hi, reference[3 * k + a]);
+      double at = s->out.picture_at_given ? s->out.picture_at : 0.5 * (lo + hi), layer = at;
+      for (size_t k = 0; k < all; ++k) /* the lattice layer nearest the plane asked for */
+        if (fabs(reference[3 * k + a] - at) < fabs(layer - at) || k == 0) layer = reference[3 * k + a];
+      const double half = 0.25 * s->disc.geom.spacing;
+      drawn = 0;
+      for (size_t k = 0; k < all; ++k) {
+        if (!s->out.picture_projection && !(fabs(reference[3 * k + a] - layer) <= half)) continue;
+        const double pu = points[3 * k + u], pv = points[3 * k + v];
+        points[3 * (size_t)drawn] = pu, points[3 * (size_t)drawn + 1] = pv, points[3 * (size_t)drawn + 2] = 0.0;
+        every[drawn++] = every[k];
+      }
+      x_label[0] = "xyz"[u], y_label[0] = "xyz"[v];
+      const size_t len = strlen(title);
+      if (s->out.picture_projection)
+        snprintf(title + len, sizeof title - len, ", largest along %c", "xyz"[a]);
+      else
+        snprintf(title + len, sizeof title - len, ", slice %c = %.4g m", "xyz"[a], layer);
+    }
+    const peri_png_axes axes = {.x_label = x_label, .y_label = y_label, .value_label = value_label};
+    rc = peri_png_write_field_axes(path_out, drawn, points, every, vmin, vmax, s->disc.geom.spacing,
+                                   s->out.picture_width, title, &axes);
+  }
+  free(points);
+  free(reference);
+  free(every);
+  return peri_comm_max_int(rc);
 }
 
 void peri_frames_close(peri_frames *f) {
   if (!f) return;
   peri_pvd_close(f->pvd);
+  peri_frames_exodus_close(f->exodus);
+  free(f->node_id);
   free(f->points);
   free(f->damage);
   free(f->stress);

@@ -99,3 +99,24 @@ bool peri_history_has_column(const peri_sim *s, const char *name) {
   peri_history_columns_free(names, n);
   return found;
 }
+
+/* Units of docs/deck.md section 16 and docs/heat.md, SI, "1" for ratios and counts; a column
+ * is found by its name or, for the per-region and per-axis columns, by its prefix. */
+const char *peri_history_unit(const char *column) {
+  static const struct {
+    const char *prefix, *unit;
+    bool whole; /* the whole name, not a prefix */
+  } units[] = {
+      {"time", "s", true},          {"step", "1", true},           {"kinetic_energy", "J", true},
+      {"strain_energy", "J", true}, {"external_work", "J", true},  {"energy_balance", "J", true},
+      {"broken_bond_fraction", "1", true}, {"phase", "1", true},   {"dynamic_time", "s", true},
+      {"total_heat", "J", true},    {"min_temperature", "K", true}, {"max_temperature", "K", true},
+      {"momentum_", "kg*m/s", false}, {"indenter_force_", "N", false}, {"reaction_", "N", false},
+      {"displacement_", "m", false}, {"mean_temperature_", "K", false}, {"heat_inflow_", "W", false},
+  };
+  for (size_t k = 0; k < sizeof units / sizeof units[0]; ++k)
+    if (units[k].whole ? !strcmp(column, units[k].prefix)
+                       : !strncmp(column, units[k].prefix, strlen(units[k].prefix)))
+      return units[k].unit;
+  return NULL;
+}

@@ -71,6 +71,7 @@ int peri_run_heat(peri_sim *s) {
     peri_history_log_close(&c.log);
     return PERI_ERR_RUN;
   }
+  c.log.frames = c.frames; /* the Exodus file's global variables */
   const bool progress = !s->out.quiet && isatty(STDERR_FILENO);
   int rc = PERI_OK;
   if (s->state.restart) { /* continue from a checkpoint (docs/restart.md) */
@@ -90,10 +91,11 @@ int peri_run_heat(peri_sim *s) {
     s->state.step = step + 1;
     if (rc != PERI_OK) break;
     const bool last = s->state.step == s->solver.steps;
-    if ((s->state.step % s->out.history_every == 0 || last) && peri_comm_max_int(write_history(s, &c) != PERI_OK))
+    const bool frame = (s->out.every > 0 && s->state.step % s->out.every == 0) || last;
+    if ((s->state.step % s->out.history_every == 0 || last || (frame && s->out.exodus)) &&
+        peri_comm_max_int(write_history(s, &c) != PERI_OK))
       rc = PERI_ERR_RUN; /* every rank stops together */
-    if (rc == PERI_OK && ((s->out.every > 0 && s->state.step % s->out.every == 0) || last))
-      rc = peri_frames_write(c.frames, s);
+    if (rc == PERI_OK && frame) rc = peri_frames_write(c.frames, s);
     const peri_checkpoint_progress done = {peri_frames_written(c.frames), c.log.rows};
     if (rc == PERI_OK) rc = peri_checkpoint_after_step(s, &done); /* docs/restart.md */
     if (progress) {
@@ -111,7 +113,7 @@ int peri_run_heat(peri_sim *s) {
   char picture[4300] = "", plot[4400] = "";
   /* drawn even when the run failed: the curve so far */
   if (peri_plot_series_write(&c.log.plot, s, plot, sizeof plot) != PERI_OK) rc = PERI_ERR_RUN;
-  if (rc == PERI_OK && s->out.picture && s->disc.geom.dim == 2 &&
+  if (rc == PERI_OK && s->out.picture && s->disc.geom.dim >= 2 &&
       peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) {
     rc = PERI_ERR_RUN;
     picture[0] = 0;
@@ -120,7 +122,8 @@ int peri_run_heat(peri_sim *s) {
     printf("  finished     %ld steps in %.3f s: %.1f steps/s (%d threads)\n", s->state.step, wall,
            wall > 0 ? (s->state.step - first_step) / wall : 0.0, omp_get_max_threads());
     printf("  total heat   %.10g J\n", peri_thermal_total_heat(s));
-    printf("  output       %s/%s.pvd (VTU series), %s/history.csv%s%s%s%s\n", s->out.directory, s->out.basename,
+    printf("  output       %s/%s.%s (%s), %s/history.csv%s%s%s%s\n", s->out.directory, s->out.basename,
+           s->out.vtu ? "pvd" : "e", s->out.vtu && s->out.exodus ? "VTU series and Exodus II .e" : s->out.vtu ? "VTU series" : "Exodus II",
            s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot);
   }
   peri_frames_close(c.frames);

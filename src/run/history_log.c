@@ -23,13 +23,21 @@ int peri_history_log_open(peri_history_log *h, const peri_sim *s) {
     peri_history_columns_free(names, n);
     return PERI_OK;
   }
+  const char **units = peri_calloc((size_t)(n > 0 ? n : 1), sizeof(char *));
+  for (int k = 0; k < n; ++k) {
+    units[k] = peri_history_unit(names[k]);
+    if (!units[k]) units[k] = "1"; /* every column of peri_history_columns has a unit: a new one belongs there */
+  }
+  const int units_rc = peri_history_units_write(s->out.directory, n, names, units);
+  free(units);
   h->file = peri_history_open_in(s->out.directory, n, names);
-  return h->file ? PERI_OK : PERI_ERR_RUN;
+  return h->file && units_rc == PERI_OK ? PERI_OK : PERI_ERR_RUN;
 }
 
 int peri_history_log_record(peri_history_log *h) {
   h->rows++;
   peri_plot_series_add(&h->plot, h->row);
+  peri_frames_history(h->frames, h->row);
   return h->file ? peri_history_write(h->file, h->row) : PERI_OK;
 }
 

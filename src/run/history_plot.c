@@ -34,7 +34,11 @@ int peri_plot_series_write(const peri_plot_series *p, const peri_sim *s, char *p
   path[0] = '\0';
   if (p->x < 0 || p->n == 0 || peri_comm_rank() != 0) return PERI_OK; /* rank 0 draws */
   snprintf(path, size, "%s/%s_vs_%s.png", s->out.directory, s->out.plot_y, s->out.plot_x);
-  if (peri_plot_write(path, p->xs, p->ys, p->n, s->out.plot_x, s->out.plot_y, s->out.basename, 1200, 800) ==
+  char xlabel[300], ylabel[300]; /* the column and its unit (history_units.csv) */
+  const char *xu = peri_history_unit(s->out.plot_x), *yu = peri_history_unit(s->out.plot_y);
+  snprintf(xlabel, sizeof xlabel, "%s [%s]", s->out.plot_x, xu ? xu : "1");
+  snprintf(ylabel, sizeof ylabel, "%s [%s]", s->out.plot_y, yu ? yu : "1");
+  if (peri_plot_write(path, p->xs, p->ys, p->n, xlabel, ylabel, s->out.basename, 1200, 800) ==
       PERI_OK)
     return PERI_OK;
   path[0] = '\0';

@@ -99,8 +99,9 @@ static int step_hook(peri_sim *s, void *ctx) {
     return peri_comm_max_int(c->failed);
   }
   bool last = s->state.step == s->solver.steps;
-  const bool history = s->state.step % s->out.history_every == 0 || last;
   const bool frame = (s->out.every > 0 && s->state.step % s->out.every == 0) || last;
+  /* an Exodus frame holds the history row of its step as global variables */
+  const bool history = s->state.step % s->out.history_every == 0 || last || (frame && s->out.exodus);
   if (history && write_history(s, c) != PERI_OK) c->failed = 1;
   /* only rank 0 writes history.csv: the ranks agree before the collective frame write */
   if (history) c->failed = peri_comm_max_int(c->failed);
@@ -136,6 +137,7 @@ int peri_run(peri_sim *s) {
     peri_history_log_close(&c.log);
     return PERI_ERR_RUN;
   }
+  c.log.frames = c.frames; /* the Exodus file's global variables */
   c.progress = !s->out.quiet && isatty(STDERR_FILENO);
   peri_apply_initial_conditions(s);
   peri_apply_loads(s, s->state.time);
@@ -161,7 +163,7 @@ int peri_run(peri_sim *s) {
   char picture[4300] = "", plot[4400] = "";
   /* drawn even when the run failed: the curve so far */
   if (peri_plot_series_write(&c.log.plot, s, plot, sizeof plot) != PERI_OK) rc = PERI_ERR_RUN;
-  if (rc == PERI_OK && s->out.picture && s->disc.geom.dim == 2) {
+  if (rc == PERI_OK && s->out.picture && s->disc.geom.dim >= 2) {
     if (peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) rc = PERI_ERR_RUN, picture[0] = 0;
   }
   rc = peri_comm_max_int(rc); /* one status for all ranks */
@@ -189,8 +191,9 @@ int peri_run(peri_sim *s) {
       printf("  bond loops   %.1f%% of the bonds eight nodes at a time (node blocks, %.2f bytes per bond)\n",
              100.0 * in_blocks, tpl_bytes);
     peri_print_stress_summary(s, stdout); /* per-material maxima over every rank */
-    printf("  output       %s/%s.pvd (%s), %s/history.csv%s%s%s%s\n", s->out.directory, s->out.basename,
-           "VTU series", s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot);
+    printf("  output       %s/%s.%s (%s), %s/history.csv%s%s%s%s\n", s->out.directory, s->out.basename,
+           s->out.vtu ? "pvd" : "e", s->out.vtu && s->out.exodus ? "VTU series and Exodus II .e" : s->out.vtu ? "VTU series" : "Exodus II",
+           s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot);
   }
   peri_frames_close(c.frames);
   peri_history_log_close(&c.log);
