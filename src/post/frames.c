@@ -111,40 +111,7 @@ static int write_pieces(peri_frames *f, peri_sim *s, const peri_field *fields, i
   return peri_comm_max_int(rc);
 }
 
-/* The fields output.fields and output.picture accept. A new field is its name here and its
- * branch in peri_frames_write below. */
-const char *const peri_frame_fields[] = {"displacement", "velocity", "force", "damage", "dilatation",
-                                         "material", "volume", "strain_energy_density",
-                                         "block", "stress", "strain", "von_mises",
-                                         "principal_stress", "temperature", "heat_flux", NULL};
 
-int peri_frame_field_components(const peri_sim *s, const char *name) {
-  if (!strcmp(name, "dilatation")) return s->disc.p.theta ? 1 : 0; /* the model has no dilatation */
-  if (!strcmp(name, "temperature")) return s->thermal ? 1 : 0;
-  if (!strcmp(name, "heat_flux")) return s->thermal ? 3 : 0;
-  if (!strcmp(name, "displacement") || !strcmp(name, "velocity") || !strcmp(name, "force") ||
-      !strcmp(name, "principal_stress"))
-    return 3;
-  if (!strcmp(name, "stress") || !strcmp(name, "strain")) return 9;
-  for (int k = 0; peri_frame_fields[k]; ++k)
-    if (!strcmp(name, peri_frame_fields[k])) return 1;
-  return 0;
-}
-
-/* The units of docs/deck.md section 15: SI, "1" for a ratio, "" for a number that counts. */
-const char *peri_frame_field_unit(const char *name) {
-  static const struct {
-    const char *name, *unit;
-  } units[] = {{"displacement", "m"},     {"velocity", "m/s"},       {"force", "N/m^3"},
-               {"damage", "1"},           {"dilatation", "1"},       {"material", ""},
-               {"volume", "m^3"},         {"strain_energy_density", "J/m^3"}, {"block", ""},
-               {"stress", "Pa"},          {"strain", "1"},           {"von_mises", "Pa"},
-               {"principal_stress", "Pa"}, {"temperature", "K"},     {"heat_flux", "W/m^2"},
-               {"node_id", ""},           {"reference_position", "m"}};
-  for (size_t k = 0; k < sizeof units / sizeof units[0]; ++k)
-    if (!strcmp(units[k].name, name)) return units[k].unit;
-  return "";
-}
 
 /* The fields of output.fields that this run has, pointing at this rank's owned nodes; their
  * count, or -1 when the stress could not be recovered. */
