@@ -79,3 +79,33 @@ Test(history_columns, quasi_static_adds_imposed_displacements) {
   cr_assert(!peri_history_has_column(&s, "bogus"));
   peri_sim_free(&s);
 }
+
+/* history_units.csv (docs/output.md): every column of every kind of run has a unit, the one
+ * docs/deck.md section 16 gives it. */
+static void expect_units(const peri_sim *s) {
+  int n = 0;
+  char **names = peri_history_columns(s, &n);
+  for (int k = 0; k < n; ++k) cr_expect(peri_history_unit(names[k]) != NULL, "column '%s' has no unit", names[k]);
+  peri_history_columns_free(names, n);
+}
+
+Test(history_columns, every_column_has_its_unit) {
+  peri_sim s;
+  build(&s, "thermal: {initial_temperature: 120, reference_temperature: 20, coupling: one_way}\n", "nlcg", "");
+  expect_units(&s);
+  peri_sim_free(&s);
+  build(&s, "", "explicit, steps: 1", "");
+  expect_units(&s);
+  peri_sim_free(&s);
+  static const struct {
+    const char *column, *unit;
+  } known[] = {{"time", "s"}, {"step", "1"}, {"kinetic_energy", "J"}, {"energy_balance", "J"},
+               {"broken_bond_fraction", "1"}, {"momentum_y", "kg*m/s"}, {"reaction_left_x", "N"},
+               {"displacement_left_y", "m"}, {"indenter_force_z", "N"}, {"phase", "1"}, {"dynamic_time", "s"},
+               {"total_heat", "J"}, {"max_temperature", "K"}, {"mean_temperature_hot", "K"},
+               {"heat_inflow_hot", "W"}};
+  for (size_t k = 0; k < sizeof known / sizeof known[0]; ++k)
+    cr_expect_str_eq(peri_history_unit(known[k].column) ? peri_history_unit(known[k].column) : "(none)", known[k].unit,
+                     "column %s", known[k].column);
+  cr_expect_null(peri_history_unit("bogus"), "a name that is no column has no unit");
+}

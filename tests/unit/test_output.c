@@ -650,3 +650,73 @@ Test(mkdir_p, file_in_the_way, .init = cr_redirect_stderr) {
   expect_error_mentions(fragment);
   drop_scratch();
 }
+
+/* ---- the picture with axes (docs/output.md section 4) ---- */
+
+/* Dark pixels (text, ticks, frame) in a block of the image. */
+static int dark_pixels(cairo_surface_t *image, int x0, int x1, int y0, int y1) {
+  int count = 0;
+  for (int y = y0; y < y1; y++)
+    for (int x = x0; x < x1; x++) {
+      rgb8 p = pixel_at(image, x, y);
+      if (p.r < 80 && p.g < 80 && p.b < 80) count++;
+    }
+  return count;
+}
+
+Test(png, axes_add_ticks_labels_and_keep_the_width) {
+  make_scratch();
+  double *points, *values;
+  int32_t n = centred_grid(11, 11, 1.0, 0.0, &points, &values);
+  const char *plain = scratch_path(0, "plain.png"), *framed = scratch_path(1, "axes.png");
+  cr_assert_eq(peri_png_write_field(plain, n, points, values, 0.0, 1.0, 1.0, 400, "damage"), 0);
+  const peri_png_axes axes = {.x_label = "x [m]", .y_label = "y [m]", .value_label = "damage [1]"};
+  cr_assert_eq(peri_png_write_field_axes(framed, n, points, values, 0.0, 1.0, 1.0, 400, "damage", &axes), 0);
+  png_info a = read_png_header(plain), b = read_png_header(framed);
+  cr_expect_eq(a.width, 400);
+  cr_expect_eq(b.width, 400);
+  /* below the plot: a line of tick values and the axis label; under the bar, the value label */
+  cr_expect_gt(b.height, a.height, "the axes add no room (%u vs %u px)", b.height, a.height);
+  cairo_surface_t *pa = cairo_image_surface_create_from_png(plain), *pb = cairo_image_surface_create_from_png(framed);
+  cr_assert_eq(cairo_surface_status(pb), CAIRO_STATUS_SUCCESS);
+  /* the left margin is white without axes and holds the tick values and y label with them */
+  const int margin = 16; /* 4% of 400 px */
+  cr_expect_eq(dark_pixels(pa, 0, margin, 0, (int)a.height), 0);
+  cr_expect_gt(dark_pixels(pb, 0, 80, 40, (int)b.height / 2), 50, "no tick values or y label left of the plot");
+  /* the top node is still drawn in the highest colour (the cloud kept its colours) */
+  int yellow = 0; /* in the upper half: the plot, not the colour bar at the bottom */
+  for (int y = 0; y < (int)b.height / 2; y++)
+    for (int x = 0; x < 400; x++) yellow += near_colour(pixel_at(pb, x, y), TOP_R, TOP_G, TOP_B);
+  cr_expect_gt(yellow, 100, "the centre node (value 1) is not drawn yellow");
+  cairo_surface_destroy(pa);
+  cairo_surface_destroy(pb);
+  free(points);
+  free(values);
+  drop_scratch();
+}
+
+/* The frame's time as FieldData TimeValue, all 17 digits (docs/output.md section 1). */
+Test(vtu, time_value_field_data) {
+  make_scratch();
+  const char *timed = scratch_path(0, "timed.vtu"), *untimed = scratch_path(1, "untimed.vtu");
+  double p[3] = {1, 2, 3};
+  const double t = 1.0 / 3.0 * 1e-5;
+  cr_assert_eq(peri_vtu_write_at(timed, t, 1, p, NULL, 0, true), 0);
+  cr_assert_eq(peri_vtu_write(untimed, 1, p, NULL, 0, true), 0);
+  FILE *in = fopen(timed, "r");
+  cr_assert_not_null(in);
+  char text[4096];
+  size_t len = fread(text, 1, sizeof text - 1, in);
+  fclose(in);
+  text[len] = '\0';
+  const char *at = strstr(text, "Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">");
+  cr_assert_not_null(at, "no TimeValue in\n%s", text);
+  cr_expect_eq(strtod(strchr(at, '>') + 1, NULL), t, "TimeValue is not the time to all digits");
+  cr_expect(strstr(text, "<FieldData>") < strstr(text, "<Piece"), "FieldData must precede the Piece");
+  in = fopen(untimed, "r");
+  len = fread(text, 1, sizeof text - 1, in);
+  fclose(in);
+  text[len] = '\0';
+  cr_expect_null(strstr(text, "TimeValue"), "peri_vtu_write writes no time");
+  drop_scratch();
+}
