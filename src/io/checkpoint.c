@@ -965,7 +965,8 @@ int peri_restart_load(peri_sim *s, const char *path) {
   r->path = peri_strdup(path);
   int rc = read_file(s, path, r);
   if (rc == PERI_OK)
-    rc = peri_restart_read_output(s->out.directory, s->out.basename, r->done.history_rows, r->done.frames,
+    rc = peri_restart_read_output(s->out.directory, s->out.basename, r->done.history_rows,
+                                  s->out.vtu ? r->done.frames : 0, /* no .pvd without VTU frames */
                                   &r->history, &r->history_rows, &r->history_columns, &r->history_names, &r->frame_times,
                                   &r->frame_files, &r->frames_listed);
   if (rc != PERI_OK) {

@@ -237,7 +237,13 @@ void peri_frames_exodus_history(peri_frames_exodus *x, const double *row) {
 int peri_frames_exodus_resume(peri_frames_exodus *x, long next) {
   int rc = PERI_OK;
   if (x->file) {
-    rc = peri_exodus_copy_steps(x->file, x->path, (int)next);
+    FILE *old = fopen(x->path, "rb");
+    if (old) fclose(old);
+    if (!old) /* a restart into another directory: nothing to keep, as for the .pvd */
+      peri_warning("restart: no '%s' to continue: the new Exodus file holds the frames after the checkpoint only",
+                   x->path);
+    else
+      rc = peri_exodus_copy_steps(x->file, x->path, (int)next);
     if (rc == PERI_OK && strcmp(x->path, x->create_path) && rename(x->create_path, x->path) != 0) {
       peri_error("restart: cannot replace '%s' by '%s'", x->path, x->create_path);
       rc = PERI_ERR_RUN;
