@@ -1,5 +1,5 @@
 /* Frames: gathers the requested per-node fields and writes the VTU series (VTU + PVD), the
- * Exodus II file (frames_exodus.c) and the picture (frames_picture.c). */
+ * Exodus II file (frames_exodus.c) and the end-of-run picture. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -110,8 +110,6 @@ static int write_pieces(peri_frames *f, peri_sim *s, const peri_field *fields, i
   }
   return peri_comm_max_int(rc);
 }
-
-
 
 /* The fields of output.fields that this run has, pointing at this rank's owned nodes; their
  * count, or -1 when the stress could not be recovered. */
