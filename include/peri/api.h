@@ -83,8 +83,8 @@ int peri_api_finished(const peri_api *a);
 const char *peri_api_field_name(int k);
 /* The field `name` at the current state: ncomp values per node (1, 3 or 9; vectors have 3
  * components in every dimension), doubles in *data or int32 in *idata (material, block), the
- * other set to NULL. The arrays belong to the simulation and stay valid until the next call
- * with `a`. PERI_API_ERR_INPUT for an unknown name or a field this simulation has not
+ * other set to NULL. The arrays belong to the simulation and hold this state until it steps,
+ * runs or closes (reading a field again recomputes the same values in place). PERI_API_ERR_INPUT for an unknown name or a field this simulation has not
  * (dilatation without LPS, temperature without heat). */
 int peri_api_field(peri_api *a, const char *name, const double **data, const int32_t **idata, int *ncomp);
 
