@@ -3,7 +3,7 @@
 # message naming the file, and what the run wrote before intact (history.csv up to the
 # failing step, the frames, the previous checkpoint), with no temporary file left. Two
 # causes: a checkpoint_file whose directory cannot be created (a file stands in its way),
-# and a full disk, on a 400 KiB tmpfs that holds the first checkpoint of the 2D PMB plate
+# and a full disk, on a 440 KiB tmpfs that holds the first checkpoint of the 2D PMB plate
 # (256 KiB) but not the second. Mounting needs root: where it is not allowed the full-disk
 # case is skipped with a message.
 # Usage: bash tests/cli/checkpoint_write_failure.sh PATH_TO_PERI   (from the repository root)
@@ -32,7 +32,7 @@ pass "a checkpoint directory that cannot be created: exit 1, history.csv and the
 
 disk="$TMP/disk"
 mkdir -p "$disk"
-if ! mount -t tmpfs -o size=400k tmpfs "$disk" 2>/dev/null; then
+if ! mount -t tmpfs -o size=440k tmpfs "$disk" 2>/dev/null; then
   echo "skipped: the full-disk case (mounting a tmpfs is not allowed here; it needs root)"
   echo "PASS: $CLI_NAME"
   exit 0
