@@ -51,8 +51,8 @@ int peri_api_open_string(const char *yaml, const char *name, int n_sets, const c
 int peri_api_set_output(peri_api *a, const char *directory);
 int peri_api_set_quiet(peri_api *a, int quiet);
 int peri_api_set_restart(peri_api *a, const char *checkpoint);
-/* OpenMP threads of the calling thread's later runs (the program's --threads); 0 or less:
- * the OpenMP default. */
+/* OpenMP threads of the calling thread's later runs (the program's --threads); 0 or less
+ * leaves them as they are (OMP_NUM_THREADS, or all cores). */
 void peri_api_set_threads(int threads);
 
 /* Starts the run: the checkpoint, the summary (unless quiet), the output directory, the first
