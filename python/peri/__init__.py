@@ -140,8 +140,11 @@ class Simulation:
                                              array, ctypes.byref(handle)))
         else:
             path = str(deck)
-            with open(path, encoding="utf-8", errors="replace") as f:
-                self.deck_text = f.read()
+            try:
+                with open(path, encoding="utf-8", errors="replace") as f:
+                    self.deck_text = f.read()
+            except OSError:
+                self.deck_text = None  # peri says why below, as the program would
             _check(_lib.peri_api_open_deck(path.encode(), len(sets), array, ctypes.byref(handle)))
         self._handle = handle
         if threads is not None:

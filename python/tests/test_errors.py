@@ -42,6 +42,11 @@ class Errors(TempDirCase):
         self.assertTrue(str(caught.exception).startswith(f"bar:{line}:3: error: unknown key 'stpes' in solver"),
                         str(caught.exception))
 
+    def test_missing_deck(self):
+        with self.assertRaises(peri.DeckError) as caught:
+            peri.Simulation(self.out("no_such_deck.yaml"))
+        self.assertIn("cannot open deck", str(caught.exception))
+
     def test_bad_override(self):
         with self.assertRaises(peri.DeckError) as caught:
             peri.Simulation(VALID, overrides=["discretization.spacing=-1"])
