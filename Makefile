@@ -1,8 +1,17 @@
 # The two commands of the README: `make run` and `make test`.
 BUILD ?= build
 JOBS  ?= $(shell nproc)
+# `make install DESTDIR=/staging PREFIX=/opt/peri`: where the installation goes (README;
+# PREFIX defaults to /usr/local and, like PORTABLE, is kept by the build folder once given)
+PREFIX ?=
+DESTDIR ?=
+# `make build PORTABLE=1`: binaries for any processor of the architecture (no -march=native);
+# PORTABLE=0 goes back to -march=native
+PORTABLE ?=
+CMAKE_OPTIONS := $(if $(PREFIX),-DCMAKE_INSTALL_PREFIX=$(PREFIX)) \
+                 $(if $(PORTABLE),-DPERI_NATIVE=$(if $(filter 1 yes on ON true,$(PORTABLE)),OFF,ON))
 
-.PHONY: all deps configure build run test bench bench-plate clean
+.PHONY: all deps configure build run test install bench bench-plate clean
 
 all: build
 
@@ -10,7 +19,7 @@ deps:
 	@scripts/install-deps
 
 configure: deps
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release >/dev/null
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_OPTIONS) >/dev/null
 
 build: configure
 	@cmake --build $(BUILD) -j$(JOBS)
@@ -21,6 +30,10 @@ run: build
 
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
+
+# the program, libperi (static and shared), the headers, peri.pc and the Python module
+install: build
+	@DESTDIR="$(DESTDIR)" cmake --install $(BUILD)
 
 bench: build
 	@scripts/install-deps --bench

@@ -4,10 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include "peri/checkpoint.h"
 #include "peri/clock.h"
 #include "peri/comm.h"
-#include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/history_log.h"
 #include "peri/implicit.h"
@@ -292,17 +290,10 @@ static int command(int argc, char **argv) {
         free(sim.out.directory);
         sim.out.directory = strdup(output);
       }
-      if (restart) rc = peri_restart_load(&sim, restart); /* checked before any output (docs/restart.md) */
-      if (rc == PERI_OK && restart) rc = peri_restart_check_history(&sim); /* the same history.csv columns */
-      if (rc == PERI_OK && !strcmp(command, "run")) rc = peri_solver_check_ranks(&sim, peri_comm_size()); /* MPI ranks */
-      if (rc == PERI_OK && (!quiet || !strcmp(command, "check"))) peri_print_summary(&sim, stdout);
-      if (rc == PERI_OK && restart && !quiet) peri_restart_print(&sim, stdout);
-      if (rc == PERI_OK && !strcmp(command, "run")) {
-        fflush(stdout);
-        rc = peri_decompose(&sim); /* MPI ranks (docs/parallel.md); nothing in one process */
-        if (rc == PERI_OK && !quiet) peri_print_decomposition(&sim, stdout);
-        if (rc == PERI_OK) rc = peri_run(&sim);
-      }
+      if (!strcmp(command, "check")) peri_print_summary(&sim, stdout);
+      /* the checkpoint, the MPI ranks, the summary and the decomposition (src/run/prepare.c) */
+      if (!strcmp(command, "run")) rc = peri_run_prepare(&sim, restart);
+      if (rc == PERI_OK && !strcmp(command, "run")) rc = peri_run(&sim);
     }
     peri_sim_free(&sim);
   }

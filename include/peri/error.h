@@ -19,6 +19,12 @@ void peri_warning(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 void peri_error_at(const char *file, int line, int col, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
 
+/* Messages go to stderr unless a program that embeds the library takes them (the C API,
+ * include/peri/api.h): the sink receives the kind ("error" or "warning") and the whole line
+ * as it would be printed, without the newline. NULL restores stderr. One sink per process. */
+typedef void (*peri_message_sink)(const char *kind, const char *line, void *ctx);
+void peri_set_message_sink(peri_message_sink sink, void *ctx);
+
 /* The text of a printf-style format and its arguments, allocated (free it). */
 char *peri_vformat(const char *fmt, va_list ap);
 

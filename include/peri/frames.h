@@ -9,7 +9,16 @@ typedef struct peri_frames peri_frames;
 extern const char *const peri_frame_fields[];
 /* Creates the output directory and the .pvd; NULL (with a message) on failure. */
 peri_frames *peri_frames_open(const peri_sim *s);
+/* Frames that write no file: the buffers of the derived fields alone, for peri_frames_field
+ * (the C API reads fields without writing frames). Free with peri_frames_close. */
+peri_frames *peri_frames_buffers(const peri_sim *s);
 int peri_frames_write(peri_frames *f, peri_sim *s);
+/* The field `name` of peri_frame_fields at the current state, owned nodes only, as a frame
+ * would write it; derived fields (damage, stress, strain, ...) are computed into the frame's
+ * buffers and stay valid until the next call. 1, 0 when this simulation has no such field
+ * (dilatation without LPS, temperature without heat), -1 after a message on failure. */
+struct peri_field;
+int peri_frames_field(peri_frames *f, peri_sim *s, const char *name, struct peri_field *out);
 /* A restarted run (docs/restart.md) continues the series: the next frame is number `next`,
  * and the .pvd lists the n_listed frames of the run it restarts first. */
 int peri_frames_resume(peri_frames *f, long next, long n_listed, const double *times, char *const *files);

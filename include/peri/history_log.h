@@ -2,6 +2,7 @@
  * written by the run drivers (src/run/history_log.c, history_plot.c). */
 #ifndef PERI_HISTORY_LOG_H
 #define PERI_HISTORY_LOG_H
+#include <stdbool.h>
 #include <stddef.h>
 #include "peri/history.h"
 
@@ -32,6 +33,9 @@ typedef struct peri_history_log {
   long rows;                 /* rows recorded (a checkpoint records it) */
   peri_plot_series plot;     /* the columns of output.plot */
   struct peri_frames *frames; /* receives each row (the Exodus file's global variables), or NULL */
+  bool keep;                 /* keep the rows in memory too (the C API, include/peri/api.h) */
+  double *kept;              /* [rows][n_columns] when keep */
+  long kept_capacity;
 } peri_history_log;
 
 /* Opens <directory>/history.csv on rank 0 and the plot series; PERI_OK or PERI_ERR_RUN

@@ -12,6 +12,9 @@
 int peri_sim_from_deck(peri_sim *s, const char *path);
 /* The same with "key.path=value" overrides applied to the deck first (--set). */
 int peri_sim_from_deck_with(peri_sim *s, const char *path, int n_sets, const char *const *sets);
+/* The same from the YAML text of a deck, named `name` in messages; relative paths in it (a
+ * node file) are taken from name's folder (the C API, include/peri/api.h). */
+int peri_sim_from_string_with(peri_sim *s, const char *text, const char *name, int n_sets, const char *const *sets);
 void peri_sim_free(peri_sim *s);
 
 /* Parses a shape mapping such as

@@ -34,38 +34,58 @@ char *peri_vformat(const char *fmt, va_list ap) {
   return text;
 }
 
-static void vwrite_escaped(const char *fmt, va_list ap) {
-  char *text = peri_vformat(fmt, ap);
-  write_escaped(stderr, text);
-  fputc('\n', stderr);
-  free(text);
+/* Where messages go: stderr, or a sink a program installed (peri_set_message_sink). */
+static peri_message_sink message_sink;
+static void *message_sink_ctx;
+
+void peri_set_message_sink(peri_message_sink sink, void *ctx) {
+  message_sink = sink;
+  message_sink_ctx = ctx;
 }
 
-static void vreport(const char *kind, const char *fmt, va_list ap) {
-  fprintf(stderr, "peri: %s: ", kind);
-  vwrite_escaped(fmt, ap);
+/* One message line: "peri: KIND: text", or "file:line:col: KIND: text" when file is given,
+ * escaped, to the sink (without the newline) or to stderr. */
+static void emit(const char *kind, const char *file, int line, int col, const char *fmt, va_list ap) {
+  char *captured = NULL;
+  size_t size = 0;
+  FILE *memory = message_sink ? open_memstream(&captured, &size) : NULL;
+  FILE *stream = memory ? memory : stderr;
+  if (file) {
+    write_escaped(stream, file);
+    fprintf(stream, ":%d:%d: %s: ", line, col, kind);
+  } else {
+    fprintf(stream, "peri: %s: ", kind);
+  }
+  char *text = peri_vformat(fmt, ap);
+  write_escaped(stream, text);
+  free(text);
+  if (memory) {
+    fclose(memory);
+    message_sink(kind, captured, message_sink_ctx);
+    free(captured);
+  } else {
+    fputc('\n', stderr);
+  }
 }
 
 void peri_error(const char *fmt, ...) {
   va_list ap;
   va_start(ap, fmt);
-  vreport("error", fmt, ap);
+  emit("error", NULL, 0, 0, fmt, ap);
   va_end(ap);
 }
 
 void peri_warning(const char *fmt, ...) {
   va_list ap;
   va_start(ap, fmt);
-  vreport("warning", fmt, ap);
+  emit("warning", NULL, 0, 0, fmt, ap);
   va_end(ap);
 }
 
 void peri_error_at(const char *file, int line, int col, const char *fmt, ...) {
   va_list ap;
   va_start(ap, fmt);
-  write_escaped(stderr, file);
-  fprintf(stderr, ":%d:%d: error: ", line, col);
-  vwrite_escaped(fmt, ap);
+  emit("error", file, line, col, fmt, ap);
   va_end(ap);
 }
 

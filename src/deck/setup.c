@@ -863,13 +863,27 @@ static int build(parse_ctx *c) {
   return PERI_OK;
 }
 
+static int from_tree(peri_sim *s, peri_node *root, int n_sets, const char *const *sets);
+
 int peri_sim_from_deck(peri_sim *s, const char *path) { return peri_sim_from_deck_with(s, path, 0, NULL); }
 
 int peri_sim_from_deck_with(peri_sim *s, const char *path, int n_sets, const char *const *sets) {
   memset(s, 0, sizeof *s);
   s->deck_path = peri_strdup(path);
   s->par.threads = 0;
-  peri_node *root = peri_deck_load(path);
+  return from_tree(s, peri_deck_load(path), n_sets, sets);
+}
+
+int peri_sim_from_string_with(peri_sim *s, const char *text, const char *name, int n_sets, const char *const *sets) {
+  memset(s, 0, sizeof *s);
+  s->deck_path = peri_strdup(name);
+  s->par.threads = 0;
+  return from_tree(s, peri_deck_parse_string(text, name), n_sets, sets);
+}
+
+/* The simulation of a deck's tree (NULL: the deck could not be read, after a message), with
+ * the --set overrides applied first; frees the tree. */
+static int from_tree(peri_sim *s, peri_node *root, int n_sets, const char *const *sets) {
   if (!root) return PERI_ERR_INPUT;
   peri_node **keep = NULL; /* --set overrides (src/deck/overrides.c) */
   int rc = peri_deck_apply_overrides(root, n_sets, sets, &keep);

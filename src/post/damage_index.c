@@ -1,6 +1,10 @@
 /* Damage index (docs/model_reference.md 7.3; Le 2014 eq. 1.17). */
+#include <stdlib.h>
 #include <string.h>
 #include "peri/damage.h"
+#include "peri/damage_index.h"
+#include "peri/decompose.h"
+#include "peri/error.h"
 
 void peri_damage_index(const peri_sim *s, double *phi) {
   const peri_particles *p = &s->disc.p;
@@ -21,4 +25,15 @@ void peri_damage_index(const peri_sim *s, double *phi) {
     }
     phi[i] = all > 0.0 ? 1.0 - intact / all : 0.0;
   }
+}
+
+double peri_mean_damage(const peri_sim *s) {
+  const int32_t n = s->disc.p.n_owned;
+  double *phi = peri_malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
+  peri_damage_index(s, phi);
+  double sum = 0.0;
+  peri_sum_owned(s, phi, 1, &sum); /* fixed-order blocks: the same on any number of ranks */
+  free(phi);
+  const int64_t nodes = peri_global_nodes(s);
+  return nodes > 0 ? sum / (double)nodes : 0.0;
 }

@@ -78,6 +78,13 @@ peri_frames *peri_frames_open(const peri_sim *s) {
   return f;
 }
 
+peri_frames *peri_frames_buffers(const peri_sim *s) {
+  peri_frames *f = peri_calloc(1, sizeof *f);
+  f->points = peri_malloc(sizeof(double) * 3 * (size_t)(s->disc.p.n > 0 ? s->disc.p.n : 1));
+  f->damage = peri_malloc(sizeof(double) * (size_t)(s->disc.p.n > 0 ? s->disc.p.n : 1));
+  return f;
+}
+
 static void current_positions(const peri_sim *s, double *points) {
   for (size_t c = 0; c < 3 * (size_t)s->disc.p.n_owned; ++c) points[c] = s->disc.p.x[c] + s->disc.p.u[c];
 }
@@ -111,45 +118,61 @@ static int write_pieces(peri_frames *f, peri_sim *s, const peri_field *fields, i
   return peri_comm_max_int(rc);
 }
 
-/* The fields of output.fields that this run has, pointing at this rank's owned nodes; their
- * count, or -1 when the stress could not be recovered. */
-static int frame_fields(peri_frames *f, peri_sim *s, peri_field *fields, int capacity) {
+/* One field of output.fields at the current state into *out, pointing at this rank's owned
+ * nodes (derived ones computed into the frame's buffers); 1, 0 when this run has no such
+ * field (dilatation without LPS, temperature without heat), -1 when the stress could not be
+ * recovered. `stress_done`: the stress buffers already hold this state's stress. */
+static int frame_field(peri_frames *f, peri_sim *s, const char *name, peri_field *out, bool *stress_done) {
   const peri_particles *p = &s->disc.p;
-  peri_damage_index(s, f->damage);
+  peri_field fl = {.name = name, .ncomp = peri_frame_field_components(s, name)};
+  if (fl.ncomp == 0) return 0;
+  if (!strcmp(name, "displacement")) fl.data = p->u;
+  else if (!strcmp(name, "velocity")) fl.data = p->v;
+  else if (!strcmp(name, "force")) fl.data = p->f;
+  else if (!strcmp(name, "damage")) {
+    peri_damage_index(s, f->damage);
+    fl.data = f->damage;
+  } else if (!strcmp(name, "dilatation")) fl.data = p->theta;
+  else if (!strcmp(name, "material")) fl.idata = p->material;
+  else if (!strcmp(name, "block")) fl.idata = p->block;
+  else if (!strcmp(name, "volume")) fl.data = p->volume;
+  else if (!strcmp(name, "strain_energy_density")) {
+    peri_strain_energy(s);
+    fl.data = s->disc.p.energy;
+  } else if (!strcmp(name, "stress") || !strcmp(name, "von_mises") || !strcmp(name, "principal_stress")) {
+    if (!*stress_done && compute_stress(f, s) != PERI_OK) return -1;
+    *stress_done = true;
+    if (!strcmp(name, "stress")) fl.data = f->stress;
+    else if (!strcmp(name, "von_mises")) fl.data = f->von_mises;
+    else fl.data = f->principal;
+  } else if (!strcmp(name, "temperature")) {
+    fl.data = s->thermal->T;
+  } else if (!strcmp(name, "heat_flux")) { /* into-flux, Bobaru & Duangpanya 2012 eq. 7 */
+    peri_thermal_flux(s);
+    fl.data = s->thermal->flux;
+  } else if (!strcmp(name, "strain")) {
+    if (!f->strain) f->strain = peri_malloc(sizeof(double) * 9 * (size_t)p->n_owned);
+    peri_strain(s, f->strain);
+    fl.data = f->strain;
+  } else return 0;
+  *out = fl;
+  return 1;
+}
+
+int peri_frames_field(peri_frames *f, peri_sim *s, const char *name, peri_field *out) {
+  bool stress_done = false;
+  return frame_field(f, s, name, out, &stress_done);
+}
+
+/* The fields of output.fields that this run has; their count, or -1 when the stress could
+ * not be recovered. */
+static int frame_fields(peri_frames *f, peri_sim *s, peri_field *fields, int capacity) {
   int nf = 0;
   bool stress_done = false;
   for (int k = 0; k < s->out.n_fields && nf < capacity; ++k) {
-    const char *name = s->out.fields[k];
-    peri_field fl = {.name = name, .ncomp = peri_frame_field_components(s, name)};
-    if (fl.ncomp == 0) continue;
-    if (!strcmp(name, "displacement")) fl.data = p->u;
-    else if (!strcmp(name, "velocity")) fl.data = p->v;
-    else if (!strcmp(name, "force")) fl.data = p->f;
-    else if (!strcmp(name, "damage")) fl.data = f->damage;
-    else if (!strcmp(name, "dilatation")) fl.data = p->theta;
-    else if (!strcmp(name, "material")) fl.idata = p->material;
-    else if (!strcmp(name, "block")) fl.idata = p->block;
-    else if (!strcmp(name, "volume")) fl.data = p->volume;
-    else if (!strcmp(name, "strain_energy_density")) {
-      peri_strain_energy(s);
-      fl.data = s->disc.p.energy;
-    } else if (!strcmp(name, "stress") || !strcmp(name, "von_mises") || !strcmp(name, "principal_stress")) {
-      if (!stress_done && compute_stress(f, s) != PERI_OK) return -1;
-      stress_done = true;
-      if (!strcmp(name, "stress")) fl.data = f->stress;
-      else if (!strcmp(name, "von_mises")) fl.data = f->von_mises;
-      else fl.data = f->principal;
-    } else if (!strcmp(name, "temperature")) {
-      fl.data = s->thermal->T;
-    } else if (!strcmp(name, "heat_flux")) { /* into-flux, Bobaru & Duangpanya 2012 eq. 7 */
-      peri_thermal_flux(s);
-      fl.data = s->thermal->flux;
-    } else if (!strcmp(name, "strain")) {
-      if (!f->strain) f->strain = peri_malloc(sizeof(double) * 9 * (size_t)p->n_owned);
-      peri_strain(s, f->strain);
-      fl.data = f->strain;
-    } else continue;
-    fields[nf++] = fl;
+    const int got = frame_field(f, s, s->out.fields[k], &fields[nf], &stress_done);
+    if (got < 0) return -1;
+    nf += got;
   }
   return nf;
 }

@@ -50,6 +50,7 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
   static const char *const fixed[] = {"time", "step", "kinetic_energy", "strain_energy", "external_work",
                                       "energy_balance", "broken_bond_fraction"};
   for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; ++k) add(c, fixed[k]);
+  add(c, "mean_damage"); /* the mean damage index of the nodes */
   char buf[64];
   for (int d = 0; d < s->disc.geom.dim; ++d) {
     snprintf(buf, sizeof buf, "momentum_%c", "xyz"[d]);

@@ -35,6 +35,13 @@ int peri_history_log_open(peri_history_log *h, const peri_sim *s) {
 }
 
 int peri_history_log_record(peri_history_log *h) {
+  if (h->keep) {
+    if (h->rows == h->kept_capacity) {
+      h->kept_capacity = h->kept_capacity ? 2 * h->kept_capacity : 64;
+      h->kept = peri_realloc(h->kept, sizeof(double) * (size_t)h->kept_capacity * (size_t)h->n_columns);
+    }
+    memcpy(h->kept + (size_t)h->rows * (size_t)h->n_columns, h->row, sizeof(double) * (size_t)h->n_columns);
+  }
   h->rows++;
   peri_plot_series_add(&h->plot, h->row);
   peri_frames_history(h->frames, h->row);
@@ -95,6 +102,7 @@ int peri_restart_check_history(const peri_sim *s) {
 void peri_history_log_close(peri_history_log *h) {
   peri_history_close(h->file);
   free(h->row);
+  free(h->kept);
   peri_plot_series_free(&h->plot);
   *h = (peri_history_log){0};
 }

@@ -1,4 +1,5 @@
 /* The run driver: solver + history + frames + picture + summary + progress line. */
+#include <limits.h>
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -11,6 +12,7 @@
 #include "peri/comm.h"
 #include "peri/checkpoint.h"
 #include "peri/damage.h"
+#include "peri/damage_index.h"
 #include "peri/decompose.h"
 #include "peri/energies.h"
 #include "peri/error.h"
@@ -33,6 +35,7 @@ typedef struct run_ctx {
   bool progress;
   int failed;
   long first_step;              /* step the solver started from (a restart's checkpoint) */
+  long stop_at;                 /* the step (or load step) after which the solver returns */
 } run_ctx;
 
 /* Mean displacement of a region's nodes (quasi-static history: the imposed displacement),
@@ -68,6 +71,7 @@ static int write_history(peri_sim *s, run_ctx *c) {
   c->log.row[k++] = ke + se - s->state.external_work;
   const int64_t n_bonds = peri_global_bonds(s); /* all ranks (docs/parallel.md) */
   c->log.row[k++] = n_bonds ? (double)peri_global_broken(s) / (double)n_bonds : 0.0;
+  c->log.row[k++] = peri_mean_damage(s); /* the mean of the damage field */
   double momentum[3];
   peri_linear_momentum(s, momentum);
   for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = momentum[d];
@@ -124,20 +128,28 @@ static int step_hook(peri_sim *s, void *ctx) {
       c->t_last_progress = t;
     }
   }
-  return 0;
+  return s->state.step >= c->stop_at; /* peri_run_advance: stop after this step */
 }
 
-int peri_run(peri_sim *s) {
-  if (s->solver.kind == PERI_SOLVER_HEAT) return peri_run_heat(s); /* conduction only (docs/heat.md) */
+/* A run in progress: the context of the step hook and the status so far (include/peri/run.h). */
+struct peri_run_session {
+  peri_sim *s;
+  run_ctx c;
+  int rc;
+  bool finished;
+};
+
+peri_run_session *peri_run_open(peri_sim *s, bool keep_history) {
   run_ctx c = {0};
   c.frames = peri_frames_open(s);
-  if (!c.frames) return PERI_ERR_RUN;
+  if (!c.frames) return NULL;
   if (peri_comm_max_int(peri_history_log_open(&c.log, s))) { /* collective: rank 0 opens the file */
     peri_frames_close(c.frames);
     peri_history_log_close(&c.log);
-    return PERI_ERR_RUN;
+    return NULL;
   }
   c.log.frames = c.frames; /* the Exodus file's global variables */
+  c.log.keep = keep_history;
   c.progress = !s->out.quiet && isatty(STDERR_FILENO);
   peri_apply_initial_conditions(s);
   peri_apply_loads(s, s->state.time);
@@ -155,9 +167,36 @@ int peri_run(peri_sim *s) {
   rc = peri_comm_max_int(rc);
   c.t_start = c.t_last_progress = peri_seconds();
   c.first_step = s->state.step;
-  if (rc == PERI_OK)
-    rc = peri_is_quasi_static(s) ? peri_solve_quasi_static(s, step_hook, &c) : peri_solve_explicit(s, step_hook, &c);
-  if (c.failed) rc = PERI_ERR_RUN;
+  c.stop_at = LONG_MAX;
+  peri_run_session *r = peri_calloc(1, sizeof *r);
+  *r = (peri_run_session){.s = s, .c = c, .rc = rc};
+  return r;
+}
+
+int peri_run_advance(peri_run_session *r, long until) {
+  peri_sim *s = r->s;
+  if (r->rc != PERI_OK || r->finished || s->state.step >= until) return r->rc;
+  r->c.stop_at = until;
+  int rc = peri_is_quasi_static(s) ? peri_solve_quasi_static(s, step_hook, &r->c)
+                                   : peri_solve_explicit(s, step_hook, &r->c);
+  if (r->c.failed) rc = PERI_ERR_RUN;
+  return r->rc = rc;
+}
+
+int peri_run_status(const peri_run_session *r) { return r->rc; }
+
+const double *peri_run_history(const peri_run_session *r, long *rows, int *columns) {
+  *rows = r->c.log.rows;
+  *columns = r->c.log.n_columns;
+  return r->c.log.kept;
+}
+
+int peri_run_finish(peri_run_session *r) {
+  if (r->finished) return r->rc;
+  peri_sim *s = r->s;
+  const run_ctx c = r->c;
+  int rc = r->rc;
+  r->finished = true;
   double wall = peri_seconds() - c.t_start;
   if (c.progress) fprintf(stderr, "\r%80s\r", "");
   char picture[4300] = "", plot[4400] = "";
@@ -195,7 +234,22 @@ int peri_run(peri_sim *s) {
            s->out.vtu ? "pvd" : "e", s->out.vtu && s->out.exodus ? "VTU series and Exodus II .e" : s->out.vtu ? "VTU series" : "Exodus II",
            s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot);
   }
-  peri_frames_close(c.frames);
-  peri_history_log_close(&c.log);
+  return r->rc = rc;
+}
+
+int peri_run_close(peri_run_session *r) {
+  if (!r) return PERI_OK;
+  const int rc = peri_run_finish(r);
+  peri_frames_close(r->c.frames);
+  peri_history_log_close(&r->c.log);
+  free(r);
   return rc;
+}
+
+int peri_run(peri_sim *s) {
+  if (s->solver.kind == PERI_SOLVER_HEAT) return peri_run_heat(s); /* conduction only (docs/heat.md) */
+  peri_run_session *r = peri_run_open(s, false);
+  if (!r) return PERI_ERR_RUN;
+  peri_run_advance(r, LONG_MAX);
+  return peri_run_close(r);
 }

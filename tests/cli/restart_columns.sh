@@ -18,15 +18,15 @@ expect_nonempty_file "$ck"
 snapshot() { (cd "$TMP/run" && find . -type f -exec md5sum {} + | sort); }
 before=$(snapshot)
 
-# the plate writes 17 columns: time, step, 4 energies, the broken-bond fraction, momentum x
-# and y, and the x and y reactions of its 4 regions; with one region more (a probe strip:
-# reaction_probe_x, reaction_probe_y), 19 ...
+# the plate writes 18 columns: time, step, 4 energies, the broken-bond fraction, the mean
+# damage, momentum x and y, and the x and y reactions of its 4 regions; with one region more
+# (a probe strip: reaction_probe_x, reaction_probe_y), 20 ...
 sed 's/^regions:$/regions:\n  probe: {shape: rectangle, min: [0.040, 0.0], max: [0.050, 0.024]}/' \
   "$DECKS/plate_pmb.yaml" >"$TMP/plate_pmb.yaml"
 grep -q "probe:" "$TMP/plate_pmb.yaml" || fail "the region was not added to the deck"
 run_peri run "$TMP/plate_pmb.yaml" --quiet --output "$TMP/run" --restart "$ck" "${every[@]}"
 expect_status 2
-expect_stderr_contains "history.csv' has 17 columns and this deck's run writes 19: the deck adds the columns 'reaction_probe_x', 'reaction_probe_y'"
+expect_stderr_contains "history.csv' has 18 columns and this deck's run writes 20: the deck adds the columns 'reaction_probe_x', 'reaction_probe_y'"
 [[ "$(snapshot)" == "$before" ]] || fail "the refused restart changed the run's directory"
 pass "a region added: exit 2, the added columns named, the directory unchanged"
 

@@ -1,7 +1,7 @@
 /* The columns of history.csv (include/peri/history.h): one list for the file and for
  * output.plot. A thermomechanical run has the thermal columns after the mechanical ones and
  * can plot them; a heat run has its own columns; a quasi-static run adds the imposed
- * displacements of its regions. Counts follow from the deck: 7 fixed columns, dim momentum
+ * displacements of its regions. Counts follow from the deck: 8 fixed columns, dim momentum
  * components, dim reactions (and, quasi-static, dim displacements) per named region. */
 #include <criterion/criterion.h>
 #include <stdio.h>
@@ -39,8 +39,9 @@ Test(history_columns, explicit_run) {
   build(&s, "", "explicit, steps: 1", "");
   int n = 0;
   char **names = peri_history_columns(&s, &n);
-  cr_assert_eq(n, 7 + 2 + 2, "7 fixed, 2 momentum, 2 reactions of one region; got %d", n);
+  cr_assert_eq(n, 8 + 2 + 2, "8 fixed, 2 momentum, 2 reactions of one region; got %d", n);
   cr_assert_eq(index_of(names, n, "time"), 0);
+  cr_assert_eq(index_of(names, n, "mean_damage"), index_of(names, n, "broken_bond_fraction") + 1);
   cr_assert_eq(index_of(names, n, "reaction_left_y"), n - 1);
   cr_assert_eq(index_of(names, n, "total_heat"), -1);
   cr_assert(!peri_history_has_column(&s, "displacement_left_x"), "explicit runs have no imposed displacements");
@@ -54,7 +55,7 @@ Test(history_columns, thermomechanics_plots_thermal_columns) {
         "explicit, steps: 1", ", plot: {x: time, y: max_temperature}");
   int n = 0;
   char **names = peri_history_columns(&s, &n);
-  cr_assert_eq(n, 7 + 2 + 2 + 3, "the 3 thermal columns follow the mechanical ones; got %d", n);
+  cr_assert_eq(n, 8 + 2 + 2 + 3, "the 3 thermal columns follow the mechanical ones; got %d", n);
   cr_assert_eq(index_of(names, n, "total_heat"), n - 3);
   cr_assert_eq(index_of(names, n, "max_temperature"), n - 1);
   peri_plot_series series;

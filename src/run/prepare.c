@@ -1,0 +1,26 @@
+/* What a run does between building the simulation and its first step, shared by `peri run`
+ * (app/peri.c) and the C API (src/api/api.c): the checkpoint to continue from, the check of
+ * the number of MPI ranks, the summary, and the decomposition over the ranks. */
+#include <stdio.h>
+#include "peri/checkpoint.h"
+#include "peri/comm.h"
+#include "peri/decompose.h"
+#include "peri/error.h"
+#include "peri/history_log.h"
+#include "peri/quasistatic.h"
+#include "peri/run.h"
+
+int peri_run_prepare(peri_sim *s, const char *restart) {
+  int rc = PERI_OK;
+  if (restart) rc = peri_restart_load(s, restart); /* checked before any output (docs/restart.md) */
+  if (rc == PERI_OK && restart) rc = peri_restart_check_history(s); /* the same history.csv columns */
+  if (rc == PERI_OK) rc = peri_solver_check_ranks(s, peri_comm_size()); /* MPI ranks */
+  if (rc == PERI_OK && !s->out.quiet) peri_print_summary(s, stdout);
+  if (rc == PERI_OK && restart && !s->out.quiet) peri_restart_print(s, stdout);
+  if (rc == PERI_OK) {
+    fflush(stdout);
+    rc = peri_decompose(s); /* MPI ranks (docs/parallel.md); nothing in one process */
+    if (rc == PERI_OK && !s->out.quiet) peri_print_decomposition(s, stdout);
+  }
+  return rc;
+}
