@@ -110,7 +110,7 @@ const char *peri_history_unit(const char *column) {
   } units[] = {
       {"time", "s", true},          {"step", "1", true},           {"kinetic_energy", "J", true},
       {"strain_energy", "J", true}, {"external_work", "J", true},  {"energy_balance", "J", true},
-      {"broken_bond_fraction", "1", true}, {"phase", "1", true},   {"dynamic_time", "s", true},
+      {"broken_bond_fraction", "1", true}, {"mean_damage", "1", true}, {"phase", "1", true},   {"dynamic_time", "s", true},
       {"total_heat", "J", true},    {"min_temperature", "K", true}, {"max_temperature", "K", true},
       {"momentum_", "kg*m/s", false}, {"indenter_force_", "N", false}, {"reaction_", "N", false},
       {"displacement_", "m", false}, {"mean_temperature_", "K", false}, {"heat_inflow_", "W", false},
