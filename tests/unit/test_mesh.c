@@ -127,11 +127,11 @@ Test(mesh_text, perilab_header_and_csv, .init = make_tmpdir, .fini = remove_tmpd
 
 static const char *abaqus_3d =
     "*HEADING\n"
-    "** two unit cubes side by side, a tetrahedron and a wedge on top\n"
+    "** two unit cubes side by side, a tetrahedron and a wedge on top, a pyramid below\n"
     "*NODE, NSET=NALL\n"
     "1, 0, 0, 0\n2, 1, 0, 0\n3, 2, 0, 0\n4, 0, 1, 0\n5, 1, 1, 0\n6, 2, 1, 0\n"
     "7, 0, 0, 1\n8, 1, 0, 1\n9, 2, 0, 1\n10, 0, 1, 1\n11, 1, 1, 1\n12, 2, 1, 1\n"
-    "13, 0, 0, 2\n14, 1, 0, 2\n15, 2, 0, 2\n16, 1, 1, 2\n"
+    "13, 0, 0, 2\n14, 1, 0, 2\n15, 2, 0, 2\n16, 1, 1, 2\n17, 0.5, 0.5, -1\n"
     "*Element, type=C3D8R, elset=Bricks\n"
     "1, 1, 2, 5, 4,\n  7, 8, 11, 10\n"
     "2, 2, 3, 6, 5, 8, 9, 12, 11\n"
@@ -139,6 +139,8 @@ static const char *abaqus_3d =
     "3, 7, 8, 10, 13\n"
     "*ELEMENT, TYPE=C3D6, ELSET=WEDGES\n"
     "4, 8, 9, 11, 14, 15, 16\n"
+    "*ELEMENT, TYPE=C3D5, ELSET=PYRAMIDS\n"
+    "5, 1, 2, 5, 4, 17\n"
     "*NSET, NSET=LEFT\n1, 4, 7, 10\n"
     "*NSET, NSET=GEN, GENERATE\n1, 3, 1\n"
     "*ELSET, ELSET=TOP\nTETS, 4\n"
@@ -151,16 +153,18 @@ Test(mesh_abaqus, three_dimensional, .init = make_tmpdir, .fini = remove_tmpdir)
   peri_mesh m;
   cr_assert_eq(peri_mesh_format_of(path), PERI_MESH_ABAQUS);
   cr_assert_eq(peri_mesh_read(&m, path, PERI_MESH_ABAQUS, 3, 1, 1), PERI_OK);
-  cr_assert_eq(m.n, 4);
-  /* two unit cubes, a tetrahedron of volume 1/6, a wedge of volume 1/2 */
-  cr_assert_float_eq(total_volume(&m), 2.0 + 1.0 / 6.0 + 0.5, 1e-12);
-  cr_assert_eq(m.n_blocks, 3);
+  cr_assert_eq(m.n, 5);
+  /* two unit cubes, a tetrahedron of volume 1/6, a wedge of volume 1/2, a pyramid of 1/3 */
+  cr_assert_float_eq(total_volume(&m), 2.0 + 1.0 / 6.0 + 0.5 + 1.0 / 3.0, 1e-12);
+  cr_assert_float_eq(m.volume[4], 1.0 / 3.0, 1e-15);
+  cr_assert_float_eq(m.x[3 * 4 + 2], -0.25, 1e-15); /* a pyramid's centroid: a quarter up from the base */
+  cr_assert_eq(m.n_blocks, 4);
   cr_assert_str_eq(m.blocks[m.block[0]].name, "Bricks");
   cr_assert_eq(m.blocks[m.block[3]].id, 3);
   cr_assert_float_eq(m.x[0], 0.5, 1e-15); /* the first cube's centroid */
   cr_assert_float_eq(m.x[3 * 2 + 2], 1.25, 1e-15); /* the tetrahedron's */
-  cr_assert_eq(set_of(&m, "LEFT")->count, 2);      /* cube 1 and the tetrahedron touch x = 0 */
-  cr_assert_eq(set_of(&m, "GEN")->count, 2);       /* nodes 1-3: the two cubes */
+  cr_assert_eq(set_of(&m, "LEFT")->count, 3);      /* cube 1, the tetrahedron and the pyramid touch x = 0 */
+  cr_assert_eq(set_of(&m, "GEN")->count, 3);       /* nodes 1-3: the two cubes and the pyramid */
   cr_assert_eq(set_of(&m, "TOP")->count, 2);
   cr_assert_eq(set_of(&m, "bricks")->count, 2);    /* names are case-insensitive */
   peri_mesh_free(&m);
