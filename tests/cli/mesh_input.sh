@@ -97,3 +97,10 @@ run_peri check "$TMP/deck.yaml"
 expect_status 2
 expect_stderr_contains "clamp.txt:2: node 4 does not exist"
 pass "a node set file naming a node that does not exist: exit 2, file:line"
+
+# the Gmsh example with its node-set regions on 1 and 2 ranks: the history of one process
+source "$(dirname "${BASH_SOURCE[0]}")/lib/mpi.bash"
+mpi_init
+MPI_RANKS="1 2"
+mpi_same_on_ranks mesh_plate "$deck" --set solver.end_time=10e-6
+pass "$deck: the same history.csv on 1 and 2 ranks"
