@@ -266,6 +266,31 @@ Test(mesh_exodus, peridigm_sphere_mesh, .init = make_tmpdir, .fini = remove_tmpd
   peri_mesh_free(&m);
 }
 
+/* PeriLab's sphere meshes: no attributes, the volume as the nodal variable "Volume". */
+Test(mesh_exodus, perilab_nodal_volume, .init = make_tmpdir, .fini = remove_tmpdir) {
+  char path[128];
+  snprintf(path, sizeof path, "%s/nodal.e", tmpdir);
+  write_sphere_mesh(path, 0, 0, "SPHERE");
+  int cpu = 8, io = 8;
+  float version;
+  int exoid = ex_open(path, EX_WRITE, &cpu, &io, &version);
+  cr_assert_geq(exoid, 0);
+  char *names[] = {"Volume"};
+  cr_assert_eq(ex_put_var_param(exoid, "n", 1), 0);
+  cr_assert_eq(ex_put_var_names(exoid, "n", 1, names), 0);
+  const double t = 0.0, h = EDGE / SIDE;
+  cr_assert_eq(ex_put_time(exoid, 1, &t), 0);
+  double v[SIDE * SIDE * SIDE];
+  for (int k = 0; k < SIDE * SIDE * SIDE; ++k) v[k] = h * h * h;
+  cr_assert_eq(ex_put_nodal_var(exoid, 1, 1, SIDE * SIDE * SIDE, v), 0);
+  cr_assert_eq(ex_close(exoid), 0);
+  peri_mesh m;
+  cr_assert_eq(peri_mesh_read(&m, path, PERI_MESH_EXODUS, 3, 1, 1), PERI_OK);
+  cr_assert_eq(m.n, SIDE * SIDE * SIDE);
+  cr_assert_float_eq(total_volume(&m), EDGE * EDGE * EDGE, 1e-12 * EDGE * EDGE * EDGE);
+  peri_mesh_free(&m);
+}
+
 /* A box [0,1] x [0,1] x [0,2] of 2 x 2 x 2 hexahedra whose shared middle node is moved:
  * the trilinear hexahedra still tile the box, so their volumes sum to 2. */
 Test(mesh_exodus, hexahedra, .init = make_tmpdir, .fini = remove_tmpdir) {
