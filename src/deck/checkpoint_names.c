@@ -138,6 +138,14 @@ int peri_checkpoint_check_names(const peri_sim *s, const peri_node *root) {
     else
       ADD("the deck's node file", "%s", node_file->scalar);
   }
+  const peri_node *mesh = disc ? peri_deck_get(disc, "mesh") : NULL;
+  if (mesh && mesh->scalar) { /* relative to the deck's directory */
+    const char *slash = strrchr(s->deck_path, '/');
+    if (mesh->scalar[0] != '/' && slash)
+      ADD("the deck's mesh file", "%.*s/%s", (int)(slash - s->deck_path), s->deck_path, mesh->scalar);
+    else
+      ADD("the deck's mesh file", "%s", mesh->scalar);
+  }
 #undef ADD
   for (int k = 0; k < n; ++k) {
     bool same = collide(checkpoint, files[k].pattern);

@@ -42,20 +42,9 @@ typedef struct parse_ctx {
   peri_sim *s;
   const peri_node *root;
   material_failure *failure;
+  peri_mesh mesh;          /* the discretization's mesh file (its sets and point ids), or empty */
+  int32_t *node_of_point;  /* node index of each mesh point, after the node ordering */
 } parse_ctx;
-
-static int find_material(const peri_sim *s, const peri_node *at, const char *name) {
-  for (int m = 0; m < s->mat.n_materials; ++m)
-    if (strcmp(s->mat.materials[m].name, name) == 0) return m;
-  int best = -1, best_d = 1 << 30;
-  for (int m = 0; m < s->mat.n_materials; ++m) {
-    int d = peri_edit_distance(name, s->mat.materials[m].name);
-    if (d < best_d) best_d = d, best = m;
-  }
-  if (best >= 0 && best_d <= 2)
-    return -peri_deck_error(at, "unknown material '%s'; did you mean '%s'?", name, s->mat.materials[best].name);
-  return -peri_deck_error(at, "unknown material '%s' (define it under materials)", name);
-}
 
 /* ---------------------------------------------------------------- materials */
 
@@ -219,9 +208,9 @@ static int parse_interfaces(parse_ctx *c) {
     if (pair->kind != PERI_NODE_SEQUENCE || pair->count != 2 || pair->items[0]->kind != PERI_NODE_SCALAR ||
         pair->items[1]->kind != PERI_NODE_SCALAR)
       return peri_deck_error(pair, "key 'materials': expected two material names, e.g. [matrix, fiber]");
-    int a = find_material(s, pair->items[0], pair->items[0]->scalar);
+    int a = peri_setup_find_material(s, pair->items[0], pair->items[0]->scalar);
     if (a < 0) return -a;
-    int b = find_material(s, pair->items[1], pair->items[1]->scalar);
+    int b = peri_setup_find_material(s, pair->items[1], pair->items[1]->scalar);
     if (b < 0) return -b;
     double s0 = NAN, G0 = NAN;
     TRY(peri_deck_double(it, "critical_stretch", false, &s0));
@@ -248,7 +237,7 @@ static int parse_interfaces(parse_ctx *c) {
 static const char *const discretization_keys[] = {
     "spacing", "horizon", "m", "placement", "origin", "thickness", "cross_section",
     "partial_volume", "influence", "weighted_volume", "fill", "remove", "node_file", "blocks",
-    "volume", "max_nodes", NULL};
+    "volume", "max_nodes", "mesh", "mesh_format", NULL};
 
 static int parse_shape_list(const peri_node *list, int dim, const char *section,
                             const char *const *extra, peri_shape **shapes, int *count) {
@@ -309,16 +298,20 @@ static int parse_discretization(parse_ctx *c) {
   peri_geometry *g = &s->disc.geom;
   const peri_node *node_file = peri_deck_get(d, "node_file");
   const peri_node *fill = peri_deck_get(d, "fill");
-  if (!node_file == !fill)
-    return peri_deck_error(d, "discretization: give exactly one of 'fill' (shapes on a grid) or "
-                              "'node_file' (x y [z] block volume)");
+  const peri_node *mesh = peri_deck_get(d, "mesh");
+  if (!node_file + !fill + !mesh != 2)
+    return peri_deck_error(d, "discretization: give exactly one of 'fill' (shapes on a grid), "
+                              "'node_file' (x y [z] block volume) or 'mesh' (an Exodus, Gmsh, Abaqus or text mesh)");
+  if (mesh && !node_file) node_file = mesh; /* a file gives the nodes */
   static const char *const grid_only[] = {"placement", "origin", "remove", "max_nodes", NULL};
+  if (fill && peri_deck_get(d, "mesh_format"))
+    return peri_deck_error(peri_deck_key_node(d, "mesh_format"), "key 'mesh_format': only with 'mesh'");
   for (int k = 0; node_file && grid_only[k]; ++k)
     if (peri_deck_get(d, grid_only[k]))
       return peri_deck_error(peri_deck_key_node(d, grid_only[k]), "key '%s': only with 'fill' (a node "
                              "file gives the node positions)", grid_only[k]);
   if (fill && peri_deck_get(d, "blocks"))
-    return peri_deck_error(peri_deck_key_node(d, "blocks"), "key 'blocks': only with 'node_file' (fill "
+    return peri_deck_error(peri_deck_key_node(d, "blocks"), "key 'blocks': only with 'node_file' or 'mesh' (fill "
                            "shapes name their material)");
   g->spacing = NAN;
   TRY(peri_deck_double(d, "spacing", fill != NULL, &g->spacing));
@@ -383,7 +376,7 @@ static int parse_discretization(parse_ctx *c) {
       }
       rc = peri_deck_string(fill->items[k], "material", true, &mname);
       if (rc != PERI_OK) break;
-      int mi = find_material(s, peri_deck_get(fill->items[k], "material"), mname);
+      int mi = peri_setup_find_material(s, peri_deck_get(fill->items[k], "material"), mname);
       if (mi < 0) rc = -mi;
       else gp.fill[k].material = mi;
     }
@@ -398,42 +391,7 @@ static int parse_discretization(parse_ctx *c) {
     free(gp.remove);
     if (rc != PERI_OK) return rc;
   } else {
-    const char *path = NULL;
-    TRY(peri_deck_string(d, "node_file", true, &path));
-    /* relative to the deck's directory */
-    char full[4096];
-    const char *slash = strrchr(s->deck_path, '/');
-    if (path[0] != '/' && slash)
-      snprintf(full, sizeof full, "%.*s/%s", (int)(slash - s->deck_path), s->deck_path, path);
-    else
-      snprintf(full, sizeof full, "%s", path);
-    int32_t *block_material = NULL;
-    int n_blocks = 0;
-    const peri_node *blocks = peri_deck_get(d, "blocks");
-    if (blocks) {
-      if (blocks->kind != PERI_NODE_SEQUENCE)
-        return peri_deck_error(blocks, "key 'blocks': expected a list of material names (block 1 first)");
-      n_blocks = blocks->count;
-      block_material = peri_calloc(n_blocks, sizeof(int32_t));
-      for (int k = 0; k < n_blocks; ++k) {
-        int mi = blocks->items[k]->scalar ? find_material(s, blocks->items[k], blocks->items[k]->scalar)
-                                          : -peri_deck_error(blocks->items[k], "expected a material name");
-        if (mi < 0) {
-          free(block_material);
-          return -mi;
-        }
-        block_material[k] = mi;
-      }
-    } else if (s->mat.n_materials == 1) {
-      n_blocks = 1 << 20; /* every block is the one material */
-      block_material = peri_calloc(n_blocks, sizeof(int32_t));
-    } else {
-      return peri_deck_error(d, "discretization: with several materials, 'blocks' must map node "
-                                "file blocks to materials");
-    }
-    int rc = peri_nodefile_read(p, full, g->dim, block_material, n_blocks);
-    free(block_material);
-    if (rc != PERI_OK) return rc;
+    TRY(peri_setup_mesh(s, d, &c->mesh)); /* src/deck/mesh_keys.c */
     if (isnan(g->spacing)) {
       /* mean node spacing from the volumes */
       double vsum = 0.0;
@@ -460,6 +418,10 @@ static int parse_discretization(parse_ctx *c) {
   int32_t *perm = peri_malloc(sizeof(int32_t) * p->n);
   peri_sfc_order(p, g->spacing, perm);
   peri_particles_permute(p, perm);
+  if (c->mesh.n > 0) { /* the regions name mesh points */
+    c->node_of_point = peri_malloc(sizeof(int32_t) * (size_t)p->n);
+    for (int32_t k = 0; k < p->n; ++k) c->node_of_point[perm[k]] = k;
+  }
   free(perm);
   peri_particles_alloc_state(p);
   return PERI_OK;
@@ -467,36 +429,8 @@ static int parse_discretization(parse_ctx *c) {
 
 /* ---------------------------------------------------------------- regions, cracks */
 
-static int parse_regions(parse_ctx *c) {
-  peri_sim *s = c->s;
-  const peri_node *regs = peri_deck_get(c->root, "regions");
-  int n = regs ? regs->count : 0;
-  if (regs && regs->kind != PERI_NODE_MAPPING)
-    return peri_deck_error(regs, "key 'regions': expected a mapping of region names to shapes, got %s",
-                           peri_deck_kind_name(regs));
-  s->cond.regions = peri_calloc(n + 1, sizeof(peri_region));
-  s->cond.n_regions = 1;
-  s->cond.regions[0].name = peri_strdup("all");
-  s->cond.regions[0].shape.kind = PERI_SHAPE_ALL;
-  peri_region_collect(&s->cond.regions[0], &s->disc.p, 0.0);
-  static const char *const extra[] = {"no_fail", NULL};
-  for (int k = 0; k < n; ++k) {
-    const char *name = regs->keys[k]->scalar;
-    if (strcmp(name, "all") == 0) return peri_deck_error(regs->keys[k], "region name 'all' is predefined");
-    char section[160];
-    snprintf(section, sizeof section, "regions.%s", name);
-    peri_region *r = &s->cond.regions[s->cond.n_regions++];
-    r->name = peri_strdup(name);
-    TRY(peri_shape_parse(regs->items[k], s->disc.geom.dim, section, extra, &r->shape));
-    peri_region_collect(r, &s->disc.p, 1e-9 * s->disc.geom.spacing);
-    if (r->count == 0)
-      peri_warning("region '%s' (%s:%d) contains no nodes", name, regs->keys[k]->file, regs->keys[k]->line);
-    bool no_fail = false;
-    TRY(peri_deck_bool(regs->items[k], "no_fail", false, &no_fail));
-    if (no_fail)
-      for (int32_t a = 0; a < r->count; ++a) s->disc.p.flags[r->nodes[a]] |= PERI_NODE_NO_FAIL;
-  }
-  return PERI_OK;
+static int parse_regions(parse_ctx *c) { /* src/deck/region_keys.c */
+  return peri_setup_regions(c->s, c->root, c->mesh.n > 0 ? &c->mesh : NULL, c->node_of_point);
 }
 
 static int parse_precracks(parse_ctx *c) {
@@ -890,6 +824,8 @@ static int from_tree(peri_sim *s, peri_node *root, int n_sets, const char *const
   parse_ctx c = {.s = s, .root = root, .failure = NULL};
   if (rc == PERI_OK) rc = build(&c);
   free(c.failure);
+  peri_mesh_free(&c.mesh);
+  free(c.node_of_point);
   peri_deck_free(root);
   peri_overrides_free(keep, n_sets);
   return rc;

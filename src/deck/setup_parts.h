@@ -4,6 +4,7 @@
 #define PERI_SETUP_PARTS_H
 #include <stdbool.h>
 #include "peri/deck.h"
+#include "peri/mesh.h"
 #include "peri/sim.h"
 
 /* Whether the deck asks for a conduction-only run (solver: {type: heat}). */
@@ -30,5 +31,19 @@ int peri_setup_find_region(const peri_sim *s, const peri_node *regions, const pe
 int peri_output_format_parse(peri_sim *s, const peri_node *output);
 /* output.picture's view, normal and at (3D only; output_keys.c). */
 int peri_picture_view_parse(peri_sim *s, const peri_node *picture);
+
+/* Index of the material called `name`; on failure prints a message at `at` (with a
+ * suggestion) and returns -PERI_ERR_INPUT (region_lookup.c). */
+int peri_setup_find_material(const peri_sim *s, const peri_node *at, const char *name);
+
+/* The discretization from discretization.mesh or node_file (mesh_keys.c, docs/deck.md
+ * "Meshes"): the mesh's points become the particles, their blocks mapped to materials by
+ * discretization.blocks. The mesh stays in *mesh for the regions (its sets and point ids). */
+int peri_setup_mesh(peri_sim *s, const peri_node *d, peri_mesh *mesh);
+
+/* The regions section (region_keys.c): shapes, mesh sets, node set files, blocks, materials
+ * and their unions, intersections and differences. `mesh` is the discretization's mesh or
+ * NULL (a grid); node_of_point[k] is the node of the mesh's point k. */
+int peri_setup_regions(peri_sim *s, const peri_node *root, const peri_mesh *mesh, const int32_t *node_of_point);
 
 #endif
