@@ -72,6 +72,9 @@ void peri_qs_forces(peri_sim *s);
 /* The status a residual gives: diverged when it is not finite (peri_qs_residual makes any
  * state that is not finite infinite), converged at or below the tolerance. */
 peri_qs_status peri_qs_status_of(const peri_sim *s, double residual);
+/* Called by the solvers after each iteration of a solve: records the iteration count and
+ * residual of the solve under way and lets the run driver print progress (s->out.progress). */
+void peri_qs_iteration(peri_sim *s, long iteration, double residual);
 /* Out-of-balance force r = f + b on free components (0 on prescribed ones and on unused
  * dimensions) into r[3n]; returns |V r| / |reference| where the reference is the larger of
  * the applied load |V b| and the reaction |V f| on prescribed components. */

@@ -91,6 +91,8 @@ typedef struct peri_quasi_static {
   /* statistics of the run */
   long iterations, solves, force_evaluations, cutbacks;
   double residual;              /* last relative residual */
+  long solve_iterations;        /* iterations of the solve under way (progress lines) */
+  long broken_in_run;           /* directed bonds broken by the load steps (all ranks) */
   double reference, last_reference; /* reference force norm: largest at a converged state, and
                                    the current one (after a break-through the load may vanish) */
 } peri_quasi_static;
@@ -110,6 +112,14 @@ typedef struct peri_output {
   long checkpoint_every;        /* steps between checkpoints (0: none; docs/restart.md) */
   char *checkpoint_file;        /* checkpoint path, "{step}" = step number (NULL: <basename>.h5) */
   bool quiet;                   /* no summary and no progress line */
+  /* progress (docs/deck.md section 1, --progress): on a terminal a live line, otherwise a
+   * line every progress_every seconds to stderr (0: none); progress_lines asks for the lines
+   * on a terminal too. The run driver sets `progress`, which the solvers call at every
+   * iteration (src/run/progress.c decides when to print). */
+  double progress_every;
+  bool progress_lines;
+  void (*progress)(struct peri_sim *s);
+  void *progress_state;
 } peri_output;
 
 /* The discretization: geometry, nodes, bonds and the bond loops' work items. */

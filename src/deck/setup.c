@@ -668,6 +668,7 @@ static int parse_output(parse_ctx *c) {
   o->picture = s->disc.geom.dim == 2;
   o->picture_field = peri_strdup("damage");
   o->picture_width = 1200;
+  o->progress_every = 10.0; /* seconds between progress lines off a terminal (--progress) */
   long every = -1, frames = -1, history_every = -1;
   const char *dir = NULL;
   if (it) {

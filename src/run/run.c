@@ -20,6 +20,7 @@
 #include "peri/history_log.h"
 #include "peri/model.h"
 #include "peri/output.h"
+#include "peri/progress.h"
 #include "peri/run.h"
 #include "peri/solver.h"
 #include "peri/quasistatic.h"
@@ -29,8 +30,8 @@
 typedef struct run_ctx {
   peri_frames *frames;
   peri_history_log log;         /* history.csv and the output.plot series */
-  double t_start, t_last_progress;
-  bool progress;
+  double t_start;
+  peri_progress progress;       /* live line or lines (src/run/progress.c) */
   int failed;
   long first_step;              /* step the solver started from (a restart's checkpoint) */
 } run_ctx;
@@ -114,15 +115,7 @@ static int step_hook(peri_sim *s, void *ctx) {
     c->failed = 1;
     return 1;
   }
-  if (c->progress) {
-    double t = peri_seconds();
-    if (t - c->t_last_progress > 0.5 && t - c->t_start > 1.0) {
-      double rate = (s->state.step - c->first_step) / (t - c->t_start);
-      fprintf(stderr, "\r  step %ld/%ld  t = %.4g s  %.0f steps/s  eta %.0f s   ", s->state.step, s->solver.steps,
-              s->state.time, rate, (s->solver.steps - s->state.step) / rate);
-      c->t_last_progress = t;
-    }
-  }
+  if (s->out.progress) s->out.progress(s);
   return 0;
 }
 
@@ -136,7 +129,6 @@ int peri_run(peri_sim *s) {
     peri_history_log_close(&c.log);
     return PERI_ERR_RUN;
   }
-  c.progress = !s->out.quiet && isatty(STDERR_FILENO);
   peri_apply_initial_conditions(s);
   peri_apply_loads(s, s->state.time);
   peri_exchange_state(s); /* ghost displacements (MPI ranks, docs/parallel.md) */
@@ -151,13 +143,14 @@ int peri_run(peri_sim *s) {
     s->state.forces_current = !peri_is_quasi_static(s);
   }
   rc = peri_comm_max_int(rc);
-  c.t_start = c.t_last_progress = peri_seconds();
+  c.t_start = peri_seconds();
   c.first_step = s->state.step;
+  peri_progress_begin(&c.progress, s);
   if (rc == PERI_OK)
     rc = peri_is_quasi_static(s) ? peri_solve_quasi_static(s, step_hook, &c) : peri_solve_explicit(s, step_hook, &c);
   if (c.failed) rc = PERI_ERR_RUN;
   double wall = peri_seconds() - c.t_start;
-  if (c.progress) fprintf(stderr, "\r%80s\r", "");
+  peri_progress_end(&c.progress, s);
   char picture[4300] = "", plot[4400] = "";
   /* drawn even when the run failed: the curve so far */
   if (peri_plot_series_write(&c.log.plot, s, plot, sizeof plot) != PERI_OK) rc = PERI_ERR_RUN;

@@ -44,7 +44,9 @@ static long break_bonds(peri_sim *s) {
   peri_exchange_state(s); /* ghost displacements (MPI ranks) */
   long nb = s->mat.model->force(s);
   s->solver.qs.force_evaluations++;
-  return s->par.dd ? peri_comm_sum_long(nb) : nb; /* every rank takes the same branch */
+  if (s->par.dd) nb = peri_comm_sum_long(nb); /* every rank takes the same branch */
+  s->solver.qs.broken_in_run += nb;
+  return nb;
 }
 
 /* After a converged solve: the reference force norm of later solves is at least this one. */
