@@ -99,6 +99,8 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
   double t_done = s->state.time;
   int rc = PERI_OK;
   bool stop = false; /* the hook asked to stop (during a dynamic phase) */
+  peri_qs_work work; /* external work over the accepted states (history column external_work) */
+  peri_qs_work_begin(&work, s);
   /* from the load step reached: 0, or a checkpoint's (docs/restart.md) */
   for (long n = s->state.step; n < N && rc == PERI_OK; ++n) {
     const double t_target = T * (double)(n + 1) / (double)N;
@@ -166,6 +168,7 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
         converged(s);
       }
       if (retry) continue;
+      if (!stop && rc == PERI_OK) peri_qs_work_step(&work, s);
       if (!stop) t_done = t;
     }
     s->state.time = t_done;
@@ -178,5 +181,6 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
   free(u_save);
   free(broken_save);
   free(s0_save);
+  peri_qs_work_free(&work);
   return rc;
 }
