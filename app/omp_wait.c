@@ -19,6 +19,9 @@
 #define MARK "PERI_OMP_WAIT_CHOSEN"
 
 void peri_choose_omp_wait(char **argv) {
+  /* MPI ranks waiting in Open MPI give their core away too (read at MPI_Init, so no exec is
+   * needed); a value given with `mpirun --mca mpi_yield_when_idle 0` arrives set and stays */
+  setenv("OMPI_MCA_mpi_yield_when_idle", "1", 0);
   if (getenv("OMP_WAIT_POLICY") || getenv("GOMP_SPINCOUNT") || getenv("KMP_BLOCKTIME") || getenv(MARK)) return;
   if (setenv("OMP_WAIT_POLICY", "passive", 1) != 0 || setenv(MARK, "passive", 1) != 0) return;
   execv("/proc/self/exe", argv);
