@@ -10,6 +10,7 @@
 #include "peri/damage.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
+#include "peri/model.h"
 #include "peri/quasistatic.h"
 
 static const char *solver_name(peri_solver_kind k) {
@@ -27,6 +28,13 @@ void peri_print_quasi_static_summary(const peri_sim *s, FILE *out) {
   fprintf(out, "  solver       %s (quasi-static), %ld load step%s to t = %g, tolerance %g, at most %ld "
                "iterations per solve\n", solver_name(s->solver.kind), q->load_steps, q->load_steps == 1 ? "" : "s",
           s->solver.end_time, q->tolerance, q->max_iterations);
+  if (s->solver.kind == PERI_SOLVER_IMPLICIT && s->disc.geom.dim == 3)
+    /* measured on examples/dayone_bar3d.yaml (docs/solvers.md, "Which solver"): in 3D a
+     * tangent row holds the nodes within 2 horizons (LPS), so the matrix is nearly dense on a
+     * body a few horizons across */
+    fprintf(out, "  note         implicit in 3D: each matrix row couples the nodes within %s; nlcg was 7 to 26 "
+                 "times faster on a 960-node bar (docs/solvers.md, \"Which solver\")\n",
+            s->mat.model && !strcmp(s->mat.model->name, "pmb") ? "one horizon" : "two horizons");
   if (s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION)
     fprintf(out, "  relaxation   time step %g s, damping %g 1/s, bond damping %g\n", s->solver.dt, s->solver.damping,
             q->bond_damping);
