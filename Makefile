@@ -38,6 +38,7 @@ install: build
 bench: build
 	@scripts/install-deps --bench
 	@bench/run
+	@PERI=$(BUILD)/peri bench/dayone
 
 # quasi-static solvers on the plate with a hole at ~10^6 unknowns (over an hour; not in `make test`)
 bench-plate: build

@@ -14,11 +14,12 @@
 #include "peri/run.h"
 #include "peri/setup.h"
 #include "peri/sim.h"
+#include "omp_wait.h"
 
 static void usage(FILE *out) {
   fprintf(out,
-          "usage: peri run DECK [--threads N] [--quiet] [--output DIR] [--set KEY=VALUE ...]\n"
-          "                [--restart FILE]\n"
+          "usage: peri run DECK [--threads N] [--quiet] [--progress[=SECONDS]] [--output DIR]\n"
+          "                [--set KEY=VALUE ...] [--restart FILE]\n"
           "       peri check DECK [--set KEY=VALUE ...]\n"
           "       peri sweep DECK --set-list KEY=V1,V2,... [--set-list ...] --quantity NAME [...]\n"
           "                  [--set KEY=VALUE ...] [--threads N]\n"
@@ -33,7 +34,11 @@ static void usage(FILE *out) {
           "          output, and prints a Markdown table of the quantities\n"
           "\n"
           "  --threads N         OpenMP threads (default: OMP_NUM_THREADS or all cores)\n"
-          "  --quiet             no summary and no progress line\n"
+          "  --quiet             no summary and no progress\n"
+          "  --progress[=S]      a progress line every S seconds (default 10) to stderr, also on a\n"
+          "                      terminal (which otherwise gets a live line); without the option a\n"
+          "                      run whose stderr is not a terminal gets them every 10 s;\n"
+          "                      --progress=0: none (the summary stays)\n"
           "  --output DIR        write output into DIR (overrides output.directory)\n"
           "  --restart FILE      continue the run from the checkpoint FILE (output.checkpoint_every;\n"
           "                      docs/restart.md): same deck, history.csv and the .pvd continue\n"
@@ -209,6 +214,7 @@ static int command(int argc, char **argv) {
   const char *deck = NULL, *output = NULL;
   const char *restart = NULL; /* --restart FILE (docs/restart.md) */
   bool quiet = false;
+  double progress_every = -1.0; /* --progress[=SECONDS]: < 0 not given */
   long threads = 0;
   const char **sets = calloc((size_t)argc, sizeof(char *));
   const char **quantities = calloc((size_t)argc, sizeof(char *));
@@ -221,7 +227,15 @@ static int command(int argc, char **argv) {
       return 0;
     }
     if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) quiet = true;
-    else if (!strcmp(a, "--threads") || !strcmp(a, "--output") || !strcmp(a, "--set") ||
+    else if (!strcmp(a, "--progress")) progress_every = 10.0;
+    else if (!strncmp(a, "--progress=", 11)) {
+      char *end = NULL;
+      progress_every = strtod(a + 11, &end);
+      if (end == a + 11 || *end || !(progress_every >= 0.0) || progress_every > 1e9) {
+        peri_error("option --progress: expected seconds between lines (a number >= 0), got '%s'", a + 11);
+        rc = PERI_ERR_INPUT;
+      }
+    } else if (!strcmp(a, "--threads") || !strcmp(a, "--output") || !strcmp(a, "--set") ||
              !strcmp(a, "--set-list") || !strcmp(a, "--quantity") || !strcmp(a, "--restart") ||
              !strcmp(a, "--petsc-options")) {
       if (k + 1 >= argc) {
@@ -286,11 +300,19 @@ static int command(int argc, char **argv) {
     rc = peri_sim_from_deck_with(&sim, deck, n_sets, sets);
     if (rc == PERI_OK) {
       sim.out.quiet = quiet;
+      if (progress_every >= 0.0) { /* --progress: lines even on a terminal; =0: none */
+        sim.out.progress_every = progress_every;
+        sim.out.progress_lines = progress_every > 0.0;
+      }
       if (output) {
         free(sim.out.directory);
         sim.out.directory = strdup(output);
       }
-      if (!strcmp(command, "check")) peri_print_summary(&sim, stdout);
+      sim.par.omp_wait = peri_omp_wait_description();
+      if (!strcmp(command, "check")) {
+        peri_print_summary(&sim, stdout);
+        peri_print_threads(&sim, stdout);
+      }
       /* the checkpoint, the MPI ranks, the summary and the decomposition (src/run/prepare.c) */
       if (!strcmp(command, "run")) rc = peri_run_prepare(&sim, restart);
       if (rc == PERI_OK && !strcmp(command, "run")) rc = peri_run(&sim);
@@ -309,6 +331,7 @@ static int command(int argc, char **argv) {
 }
 
 int main(int argc, char **argv) {
+  peri_choose_omp_wait(argv); /* passive OpenMP wait unless the user chose (docs/parallel.md) */
   peri_comm_init(&argc, &argv); /* MPI when built with it (docs/parallel.md) */
   int rc = command(argc, argv);
   fflush(stdout);

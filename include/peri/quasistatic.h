@@ -72,6 +72,19 @@ void peri_qs_forces(peri_sim *s);
 /* The status a residual gives: diverged when it is not finite (peri_qs_residual makes any
  * state that is not finite infinite), converged at or below the tolerance. */
 peri_qs_status peri_qs_status_of(const peri_sim *s, double residual);
+/* The external work of the load steps (src/solver/qs_work.c): the trapezoid rule over
+ * accepted equilibrium states of the loads' and the supports' reactions' work. */
+typedef struct peri_qs_work {
+  double *u_old, *load_old; /* per owned component at the last accepted state */
+} peri_qs_work;
+/* Records the current state (displacements, external forces) as the last accepted one. */
+void peri_qs_work_begin(peri_qs_work *w, const peri_sim *s);
+/* Adds the work from the last accepted state to the current one to s->state.external_work. */
+void peri_qs_work_step(peri_qs_work *w, peri_sim *s);
+void peri_qs_work_free(peri_qs_work *w);
+/* Called by the solvers after each iteration of a solve: records the iteration count and
+ * residual of the solve under way and lets the run driver print progress (s->out.progress). */
+void peri_qs_iteration(peri_sim *s, long iteration, double residual);
 /* Out-of-balance force r = f + b on free components (0 on prescribed ones and on unused
  * dimensions) into r[3n]; returns |V r| / |reference| where the reference is the larger of
  * the applied load |V b| and the reaction |V f| on prescribed components. */

@@ -9,6 +9,9 @@
 void peri_print_discretization(const peri_sim *s, FILE *out, const char *model, const char *broken);
 /* Prints the summary of a built simulation (nodes, bonds, memory, time step, ...). */
 void peri_print_summary(const peri_sim *s, FILE *out);
+/* The summary's threads line: OpenMP threads per process and the wait policy in force
+ * (s->par.omp_wait); nothing when the program did not say which policy. */
+void peri_print_threads(const peri_sim *s, FILE *out);
 /* Estimated bytes of all node and bond arrays. */
 double peri_memory_estimate(const peri_sim *s);
 /* Runs the solver with output into s->out.directory. Returns 0, or PERI_ERR_RUN with a

@@ -91,6 +91,8 @@ typedef struct peri_quasi_static {
   /* statistics of the run */
   long iterations, solves, force_evaluations, cutbacks;
   double residual;              /* last relative residual */
+  long solve_iterations;        /* iterations of the solve under way (progress lines) */
+  long broken_in_run;           /* directed bonds broken by the load steps (all ranks) */
   double reference, last_reference; /* reference force norm: largest at a converged state, and
                                    the current one (after a break-through the load may vanish) */
 } peri_quasi_static;
@@ -115,6 +117,14 @@ typedef struct peri_output {
   bool picture_projection;      /* 3D pictures: every node seen along the normal (else a slice) */
   bool picture_at_given;        /* 3D slice: at picture_at (else the middle of the body) */
   double picture_at;
+  /* progress (docs/deck.md section 1, --progress): on a terminal a live line, otherwise a
+   * line every progress_every seconds to stderr (0: none); progress_lines asks for the lines
+   * on a terminal too. The run driver sets `progress`, which the solvers call at every
+   * iteration (src/run/progress.c decides when to print). */
+  double progress_every;
+  bool progress_lines;
+  void (*progress)(struct peri_sim *s);
+  void *progress_state;
 } peri_output;
 
 /* The discretization: geometry, nodes, bonds and the bond loops' work items. */
@@ -182,6 +192,9 @@ typedef struct peri_state {
 /* Threads and distributed runs (docs/parallel.md). */
 typedef struct peri_parallel {
   int threads;
+  /* the OpenMP wait policy in force and how to change it, for the summary's threads line
+   * (set by the program, app/omp_wait.c; NULL: no line) */
+  const char *omp_wait;
   /* this rank's part, NULL in a single process */
   struct peri_decomposition *dd;
   /* copies the owners' values of a per-node field (ncomp doubles per node) into the ghost

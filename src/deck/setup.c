@@ -502,9 +502,12 @@ static int parse_conditions(parse_ctx *c) {
     int kind = 0;
     TRY(peri_deck_choice(it, "type", true, kinds, &kind));
     bc->kind = (peri_bc_kind)kind;
-    const char *rname = "all";
-    TRY(peri_deck_string(it, "region", false, &rname));
-    int r = peri_setup_find_region(s, peri_deck_get(c->root, "regions"), peri_deck_get(it, "region") ? peri_deck_get(it, "region") : it, rname);
+    const char *rname = NULL;
+    if (!peri_deck_get(it, "region")) /* the whole body only when the deck says so (docs/deck.md) */
+      return peri_deck_error(it, "boundary condition '%s' has no 'region': name one, or write 'region: all' to "
+                                 "apply it to the whole body", kinds[kind]);
+    TRY(peri_deck_string(it, "region", true, &rname));
+    int r = peri_setup_find_region(s, peri_deck_get(c->root, "regions"), peri_deck_get(it, "region"), rname);
     if (r < 0) return -r;
     bc->region = r;
     TRY(parse_components(s, it, bc->value, true));
@@ -601,6 +604,7 @@ static int parse_output(parse_ctx *c) {
   o->vtu = true;
   o->picture_field = peri_strdup("damage");
   o->picture_width = 1200;
+  o->progress_every = 10.0; /* seconds between progress lines off a terminal (--progress) */
   long every = -1, frames = -1, history_every = -1;
   const char *dir = NULL;
   if (it) {

@@ -86,9 +86,12 @@ static int parse_thermal_bc(peri_sim *s, const peri_node *regions, const peri_no
   static const peri_thermal_bc_kind kinds[] = {PERI_TBC_TEMPERATURE, PERI_TBC_HEAT_FLUX, PERI_TBC_CONVECTION,
                                                PERI_TBC_HEAT_SOURCE, PERI_TBC_INITIAL};
   bc->kind = kinds[kind];
-  const char *rname = "all";
-  TRY(peri_deck_string(it, "region", false, &rname));
-  int r = peri_setup_find_region(s, regions, peri_deck_get(it, "region") ? peri_deck_get(it, "region") : it, rname);
+  const char *rname = NULL;
+  if (!peri_deck_get(it, "region")) /* the whole body only when the deck says so (docs/deck.md) */
+    return peri_deck_error(it, "boundary condition '%s' has no 'region': name one, or write 'region: all' to "
+                               "apply it to the whole body", thermal_bc_types[kind]);
+  TRY(peri_deck_string(it, "region", true, &rname));
+  int r = peri_setup_find_region(s, regions, peri_deck_get(it, "region"), rname);
   if (r < 0) return -r;
   bc->region = r;
   bc->layer = s->disc.geom.spacing;

@@ -19,6 +19,7 @@
 #include "peri/heat_quantities.h"
 #include "peri/history.h"
 #include "peri/history_log.h"
+#include "peri/progress.h"
 #include "peri/output.h"
 #include "peri/run.h"
 #include "peri/thermal.h"
@@ -72,7 +73,6 @@ int peri_run_heat(peri_sim *s) {
     return PERI_ERR_RUN;
   }
   c.log.frames = c.frames; /* the Exodus file's global variables */
-  const bool progress = !s->out.quiet && isatty(STDERR_FILENO);
   int rc = PERI_OK;
   if (s->state.restart) { /* continue from a checkpoint (docs/restart.md) */
     rc = peri_history_log_resume(&c.log, s, c.frames);
@@ -84,7 +84,8 @@ int peri_run_heat(peri_sim *s) {
   rc = peri_comm_max_int(rc); /* every rank starts, or none */
   const double t_start = peri_seconds();
   const long first_step = s->state.step; /* a restart's checkpoint, else 0 */
-  double t_last = t_start;
+  peri_progress progress;
+  peri_progress_begin(&progress, s);
   for (long step = s->state.step; step < s->solver.steps && rc == PERI_OK; ++step) {
     rc = peri_thermal_step(s, s->solver.dt);
     s->state.time = th->time;
@@ -98,18 +99,10 @@ int peri_run_heat(peri_sim *s) {
     if (rc == PERI_OK && frame) rc = peri_frames_write(c.frames, s);
     const peri_checkpoint_progress done = {peri_frames_written(c.frames), c.log.rows};
     if (rc == PERI_OK) rc = peri_checkpoint_after_step(s, &done); /* docs/restart.md */
-    if (progress) {
-      double t = peri_seconds();
-      if (t - t_last > 0.5 && t - t_start > 1.0) {
-        double rate = (s->state.step - first_step) / (t - t_start);
-        fprintf(stderr, "\r  step %ld/%ld  t = %.4g s  %.0f steps/s  eta %.0f s   ", s->state.step, s->solver.steps, s->state.time,
-                rate, (s->solver.steps - s->state.step) / rate);
-        t_last = t;
-      }
-    }
+    if (s->out.progress) s->out.progress(s);
   }
   const double wall = peri_seconds() - t_start;
-  if (progress) fprintf(stderr, "\r%80s\r", "");
+  peri_progress_end(&progress, s);
   char picture[4300] = "", plot[4400] = "";
   /* drawn even when the run failed: the curve so far */
   if (peri_plot_series_write(&c.log.plot, s, plot, sizeof plot) != PERI_OK) rc = PERI_ERR_RUN;

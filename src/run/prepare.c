@@ -15,7 +15,10 @@ int peri_run_prepare(peri_sim *s, const char *restart) {
   if (restart) rc = peri_restart_load(s, restart); /* checked before any output (docs/restart.md) */
   if (rc == PERI_OK && restart) rc = peri_restart_check_history(s); /* the same history.csv columns */
   if (rc == PERI_OK) rc = peri_solver_check_ranks(s, peri_comm_size()); /* MPI ranks */
-  if (rc == PERI_OK && !s->out.quiet) peri_print_summary(s, stdout);
+  if (rc == PERI_OK && !s->out.quiet) {
+    peri_print_summary(s, stdout);
+    peri_print_threads(s, stdout);
+  }
   if (rc == PERI_OK && restart && !s->out.quiet) peri_restart_print(s, stdout);
   if (rc == PERI_OK) {
     fflush(stdout);

@@ -22,6 +22,7 @@
 #include "peri/history_log.h"
 #include "peri/model.h"
 #include "peri/output.h"
+#include "peri/progress.h"
 #include "peri/run.h"
 #include "peri/solver.h"
 #include "peri/quasistatic.h"
@@ -31,8 +32,8 @@
 typedef struct run_ctx {
   peri_frames *frames;
   peri_history_log log;         /* history.csv and the output.plot series */
-  double t_start, t_last_progress;
-  bool progress;
+  double t_start;
+  peri_progress progress;       /* live line or lines (src/run/progress.c) */
   int failed;
   long first_step;              /* step the solver started from (a restart's checkpoint) */
   long stop_at;                 /* the step (or load step) after which the solver returns */
@@ -119,15 +120,7 @@ static int step_hook(peri_sim *s, void *ctx) {
     c->failed = 1;
     return 1;
   }
-  if (c->progress) {
-    double t = peri_seconds();
-    if (t - c->t_last_progress > 0.5 && t - c->t_start > 1.0) {
-      double rate = (s->state.step - c->first_step) / (t - c->t_start);
-      fprintf(stderr, "\r  step %ld/%ld  t = %.4g s  %.0f steps/s  eta %.0f s   ", s->state.step, s->solver.steps,
-              s->state.time, rate, (s->solver.steps - s->state.step) / rate);
-      c->t_last_progress = t;
-    }
-  }
+  if (s->out.progress) s->out.progress(s);
   return s->state.step >= c->stop_at; /* peri_run_advance: stop after this step */
 }
 
@@ -150,7 +143,6 @@ peri_run_session *peri_run_open(peri_sim *s, bool keep_history) {
   }
   c.log.frames = c.frames; /* the Exodus file's global variables */
   c.log.keep = keep_history;
-  c.progress = !s->out.quiet && isatty(STDERR_FILENO);
   peri_apply_initial_conditions(s);
   peri_apply_loads(s, s->state.time);
   peri_exchange_state(s); /* ghost displacements (MPI ranks, docs/parallel.md) */
@@ -165,11 +157,12 @@ peri_run_session *peri_run_open(peri_sim *s, bool keep_history) {
     s->state.forces_current = !peri_is_quasi_static(s);
   }
   rc = peri_comm_max_int(rc);
-  c.t_start = c.t_last_progress = peri_seconds();
+  c.t_start = peri_seconds();
   c.first_step = s->state.step;
   c.stop_at = LONG_MAX;
   peri_run_session *r = peri_calloc(1, sizeof *r);
   *r = (peri_run_session){.s = s, .c = c, .rc = rc};
+  peri_progress_begin(&r->c.progress, s); /* the solvers tick it through s->out.progress */
   return r;
 }
 
@@ -198,7 +191,7 @@ int peri_run_finish(peri_run_session *r) {
   int rc = r->rc;
   r->finished = true;
   double wall = peri_seconds() - c.t_start;
-  if (c.progress) fprintf(stderr, "\r%80s\r", "");
+  peri_progress_end(&r->c.progress, s);
   char picture[4300] = "", plot[4400] = "";
   /* drawn even when the run failed: the curve so far */
   if (peri_plot_series_write(&c.log.plot, s, plot, sizeof plot) != PERI_OK) rc = PERI_ERR_RUN;

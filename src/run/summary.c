@@ -1,6 +1,7 @@
 /* The summary a run prints before it starts (and `peri check` prints): the discretization,
  * the memory estimate, materials, time step or quasi-static settings, heat conduction and
  * checkpoints. */
+#include <omp.h>
 #include <stdio.h>
 #include "peri/checkpoint.h"
 #include "peri/checkpoint_schedule.h"
@@ -93,4 +94,11 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
             peri_stable_dt(s), s->solver.steps, s->solver.dt * s->solver.steps);
   if (s->thermal) peri_thermal_print_summary(s, out); /* thermomechanics (docs/heat.md) */
   peri_checkpoint_print_summary(s, out);               /* docs/restart.md */
+}
+
+void peri_print_threads(const peri_sim *s, FILE *out) {
+  if (!s->par.omp_wait) return;
+  const int threads = omp_get_max_threads();
+  fprintf(out, "  threads      %d OpenMP thread%s per process, %s\n", threads, threads == 1 ? "" : "s",
+          s->par.omp_wait);
 }

@@ -60,6 +60,7 @@ peri_qs_status peri_solve_adr(peri_sim *s) {
     peri_qs_forces(s);
     res = peri_qs_residual(s, r);
     status = peri_qs_status_of(s, res);
+    peri_qs_iteration(s, it + 1, res); /* progress lines */
   }
   q->iterations += it;
   q->residual = res;

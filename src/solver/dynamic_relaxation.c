@@ -82,6 +82,7 @@ peri_qs_status peri_solve_dynamic_relaxation(peri_sim *s) {
         vel[k] += 0.5 * dt * acc[k];
       }
     status = peri_qs_status_of(s, res);
+    peri_qs_iteration(s, it + 1, res); /* progress lines */
   }
   free(acc);
   q->iterations += it;

@@ -258,6 +258,7 @@ static PetscErrorCode converged_test(SNES snes, PetscInt it, PetscReal xnorm, Pe
   if (getenv("PERI_QS_DEBUG") && peri_comm_rank() == 0)
     fprintf(stderr, "implicit %ld: relative residual %.3e |F| %.3e\n", (long)it, c->rel, fnorm);
   if (c->fnorm_start == 0.0) c->fnorm_start = fnorm;
+  peri_qs_iteration(c->s, (long)it, c->rel); /* progress lines */
   *reason = SNES_CONVERGED_ITERATING;
   if (!isfinite(c->rel) || !isfinite(fnorm)) *reason = SNES_DIVERGED_FNORM_NAN;
   else if (c->rel <= q->tolerance) *reason = SNES_CONVERGED_FNORM_ABS;

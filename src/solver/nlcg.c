@@ -153,6 +153,7 @@ peri_qs_status peri_solve_nlcg(peri_sim *s) {
       }
     }
     last_step = fabs(a) * dmax;
+    peri_qs_iteration(s, it + 1, res); /* progress lines */
     if (getenv("PERI_QS_DEBUG")) fprintf(stderr, "nlcg %ld res %.3e a %.3e eta %.3e/%.3e\n", it, res, a, eta, eta0);
     if (!isfinite(res)) {
       status = PERI_QS_DIVERGED;

@@ -109,3 +109,9 @@ peri_qs_status peri_qs_status_of(const peri_sim *s, double residual) {
   if (!isfinite(residual)) return PERI_QS_DIVERGED;
   return residual <= s->solver.qs.tolerance ? PERI_QS_CONVERGED : PERI_QS_NOT_CONVERGED;
 }
+
+void peri_qs_iteration(peri_sim *s, long iteration, double residual) {
+  s->solver.qs.solve_iterations = iteration;
+  s->solver.qs.residual = residual;
+  if (s->out.progress) s->out.progress(s);
+}

@@ -88,10 +88,12 @@ static int after_step(peri_sim *s, void *vc) {
   const double ke = peri_kinetic_energy(s);
   const long broken = peri_global_broken(s);
   c->quiet = broken == c->broken ? c->quiet + 1 : 0;
+  s->solver.qs.broken_in_run += broken - c->broken;
   c->broken = broken;
   c->ke_peak = fmax(c->ke_peak, ke);
   const bool settled = c->quiet > 0 && ke <= c->d->arrest_kinetic_energy * c->ke_peak;
   c->arrested = settled || c->quiet >= c->quiet_needed;
+  if (s->out.progress) s->out.progress(s); /* progress lines */
   if (done % c->d->history_every == 0 && !c->arrested && done < c->d->max_dynamic_steps) report(s, c);
   return c->arrested || c->stop;
 }

@@ -10,6 +10,7 @@
 #include "peri/damage.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
+#include "peri/model.h"
 #include "peri/quasistatic.h"
 
 static const char *solver_name(peri_solver_kind k) {
@@ -27,6 +28,13 @@ void peri_print_quasi_static_summary(const peri_sim *s, FILE *out) {
   fprintf(out, "  solver       %s (quasi-static), %ld load step%s to t = %g, tolerance %g, at most %ld "
                "iterations per solve\n", solver_name(s->solver.kind), q->load_steps, q->load_steps == 1 ? "" : "s",
           s->solver.end_time, q->tolerance, q->max_iterations);
+  if (s->solver.kind == PERI_SOLVER_IMPLICIT && s->disc.geom.dim == 3)
+    /* measured on examples/dayone_bar3d.yaml (docs/solvers.md, "Which solver"): in 3D a
+     * tangent row holds the nodes within 2 horizons (LPS), so the matrix is nearly dense on a
+     * body a few horizons across */
+    fprintf(out, "  note         implicit in 3D: each matrix row couples the nodes within %s; nlcg was 7 to 26 "
+                 "times faster on a 960-node bar (docs/solvers.md, \"Which solver\")\n",
+            s->mat.model && !strcmp(s->mat.model->name, "pmb") ? "one horizon" : "two horizons");
   if (s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION)
     fprintf(out, "  relaxation   time step %g s, damping %g 1/s, bond damping %g\n", s->solver.dt, s->solver.damping,
             q->bond_damping);
@@ -44,7 +52,9 @@ static long break_bonds(peri_sim *s) {
   peri_exchange_state(s); /* ghost displacements (MPI ranks) */
   long nb = s->mat.model->force(s);
   s->solver.qs.force_evaluations++;
-  return s->par.dd ? peri_comm_sum_long(nb) : nb; /* every rank takes the same branch */
+  if (s->par.dd) nb = peri_comm_sum_long(nb); /* every rank takes the same branch */
+  s->solver.qs.broken_in_run += nb;
+  return nb;
 }
 
 /* After a converged solve: the reference force norm of later solves is at least this one. */
@@ -97,6 +107,8 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
   double t_done = s->state.time;
   int rc = PERI_OK;
   bool stop = false; /* the hook asked to stop (during a dynamic phase) */
+  peri_qs_work work; /* external work over the accepted states (history column external_work) */
+  peri_qs_work_begin(&work, s);
   /* from the load step reached: 0, or a checkpoint's (docs/restart.md) */
   for (long n = s->state.step; n < N && rc == PERI_OK; ++n) {
     const double t_target = T * (double)(n + 1) / (double)N;
@@ -164,6 +176,7 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
         converged(s);
       }
       if (retry) continue;
+      if (!stop && rc == PERI_OK) peri_qs_work_step(&work, s);
       if (!stop) t_done = t;
     }
     s->state.time = t_done;
@@ -176,5 +189,6 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
   free(u_save);
   free(broken_save);
   free(s0_save);
+  peri_qs_work_free(&work);
   return rc;
 }

@@ -114,6 +114,17 @@ check_both "$D/err_region_typo.yaml" "topp" "unknown region 'topp'; did you mean
 check_both "$D/err_region_unknown.yaml" "middle" "unknown region 'middle'"
 pass "(h) unknown region 'topp' (did you mean 'top') and 'middle'"
 
+# (h2) a condition without 'region' no longer applies to the whole body: an error at the
+# condition naming the fix ('region: all'); with 'region: all' written the deck is valid
+deck="$TMP/err_region_missing.yaml"
+sed 's/^  - {type: velocity, region: bottom, y: 0}$/  - {type: body_force, y: "-9.81*2440"}/' "$D/valid_small.yaml" >"$deck"
+grep -q 'type: body_force, y:' "$deck" || fail "valid_small.yaml changed: the fixture edit did not apply"
+check_both "$deck" "{type: body_force" "boundary condition 'body_force' has no 'region': name one, or write 'region: all'"
+sed -i 's/{type: body_force, y:/{type: body_force, region: all, y:/' "$deck"
+run_peri check "$deck"
+expect_status 0
+pass "(h2) a condition without 'region' is refused; 'region: all' is accepted"
+
 # (i) an unknown output field, at the position of the name, with a suggestion and the list
 # of the fields a frame can hold
 deck="$TMP/err_field.yaml"

@@ -60,9 +60,15 @@ if ((memory_kb < 100000000)); then # below 100 GB: 10^9 nodes at >= 100 bytes ca
     expect_stderr_contains "set discretization.max_nodes"
     awk -v t="$ELAPSED" 'BEGIN { exit !(t < 3) }' || fail "refusing 10^9 nodes took $ELAPSED s"
     echo "$ELAPSED" >"$TMP/elapsed"
+    # `peri run` refuses it the same way, before any output
+    seconds run "$deck" --output "$TMP/meter-out"
+    expect_status 2
+    expect_stderr_contains "$deck:$LOC_LINE:$LOC_COL: error: discretization: spacing 0.001 gives up to "
+    expect_no_path "$TMP/meter-out"
+    awk -v t="$ELAPSED" 'BEGIN { exit !(t < 3) }' || fail "peri run: refusing 10^9 nodes took $ELAPSED s"
   ) || exit 1
   ELAPSED=$(cat "$TMP/elapsed")
-  pass "a 1 m cube at 1 mm is refused in $ELAPSED s"
+  pass "a 1 m cube at 1 mm is refused by check and run in $ELAPSED s"
 else
   pass "SKIPPED: the 1 m cube would fit in this machine's $((memory_kb / 1000000)) GB"
 fi

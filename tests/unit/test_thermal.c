@@ -217,7 +217,7 @@ Test(thermal, deck_errors) {
   const char *bad_expr =
       "dimension: 2\nmaterials:\n  a: {density: 1, conductivity: 1, specific_heat: 1}\n"
       "discretization: {spacing: 0.1, m: 3, fill: [{shape: box, min: [0, 0], max: [1, 1]}]}\n"
-      "boundary_conditions: [{type: heat_source, value: \"w*2\"}]\n"
+      "boundary_conditions: [{type: heat_source, region: all, value: \"w*2\"}]\n"
       "solver: {type: heat, steps: 1}\n";
   cr_expect_eq(sim_from_string(&s, bad_expr), 2);
   peri_sim_free(&s);

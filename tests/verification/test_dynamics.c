@@ -19,7 +19,7 @@ static const char *bar_deck =
     "  m: 3\n"
     "  fill: [{shape: interval, min: [0], max: [2]}]\n"
     "boundary_conditions:\n"
-    "  - {type: initial_displacement, x: \"1e-6*exp(-((x-0.5)/0.02)^2)\"}\n"
+    "  - {type: initial_displacement, region: all, x: \"1e-6*exp(-((x-0.5)/0.02)^2)\"}\n"
     "solver: {type: explicit, end_time: %g, breaking: false}\n"
     "output: {picture: false}\n";
 
@@ -70,7 +70,7 @@ static const char *vibration_deck =
     "  m: 3\n"
     "  fill: [{shape: box, min: [0, 0, 0], max: [%s]}]\n"
     "boundary_conditions:\n"
-    "  - {type: initial_velocity, %s}\n"
+    "  - {type: initial_velocity, region: all, %s}\n"
     "solver: {type: explicit, steps: 10000, breaking: false, safety_factor: %s}\n"
     "output: {picture: false}\n";
 

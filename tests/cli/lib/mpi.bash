@@ -44,6 +44,27 @@ run_peri_mpi() {
 # broken_line: the "broken bonds N of M" line of the last run's summary.
 broken_line() { grep -E '^  broken bonds ' "$RUN_STDOUT" | head -n 1; }
 
+# without_column FILE NAME: FILE (a CSV) without its column NAME, on stdout
+without_column() {
+  local k
+  k=$(head -n 1 "$1" | tr -d '\r' | tr ',' '\n' | grep -nxF -- "$2" | cut -d: -f1)
+  if [[ -z "$k" ]]; then cat "$1"; else cut -d, -f"$k" --complement "$1"; fi
+}
+
+# histories_within_tolerance A B: compare_histories A B "$MPI_TOL"; with MPI_TOL above
+# 1e-12 (the solver-tolerance comparisons of implicit runs) without energy_balance: in an
+# elastic quasi-static run it is U - W, a difference of two equal energies (~1e-12 of U),
+# whose round-off has no relative precision; its terms are compared in their own columns.
+histories_within_tolerance() {
+  if [[ "$MPI_TOL" == 1e-12 ]]; then
+    compare_histories "$1" "$2" "$MPI_TOL"
+  else
+    without_column "$1" energy_balance >"$TMP/.ref_wo.csv"
+    without_column "$2" energy_balance >"$TMP/.cmp_wo.csv"
+    compare_histories "$TMP/.ref_wo.csv" "$TMP/.cmp_wo.csv" "$MPI_TOL"
+  fi
+}
+
 # mpi_same_on_ranks NAME DECK [ARGS...]: runs DECK on 1, 2, 3 and 4 ranks (or the counts in
 # MPI_RANKS, 1 first); history.csv must
 # agree to MPI_TOL and the count of broken bonds must be the same. Sets MPI_REF (the
@@ -64,7 +85,7 @@ mpi_same_on_ranks() {
       MPI_BROKEN=$(broken_line)
       continue
     fi
-    diff_report=$(compare_histories "$MPI_REF" "$out/history.csv" "$MPI_TOL") ||
+    diff_report=$(histories_within_tolerance "$MPI_REF" "$out/history.csv") ||
       fail "$name: history.csv on 1 and $np ranks differ: $diff_report"
     [[ "$(broken_line)" == "$MPI_BROKEN" ]] ||
       fail "$name: '$MPI_BROKEN' on 1 rank, '$(broken_line)' on $np"
