@@ -157,6 +157,8 @@ typedef struct peri_solver_settings {
   double end_time;
   double damping;               /* viscous damping coefficient (1/s), 0 = none */
   bool breaking;                /* bonds may break */
+  bool break_after_force;       /* LAMMPS order: a step's force with the bonds of its start, then
+                                   the cut (docs/models.md 5.1); else the cut, then the force */
   peri_quasi_static qs;          /* quasi-static solvers */
 } peri_solver_settings;
 

@@ -145,4 +145,14 @@ bool peri_uniform_volume(const peri_particles *p);
  * (min stretch of i's bonds this step), computed in p->smin by the force pass. */
 void peri_update_lammps_s0(peri_sim *s);
 
+/* One force evaluation of a model, with the LAMMPS-form critical stretches published at its
+ * end when `update_s0`. */
+typedef long (*peri_force_pass)(peri_sim *s, bool update_s0);
+/* Runs `pass` in the breaking order of s->solver (docs/models.md 5.1): by default the bonds
+ * beyond their critical stretch are cut before the force; with break_after_force the force is
+ * that of the bonds intact at the start and the cut follows at the same displacement (the
+ * critical stretches of the test are those of the previous evaluation either way). Returns
+ * the number of directed bonds broken. */
+long peri_force_in_breaking_order(peri_sim *s, peri_force_pass pass);
+
 #endif

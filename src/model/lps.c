@@ -364,7 +364,8 @@ static long lps_dilatation(peri_sim *s) {
     const peri_material *mat = &s->mat.materials[p->material[i]];
     const double m = p->wvol[i];
     const double theta = mat->n_theta * we_x / m;
-    const double P = we_x - theta * w_xx / 3.0;
+    /* the peer form (docs/models.md 3.5) takes P as if the family were intact, sum w |xi| = m */
+    const double P = we_x - theta * (mat->peer_force_state ? m : w_xx) / 3.0;
     const double alpha = mat->alpha_m / m;
     const double eth_i = thermal ? s->state.thermal_strain[i] : 0.0;
     p->theta[i] = theta;
@@ -384,9 +385,9 @@ static inline double lps_half(const peri_material *mat, double theta, double P, 
          alpha * omega * (e - theta * L / 3.0);
 }
 
-static long lps_force(peri_sim *s) {
+static long lps_force_pass(peri_sim *s, bool update_s0) {
   const long broken = lps_dilatation(s);
-  if (s->mat.s0_node) peri_update_lammps_s0(s);
+  if (s->mat.s0_node && update_s0) peri_update_lammps_s0(s);
   peri_particles *p = &s->disc.p;
   const size_t n = (size_t)p->n;
   /* the force pass reads D_j and B_j of ghosts (docs/parallel.md) */
@@ -404,6 +405,8 @@ static long lps_force(peri_sim *s) {
   })
   return broken + n_broken;
 }
+
+static long lps_force(peri_sim *s) { return peri_force_in_breaking_order(s, lps_force_pass); }
 
 /* W_i = K_theta theta_i^2/2 + (alpha_m/m_i)/2 sum_j omega (e^d)^2 beta V_j with e^d = q - theta_i
  * |xi|/3 (q = e - alpha_T dT_i |xi|), in one pass: theta_i = n_theta (sum w q)/m_i comes from

@@ -215,7 +215,7 @@ static const pmb_loops *pmb_loops_for(const pmb_loops *const set[9], bool multi,
   return set[thermal ? 3 : uniform ? 0 : 1];
 }
 
-static long pmb_force(peri_sim *s) {
+static long pmb_force_pass(peri_sim *s, bool update_s0) {
   peri_particles *p = &s->disc.p;
   /* per-node copies of the material data the loop gathers (O(n), refreshed so that they
    * follow any change of the materials) */
@@ -250,9 +250,11 @@ static long pmb_force(peri_sim *s) {
       if (track_smin) p->smin[i] = r->smin;
     }
   }
-  if (s->mat.s0_node) peri_update_lammps_s0(s);
+  if (s->mat.s0_node && update_s0) peri_update_lammps_s0(s);
   return n_broken;
 }
+
+static long pmb_force(peri_sim *s) { return peri_force_in_breaking_order(s, pmb_force_pass); }
 
 /* Bond i-j: w beta V_j with the micropotential w = c omega s^2 |xi| / 2, c = (c_i + c_j)/2. */
 static inline __attribute__((always_inline)) double pmb_bond_energy(const pmb_centre ci_value,
