@@ -254,7 +254,7 @@ static int parse_interfaces(parse_ctx *c) {
 
 static const char *const discretization_keys[] = {
     "spacing", "horizon", "m", "placement", "origin", "thickness", "cross_section",
-    "partial_volume", "influence", "weighted_volume", "fill", "remove", "node_file", "blocks",
+    "partial_volume", "influence", "weighted_volume", "surface_correction", "fill", "remove", "node_file", "blocks",
     "volume", "max_nodes", NULL};
 
 static int parse_shape_list(const peri_node *list, int dim, const char *section,
@@ -355,6 +355,10 @@ static int parse_discretization(parse_ctx *c) {
   TRY(peri_deck_choice(d, "partial_volume", false, pv_rules, &pv));
   TRY(peri_deck_choice(d, "influence", false, influences, &infl));
   TRY(peri_deck_choice(d, "weighted_volume", false, wv, &wvol));
+  static const char *const corrections[] = {"none", "energy", "volume", NULL}; /* docs/models.md 4.1 */
+  int correction = 0;
+  TRY(peri_deck_choice(d, "surface_correction", false, corrections, &correction));
+  s->disc.surface_correction = correction;
   s->disc.analytic_weighted_volume = wvol == 1;
   s->disc.family.rule = (peri_partial_volume)pv;
   s->disc.family.influence = (peri_influence)infl;

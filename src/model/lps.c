@@ -13,6 +13,7 @@
 #include "peri/model.h"
 #include "bond_kernel.h"
 #include "node_blocks.h"
+#include "surface_correction.h"
 
 static int lps_init(peri_sim *s) {
   peri_particles *p = &s->disc.p;
@@ -30,7 +31,7 @@ static int lps_init(peri_sim *s) {
   if (s->disc.analytic_weighted_volume) {
     double m = peri_weighted_volume_analytic(&s->disc.geom, s->disc.family.influence);
     for (int32_t i = 0; i < p->n; ++i) p->wvol[i] = m;
-    return PERI_OK;
+    return peri_surface_factors(s);
   }
   /* Discrete weighted volume over the reference family (not updated as bonds break). */
 #pragma omp parallel for schedule(static)
@@ -52,7 +53,7 @@ static int lps_init(peri_sim *s) {
       return PERI_ERR_INPUT;
     }
   }
-  return PERI_OK;
+  return peri_surface_factors(s); /* (none without discretization.surface_correction) */
 }
 
 /* Node i's own data, read once per family; D and B are the force pass's coefficients, the
@@ -406,13 +407,19 @@ static long lps_force_pass(peri_sim *s, bool update_s0) {
   return broken + n_broken;
 }
 
-static long lps_force(peri_sim *s) { return peri_force_in_breaking_order(s, lps_force_pass); }
+static long lps_force(peri_sim *s) {
+  return peri_force_in_breaking_order(s, s->disc.bonds.surface_G ? peri_corrected_lps_force : lps_force_pass);
+}
 
 /* W_i = K_theta theta_i^2/2 + (alpha_m/m_i)/2 sum_j omega (e^d)^2 beta V_j with e^d = q - theta_i
  * |xi|/3 (q = e - alpha_T dT_i |xi|), in one pass: theta_i = n_theta (sum w q)/m_i comes from
  * node i's own bonds, and sum omega beta V (q - theta |xi|/3)^2 = sum omega beta V q^2 - (2 theta/3)
  * sum w q + (theta^2/9) sum w |xi| (w = omega |xi| beta V). Not on the time-step path. */
 static void lps_energy(peri_sim *s, double *W) {
+  if (s->disc.bonds.surface_G) {
+    peri_corrected_lps_energy(s, W);
+    return;
+  }
   peri_node_blocks *items = peri_node_blocks_refresh(s);
   const lps_loops *loops = lps_pass1_loops(s, items, lps_sums_table_energy);
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
@@ -429,6 +436,7 @@ static void lps_energy(peri_sim *s, double *W) {
 }
 
 static double lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
+  if (s->disc.bonds.surface_G) return peri_corrected_lps_pair(s, i, k, r);
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const int32_t j = b->neighbor[k];
