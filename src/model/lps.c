@@ -430,7 +430,8 @@ static void lps_energy(peri_sim *s, double *W) {
     const double m = p->wvol[i];
     const double theta = mat->n_theta * r->sum[0] / m;
     const double deviatoric = r->sum[2] - (2.0 * theta / 3.0) * r->sum[0] + (theta * theta / 9.0) * r->sum[1];
-    W[i] = 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * deviatoric;
+    W[i] = mat->peer_force_state ? peri_lps_peer_energy(mat, theta, mat->alpha_m / m, r->sum[2])
+                                 : 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * deviatoric;
   })
   (void)n_broken;
 }

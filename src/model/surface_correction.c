@@ -16,12 +16,14 @@
  * The corrected loops are plain loops over the families (not the node blocks of pmb.c and
  * lps.c, whose per-bond work stays free of the factors): the break test first, as in the
  * default loops (the same stretch from both ends, so symmetric), then the force. The LPS
- * energy and force state with the factors (the force the gradient of the energy):
- *   theta_i = (n/m_i) sum_j D_ij omega e_ij |xi| w_ij,     w = |xi| beta V_j over intact bonds
- *   P_i     = sum_j G_ij omega e^d_ij |xi| w_ij,           e^d = e - theta_i |xi|/3
- *   W_i     = K_theta theta_i^2/2 + (alpha_i/2) sum_j G_ij omega (e^d_ij)^2 beta V_j
- *   t_ij    = n (K_theta theta_i - alpha_i P_i/3) D_ij omega |xi|/m_i + G_ij alpha_i omega e^d_ij,
- * P with the whole reference family's sum G omega |xi|^2 w in e^d for the peer force state. */
+ * is the peer force state (docs/models.md 3.5) with D on its dilatation term and G on its
+ * deviatoric term, and the LPS energy with the same factors:
+ *   theta_i = (n/m_i) sum_j D_ij omega e_ij |xi| w_ij,      w = beta V_j over intact bonds
+ *   t_ij    = n K'_i theta_i D_ij omega |xi|/m_i + G_ij alpha_i omega (e_ij - theta_i |xi|/3),
+ *   K'      = K_theta - (alpha m)(1/n - 1/3)/3,
+ *   W_i     = K_theta theta_i^2/2 + (alpha_i/2) sum_j G_ij omega (e^d_ij)^2 w_ij.
+ * The force is the gradient of W only where the factors are 1 (docs/models.md 4.1 says why
+ * this form and not a variational one). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -127,7 +129,7 @@ int peri_surface_factors(peri_sim *s) {
           sum += b->surface_D[k] * peri_bonds_omega(b, L) * xi[c] * xi[c] * peri_bonds_beta(b, L) * p->volume[j];
         }
         const double theta = mat->n_theta * sum / m, W_dil = 0.5 * mat->K_theta * theta * theta;
-        double W_dev = 0.0;
+        double W_dev = 0.0; /* (alpha/2) sum omega (e^d)^2 beta V, e = n_k^2 |xi| */
         for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
           const int32_t j = b->neighbor[k];
           double xi[3] = {0.0, 0.0, 0.0};
@@ -228,9 +230,7 @@ double peri_corrected_pmb_pair(const peri_sim *s, int32_t i, int64_t k, double r
   return c * b->surface_G[k] * stretch * peri_bonds_omega(b, L);
 }
 
-/* LPS: the dilatation and P of every owned node (with D and G), exchanged to the ghosts:
- * theta = (n/m) sum D omega e |xi| w, P = sum G omega e^d |xi| w over intact bonds (the peer
- * form: the sum of G omega |xi|^2 w in e^d over the whole reference family, as lps.c). */
+/* LPS: the dilatation of every owned node (with D), exchanged to the ghosts. */
 static void lps_dilatation_corrected(peri_sim *s) {
   peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
@@ -238,38 +238,33 @@ static void lps_dilatation_corrected(peri_sim *s) {
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const peri_material *mat = &s->mat.materials[p->material[i]];
-    double sum_d = 0.0, sum_g = 0.0, wxx_g = 0.0, wxx_ref = 0.0;
+    double sum = 0.0;
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      const int32_t j = b->neighbor[k];
-      const double L = peri_bond_length(p->x, i, j);
-      const double w = peri_bonds_omega(b, L) * L * peri_bonds_beta(b, L) * p->volume[j];
-      wxx_ref += b->surface_G[k] * w * L;
       if (b->broken[k]) continue;
+      const int32_t j = b->neighbor[k];
       double dy[3];
-      const double r = peri_deformed_bond(p->x, p->u, i, j, dy);
+      const double L = peri_bond_length(p->x, i, j), r = peri_deformed_bond(p->x, p->u, i, j, dy);
       const double e = r - L - (eth ? eth[i] : 0.0) * L;
-      sum_d += b->surface_D[k] * w * e;
-      sum_g += b->surface_G[k] * w * e;
-      wxx_g += b->surface_G[k] * w * L;
+      sum += b->surface_D[k] * peri_bonds_omega(b, L) * e * L * peri_bonds_beta(b, L) * p->volume[j];
     }
-    const double theta = mat->n_theta * sum_d / p->wvol[i];
-    p->theta[i] = theta;
-    p->pstate[i] = sum_g - theta * (mat->peer_force_state ? wxx_ref : wxx_g) / 3.0;
+    p->theta[i] = mat->n_theta * sum / p->wvol[i];
+    p->pstate[i] = 0.0;
   }
   peri_sim_exchange(s, p->theta, 1);
-  peri_sim_exchange(s, p->pstate, 1);
 }
 
-/* Node i's half t_ij of the corrected LPS pair force, the gradient of the corrected energy
- * (variational form): t = n (K_theta theta - alpha P/3) D omega |xi|/m + G alpha omega e^d. */
+/* Node i's half t_ij of the corrected pair force: the peer form (docs/models.md 3.5) with D on
+ * its dilatation term and G on its deviatoric term,
+ * n (K_theta - (alpha m)(1/n - 1/3)/3) theta D omega |xi|/m + G alpha omega (e - theta |xi|/3). */
 static double lps_half(const peri_sim *s, int32_t i, int64_t k, double L, double e_total) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const peri_material *mat = &s->mat.materials[p->material[i]];
-  const double m = p->wvol[i], omega = peri_bonds_omega(b, L), theta = p->theta[i], alpha = mat->alpha_m / m;
+  const double m = p->wvol[i], omega = peri_bonds_omega(b, L), theta = p->theta[i];
   const double e = e_total - (s->state.thermal_strain ? s->state.thermal_strain[i] : 0.0) * L;
-  return mat->n_theta * (mat->K_theta * theta - alpha * p->pstate[i] / 3.0) * b->surface_D[k] * omega * L / m +
-         b->surface_G[k] * alpha * omega * (e - theta * L / 3.0);
+  const double K_peer = mat->n_theta > 0.0 ? mat->K_theta - mat->alpha_m * (1.0 / mat->n_theta - 1.0 / 3.0) / 3.0 : 0.0;
+  return mat->n_theta * K_peer * theta * b->surface_D[k] * omega * L / m +
+         b->surface_G[k] * (mat->alpha_m / m) * omega * (e - theta * L / 3.0);
 }
 
 double peri_corrected_lps_pair(const peri_sim *s, int32_t i, int64_t k, double r) {
@@ -310,7 +305,7 @@ void peri_corrected_lps_energy(peri_sim *s, double *W) {
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const peri_material *mat = &s->mat.materials[p->material[i]];
-    const double theta = p->theta[i], m = p->wvol[i];
+    const double theta = p->theta[i];
     double dev = 0.0;
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       if (b->broken[k]) continue;
@@ -320,6 +315,6 @@ void peri_corrected_lps_energy(peri_sim *s, double *W) {
       const double ed = r - L - (eth ? eth[i] : 0.0) * L - theta * L / 3.0;
       dev += b->surface_G[k] * peri_bonds_omega(b, L) * ed * ed * peri_bonds_beta(b, L) * p->volume[j];
     }
-    W[i] = 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * dev;
+    W[i] = 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / p->wvol[i]) * dev;
   }
 }
