@@ -31,7 +31,7 @@ static int lps_init(peri_sim *s) {
   if (s->disc.analytic_weighted_volume) {
     double m = peri_weighted_volume_analytic(&s->disc.geom, s->disc.family.influence);
     for (int32_t i = 0; i < p->n; ++i) p->wvol[i] = m;
-    return peri_surface_factors(s);
+    return peri_surface_factors(s, true);
   }
   /* Discrete weighted volume over the reference family (not updated as bonds break). */
 #pragma omp parallel for schedule(static)
@@ -53,7 +53,7 @@ static int lps_init(peri_sim *s) {
       return PERI_ERR_INPUT;
     }
   }
-  return peri_surface_factors(s); /* (none without discretization.surface_correction) */
+  return peri_surface_factors(s, true); /* (none without discretization.surface_correction) */
 }
 
 /* Node i's own data, read once per family; D and B are the force pass's coefficients, the

@@ -20,7 +20,7 @@ static int pmb_init(peri_sim *s) {
   }
   peri_particles *p = &s->disc.p;
   p->coef = peri_malloc(sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
-  return peri_surface_factors(s); /* (none without discretization.surface_correction) */
+  return peri_surface_factors(s, false); /* (none without discretization.surface_correction) */
 }
 
 /* Node i's own data, read once per family. */

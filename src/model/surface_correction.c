@@ -29,7 +29,6 @@
 #include <string.h>
 #include "peri/constants.h"
 #include "peri/error.h"
-#include "peri/model.h"
 #include "bond_kernel.h"
 #include "surface_correction.h"
 
@@ -51,12 +50,11 @@ static double bond_factor(const double *f, int32_t i, int32_t j, const double n[
   return sum > 0.0 ? 1.0 / sqrt(sum) : 1.0;
 }
 
-int peri_surface_factors(peri_sim *s) {
+int peri_surface_factors(peri_sim *s, bool lps) {
   if (s->disc.surface_correction == PERI_SURFACE_NONE) return PERI_OK;
   peri_particles *p = &s->disc.p;
   peri_bonds *b = &s->disc.bonds;
   const int dim = s->disc.geom.dim;
-  const bool lps = s->mat.model == peri_model_find("lps");
   if (s->solver.kind == PERI_SOLVER_IMPLICIT) {
     peri_error("discretization.surface_correction: the implicit solver has no tangent of the corrected models; "
                "use adr, nlcg or dynamic_relaxation");

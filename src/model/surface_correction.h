@@ -6,8 +6,8 @@
 /* Computes the bond factors (s->disc.bonds.surface_G, surface_D) of the deck's correction,
  * once, in the reference configuration, after the model's init; nothing without one.
  * Returns PERI_OK or PERI_ERR_INPUT with a message (a correction the model or solver cannot
- * take). */
-int peri_surface_factors(peri_sim *s);
+ * take). `lps`: the model is lps (else pmb). */
+int peri_surface_factors(peri_sim *s, bool lps);
 /* The corrected models' force passes (as peri_force_pass), energies and pair forces. */
 long peri_corrected_pmb_force(peri_sim *s, bool update_s0);
 void peri_corrected_pmb_energy(peri_sim *s, double *W);
