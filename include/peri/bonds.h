@@ -39,6 +39,9 @@ typedef struct peri_bonds {
    * copies of them (src/model/node_blocks.c) follow */
   uint64_t broken_edits;
   peri_family_params family; /* what the per-bond reference data are evaluated from */
+  /* surface-correction factors of the bonds (src/model/surface_correction.c), NULL without:
+   * G scales the bond (PMB) or deviatoric (LPS) term, D the LPS dilatation term */
+  double *surface_G, *surface_D;
 } peri_bonds;
 
 /* Reference bond vector xi = x_j - x_i (x: reference positions, stride 3) and |xi|. */

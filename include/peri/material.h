@@ -28,6 +28,9 @@ typedef struct peri_material {
   double s00, alpha_s;
   /* LPS constants (model reference section 3.3) */
   double n_theta, K_theta, alpha_m;
+  /* LPS force state (docs/models.md 3.5): false the variational form with the P term (the
+   * default), true the Peridigm/LAMMPS form whose P term is that of the intact family */
+  bool peer_force_state;
   /* the PMB micromodulus of equal P-wave modulus, for the stable time step (section 13.2) */
   double c_stable;
   /* heat conduction (docs/heat.md); NaN when not given */

@@ -134,6 +134,7 @@ typedef struct peri_discretization {
   peri_bonds bonds;
   peri_family_params family;
   bool analytic_weighted_volume; /* LPS: m from the full-horizon integral (else discrete) */
+  int surface_correction;       /* peri_surface_correction (docs/models.md 4.1) */
   /* work items of the bond loops (src/model/node_blocks.c), built on first use */
   struct peri_node_blocks *node_blocks;
   bool generic_bond_loops;      /* tests: every node by the one-node path */
@@ -161,6 +162,10 @@ typedef struct peri_conditions {
   uint8_t *prescribed;          /* [3n] component has a prescribed displacement/velocity */
 } peri_conditions;
 
+/* Surface corrections (docs/models.md 4.1): none, the energy-ratio factors of Madenci and
+ * Oterkus, or the family-volume ratio (PMB). */
+typedef enum { PERI_SURFACE_NONE = 0, PERI_SURFACE_ENERGY = 1, PERI_SURFACE_VOLUME = 2 } peri_surface_correction;
+
 /* Solver settings: which solver, the time step and the number of steps, damping, breaking,
  * and the quasi-static settings. */
 typedef struct peri_solver_settings {
@@ -172,6 +177,8 @@ typedef struct peri_solver_settings {
   double end_time;
   double damping;               /* viscous damping coefficient (1/s), 0 = none */
   bool breaking;                /* bonds may break */
+  bool break_after_force;       /* LAMMPS order: a step's force with the bonds of its start, then
+                                   the cut (docs/models.md 5.1); else the cut, then the force */
   peri_quasi_static qs;          /* quasi-static solvers */
 } peri_solver_settings;
 

@@ -239,6 +239,8 @@ void peri_bonds_free(peri_bonds *b) {
   free(b->offset);
   free(b->neighbor);
   free(b->broken);
+  free(b->surface_G);
+  free(b->surface_D);
   memset(b, 0, sizeof *b);
 }
 

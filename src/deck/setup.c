@@ -51,7 +51,7 @@ typedef struct parse_ctx {
 static const char *const material_keys[] = {
     "model", "density", "youngs_modulus", "poisson_ratio", "bulk_modulus", "shear_modulus",
     "micromodulus", "critical_stretch", "fracture_energy", "fracture_toughness",
-    "conductivity", "specific_heat", "thermal_expansion", NULL};
+    "conductivity", "specific_heat", "thermal_expansion", "force_state", NULL};
 
 static int parse_material(parse_ctx *c, const peri_node *key, const peri_node *map, int index) {
   peri_sim *s = c->s;
@@ -89,6 +89,13 @@ static int parse_material(parse_ctx *c, const peri_node *key, const peri_node *m
     mat->micromodulus_given = true;
     mat->micromodulus = cgiven;
   }
+  /* the LPS force state (docs/models.md 3.5): the variational form unless the peer form is asked for */
+  static const char *const force_states[] = {"variational", "peer", NULL};
+  int force_state = 0;
+  TRY(peri_deck_choice(map, "force_state", false, force_states, &force_state));
+  if (peri_deck_get(map, "force_state") && ops != peri_model_find("lps"))
+    return peri_deck_error(peri_deck_get(map, "force_state"), "key 'force_state': only the lps model has a force state");
+  mat->peer_force_state = force_state == 1;
   material_failure *in = &c->failure[index];
   in->E = E, in->nu = nu, in->K = K, in->mu = mu;
   /* failure: a number, a LAMMPS-style mapping {s00, alpha}, or from G0 / K_Ic */
@@ -236,8 +243,8 @@ static int parse_interfaces(parse_ctx *c) {
 
 static const char *const discretization_keys[] = {
     "spacing", "horizon", "m", "placement", "origin", "thickness", "cross_section",
-    "partial_volume", "influence", "weighted_volume", "fill", "remove", "node_file", "blocks",
-    "volume", "max_nodes", "mesh", "mesh_format", NULL};
+    "partial_volume", "influence", "weighted_volume", "surface_correction", "fill", "remove", "node_file",
+    "blocks", "volume", "max_nodes", "mesh", "mesh_format", NULL};
 
 static int parse_shape_list(const peri_node *list, int dim, const char *section,
                             const char *const *extra, peri_shape **shapes, int *count) {
@@ -341,6 +348,10 @@ static int parse_discretization(parse_ctx *c) {
   TRY(peri_deck_choice(d, "partial_volume", false, pv_rules, &pv));
   TRY(peri_deck_choice(d, "influence", false, influences, &infl));
   TRY(peri_deck_choice(d, "weighted_volume", false, wv, &wvol));
+  static const char *const corrections[] = {"none", "energy", "volume", NULL}; /* docs/models.md 4.1 */
+  int correction = 0;
+  TRY(peri_deck_choice(d, "surface_correction", false, corrections, &correction));
+  s->disc.surface_correction = correction;
   s->disc.analytic_weighted_volume = wvol == 1;
   s->disc.family.rule = (peri_partial_volume)pv;
   s->disc.family.influence = (peri_influence)infl;
@@ -550,7 +561,7 @@ static int parse_solver(parse_ctx *c) {
   const peri_node *it = peri_deck_get(c->root, "solver");
   if (!it) return peri_deck_error(c->root, "missing key 'solver' in the deck");
   static const char *const keys[] = {"type", "steps", "end_time", "time_step", "safety_factor",
-                                     "damping", "breaking", PERI_QUASI_STATIC_KEYS, NULL};
+                                     "damping", "breaking", "breaking_order", PERI_QUASI_STATIC_KEYS, NULL};
   static const char *const types[] = {"explicit", "adr", "dynamic_relaxation", "nlcg", "implicit", "heat", NULL};
   TRY(peri_deck_allow(it, "solver", keys));
   int type = 0;
@@ -559,6 +570,15 @@ static int parse_solver(parse_ctx *c) {
   const bool heat = !strcmp(types[type], "heat"); /* conduction only: the explicit keys (docs/heat.md) */
   if (heat) s->solver.kind = PERI_SOLVER_EXPLICIT;
   TRY(peri_quasi_static_parse(s, it)); /* quasi-static keys (docs/solvers.md) */
+  /* when a bond breaks within a force evaluation (docs/models.md 5.1) */
+  static const char *const orders[] = {"before_force", "after_force", NULL};
+  int order = 0;
+  TRY(peri_deck_choice(it, "breaking_order", false, orders, &order));
+  if (order == 1 && (s->solver.kind != PERI_SOLVER_EXPLICIT || heat))
+    return peri_deck_error(peri_deck_get(it, "breaking_order"),
+                           "key 'breaking_order': after_force is for the explicit solver only (a quasi-static "
+                           "solver re-solves after every break)");
+  s->solver.break_after_force = order == 1;
   if (s->solver.kind != PERI_SOLVER_EXPLICIT) return PERI_OK;
   long steps = -1;
   double end_time = NAN;

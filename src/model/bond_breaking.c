@@ -3,6 +3,8 @@
  * candidate run the exact test (peri_node_blocks_break_family). Per-bond work does not depend
  * on the damage law when nothing breaks (docs/design.md, compact bonds). */
 #include <math.h>
+#include <stdlib.h>
+#include <string.h>
 #include "peri/error.h"
 #include "bond_kernel.h"
 
@@ -30,4 +32,23 @@ bool peri_uniform_volume(const peri_particles *p) {
 #pragma omp parallel for schedule(static) reduction(&& : same)
   for (int32_t i = 1; i < p->n; ++i) same = same && p->volume[i] == p->volume[0];
   return same;
+}
+
+long peri_force_in_breaking_order(peri_sim *s, peri_force_pass pass) {
+  if (!s->solver.breaking || !s->solver.break_after_force) return pass(s, true);
+  /* the force of the bonds as they are (no s0 update: the test below still uses the
+   * previous evaluation's critical stretches), kept; then the cut at the same displacement,
+   * whose recomputed forces are dropped. Both passes are those of the default order, so the
+   * result has their thread and rank invariance. */
+  peri_particles *p = &s->disc.p;
+  const size_t n3 = 3 * (size_t)p->n_owned;
+  s->solver.breaking = false;
+  pass(s, false);
+  s->solver.breaking = true;
+  double *kept = peri_malloc(sizeof(double) * (n3 > 0 ? n3 : 1));
+  memcpy(kept, p->f, sizeof(double) * n3);
+  const long broken = pass(s, true);
+  memcpy(p->f, kept, sizeof(double) * n3);
+  free(kept);
+  return broken;
 }

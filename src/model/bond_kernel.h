@@ -145,4 +145,24 @@ bool peri_uniform_volume(const peri_particles *p);
  * (min stretch of i's bonds this step), computed in p->smin by the force pass. */
 void peri_update_lammps_s0(peri_sim *s);
 
+/* The energy density whose gradient is the peer LPS force state (docs/models.md 3.5), the
+ * Madenci-Oterkus / LAMMPS form K_MO theta^2/2 + (alpha_i/2) sum omega e^2 beta V with
+ * K_MO = K_theta - (alpha m)(2/(3 n_theta) - 1/9) (K - 5 mu/3 in 3D); sum_e2 is that sum. */
+static inline double peri_lps_peer_bulk(const peri_material *mat) {
+  return mat->n_theta > 0.0 ? mat->K_theta - mat->alpha_m * (2.0 / (3.0 * mat->n_theta) - 1.0 / 9.0) : 0.0;
+}
+static inline double peri_lps_peer_energy(const peri_material *mat, double theta, double alpha, double sum_e2) {
+  return 0.5 * peri_lps_peer_bulk(mat) * theta * theta + 0.5 * alpha * sum_e2;
+}
+
+/* One force evaluation of a model, with the LAMMPS-form critical stretches published at its
+ * end when `update_s0`. */
+typedef long (*peri_force_pass)(peri_sim *s, bool update_s0);
+/* Runs `pass` in the breaking order of s->solver (docs/models.md 5.1): by default the bonds
+ * beyond their critical stretch are cut before the force; with break_after_force the force is
+ * that of the bonds intact at the start and the cut follows at the same displacement (the
+ * critical stretches of the test are those of the previous evaluation either way). Returns
+ * the number of directed bonds broken. */
+long peri_force_in_breaking_order(peri_sim *s, peri_force_pass pass);
+
 #endif

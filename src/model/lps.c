@@ -13,6 +13,7 @@
 #include "peri/model.h"
 #include "bond_kernel.h"
 #include "node_blocks.h"
+#include "surface_correction.h"
 
 static int lps_init(peri_sim *s) {
   peri_particles *p = &s->disc.p;
@@ -30,7 +31,7 @@ static int lps_init(peri_sim *s) {
   if (s->disc.analytic_weighted_volume) {
     double m = peri_weighted_volume_analytic(&s->disc.geom, s->disc.family.influence);
     for (int32_t i = 0; i < p->n; ++i) p->wvol[i] = m;
-    return PERI_OK;
+    return peri_surface_factors(s, true);
   }
   /* Discrete weighted volume over the reference family (not updated as bonds break). */
 #pragma omp parallel for schedule(static)
@@ -52,7 +53,7 @@ static int lps_init(peri_sim *s) {
       return PERI_ERR_INPUT;
     }
   }
-  return PERI_OK;
+  return peri_surface_factors(s, true); /* (none without discretization.surface_correction) */
 }
 
 /* Node i's own data, read once per family; D and B are the force pass's coefficients, the
@@ -364,7 +365,8 @@ static long lps_dilatation(peri_sim *s) {
     const peri_material *mat = &s->mat.materials[p->material[i]];
     const double m = p->wvol[i];
     const double theta = mat->n_theta * we_x / m;
-    const double P = we_x - theta * w_xx / 3.0;
+    /* the peer form (docs/models.md 3.5) takes P as if the family were intact, sum w |xi| = m */
+    const double P = we_x - theta * (mat->peer_force_state ? m : w_xx) / 3.0;
     const double alpha = mat->alpha_m / m;
     const double eth_i = thermal ? s->state.thermal_strain[i] : 0.0;
     p->theta[i] = theta;
@@ -384,9 +386,9 @@ static inline double lps_half(const peri_material *mat, double theta, double P, 
          alpha * omega * (e - theta * L / 3.0);
 }
 
-static long lps_force(peri_sim *s) {
+static long lps_force_pass(peri_sim *s, bool update_s0) {
   const long broken = lps_dilatation(s);
-  if (s->mat.s0_node) peri_update_lammps_s0(s);
+  if (s->mat.s0_node && update_s0) peri_update_lammps_s0(s);
   peri_particles *p = &s->disc.p;
   const size_t n = (size_t)p->n;
   /* the force pass reads D_j and B_j of ghosts (docs/parallel.md) */
@@ -405,11 +407,19 @@ static long lps_force(peri_sim *s) {
   return broken + n_broken;
 }
 
+static long lps_force(peri_sim *s) {
+  return peri_force_in_breaking_order(s, s->disc.bonds.surface_G ? peri_corrected_lps_force : lps_force_pass);
+}
+
 /* W_i = K_theta theta_i^2/2 + (alpha_m/m_i)/2 sum_j omega (e^d)^2 beta V_j with e^d = q - theta_i
  * |xi|/3 (q = e - alpha_T dT_i |xi|), in one pass: theta_i = n_theta (sum w q)/m_i comes from
  * node i's own bonds, and sum omega beta V (q - theta |xi|/3)^2 = sum omega beta V q^2 - (2 theta/3)
  * sum w q + (theta^2/9) sum w |xi| (w = omega |xi| beta V). Not on the time-step path. */
 static void lps_energy(peri_sim *s, double *W) {
+  if (s->disc.bonds.surface_G) {
+    peri_corrected_lps_energy(s, W);
+    return;
+  }
   peri_node_blocks *items = peri_node_blocks_refresh(s);
   const lps_loops *loops = lps_pass1_loops(s, items, lps_sums_table_energy);
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
@@ -420,12 +430,14 @@ static void lps_energy(peri_sim *s, double *W) {
     const double m = p->wvol[i];
     const double theta = mat->n_theta * r->sum[0] / m;
     const double deviatoric = r->sum[2] - (2.0 * theta / 3.0) * r->sum[0] + (theta * theta / 9.0) * r->sum[1];
-    W[i] = 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * deviatoric;
+    W[i] = mat->peer_force_state ? peri_lps_peer_energy(mat, theta, mat->alpha_m / m, r->sum[2])
+                                 : 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * deviatoric;
   })
   (void)n_broken;
 }
 
 static double lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
+  if (s->disc.bonds.surface_G) return peri_corrected_lps_pair(s, i, k, r);
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const int32_t j = b->neighbor[k];

@@ -97,7 +97,9 @@ static void compute_states(const peri_sim *s, node_state *st, double *wn) {
         for (int d = 0; d < 3; ++d) wnk[d] = w * dy[d] / r, sv[d] += wnk[d];
     }
     const double m = p->wvol[i], nt = mat->n_theta;
-    const double alpha = mat->alpha_m / m, q = 1.0 - nt * wxx / (3.0 * m);
+    /* P_i = q_i S_i; the peer force state (docs/models.md 3.5) has the intact family's q (its
+     * force is the gradient of the Madenci-Oterkus energy, so the tangent stays symmetric) */
+    const double alpha = mat->alpha_m / m, q = 1.0 - nt * (mat->peer_force_state ? m : wxx) / (3.0 * m);
     st[i].S = S;
     for (int d = 0; d < 3; ++d) st[i].svec[d] = sv[d];
     st[i].alpha = alpha;

@@ -8,6 +8,7 @@
 #include "peri/model.h"
 #include "bond_kernel.h"
 #include "node_blocks.h"
+#include "surface_correction.h"
 
 static int pmb_init(peri_sim *s) {
   double calibration = peri_influence_calibration(s->disc.family.influence, s->disc.geom.dim, s->disc.geom.horizon);
@@ -19,7 +20,7 @@ static int pmb_init(peri_sim *s) {
   }
   peri_particles *p = &s->disc.p;
   p->coef = peri_malloc(sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
-  return PERI_OK;
+  return peri_surface_factors(s, false); /* (none without discretization.surface_correction) */
 }
 
 /* Node i's own data, read once per family. */
@@ -215,7 +216,7 @@ static const pmb_loops *pmb_loops_for(const pmb_loops *const set[9], bool multi,
   return set[thermal ? 3 : uniform ? 0 : 1];
 }
 
-static long pmb_force(peri_sim *s) {
+static long pmb_force_pass(peri_sim *s, bool update_s0) {
   peri_particles *p = &s->disc.p;
   /* per-node copies of the material data the loop gathers (O(n), refreshed so that they
    * follow any change of the materials) */
@@ -250,8 +251,12 @@ static long pmb_force(peri_sim *s) {
       if (track_smin) p->smin[i] = r->smin;
     }
   }
-  if (s->mat.s0_node) peri_update_lammps_s0(s);
+  if (s->mat.s0_node && update_s0) peri_update_lammps_s0(s);
   return n_broken;
+}
+
+static long pmb_force(peri_sim *s) {
+  return peri_force_in_breaking_order(s, s->disc.bonds.surface_G ? peri_corrected_pmb_force : pmb_force_pass);
 }
 
 /* Bond i-j: w beta V_j with the micropotential w = c omega s^2 |xi| / 2, c = (c_i + c_j)/2. */
@@ -360,6 +365,10 @@ PMB_ENERGY_VARIANT(pmb_energy_gaussian_thermal, true, PERI_INFLUENCE_GAUSSIAN)
 /* W_i = 1/2 sum_j w_ij beta V_j, on the node blocks like the force. Not on the time-step
  * path (history rows only). */
 static void pmb_energy(peri_sim *s, double *W) {
+  if (s->disc.bonds.surface_G) {
+    peri_corrected_pmb_energy(s, W);
+    return;
+  }
   peri_particles *p = &s->disc.p;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->mat.materials[p->material[i]].micromodulus;
@@ -385,6 +394,7 @@ static void pmb_energy(peri_sim *s, double *W) {
 }
 
 static double pmb_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
+  if (s->disc.bonds.surface_G) return peri_corrected_pmb_pair(s, i, k, r);
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const int32_t j = b->neighbor[k];

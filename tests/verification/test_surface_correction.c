@@ -1,0 +1,125 @@
+/* Surface correction (docs/models.md 4.1), against classical elasticity:
+ * (1) a 3D bar 1 x 0.1 x 0.1 m, dx = 20 mm (5 nodes across, every node within delta of a
+ *     lateral surface), E = 200 GPa, pulled by 2 MN: without correction it is about 27%
+ *     stiffer than E A (docs/solvers.md); with the energy correction its gauge elongation is
+ *     F L/(E A) = 1 mm within 2% (LPS nu = 0.3; PMB);
+ * (2) a free plate (2D plane stress LPS, nu = 0.3) under a uniform stretch imposed on every
+ *     node, u = eps (x, -nu eps y): the PD stress sigma_xx up a column at mid-length is
+ *     closer to E eps with the correction than without (it does not reach 2%: see below). */
+#include <criterion/criterion.h>
+#include <math.h>
+#include "peri/quasistatic.h"
+#include "peri/setup.h"
+#include "peri/stress.h"
+#include "support.h"
+
+static const char *bar3d =
+    "dimension: 3\n"
+    "materials:\n"
+    "  steel: {model: %s, density: 7850, youngs_modulus: 200e9%s}\n"
+    "discretization:\n"
+    "  spacing: 0.02\n"
+    "  m: 3\n"
+    "  surface_correction: %s\n"
+    "  fill: [{shape: box, min: [0, 0, 0], max: [1, 0.1, 0.1]}]\n"
+    "regions:\n"
+    "  held: {shape: box, min: [-1, -1, -1], max: [0.02, 1, 1]}\n"
+    "  pulled: {shape: box, min: [0.98, -1, -1], max: [2, 1, 1]}\n"
+    "boundary_conditions:\n"
+    "  - {type: displacement, region: held, x: 0, y: 0, z: 0}\n"
+    "  - {type: traction, region: pulled, x: 2.0e8, layer: 0.02}\n"
+    "solver: {type: adr, tolerance: 1.0e-8}\n"
+    "output: {picture: false}\n";
+
+/* Mean x-displacement of the nodes within dx/2 of the plane x = x0. */
+static double section_u(const peri_sim *s, double x0) {
+  double sum = 0.0;
+  int count = 0;
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i)
+    if (fabs(s->disc.p.x[3 * i] - x0) < 0.5 * s->disc.geom.spacing + 1e-12) sum += s->disc.p.u[3 * i], ++count;
+  return count ? sum / count : NAN;
+}
+
+static double bar_strain_ratio(const char *model, const char *nu, const char *correction) {
+  char deck[4096];
+  snprintf(deck, sizeof deck, bar3d, model, nu, correction);
+  peri_sim s;
+  cr_assert_eq(sim_from_string(&s, deck), 0);
+  peri_apply_initial_conditions(&s);
+  cr_assert_eq(peri_solve_quasi_static(&s, NULL, NULL), 0, "adr did not converge");
+  const double dx = 0.02, xa = 0.25 + 0.5 * dx, xb = 0.75 + 0.5 * dx;
+  const double strain = (section_u(&s, xb) - section_u(&s, xa)) / (xb - xa), expected = 2.0e6 / (200e9 * 0.01);
+  cr_log_info("3D bar, %s, correction %s: gauge strain / (F/(EA)) = %.5f", model, correction, strain / expected);
+  peri_sim_free(&s);
+  return strain / expected;
+}
+
+Test(surface_correction, bar_3d_lps_within_2_percent_of_EA, .timeout = 600) {
+  const double plain = bar_strain_ratio("lps", ", poisson_ratio: 0.3", "none");
+  const double corrected = bar_strain_ratio("lps", ", poisson_ratio: 0.3", "energy");
+  cr_expect(fabs(plain - 1.0) > 0.1, "without correction the skin effect is expected (ratio %g)", plain);
+  cr_expect(fabs(corrected - 1.0) < 0.02, "corrected 3D LPS bar: strain %g of F/(EA)", corrected);
+}
+
+/* PMB (nu = 1/4): the correction brings the bar closer to E A than without (not to 2%:
+ * docs/verification.md). */
+Test(surface_correction, bar_3d_pmb_closer_to_EA, .timeout = 600) {
+  const double plain = bar_strain_ratio("pmb", "", "none");
+  const double corrected = bar_strain_ratio("pmb", "", "energy");
+  cr_expect(fabs(corrected - 1.0) < fabs(plain - 1.0), "PMB bar: %g of F/(EA) corrected, %g without", corrected, plain);
+}
+
+/* The plate: 40 x 20 mm, dx = 1 mm, m = 3, a uniform uniaxial stress state imposed on every
+ * node (prescribed displacement), and the nodal PD stress (docs/models.md, stress recovery). */
+static const char *plate =
+    "dimension: 2\n"
+    "plane: stress\n"
+    "materials:\n"
+    "  steel: {model: lps, density: 7850, youngs_modulus: 200e9, poisson_ratio: 0.3}\n"
+    "discretization:\n"
+    "  spacing: 1.0e-3\n"
+    "  m: 3\n"
+    "  thickness: 1.0e-3\n"
+    "  surface_correction: %s\n"
+    "  fill: [{shape: rectangle, min: [0, 0], max: [0.04, 0.02]}]\n"
+    "boundary_conditions:\n"
+    "  - {type: displacement, region: all, x: \"1.0e-4*x\", y: \"-0.3e-4*y\"}\n"
+    "solver: {type: adr, load_steps: 1, breaking: false}\n"
+    "output: {picture: false}\n";
+
+/* The largest |sigma_xx/(E eps) - 1| over the column of nodes at mid-length (free lateral
+ * surfaces above and below, far from the ends' corners). */
+static double plate_column(const char *correction) {
+  char deck[4096];
+  snprintf(deck, sizeof deck, plate, correction);
+  peri_sim s;
+  cr_assert_eq(sim_from_string(&s, deck), 0);
+  peri_apply_initial_conditions(&s);
+  cr_assert_eq(peri_solve_quasi_static(&s, NULL, NULL), 0);
+  const int32_t n = s.disc.p.n_owned;
+  double *sigma = malloc(sizeof(double) * 9 * (size_t)n);
+  peri_stress(&s, sigma);
+  const double expected = 200e9 * 1.0e-4;
+  double worst = 0.0;
+  for (int32_t i = 0; i < n; ++i)
+    if (fabs(s.disc.p.x[3 * i] - 0.0205) < 1e-6) {
+      const double ratio = sigma[9 * (size_t)i] / expected;
+      worst = fmax(worst, fabs(ratio - 1.0));
+      cr_log_info("plate, correction %s, x = 20.5 mm, y = %4.1f mm: sigma_xx/(E eps) = %.4f", correction,
+                  1e3 * s.disc.p.x[3 * i + 1], ratio);
+    }
+  free(sigma);
+  peri_sim_free(&s);
+  return worst;
+}
+
+/* The corrected column is closer to uniform than the plain one at every depth's worst; the
+ * 2% of the issue is not reached (docs/verification.md: the collapsed stress of the second
+ * row counts the corrected bonds of the surface row). */
+Test(surface_correction, plate_column_closer_to_uniform, .timeout = 600) {
+  const double plain = plate_column("none");
+  const double corrected = plate_column("energy");
+  cr_log_info("plate column: largest deviation %.4f without correction, %.4f with", plain, corrected);
+  cr_expect(corrected < plain, "the correction should bring the column closer to E eps (%g, without %g)", corrected,
+            plain);
+}
