@@ -31,6 +31,7 @@ discretization:
   partial_volume: none
 boundary_conditions:
   - type: initial_velocity
+    region: all
     x: "(200 - 50*((z/0.05) - 1)^2) * x / sqrt(x^2 + y^2)"
     y: "(200 - 50*((z/0.05) - 1)^2) * y / sqrt(x^2 + y^2)"
     z: "100*((z/0.05) - 1)"
