@@ -331,7 +331,7 @@ static int command(int argc, char **argv) {
 }
 
 int main(int argc, char **argv) {
-  peri_choose_omp_wait(argv); /* passive OpenMP wait unless the user chose (docs/parallel.md) */
+  peri_choose_omp_wait(argv); /* a short OpenMP spin unless the user chose (docs/parallel.md) */
   peri_comm_init(&argc, &argv); /* MPI when built with it (docs/parallel.md) */
   int rc = command(argc, argv);
   fflush(stdout);
