@@ -8,6 +8,8 @@
 /* Per-node flags. */
 enum {
   PERI_NODE_NO_FAIL = 1u << 0, /* bonds with this end never break */
+  PERI_NODE_FICTITIOUS = 1u << 1, /* a fictitious boundary layer node: prescribed, never damaged, out of
+                                     output (docs/deck.md section 10) */
 };
 
 typedef struct peri_particles {

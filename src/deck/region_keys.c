@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/comm.h"
 #include "peri/error.h"
 #include "peri/region.h"
 #include "peri/setup.h"
@@ -230,12 +231,12 @@ static int build_region(ctx *c, const peri_node *def, const char *section, peri_
   if (given != 1)
     return peri_deck_error(def, "%s: give exactly one of shape, node_set, node_set_file, block, material, "
                                 "union, intersection, difference", section);
-  static const char *const extra[] = {"no_fail", NULL};
+  static const char *const extra[] = {"no_fail", "fictitious_layer", NULL};
   if (kind == K_SHAPE) {
     TRY(peri_shape_parse(def, s->disc.geom.dim, section, top ? extra : NULL, &r->shape));
     peri_region_collect(r, &s->disc.p, 1e-9 * s->disc.geom.spacing);
   } else {
-    const char *allowed[] = {kinds[kind], top ? "no_fail" : NULL, NULL};
+    const char *allowed[] = {kinds[kind], top ? "no_fail" : NULL, top ? "fictitious_layer" : NULL, NULL};
     TRY(peri_deck_allow(def, section, allowed));
     const peri_node *v = peri_deck_get(def, kinds[kind]);
     switch (kind) {
@@ -277,7 +278,53 @@ int peri_setup_regions(peri_sim *s, const peri_node *root, const peri_mesh *mesh
     rc = peri_deck_bool(regs->items[k], "no_fail", false, &no_fail);
     if (rc == PERI_OK && no_fail)
       for (int32_t a = 0; a < r->count; ++a) s->disc.p.flags[r->nodes[a]] |= PERI_NODE_NO_FAIL;
+    bool layer = false;
+    if (rc == PERI_OK) rc = peri_deck_bool(regs->items[k], "fictitious_layer", false, &layer);
+    if (rc == PERI_OK && layer) {
+      if (peri_comm_sum_long(r->count) == 0) {
+        rc = peri_deck_error(peri_deck_key_node(regs->items[k], "fictitious_layer"),
+                             "region '%s': a fictitious layer must contain nodes; this one contains none "
+                             "(place it outside the body, within the discretization's fill)", r->name);
+        break;
+      }
+      /* never damaged: its bonds never break (no_fail); prescribed: checked with the boundary
+       * conditions (peri_setup_check_layers) */
+      for (int32_t a = 0; a < r->count; ++a) s->disc.p.flags[r->nodes[a]] |= PERI_NODE_NO_FAIL | PERI_NODE_FICTITIOUS;
+    }
   }
   free(c.state);
+  return rc;
+}
+
+/* Every node of a fictitious layer must have its motion prescribed: a displacement or velocity
+ * condition on every component of the dimension (docs/deck.md section 10). */
+int peri_setup_check_layers(const peri_sim *s, const peri_node *root) {
+  const peri_node *regs = peri_deck_get(root, "regions");
+  const peri_particles *p = &s->disc.p;
+  const int dim = s->disc.geom.dim;
+  uint8_t *held = peri_calloc((size_t)(p->n_owned > 0 ? p->n_owned : 1), 1);
+  for (int b = 0; b < s->cond.n_bcs; ++b) {
+    const peri_bc *bc = &s->cond.bcs[b];
+    if (bc->kind != PERI_BC_DISPLACEMENT && bc->kind != PERI_BC_VELOCITY) continue;
+    const peri_region *r = &s->cond.regions[bc->region];
+    for (int32_t a = 0; a < r->count; ++a)
+      for (int d = 0; d < dim; ++d)
+        if (bc->value[d]) held[r->nodes[a]] |= (uint8_t)(1u << d);
+  }
+  int rc = PERI_OK;
+  for (int k = 0; regs && k < regs->count && rc == PERI_OK; ++k) {
+    bool layer = false;
+    peri_deck_bool(regs->items[k], "fictitious_layer", false, &layer);
+    if (!layer) continue;
+    const peri_region *r = &s->cond.regions[k + 1];
+    long free_nodes = 0;
+    for (int32_t a = 0; a < r->count; ++a) free_nodes += held[r->nodes[a]] != (uint8_t)((1u << dim) - 1);
+    if (peri_comm_sum_long(free_nodes) > 0)
+      rc = peri_deck_error(peri_deck_key_node(regs->items[k], "fictitious_layer"),
+                           "region '%s': %ld node(s) of this fictitious layer have no prescribed motion; a layer's "
+                           "nodes need a displacement or velocity condition on every component", r->name,
+                           peri_comm_sum_long(free_nodes));
+  }
+  free(held);
   return rc;
 }

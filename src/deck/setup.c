@@ -769,6 +769,7 @@ static int build(parse_ctx *c) {
   if (!heat_only) TRY(parse_interfaces(c));
   TRY(s->mat.model->init(s));
   TRY(parse_conditions(c));
+  TRY(peri_setup_check_layers(c->s, c->root));
   TRY(parse_indenter(c));
   TRY(parse_solver(c));
   TRY(parse_output(c));

@@ -45,5 +45,7 @@ int peri_setup_mesh(peri_sim *s, const peri_node *d, peri_mesh *mesh);
  * and their unions, intersections and differences. `mesh` is the discretization's mesh or
  * NULL (a grid); node_of_point[k] is the node of the mesh's point k. */
 int peri_setup_regions(peri_sim *s, const peri_node *root, const peri_mesh *mesh, const int32_t *node_of_point);
+/* Fictitious layer regions have every node's motion prescribed (after the boundary conditions). */
+int peri_setup_check_layers(const peri_sim *s, const peri_node *root);
 
 #endif

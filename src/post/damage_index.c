@@ -3,6 +3,7 @@
 #include <string.h>
 #include "peri/damage.h"
 #include "peri/damage_index.h"
+#include "peri/comm.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
 
@@ -31,9 +32,13 @@ double peri_mean_damage(const peri_sim *s) {
   const int32_t n = s->disc.p.n_owned;
   double *phi = peri_malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
   peri_damage_index(s, phi);
+  /* fictitious layer nodes are out of the statistics (docs/deck.md section 10) */
+  long layer_nodes = 0;
+  for (int32_t i = 0; i < n; ++i)
+    if (s->disc.p.flags[i] & PERI_NODE_FICTITIOUS) phi[i] = 0.0, layer_nodes++;
   double sum = 0.0;
   peri_sum_owned(s, phi, 1, &sum); /* fixed-order blocks: the same on any number of ranks */
   free(phi);
-  const int64_t nodes = peri_global_nodes(s);
+  const int64_t nodes = peri_global_nodes(s) - peri_comm_sum_long(layer_nodes);
   return nodes > 0 ? sum / (double)nodes : 0.0;
 }

@@ -14,6 +14,7 @@ double peri_kinetic_energy(const peri_sim *s) {
   const peri_particles *p = &s->disc.p;
   double *terms = node_terms(s, 1), sum = 0.0;
   for (int32_t i = 0; i < p->n_owned; ++i) {
+    if (p->flags[i] & PERI_NODE_FICTITIOUS) continue; /* out of the history (docs/deck.md section 10) */
     const double *v = &p->v[3 * i];
     double rho = s->mat.materials[p->material[i]].density;
     terms[i] = 0.5 * rho * p->volume[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);

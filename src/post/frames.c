@@ -17,6 +17,8 @@
 #include "peri/thermal.h"
 #include "frames_parts.h"
 
+enum { MAX_FRAME_FIELDS = 24, MAX_FRAME_FIELDS_COPY = MAX_FRAME_FIELDS };
+
 struct peri_frames {
   peri_pvd *pvd;                 /* rank 0, output.format vtu or both */
   peri_frames_exodus *exodus;    /* output.format exodus or both */
@@ -89,16 +91,52 @@ static void current_positions(const peri_sim *s, double *points) {
   for (size_t c = 0; c < 3 * (size_t)s->disc.p.n_owned; ++c) points[c] = s->disc.p.x[c] + s->disc.p.u[c];
 }
 
+/* Fictitious layer nodes are left out of the VTU frames (docs/deck.md section 10): the points
+ * and each field's rows of the body nodes only, in copies that body_only_free releases.
+ * Returns the body node count. */
+typedef struct body_copy {
+  double *points;
+  void *rows[MAX_FRAME_FIELDS_COPY];
+} body_copy;
+
+static int32_t body_only(const peri_particles *p, double **points, peri_field *fields, int nf, body_copy *c) {
+  int32_t n = 0;
+  for (int32_t i = 0; i < p->n_owned; ++i) n += !(p->flags[i] & PERI_NODE_FICTITIOUS);
+  memset(c, 0, sizeof *c);
+  if (n == p->n_owned) return n;
+  c->points = peri_malloc(sizeof(double) * 3 * (size_t)(n > 0 ? n : 1));
+  for (int32_t i = 0, k = 0; i < p->n_owned; ++i)
+    if (!(p->flags[i] & PERI_NODE_FICTITIOUS)) memcpy(&c->points[3 * k++], &(*points)[3 * i], 3 * sizeof(double));
+  *points = c->points;
+  for (int f = 0; f < nf && f < MAX_FRAME_FIELDS_COPY; ++f) {
+    const size_t w = (size_t)fields[f].ncomp, size = fields[f].idata ? sizeof(int32_t) : sizeof(double);
+    const char *from = fields[f].idata ? (const char *)fields[f].idata : (const char *)fields[f].data;
+    char *to = peri_malloc(size * w * (size_t)(n > 0 ? n : 1));
+    for (int32_t i = 0, k = 0; i < p->n_owned; ++i)
+      if (!(p->flags[i] & PERI_NODE_FICTITIOUS)) memcpy(to + size * w * (size_t)k++, from + size * w * (size_t)i, size * w);
+    c->rows[f] = to;
+    if (fields[f].idata) fields[f].idata = (const int32_t *)to;
+    else fields[f].data = (const double *)to;
+  }
+  return n;
+}
+
+static void body_only_free(body_copy *c) {
+  free(c->points);
+  for (int f = 0; f < MAX_FRAME_FIELDS_COPY; ++f) free(c->rows[f]);
+}
+
 /* MPI ranks (docs/parallel.md): each rank with nodes writes its piece <base>_<frame>_<rank>.vtu,
  * rank 0 the index <base>_<frame>.pvtu that the .pvd lists. */
-static int write_pieces(peri_frames *f, peri_sim *s, const peri_field *fields, int nf) {
+static int write_pieces(peri_frames *f, peri_sim *s, const peri_field *fields, int nf, const double *points,
+                        int32_t n_body) {
   const peri_decomposition *d = s->par.dd;
   char file[512], path[4700];
   int rc = PERI_OK;
   if (s->disc.p.n_owned > 0) {
     snprintf(file, sizeof file, "%s_%06d_%d.vtu", s->out.basename, f->count, d->rank);
     snprintf(path, sizeof path, "%s/%s", s->out.directory, file);
-    rc = peri_vtu_write_at(path, s->state.time, s->disc.p.n_owned, f->points, fields, nf, s->out.compress);
+    rc = peri_vtu_write_at(path, s->state.time, n_body, points, fields, nf, s->out.compress);
   }
   if (d->rank == 0 && rc == PERI_OK) {
     char **pieces = peri_calloc((size_t)d->size, sizeof(char *));
@@ -177,7 +215,6 @@ static int frame_fields(peri_frames *f, peri_sim *s, peri_field *fields, int cap
   return nf;
 }
 
-enum { MAX_FRAME_FIELDS = 24 };
 
 int peri_frames_write(peri_frames *f, peri_sim *s) {
   const peri_particles *p = &s->disc.p;
@@ -192,14 +229,18 @@ int peri_frames_write(peri_frames *f, peri_sim *s) {
     fields[nf++] = (peri_field){.name = "node_id", .ncomp = 1, .idata = f->node_id};
     fields[nf++] = (peri_field){.name = "reference_position", .ncomp = 3, .data = p->x};
     current_positions(s, f->points);
-    if (s->par.dd) rc = write_pieces(f, s, fields, nf);
+    double *points = f->points;
+    body_copy copy;
+    const int32_t n_body = body_only(p, &points, fields, nf, &copy);
+    if (s->par.dd) rc = write_pieces(f, s, fields, nf, points, n_body);
     else {
       char file[512], path[4700];
       snprintf(file, sizeof file, "%s_%06d.vtu", s->out.basename, f->count);
       snprintf(path, sizeof path, "%s/%s", s->out.directory, file);
-      rc = peri_vtu_write_at(path, s->state.time, p->n_owned, f->points, fields, nf, s->out.compress);
+      rc = peri_vtu_write_at(path, s->state.time, n_body, points, fields, nf, s->out.compress);
       if (rc == PERI_OK) rc = peri_pvd_add(f->pvd, s->state.time, file);
     }
+    body_only_free(&copy);
   }
   if (rc == PERI_OK) f->count++;
   return rc;
