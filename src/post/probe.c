@@ -130,7 +130,9 @@ int peri_probe(peri_sim *s, const char *name, double *value) {
   if (p.kind == P_ENERGY) return *value = peri_strain_energy(s), PERI_OK;
   if (p.kind == P_MAX_U) {
     double m = 0.0;
-    for (int32_t i = 0; i < n; ++i) m = fmax(m, sqrt(pt->u[3 * i] * pt->u[3 * i] + pt->u[3 * i + 1] * pt->u[3 * i + 1] +
+    for (int32_t i = 0; i < n; ++i)
+      if (!(pt->flags[i] & PERI_NODE_FICTITIOUS)) /* layers are out of the maxima (docs/deck.md section 10) */
+        m = fmax(m, sqrt(pt->u[3 * i] * pt->u[3 * i] + pt->u[3 * i + 1] * pt->u[3 * i + 1] +
                                                      pt->u[3 * i + 2] * pt->u[3 * i + 2]));
     return *value = m, PERI_OK;
   }
@@ -144,12 +146,14 @@ int peri_probe(peri_sim *s, const char *name, double *value) {
   if (rc == PERI_OK) {
     if (p.kind == P_MAX_VM) {
       double m = 0.0;
-      for (int32_t i = 0; i < n; ++i) m = fmax(m, peri_von_mises(s, &sigma[9 * (size_t)i], s->mat.materials[pt->material[i]].nu));
+      for (int32_t i = 0; i < n; ++i)
+        if (!(pt->flags[i] & PERI_NODE_FICTITIOUS)) m = fmax(m, peri_von_mises(s, &sigma[9 * (size_t)i], s->mat.materials[pt->material[i]].nu));
       *value = m;
     } else if (p.kind == P_POINT) {
       int32_t best = -1;
       double best_d = INFINITY;
       for (int32_t i = 0; i < n; ++i) {
+        if (pt->flags[i] & PERI_NODE_FICTITIOUS) continue; /* the nearest body node */
         double d2 = 0.0;
         for (int c = 0; c < p.n_coords; ++c) d2 += (pt->x[3 * i + c] - p.point[c]) * (pt->x[3 * i + c] - p.point[c]);
         if (d2 < best_d) best_d = d2, best = i; /* first of equals: deterministic */

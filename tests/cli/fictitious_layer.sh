@@ -8,6 +8,7 @@
 # - the VTU frame holds the body nodes only (100, the layers' 2 x 3 nodes left out);
 # - bonds with an end in a layer never break even far above the critical stretch, while the
 #   same region without the flag loses bonds;
+# - a sweep's max_displacement is the body's (the layers move further);
 # - a layer region with no node, and a layer without a prescribed motion: exit 2 at the key.
 # Usage: bash tests/cli/fictitious_layer.sh PATH_TO_PERI   (from the repository root)
 set -u
@@ -102,3 +103,10 @@ expect_status 2
 expect_stderr_contains "no prescribed motion"
 expect_stderr_matches "free_layer.yaml:10:[0-9]+: error"  # the right_layer line
 pass "a layer without a prescribed motion: exit 2 at file:line:column"
+
+# a sweep's maxima are over the body: the largest body displacement is 1e-3 x 0.995 m (the
+# outermost body node), the layers' outermost nodes reach 1e-3 x 1.025 m
+run_peri sweep "$deck" --quiet --output "$TMP/sweep" --set-list solver.load_steps=1 --quantity max_displacement
+expect_status 0
+expect_stdout_contains "| 1 | 0.000995 |"
+pass "max_displacement of a sweep leaves the layers out"
