@@ -14,17 +14,10 @@ import subprocess
 import sys
 import tempfile
 
+from series import rows
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
-
-
-def rows(text):
-    out = {}
-    for line in text.splitlines():
-        f = line.split()
-        if len(f) == 5:
-            out[int(f[0])] = [float(v) for v in f[1:]]
-    return out
 
 
 def main():

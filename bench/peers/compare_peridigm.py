@@ -15,6 +15,8 @@ import subprocess
 import sys
 import tempfile
 
+from series import rows
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 DECK = """dimension: 3
 materials:
@@ -42,15 +44,6 @@ solver:
 output:
   picture: false
 """
-
-
-def rows(text):
-    out = {}
-    for line in text.splitlines():
-        f = line.split()
-        if len(f) == 5:
-            out[int(f[0])] = [float(v) for v in f[1:]]
-    return out
 
 
 def main():

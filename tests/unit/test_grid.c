@@ -1,5 +1,6 @@
 /* Discretization: grid generation, Morton ordering, node files, particle storage. */
 #include <criterion/criterion.h>
+#include "scratch_dir.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -274,23 +275,6 @@ Test(sfc, ties_by_index) {
   peri_particles_free(&p);
 }
 
-static char tmpdir[64];
-static void make_tmpdir(void) {
-  strcpy(tmpdir, "/tmp/peri_nodefile_XXXXXX");
-  cr_assert_not_null(mkdtemp(tmpdir));
-}
-static void remove_tmpdir(void) {
-  char cmd[128];
-  snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
-  cr_assert_eq(system(cmd), 0);
-}
-
-static void write_file(const char *path, const char *text) {
-  FILE *f = fopen(path, "w");
-  cr_assert_not_null(f);
-  fputs(text, f);
-  fclose(f);
-}
 
 Test(nodefile, read_2d_and_3d, .init = make_tmpdir, .fini = remove_tmpdir) {
   char path[128];

@@ -4,6 +4,7 @@
  * equals it to round-off: tolerance 1e-12 relative), the expected sets, and bad files that
  * are errors naming the file and the entity. */
 #include <criterion/criterion.h>
+#include "scratch_dir.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,23 +19,6 @@
 #include <gmshc.h>
 #endif
 
-static char tmpdir[64];
-static void make_tmpdir(void) {
-  strcpy(tmpdir, "/tmp/peri_mesh_XXXXXX");
-  cr_assert_not_null(mkdtemp(tmpdir));
-}
-static void remove_tmpdir(void) {
-  char cmd[128];
-  snprintf(cmd, sizeof cmd, "rm -rf %s", tmpdir);
-  cr_assert_eq(system(cmd), 0);
-}
-
-static void write_file(const char *path, const char *text) {
-  FILE *f = fopen(path, "w");
-  cr_assert_not_null(f);
-  fputs(text, f);
-  fclose(f);
-}
 
 /* Runs f with stderr captured into buf. */
 static int captured(char *buf, size_t len, int (*f)(void *), void *arg) {
