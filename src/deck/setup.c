@@ -8,6 +8,7 @@
 #include <unistd.h>
 #include "peri/checkpoint.h"
 #include "peri/conduction.h"
+#include "peri/coupling.h"
 #include "peri/constants.h"
 #include "peri/damage.h"
 #include "peri/deck.h"
@@ -715,7 +716,7 @@ static int parse_output(parse_ctx *c) {
 
 static const char *const top_keys[] = {"dimension", "plane", "discretization", "materials",
                                        "interfaces", "regions", "precracks", "boundary_conditions",
-                                       "indenter", "solver", "output", "thermal", NULL};
+                                       "indenter", "solver", "output", "thermal", "coupling", NULL};
 
 /* A count derived from the ratio of two deck numbers, such as end_time / time_step. The
  * ratio is rounded up (less a rounding allowance); a count that a long cannot hold is an
@@ -772,6 +773,7 @@ static int build(parse_ctx *c) {
   TRY(peri_setup_check_layers(c->s, c->root));
   TRY(parse_indenter(c));
   TRY(parse_solver(c));
+  TRY(peri_setup_coupling(s, root)); /* PD-FEM coupling (src/deck/coupling_keys.c) */
   TRY(parse_output(c));
   TRY(peri_setup_thermal(s, root)); /* heat conduction, thermal strain (docs/heat.md) */
   TRY(peri_plot_check(s, peri_deck_get(root, "output"))); /* the columns, thermal ones included */
@@ -866,6 +868,8 @@ void peri_sim_free(peri_sim *s) {
   free(s->mat.pair_s0);
   free(s->mat.s0_node);
   peri_thermal_free(s->thermal);
+  peri_coupling_free(s->coupling);
+  free(s->coupling);
   free(s->state.thermal_strain);
   for (int r = 0; r < s->cond.n_regions; ++r) peri_region_free(&s->cond.regions[r]);
   free(s->cond.regions);

@@ -48,4 +48,8 @@ int peri_setup_regions(peri_sim *s, const peri_node *root, const peri_mesh *mesh
 /* Fictitious layer regions have every node's motion prescribed (after the boundary conditions). */
 int peri_setup_check_layers(const peri_sim *s, const peri_node *root);
 
+/* The coupling section (coupling_keys.c, docs/coupling.md): PD and FEM nodes, the structured
+ * elements, the solver settings of the coupled stiffness; after the solver section. */
+int peri_setup_coupling(peri_sim *s, const peri_node *root);
+
 #endif

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/comm.h"
+#include "peri/coupling.h"
 #include "peri/damage.h"
 #include "peri/damage_index.h"
 #include "peri/decompose.h"
@@ -173,6 +174,7 @@ static int frame_field(peri_frames *f, peri_sim *s, const char *name, peri_field
   } else if (!strcmp(name, "dilatation")) fl.data = p->theta;
   else if (!strcmp(name, "material")) fl.idata = p->material;
   else if (!strcmp(name, "block")) fl.idata = p->block;
+  else if (!strcmp(name, "node_type")) fl.idata = s->coupling->node_type;
   else if (!strcmp(name, "volume")) fl.data = p->volume;
   else if (!strcmp(name, "strain_energy_density")) {
     peri_strain_energy(s);
@@ -303,7 +305,8 @@ int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
   } else if (!strcmp(name, "volume")) {
     memcpy(values, p->volume, sizeof(double) * (size_t)p->n_owned);
   } else {
-    for (int32_t i = 0; i < p->n_owned; ++i) values[i] = !strcmp(name, "block") ? p->block[i] : p->material[i];
+    const int32_t *v = !strcmp(name, "block") ? p->block : !strcmp(name, "node_type") ? s->coupling->node_type : p->material;
+    for (int32_t i = 0; i < p->n_owned; ++i) values[i] = v[i];
   }
   snprintf(path_out, n, "%s/%s.png", s->out.directory, name);
   /* rank 0 draws every node, gathered in global order (a copy in a single process) */

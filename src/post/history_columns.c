@@ -77,6 +77,18 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
     }
     free(thermal);
   }
+  if (s->coupling) { /* out-of-balance of the PD-FEM coupling (docs/coupling.md) */
+    char name[64];
+    for (int d = 0; d < s->disc.geom.dim; ++d) {
+      snprintf(name, sizeof name, "net_force_%c", "xyz"[d]);
+      add(c, name);
+    }
+    for (int d = 0; d < s->disc.geom.dim; ++d) {
+      snprintf(name, sizeof name, "out_of_balance_%c", "xyz"[d]);
+      add(c, name);
+    }
+    add(c, "out_of_balance");
+  }
 }
 
 char **peri_history_columns(const peri_sim *s, int *count) {
@@ -114,6 +126,7 @@ const char *peri_history_unit(const char *column) {
       {"total_heat", "J", true},    {"min_temperature", "K", true}, {"max_temperature", "K", true},
       {"momentum_", "kg*m/s", false}, {"indenter_force_", "N", false}, {"reaction_", "N", false},
       {"displacement_", "m", false}, {"mean_temperature_", "K", false}, {"heat_inflow_", "W", false},
+      {"net_force_", "N", false},   {"out_of_balance", "1", false},
   };
   for (size_t k = 0; k < sizeof units / sizeof units[0]; ++k)
     if (units[k].whole ? !strcmp(column, units[k].prefix)

@@ -10,6 +10,7 @@
 #include "peri/checkpoint_schedule.h"
 #include "peri/clock.h"
 #include "peri/comm.h"
+#include "peri/coupling.h"
 #include "peri/checkpoint.h"
 #include "peri/damage.h"
 #include "peri/damage_index.h"
@@ -94,6 +95,14 @@ static int write_history(peri_sim *s, run_ctx *c) {
     c->log.row[k++] = s->solver.qs.dynamic_time;
   }
   peri_thermal_history_values(s, c->log.row + k); /* total heat, temperature range (docs/heat.md) */
+  k += peri_thermal_history_count(s);
+  if (s->coupling) { /* sum of K u and e_r of the PD-FEM coupling (docs/coupling.md) */
+    double net[3], ratio[4];
+    peri_coupling_balance(s, net, ratio);
+    for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = net[d];
+    for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = ratio[d];
+    c->log.row[k++] = ratio[3];
+  }
   return peri_history_log_record(&c->log);
 }
 
@@ -150,7 +159,8 @@ peri_run_session *peri_run_open(peri_sim *s, bool keep_history) {
   if (s->state.restart) { /* continue from a checkpoint (docs/restart.md) */
     rc = peri_history_log_resume(&c.log, s, c.frames);
   } else {
-    s->mat.model->force(s);
+    if (s->coupling) peri_coupling_force(s); /* PD-FEM coupling (docs/coupling.md) */
+    else s->mat.model->force(s);
     rc = peri_frames_write(c.frames, s);
     if (rc == PERI_OK) rc = write_history(s, &c);
     /* (writing reads the forces and leaves them: the explicit solver starts from them) */

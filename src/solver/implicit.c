@@ -19,6 +19,7 @@
 #include <string.h>
 #include "peri/comm.h"
 #include "peri/contribution.h"
+#include "peri/coupling.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/implicit.h"
@@ -80,6 +81,11 @@ static const char *parallel_lu(void) {
 }
 
 int peri_implicit_check_ranks(const peri_sim *s, int ranks) {
+  if (s->coupling && ranks > 1) {
+    peri_error("%s: the PD-FEM coupling runs in one process (docs/coupling.md); run it without mpirun",
+               s->deck_path);
+    return PERI_ERR_INPUT;
+  }
   const bool lu = s->solver.qs.linear_solver == PERI_LINEAR_DIRECT || s->solver.qs.petsc_preconditioner == PERI_PC_LU;
   if (ranks <= 1 || !lu || parallel_lu()) return PERI_OK;
   const char *what = s->solver.qs.linear_solver == PERI_LINEAR_DIRECT ? "linear_solver direct" : "petsc_preconditioner lu";
@@ -219,7 +225,8 @@ static PetscErrorCode form_jacobian(SNES snes, Vec x, Mat J, Mat P, void *vctx) 
   PetscCall(MatZeroEntries(P));
   c->A = P;
   c->error = 0;
-  c->s->mat.model->tangent(c->s, add_row, c);
+  if (c->s->coupling) peri_coupling_rows(c->s, add_row, c); /* FEM rows and PD rows (docs/coupling.md) */
+  else c->s->mat.model->tangent(c->s, add_row, c);
   peri_contributions_tangent(c->s, add_row, c); /* loads that depend on u (indenter) */
   PetscCall(c->error);
   PetscCall(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY));
@@ -346,6 +353,9 @@ static PetscErrorCode create_matrix(implicit_ctx *c, Mat *A) {
     PetscInt *blocks = count_blocks(s, s->mat.model->tangent_reach);
     PetscCall(MatXAIJSetPreallocation(*A, c->dim, blocks, NULL, NULL, NULL));
     free(blocks);
+    /* coupled rows: an element's corners lie within the bond families unless the horizon is
+     * below the cell diagonal; those few blocks are allowed (slower) rather than an error */
+    if (s->coupling) PetscCall(MatSetOption(*A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
     PetscFunctionReturn(0);
   }
   Mat pattern;
@@ -379,6 +389,7 @@ static PetscErrorCode configure_ksp(const peri_sim *s, KSP ksp, peri_linear_solv
     PetscCall(KSPSetType(ksp, KSPPREONLY));
     PetscCall(PCSetType(pc, PCLU));
     if (distributed) PetscCall(PCFactorSetMatSolverType(pc, parallel_lu())); /* peri_implicit_check_ranks */
+    else if (s->coupling && parallel_lu()) PetscCall(PCFactorSetMatSolverType(pc, parallel_lu())); /* MUMPS */
     PetscFunctionReturn(0);
   }
   PetscCall(KSPSetType(ksp, linear == PERI_LINEAR_CG ? KSPCG : KSPGMRES));
@@ -436,7 +447,7 @@ static PetscErrorCode solve(implicit_ctx *c, peri_linear_solver linear, long *ne
   PetscOptions opts;
   PetscFunctionBeginUser;
   PetscCall(create_matrix(c, &A));
-  PetscCall(MatSetOption(A, MAT_SYMMETRIC, linear != PERI_LINEAR_GMRES ? PETSC_TRUE : PETSC_FALSE));
+  PetscCall(MatSetOption(A, MAT_SYMMETRIC, linear != PERI_LINEAR_GMRES && !s->coupling ? PETSC_TRUE : PETSC_FALSE));
   /* vectors with the matrix's layout: this rank's equations, block size dim */
   PetscCall(MatCreateVecs(A, &x, &F));
   PetscCall(VecDuplicate(x, &coords));
@@ -487,7 +498,7 @@ static PetscErrorCode solve(implicit_ctx *c, peri_linear_solver linear, long *ne
 
 peri_qs_status peri_solve_implicit(peri_sim *s) {
   peri_quasi_static *q = &s->solver.qs;
-  if (!s->mat.model->tangent) {
+  if (!s->mat.model->tangent && !s->coupling) {
     peri_error("implicit: model %s has no tangent stiffness (use solver type nlcg)", s->mat.model->name);
     return PERI_QS_DIVERGED;
   }

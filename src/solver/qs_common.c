@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/contribution.h"
+#include "peri/coupling.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/implicit.h"
@@ -58,7 +59,8 @@ void peri_qs_forces(peri_sim *s) {
   s->solver.breaking = false;
   peri_exchange_state(s); /* ghost displacements (MPI ranks) */
   if (peri_loads_follow_deformation(s)) peri_apply_loads(s, s->state.time);
-  s->mat.model->force(s);
+  if (s->coupling) peri_coupling_force(s); /* PD-FEM coupling: K u row by row (docs/coupling.md) */
+  else s->mat.model->force(s);
   s->solver.breaking = breaking;
   s->solver.qs.force_evaluations++;
 }

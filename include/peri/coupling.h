@@ -1,0 +1,60 @@
+/* Peridynamics coupled with finite elements without overlap (docs/coupling.md; Ongaro 2022,
+ * 002_b20c318388227af9.txt ch. 2, MODELS.md section 14): every node is FEM or PD. FEM rows of
+ * the stiffness take element contributions only (elements that straddle the interface
+ * reference PD nodes in their columns); PD rows take bond contributions only, to every
+ * neighbour, FEM or PD. The global stiffness is therefore not symmetric. The PD side is the
+ * linear bond-based model with the micromodulus family lambda(|xi|) = gamma c / |xi|^alpha.
+ * The FEM mesh is the structured one of the PD lattice: bars (1D), Q4 (2D), Hex8 (3D). */
+#ifndef PERI_COUPLING_H
+#define PERI_COUPLING_H
+#include <stdint.h>
+#include "peri/material.h"
+#include "peri/model.h"
+
+typedef struct peri_sim peri_sim;
+
+typedef struct peri_coupling {
+  int32_t *node_type;      /* [n] 1: PD node, 0: FEM node (the output field node_type) */
+  int32_t n_pd;            /* PD nodes */
+  double alpha;            /* micromodulus exponent */
+  double gamma;            /* correction factor of the micromodulus (App. A eq. 2.39) */
+  double *c;               /* [n_materials] micromodulus constant c of lambda = c / |xi|^alpha */
+  int corners;             /* nodes per element: 2, 4, 8 */
+  int32_t n_elements;
+  int32_t *element_nodes;  /* [n_elements * corners] */
+  int32_t *element_material;
+  double *element_K;       /* [n_materials * (dim corners)^2]: the stiffness of an element of each material */
+  int64_t *node_offset;    /* [n + 1] elements of node i: node_element[node_offset[i] ...] */
+  int32_t *node_element;
+} peri_coupling;
+
+/* The micromodulus constant c of lambda(|xi|) = c/|xi|^alpha that matches the elastic
+ * modulus E over a full horizon delta (MODELS.md 2.4; 002_b20c318388227af9.txt eqs. 2.15, 2.34):
+ * 1D (3 - alpha) E/(A delta^(3-alpha)), A the cross-section; 2D 4 K2D (6 - alpha)/(pi h delta^(6-alpha))
+ * with K2D = 3E/4 (plane stress, nu = 1/3) or 4E/5 (plane strain, nu = 1/4), h the thickness;
+ * 3D 3 (7 - alpha) E/(pi delta^(7-alpha)) (nu = 1/4). NaN when alpha is out of range
+ * (alpha < 3, 6, 7 in 1D, 2D, 3D). */
+double peri_coupling_micromodulus(int dim, peri_plane plane, double E, double alpha, double delta, double thickness,
+                                  double cross_section);
+
+/* Builds the coupling of s: the nodes of the ascending list pd_nodes are PD, every other node
+ * FEM; the elements of the node lattice (spacing dx) that have an FEM corner. On bad input
+ * (a node off the lattice, an FEM node in no element, alpha out of range) writes a message
+ * naming the node into why (size n) and returns PERI_ERR_INPUT. */
+int peri_coupling_build(peri_sim *s, const int32_t *pd_nodes, int32_t n_pd_nodes, double alpha, double gamma,
+                        char *why, size_t n);
+void peri_coupling_free(peri_coupling *c);
+
+/* Rows of the coupled stiffness in the convention of the model tangents (model.h): blocks
+ * K_ij = d f_i / d u_j of the force density, FEM rows -K^e / V_i. Linear: it does not depend on
+ * the displacement. Broken bonds are left out. */
+void peri_coupling_rows(const peri_sim *s, peri_tangent_add_fn add, void *ctx);
+/* The internal force density of the coupled model at the current displacement into p->f of
+ * the owned nodes: f = K u row by row. */
+void peri_coupling_force(peri_sim *s);
+/* The balance of the nodal forces F_i = -V_i f_i (= (K u)_i): net[d] = sum_i F_id,
+ * ratio[d] = |net_d| / sum_i |F_id| (e_r per axis, eq. 2.40) and ratio[3] = |net| / sum_i |F_i|
+ * (e_r, eq. 2.38; in 1D the two agree). */
+void peri_coupling_balance(const peri_sim *s, double net[3], double ratio[4]);
+
+#endif

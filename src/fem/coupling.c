@@ -1,0 +1,219 @@
+/* Row-wise PD-FEM coupling without overlap (002_b20c318388227af9.txt §2.1-2.1.1, MODELS.md
+ * 14.1): "internal forces acting on a node are of the same nature as the node itself". The
+ * row of an FEM node is the sum of the stiffness of the elements that contain it (its
+ * columns include PD corners); the row of a PD node is its bonds to every neighbour, FEM or
+ * PD: K_ij = lambda(|xi|) beta V_j xi (x) xi (2D, 3D) or lambda beta V_j (1D), K_ii = -sum_j K_ij.
+ * Rows are in the force-density convention of the model tangents, so the implicit solver
+ * assembles them as it assembles a model's tangent. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/coupling.h"
+#include "peri/error.h"
+#include "peri/fem.h"
+#include "peri/sim.h"
+#include "lattice_mesh.h"
+
+double peri_coupling_micromodulus(int dim, peri_plane plane, double E, double alpha, double delta, double thickness,
+                                  double cross_section) {
+  if (dim == 1) return alpha < 3.0 ? (3.0 - alpha) * E / (cross_section * pow(delta, 3.0 - alpha)) : NAN;
+  if (dim == 2) {
+    const double K2D = plane == PERI_PLANE_STRAIN ? 0.8 * E : 0.75 * E; /* E/(2(1+nu)(1-2nu)), E/(2(1-nu)) */
+    return alpha < 6.0 ? 4.0 * K2D * (6.0 - alpha) / (M_PI * thickness * pow(delta, 6.0 - alpha)) : NAN;
+  }
+  return alpha < 7.0 ? 3.0 * (7.0 - alpha) * E / (M_PI * pow(delta, 7.0 - alpha)) : NAN;
+}
+
+void peri_coupling_free(peri_coupling *c) {
+  if (!c) return;
+  free(c->node_type);
+  free(c->c);
+  free(c->element_nodes);
+  free(c->element_material);
+  free(c->element_K);
+  free(c->node_offset);
+  free(c->node_element);
+  memset(c, 0, sizeof *c);
+}
+
+/* The stiffness of a lattice element of each material (all elements are the same cell). */
+static int element_stiffness(const peri_sim *s, peri_coupling *c, char *why, size_t n) {
+  const peri_geometry *g = &s->disc.geom;
+  const int dim = g->dim, w = dim * c->corners;
+  const double dx = g->spacing;
+  c->element_K = peri_malloc(sizeof(double) * (size_t)s->mat.n_materials * (size_t)(w * w));
+  for (int m = 0; m < s->mat.n_materials; ++m) {
+    const peri_material *mat = &s->mat.materials[m];
+    double *K = &c->element_K[(size_t)m * (size_t)(w * w)];
+    int rc;
+    if (dim == 1) {
+      const double x[2] = {0.0, dx};
+      rc = peri_fem_bar2_stiffness(x, mat->E, g->cross_section, K);
+    } else if (dim == 2) {
+      const double xy[8] = {0, 0, dx, 0, dx, dx, 0, dx};
+      rc = peri_fem_quad4_stiffness(xy, mat->E, mat->nu, g->plane, g->thickness, K);
+    } else {
+      double xyz[24];
+      static const int ca[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+      for (int a = 0; a < 8; ++a)
+        for (int d = 0; d < 3; ++d) xyz[3 * a + d] = ca[a][d] * dx;
+      rc = peri_fem_hex8_stiffness(xyz, mat->E, mat->nu, K);
+    }
+    if (rc != PERI_OK) {
+      snprintf(why, n, "material %s: no element stiffness (spacing %g)", mat->name, dx);
+      return rc;
+    }
+  }
+  return PERI_OK;
+}
+
+int peri_coupling_build(peri_sim *s, const int32_t *pd_nodes, int32_t n_pd_nodes, double alpha, double gamma,
+                        char *why, size_t n) {
+  const peri_geometry *g = &s->disc.geom;
+  const peri_particles *p = &s->disc.p;
+  peri_coupling *c = peri_calloc(1, sizeof *c);
+  c->alpha = alpha, c->gamma = gamma;
+  c->node_type = peri_calloc((size_t)(p->n > 0 ? p->n : 1), sizeof(int32_t));
+  for (int32_t k = 0; k < n_pd_nodes; ++k) c->node_type[pd_nodes[k]] = 1;
+  c->n_pd = n_pd_nodes;
+  c->c = peri_malloc(sizeof(double) * (size_t)s->mat.n_materials);
+  for (int m = 0; m < s->mat.n_materials; ++m) {
+    c->c[m] = gamma * peri_coupling_micromodulus(g->dim, g->plane, s->mat.materials[m].E, alpha, g->horizon,
+                                                 g->thickness, g->cross_section);
+    if (!isfinite(c->c[m])) {
+      snprintf(why, n, "micromodulus_exponent %g: the family needs alpha < %d in %dD", alpha,
+               g->dim == 1 ? 3 : g->dim == 2 ? 6 : 7, g->dim);
+      peri_coupling_free(c), free(c);
+      return PERI_ERR_INPUT;
+    }
+  }
+  c->corners = 1 << g->dim;
+  int rc = peri_lattice_elements(p, g->dim, g->spacing, c->node_type, &c->element_nodes, &c->n_elements, why, n);
+  if (rc == PERI_OK) rc = element_stiffness(s, c, why, n);
+  if (rc != PERI_OK) {
+    peri_coupling_free(c), free(c);
+    return rc;
+  }
+  /* an element's material is its first corner's; the elements of each node */
+  c->element_material = peri_malloc(sizeof(int32_t) * (size_t)(c->n_elements > 0 ? c->n_elements : 1));
+  c->node_offset = peri_calloc((size_t)p->n_owned + 1, sizeof(int64_t));
+  for (int32_t e = 0; e < c->n_elements; ++e) {
+    c->element_material[e] = p->material[c->element_nodes[(size_t)e * c->corners]];
+    for (int a = 0; a < c->corners; ++a) c->node_offset[c->element_nodes[(size_t)e * c->corners + a] + 1]++;
+  }
+  for (int32_t i = 0; i < p->n_owned; ++i) c->node_offset[i + 1] += c->node_offset[i];
+  c->node_element = peri_malloc(sizeof(int32_t) * (size_t)(c->node_offset[p->n_owned] + 1));
+  int64_t *fill = peri_malloc(sizeof(int64_t) * ((size_t)p->n_owned + 1));
+  memcpy(fill, c->node_offset, sizeof(int64_t) * ((size_t)p->n_owned + 1));
+  for (int32_t e = 0; e < c->n_elements; ++e)
+    for (int a = 0; a < c->corners; ++a) c->node_element[fill[c->element_nodes[(size_t)e * c->corners + a]]++] = e;
+  free(fill);
+  s->coupling = c;
+  return PERI_OK;
+}
+
+/* Row of PD node i: its intact bonds. blocks[0] is the diagonal. Returns the column count. */
+static int32_t pd_row(const peri_sim *s, int32_t i, int32_t *cols, double *blocks) {
+  const peri_coupling *c = s->coupling;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const int dim = s->disc.geom.dim;
+  double *diag = blocks;
+  memset(diag, 0, 9 * sizeof(double));
+  cols[0] = i;
+  int32_t count = 1;
+  const double ci = c->c[p->material[i]];
+  for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+    if (b->broken[k]) continue;
+    const int32_t j = b->neighbor[k];
+    double xi[3];
+    const double L = peri_bond_xi(p->x, i, j, xi);
+    const double lambda = 0.5 * (ci + c->c[p->material[j]]) * pow(L, -c->alpha);
+    const double a = lambda * peri_bonds_beta(b, L) * p->volume[j];
+    double *K = &blocks[9 * (size_t)count];
+    for (int r = 0; r < 3; ++r)
+      for (int q = 0; q < 3; ++q) {
+        /* 1D: lambda multiplies u_j - u_i itself (002_b20c318388227af9.txt eq. 2.5) */
+        K[3 * r + q] = r < dim && q < dim ? (dim == 1 ? a : a * xi[r] * xi[q]) : 0.0;
+        diag[3 * r + q] -= K[3 * r + q];
+      }
+    cols[count++] = j;
+  }
+  return count;
+}
+
+/* Row of FEM node i: -K^e / V_i of the elements that contain it, one block per distinct column. */
+static int32_t fem_row(const peri_sim *s, int32_t i, int32_t *cols, double *blocks) {
+  const peri_coupling *c = s->coupling;
+  const int dim = s->disc.geom.dim, corners = c->corners, w = dim * corners;
+  const double scale = -1.0 / s->disc.p.volume[i];
+  int32_t count = 0;
+  for (int64_t q = c->node_offset[i]; q < c->node_offset[i + 1]; ++q) {
+    const int32_t e = c->node_element[q];
+    const int32_t *en = &c->element_nodes[(size_t)e * corners];
+    const double *K = &c->element_K[(size_t)c->element_material[e] * (size_t)(w * w)];
+    int a = 0;
+    while (en[a] != i) ++a;
+    for (int bn = 0; bn < corners; ++bn) {
+      int32_t at = 0;
+      while (at < count && cols[at] != en[bn]) ++at;
+      if (at == count) {
+        cols[count++] = en[bn];
+        memset(&blocks[9 * (size_t)at], 0, 9 * sizeof(double));
+      }
+      for (int r = 0; r < dim; ++r)
+        for (int t = 0; t < dim; ++t) blocks[9 * (size_t)at + 3 * r + t] += scale * K[(dim * a + r) * w + dim * bn + t];
+    }
+  }
+  return count;
+}
+
+static int64_t longest_row(const peri_sim *s) {
+  const peri_bonds *b = &s->disc.bonds;
+  int64_t longest = 27 + 1; /* the corners of the elements of a node, at most 3^dim */
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i)
+    if (b->offset[i + 1] - b->offset[i] + 1 > longest) longest = b->offset[i + 1] - b->offset[i] + 1;
+  return longest;
+}
+
+void peri_coupling_rows(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
+  const int64_t longest = longest_row(s);
+  const int32_t *type = s->coupling->node_type;
+#pragma omp parallel
+  {
+    int32_t *cols = peri_malloc(sizeof(int32_t) * (size_t)longest);
+    double *blocks = peri_malloc(sizeof(double) * 9 * (size_t)longest);
+#pragma omp for schedule(dynamic, 256)
+    for (int32_t i = 0; i < s->disc.p.n_owned; ++i) {
+      const int32_t count = type[i] ? pd_row(s, i, cols, blocks) : fem_row(s, i, cols, blocks);
+#pragma omp critical(peri_coupling_rows_add)
+      add(ctx, i, count, cols, blocks);
+    }
+    free(cols);
+    free(blocks);
+  }
+}
+
+void peri_coupling_force(peri_sim *s) {
+  peri_particles *p = &s->disc.p;
+  const int64_t longest = longest_row(s);
+  const int32_t *type = s->coupling->node_type;
+#pragma omp parallel
+  {
+    int32_t *cols = peri_malloc(sizeof(int32_t) * (size_t)longest);
+    double *blocks = peri_malloc(sizeof(double) * 9 * (size_t)longest);
+#pragma omp for schedule(dynamic, 256)
+    for (int32_t i = 0; i < p->n_owned; ++i) {
+      const int32_t count = type[i] ? pd_row(s, i, cols, blocks) : fem_row(s, i, cols, blocks);
+      double f[3] = {0, 0, 0};
+      for (int32_t k = 0; k < count; ++k) {
+        const double *K = &blocks[9 * (size_t)k], *u = &p->u[3 * (size_t)cols[k]];
+        for (int r = 0; r < 3; ++r) f[r] += K[3 * r] * u[0] + K[3 * r + 1] * u[1] + K[3 * r + 2] * u[2];
+      }
+      for (int r = 0; r < 3; ++r) p->f[3 * (size_t)i + r] = f[r];
+    }
+    free(cols);
+    free(blocks);
+  }
+}
