@@ -1,0 +1,97 @@
+#!/usr/bin/env bash
+# The PD-FEM coupling from the command line (docs/coupling.md):
+#  - the 1D example imposes the cubic curve of Table 2.9 across the right interface: its
+#    history.csv has net_force_x = -2.31e-7 (Table 2.12) and out_of_balance = 5.78e-4 (Table
+#    2.11) to the printed 3 digits, and the frames carry the node_type field;
+#  - the point-supported plate (Table 2.1): the support reactions sum to 10.1425 within 1%;
+#  - bad input exits 2 before any work, naming the deck position and what is wrong: an
+#    unknown pd_region, an FEM node that belongs to no element, linear_solver cg, a solver
+#    other than implicit, a state-based material, bonds that may break.
+# In a build without PETSc the coupling needs the implicit solver, itself a positioned error.
+# Usage: bash tests/cli/coupling.sh PATH_TO_PERI   (from the repository root)
+set -u
+source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
+cli_init "$@"
+
+bar=examples/coupling_bar_cubic.yaml
+run_peri check "$bar"
+if [[ "$RUN_STATUS" == 2 ]] && grep -qF "built without PETSc" "$RUN_STDERR"; then
+  pass "without PETSc: the coupling decks are rejected at solver type implicit"
+  exit 0
+fi
+expect_status 0
+
+# value FILE COLUMN: the last row's value of COLUMN in a CSV file
+value() {
+  local col
+  col=$(csv_column "$1" "$2")
+  [[ -n "$col" ]] || fail "$1 has no column $2"
+  tail -n 1 "$1" | cut -d, -f"$col"
+}
+
+# near GOT WANT TOL: |GOT - WANT| <= TOL
+near() { awk -v g="$1" -v w="$2" -v t="$3" 'BEGIN { d = g - w; if (d < 0) d = -d; exit !(d <= t) }'; }
+
+run_peri_in "$TMP" run "$(pwd)/$bar" -q
+expect_status 0
+hist="$TMP/output/coupling_bar_cubic/history.csv"
+expect_nonempty_file "$hist"
+net=$(value "$hist" net_force_x)
+ratio=$(value "$hist" out_of_balance)
+near "$net" -2.31e-7 0.005e-7 || fail "net_force_x $net, Table 2.12 -2.31e-7"
+near "$ratio" 5.78e-4 0.005e-4 || fail "out_of_balance $ratio, Table 2.11 5.78e-4"
+grep -q 'Name="node_type"' "$TMP/output/coupling_bar_cubic/coupling_bar_cubic_000001.vtu" ||
+  fail "the frame has no node_type field"
+pass "1D cubic curve over the interface: net force $net, e_r $ratio (Tables 2.11, 2.12)"
+
+plate=examples/coupling_plate_point_load.yaml
+run_peri_in "$TMP" run "$(pwd)/$plate" -q
+expect_status 0
+hist="$TMP/output/coupling_plate_point_load/history.csv"
+sum=$(awk -v a="$(value "$hist" reaction_left_y)" -v b="$(value "$hist" reaction_right_y)" 'BEGIN { printf "%.9g", a + b }')
+near "$sum" 10.1425 0.101425 || fail "sum of the support reactions $sum, Table 2.1 10.1425 within 1%"
+expect_nonempty_file "$TMP/output/coupling_plate_point_load/node_type.png"
+pass "point-supported plate: reactions sum to $sum (Table 2.1: 10.1425)"
+
+# deck NAME SED...: a copy of the plate with sed edits
+deck() {
+  local path="$TMP/$1.yaml"
+  shift
+  sed "$@" "$plate" >"$path"
+  echo "$path"
+}
+
+# fails_at DECK PATTERN MESSAGE: `peri check` exits 2, prints nothing on stdout and names DECK
+# at the position of PATTERN with MESSAGE.
+fails_at() {
+  run_peri check "$1"
+  expect_status 2
+  expect_stdout_empty
+  locate "$2" "$1"
+  expect_stderr_contains "$1:$LOC_LINE:$LOC_COL: error: $3"
+}
+
+d=$(deck typo -e 's/pd_region: pd}/pd_region: pdd}/')
+fails_at "$d" "pdd" "unknown region 'pdd'; did you mean 'pd'?"
+pass "an unknown pd_region is a positioned error"
+
+d=$(deck lonely -e 's/fill: \[{shape: rectangle, min: \[-12.5, -17.5\], max: \[12.5, 17.5\]}\]/fill: [{shape: rectangle, min: [-12.5, -17.5], max: [12.5, 17.5]}, {shape: rectangle, min: [13.5, 20.5], max: [14.5, 21.5]}]/')
+fails_at "$d" "{pd_region" "coupling: FEM node"
+expect_stderr_contains "belongs to no element"
+pass "an FEM node outside every element is a positioned error"
+
+d=$(deck cg -e 's/solver: {type: implicit, load_steps: 1}/solver: {type: implicit, load_steps: 1, linear_solver: cg}/')
+fails_at "$d" "cg}" "key 'linear_solver': the coupled stiffness is not symmetric"
+pass "CG is refused for the non-symmetric coupled stiffness"
+
+d=$(deck explicit -e 's/solver: {type: implicit, load_steps: 1}/solver: {type: nlcg, load_steps: 1}/')
+fails_at "$d" "{type: nlcg" "coupling: needs solver type implicit"
+pass "a solver other than implicit is a positioned error"
+
+d=$(deck lps -e 's/model: pmb, density: 1,/model: lps, poisson_ratio: 0.3, density: 1,/')
+fails_at "$d" "{pd_region" "coupling: the PD side is the linear bond-based model"
+pass "a state-based material is a positioned error"
+
+d=$(deck breaking -e 's/solver: {type: implicit, load_steps: 1}/solver: {type: implicit, load_steps: 1, breaking: true}/')
+fails_at "$d" "true}" "key 'breaking': the coupled model is linear elastic"
+pass "breaking bonds is a positioned error"
