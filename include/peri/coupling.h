@@ -7,6 +7,8 @@
  * The FEM mesh is the structured one of the PD lattice: bars (1D), Q4 (2D), Hex8 (3D). */
 #ifndef PERI_COUPLING_H
 #define PERI_COUPLING_H
+#include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 #include "peri/material.h"
 #include "peri/model.h"
@@ -26,7 +28,18 @@ typedef struct peri_coupling {
   double *element_K;       /* [n_materials * (dim corners)^2]: the stiffness of an element of each material */
   int64_t *node_offset;    /* [n + 1] elements of node i: node_element[node_offset[i] ...] */
   int32_t *node_element;
+  /* exact partial volumes (partial_volume: exact): the family of a PD node is every lattice
+   * node whose cell meets its horizon disk (interval in 1D), with beta = the part of the cell
+   * inside; the same for every node of the lattice, so kept per lattice offset */
+  struct peri_lattice *lattice; /* NULL: the bonds and the family's partial-volume rule */
+  int32_t n_offsets;
+  int32_t *offset;         /* [3 n_offsets] lattice offsets of the family */
+  double *offset_beta;     /* [n_offsets] */
 } peri_coupling;
+
+/* Area of the disk of radius r centred at the origin inside the rectangle [x0, x1] x [y0, y1],
+ * exact (src/fem/cell_overlap.c). */
+double peri_disk_rectangle_area(double x0, double x1, double y0, double y1, double r);
 
 /* The micromodulus constant c of lambda(|xi|) = c/|xi|^alpha that matches the elastic
  * modulus E over a full horizon delta (MODELS.md 2.4; 002_b20c318388227af9.txt eqs. 2.15, 2.34):
@@ -38,11 +51,12 @@ double peri_coupling_micromodulus(int dim, peri_plane plane, double E, double al
                                   double cross_section);
 
 /* Builds the coupling of s: the nodes of the ascending list pd_nodes are PD, every other node
- * FEM; the elements of the node lattice (spacing dx) that have an FEM corner. On bad input
- * (a node off the lattice, an FEM node in no element, alpha out of range) writes a message
+ * FEM; the elements of the node lattice (spacing dx) that have an FEM corner. exact_volumes:
+ * the PD families and partial volumes by exact cell-horizon intersection (1D and 2D). On bad
+ * input (a node off the lattice, an FEM node in no element, alpha out of range) writes a message
  * naming the node into why (size n) and returns PERI_ERR_INPUT. */
 int peri_coupling_build(peri_sim *s, const int32_t *pd_nodes, int32_t n_pd_nodes, double alpha, double gamma,
-                        char *why, size_t n);
+                        bool exact_volumes, char *why, size_t n);
 void peri_coupling_free(peri_coupling *c);
 
 /* Rows of the coupled stiffness in the convention of the model tangents (model.h): blocks
@@ -52,6 +66,13 @@ void peri_coupling_rows(const peri_sim *s, peri_tangent_add_fn add, void *ctx);
 /* The internal force density of the coupled model at the current displacement into p->f of
  * the owned nodes: f = K u row by row. */
 void peri_coupling_force(peri_sim *s);
+/* The discrete nonlocal traction at the point x0 of a straight interface whose normal is
+ * the axis `axis` (0 x, 1 y, 2 z) pointing `sign` (+1 or -1) from the PD side into the FEM side
+ * (002_b20c318388227af9.txt eqs. A.15, A.34): the bond forces that the FEM nodes across the
+ * interface exert on the PD nodes on the line from x0 a depth delta into the PD side, per unit
+ * area of the interface (1D: per cross-section A; 2D: per dx h; 3D: per dx^2), at the current
+ * displacement. */
+void peri_coupling_nonlocal_traction(const peri_sim *s, const double x0[3], int axis, int sign, double out[3]);
 /* The balance of the nodal forces F_i = -V_i f_i (= (K u)_i): net[d] = sum_i F_id,
  * ratio[d] = |net_d| / sum_i |F_id| (e_r per axis, eq. 2.40) and ratio[3] = |net| / sum_i |F_i|
  * (e_r, eq. 2.38; in 1D the two agree). */

@@ -15,7 +15,7 @@
 int peri_setup_coupling(peri_sim *s, const peri_node *root) {
   const peri_node *cp = peri_deck_get(root, "coupling");
   if (!cp) return PERI_OK;
-  static const char *const keys[] = {"pd_region", "micromodulus_exponent", "gamma", NULL};
+  static const char *const keys[] = {"pd_region", "micromodulus_exponent", "gamma", "partial_volume", NULL};
   TRY(peri_deck_allow(cp, "coupling", keys));
   const char *name = NULL;
   TRY(peri_deck_string(cp, "pd_region", true, &name));
@@ -24,6 +24,12 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root) {
   double alpha = s->disc.geom.dim == 1 ? 1.0 : 3.0, gamma = 1.0;
   TRY(peri_deck_double(cp, "micromodulus_exponent", false, &alpha));
   TRY(peri_deck_double(cp, "gamma", false, &gamma));
+  static const char *const rules[] = {"discretization", "exact", NULL};
+  int rule = 0;
+  TRY(peri_deck_choice(cp, "partial_volume", false, rules, &rule));
+  if (rule == 1 && s->disc.geom.dim == 3)
+    return peri_deck_error(peri_deck_get(cp, "partial_volume"), "key 'partial_volume': exact is for 1D and 2D "
+                                                                "(Ongaro 2022 gives no 3D rule)");
   if (!(gamma > 0.0)) return peri_deck_error(peri_deck_get(cp, "gamma"), "key 'gamma': expected a positive factor, got %g", gamma);
   if (strcmp(s->mat.model->name, "pmb") != 0)
     return peri_deck_error(cp, "coupling: the PD side is the linear bond-based model: the materials have model %s "
@@ -47,7 +53,7 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root) {
   }
   const peri_region *pd = &s->cond.regions[r];
   char why[512];
-  if (peri_coupling_build(s, pd->nodes, pd->count, alpha, gamma, why, sizeof why) != PERI_OK)
+  if (peri_coupling_build(s, pd->nodes, pd->count, alpha, gamma, rule == 1, why, sizeof why) != PERI_OK)
     return peri_deck_error(cp, "coupling: %s", why);
   return PERI_OK;
 }

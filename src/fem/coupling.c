@@ -34,6 +34,10 @@ void peri_coupling_free(peri_coupling *c) {
   free(c->element_K);
   free(c->node_offset);
   free(c->node_element);
+  if (c->lattice) peri_lattice_free(c->lattice);
+  free(c->lattice);
+  free(c->offset);
+  free(c->offset_beta);
   memset(c, 0, sizeof *c);
 }
 
@@ -68,8 +72,38 @@ static int element_stiffness(const peri_sim *s, peri_coupling *c, char *why, siz
   return PERI_OK;
 }
 
+/* The family offsets of the exact partial volumes: lattice offsets o != 0 whose cell (side dx,
+ * centred at o dx) meets the horizon disk (1D: interval) of radius delta, with beta = the part
+ * of the cell inside. */
+static void exact_offsets(peri_coupling *c, int dim, double dx, double delta) {
+  const int R = (int)ceil(delta / dx + 1.0);
+  const int side = 2 * R + 1, total = dim == 1 ? side : side * side;
+  c->offset = peri_malloc(sizeof(int32_t) * 3 * (size_t)total);
+  c->offset_beta = peri_malloc(sizeof(double) * (size_t)total);
+  c->n_offsets = 0;
+  for (int b = dim == 1 ? 0 : -R; b <= (dim == 1 ? 0 : R); ++b)
+    for (int a = -R; a <= R; ++a) {
+      if (a == 0 && b == 0) continue;
+      /* evaluated at (|a|, |b|): beta of o and -o are the same double, so the forces of a
+       * pair of PD nodes cancel exactly */
+      const int pa = abs(a), pb = abs(b);
+      double beta;
+      if (dim == 1) {
+        const double lo = (pa - 0.5) * dx, hi = fmin((pa + 0.5) * dx, delta);
+        beta = hi > lo ? (hi - lo) / dx : 0.0;
+      } else {
+        beta = peri_disk_rectangle_area((pa - 0.5) * dx, (pa + 0.5) * dx, (pb - 0.5) * dx, (pb + 0.5) * dx, delta) /
+               (dx * dx);
+      }
+      if (!(beta > 1e-14)) continue; /* a cell that only touches the disk */
+      int32_t *o = &c->offset[3 * (size_t)c->n_offsets];
+      o[0] = a, o[1] = b, o[2] = 0;
+      c->offset_beta[c->n_offsets++] = fmin(beta, 1.0);
+    }
+}
+
 int peri_coupling_build(peri_sim *s, const int32_t *pd_nodes, int32_t n_pd_nodes, double alpha, double gamma,
-                        char *why, size_t n) {
+                        bool exact_volumes, char *why, size_t n) {
   const peri_geometry *g = &s->disc.geom;
   const peri_particles *p = &s->disc.p;
   peri_coupling *c = peri_calloc(1, sizeof *c);
@@ -89,8 +123,21 @@ int peri_coupling_build(peri_sim *s, const int32_t *pd_nodes, int32_t n_pd_nodes
     }
   }
   c->corners = 1 << g->dim;
-  int rc = peri_lattice_elements(p, g->dim, g->spacing, c->node_type, &c->element_nodes, &c->n_elements, why, n);
+  c->lattice = peri_calloc(1, sizeof *c->lattice);
+  int rc = peri_lattice_build(p, g->dim, g->spacing, c->lattice, why, n);
+  if (rc == PERI_OK)
+    rc = peri_lattice_elements(c->lattice, p, c->node_type, &c->element_nodes, &c->n_elements, why, n);
   if (rc == PERI_OK) rc = element_stiffness(s, c, why, n);
+  if (rc == PERI_OK && exact_volumes && g->dim == 3) {
+    snprintf(why, n, "partial_volume exact: in 1D and 2D only (Ongaro 2022 gives no 3D rule)");
+    rc = PERI_ERR_INPUT;
+  }
+  if (rc == PERI_OK && exact_volumes) exact_offsets(c, g->dim, g->spacing, g->horizon);
+  if (rc == PERI_OK && !exact_volumes) { /* the bonds give the families */
+    peri_lattice_free(c->lattice);
+    free(c->lattice);
+    c->lattice = NULL;
+  }
   if (rc != PERI_OK) {
     peri_coupling_free(c), free(c);
     return rc;
@@ -113,7 +160,18 @@ int peri_coupling_build(peri_sim *s, const int32_t *pd_nodes, int32_t n_pd_nodes
   return PERI_OK;
 }
 
-/* Row of PD node i: its intact bonds. blocks[0] is the diagonal. Returns the column count. */
+/* The block a xi (x) xi of a bond (1D: a, since lambda multiplies u_j - u_i itself,
+ * 002_b20c318388227af9.txt eq. 2.5), and its share of the diagonal. */
+static inline void add_bond_block(int dim, double a, const double xi[3], double *diag, double *K) {
+  for (int r = 0; r < 3; ++r)
+    for (int q = 0; q < 3; ++q) {
+      K[3 * r + q] = r < dim && q < dim ? (dim == 1 ? a : a * xi[r] * xi[q]) : 0.0;
+      diag[3 * r + q] -= K[3 * r + q];
+    }
+}
+
+/* Row of PD node i: its intact bonds, or with exact partial volumes the lattice nodes whose
+ * cells meet its horizon. blocks[0] is the diagonal. Returns the column count. */
 static int32_t pd_row(const peri_sim *s, int32_t i, int32_t *cols, double *blocks) {
   const peri_coupling *c = s->coupling;
   const peri_particles *p = &s->disc.p;
@@ -124,20 +182,27 @@ static int32_t pd_row(const peri_sim *s, int32_t i, int32_t *cols, double *block
   cols[0] = i;
   int32_t count = 1;
   const double ci = c->c[p->material[i]];
+  if (c->lattice) { /* exact partial volumes: every lattice node whose cell meets the disk */
+    for (int32_t q = 0; q < c->n_offsets; ++q) {
+      int64_t k[3];
+      for (int d = 0; d < 3; ++d) k[d] = c->lattice->cell[3 * (size_t)i + d] + c->offset[3 * (size_t)q + d];
+      const int32_t j = peri_lattice_node(c->lattice, k);
+      if (j < 0) continue;
+      double xi[3];
+      const double L = peri_bond_xi(p->x, i, j, xi);
+      const double a = 0.5 * (ci + c->c[p->material[j]]) * pow(L, -c->alpha) * c->offset_beta[q] * p->volume[j];
+      add_bond_block(dim, a, xi, diag, &blocks[9 * (size_t)count]);
+      cols[count++] = j;
+    }
+    return count;
+  }
   for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
     if (b->broken[k]) continue;
     const int32_t j = b->neighbor[k];
     double xi[3];
     const double L = peri_bond_xi(p->x, i, j, xi);
     const double lambda = 0.5 * (ci + c->c[p->material[j]]) * pow(L, -c->alpha);
-    const double a = lambda * peri_bonds_beta(b, L) * p->volume[j];
-    double *K = &blocks[9 * (size_t)count];
-    for (int r = 0; r < 3; ++r)
-      for (int q = 0; q < 3; ++q) {
-        /* 1D: lambda multiplies u_j - u_i itself (002_b20c318388227af9.txt eq. 2.5) */
-        K[3 * r + q] = r < dim && q < dim ? (dim == 1 ? a : a * xi[r] * xi[q]) : 0.0;
-        diag[3 * r + q] -= K[3 * r + q];
-      }
+    add_bond_block(dim, lambda * peri_bonds_beta(b, L) * p->volume[j], xi, diag, &blocks[9 * (size_t)count]);
     cols[count++] = j;
   }
   return count;
@@ -172,6 +237,7 @@ static int32_t fem_row(const peri_sim *s, int32_t i, int32_t *cols, double *bloc
 static int64_t longest_row(const peri_sim *s) {
   const peri_bonds *b = &s->disc.bonds;
   int64_t longest = 27 + 1; /* the corners of the elements of a node, at most 3^dim */
+  if (s->coupling->n_offsets + 1 > longest) longest = s->coupling->n_offsets + 1;
   for (int32_t i = 0; i < s->disc.p.n_owned; ++i)
     if (b->offset[i + 1] - b->offset[i] + 1 > longest) longest = b->offset[i + 1] - b->offset[i] + 1;
   return longest;
@@ -216,4 +282,37 @@ void peri_coupling_force(peri_sim *s) {
     free(cols);
     free(blocks);
   }
+}
+
+void peri_coupling_nonlocal_traction(const peri_sim *s, const double x0[3], int axis, int sign, double out[3]) {
+  const peri_particles *p = &s->disc.p;
+  const peri_geometry *g = &s->disc.geom;
+  const int dim = g->dim;
+  const double dx = g->spacing, tol = 1e-6 * dx;
+  const int64_t longest = longest_row(s);
+  int32_t *cols = peri_malloc(sizeof(int32_t) * (size_t)longest);
+  double *blocks = peri_malloc(sizeof(double) * 9 * (size_t)longest);
+  out[0] = out[1] = out[2] = 0.0;
+  /* the cross-section of the line of PD nodes */
+  const double section = dim == 1 ? g->cross_section : dim == 2 ? dx * g->thickness : dx * dx;
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    if (!s->coupling->node_type[i]) continue;
+    const double *xi = &p->x[3 * (size_t)i];
+    bool on_line = true;
+    for (int d = 0; d < dim; ++d)
+      if (d != axis && fabs(xi[d] - x0[d]) > tol) on_line = false;
+    const double depth = sign * (x0[axis] - xi[axis]); /* into the PD side */
+    if (!on_line || !(depth > 0.0) || depth > g->horizon) continue;
+    const int32_t count = pd_row(s, i, cols, blocks);
+    for (int32_t k = 1; k < count; ++k) {
+      const int32_t j = cols[k];
+      if (s->coupling->node_type[j] || sign * (p->x[3 * (size_t)j + axis] - x0[axis]) <= 0.0) continue;
+      const double *K = &blocks[9 * (size_t)k];
+      for (int r = 0; r < 3; ++r)
+        for (int q = 0; q < 3; ++q)
+          out[r] += p->volume[i] / section * K[3 * r + q] * (p->u[3 * (size_t)j + q] - p->u[3 * (size_t)i + q]);
+    }
+  }
+  free(cols);
+  free(blocks);
 }

@@ -15,6 +15,10 @@
  *    delta = 3, 1.5, 0.5.
  *  - Quartic curve over the right interface: sum F / delta^2 and e_r of Table 2.4 (cases (e) to
  *    (i)) to their printed digits, which shows the delta^2 convergence of the imbalance.
+ *  - The discrete nonlocal traction at x0 = 20.5 (eq. A.15, Table A.2) for the linear, quadratic
+ *    and cubic fields of Table A.1 (g = 1e-4, X1 = 17) equals the analytic one, E u'(x0) plus
+ *    (1/24) E delta^2 u''' (eq. A.8 with alpha = 1, exact for cubic fields), to round-off (the
+ *    seed prints errors of 1e-20 on 1e-4), and the printed values to 3 digits.
  * X1 = 17 and X2 = 24 are read from Figures 2.6 and 2.16 (docs/coupling.md): with them the
  * printed sums, fixed by X1 alone, and the printed e_r, which depend on X2, agree. */
 #include <criterion/criterion.h>
@@ -136,5 +140,27 @@ Test(coupling_1d, quartic_over_the_interface_table_2_4) {
     expect_printed(e_r, table[k].e_r, what);
     snprintf(what, sizeof what, "delta %g m %g sum F / delta^2", table[k].delta, table[k].m);
     expect_printed(sum / (table[k].delta * table[k].delta), table[k].sum_over_delta2, what);
+  }
+}
+
+Test(coupling_1d, nonlocal_traction_table_a_2) {
+  const double g = 1e-4, X1 = 17, x0 = 20.5, delta = 3, E = 1;
+  static const double printed[3] = {1.00e-4, 1.21e-4, 1.46e-4};
+  for (int k = 0; k < 3; ++k) {
+    peri_sim s;
+    build_bar(&s, delta, 3);
+    for (int32_t i = 0; i < s.disc.p.n; ++i) {
+      const double x = s.disc.p.x[3 * (size_t)i];
+      s.disc.p.u[3 * (size_t)i] = k == 0 ? g * x : k == 1 ? g / (2 * X1) * x * x : g / (3 * X1 * X1) * x * x * x;
+    }
+    const double at[3] = {x0, 0, 0};
+    double tau[3];
+    peri_coupling_nonlocal_traction(&s, at, 0, +1, tau);
+    const double du = k == 0 ? g : k == 1 ? g * x0 / X1 : g * x0 * x0 / (X1 * X1);
+    const double d3u = k == 2 ? 2 * g / (X1 * X1) : 0.0;
+    const double analytic = E * du + E * delta * delta * d3u / 24.0;
+    cr_expect(fabs(tau[0] - analytic) <= 1e-12 * analytic, "field %d: tau_num %.12e, eq. A.8 %.12e", k, tau[0], analytic);
+    expect_printed(tau[0], printed[k], "tau_num (Table A.2)");
+    peri_sim_free(&s);
   }
 }

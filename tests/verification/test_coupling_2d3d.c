@@ -11,7 +11,19 @@
  *    reactions of the all-FEM and all-PD models sum to F_ext to round-off (1e-10 relative; the
  *    seed prints 9.9999 and 10.0000 with e_rel ~ 1e-13), and those of the coupled model to
  *    10.1425 within 1%. The seed computes the partial volumes by exact cell-disk
- *    intersection; this uses peri's default linear ramp (docs/coupling.md). */
+ *    intersection; this uses peri's default linear ramp (docs/coupling.md).
+ *  - Exact partial volumes (partial_volume: exact; the cell-disk intersection of the seed's
+ *    ref. [190]): the discrete nonlocal traction across a horizontal interface at
+ *    x0 = (11.5, 24.125) (eq. A.34) for the fields of Table A.3 gives the correction factor
+ *    gamma = t2 / tau2_num of Remark A.2, printed as 0.9784710341 (m = 3) and 0.9974762599
+ *    (m = 8), to its 10 digits (t2 = 0.25 exactly: sigma_22 = E/(1 - nu^2) u2,y), tau1_num
+ *    at round-off, and tau2_num of Table A.4 to its 3 printed digits;
+ *  - with them and c scaled by gamma (eq. 2.39), the plate of §2.6.2 (dx = 0.25, delta = 0.75,
+ *    PD square [8, 18] x [14, 24]) under the quadratic cap of Case II (Table 2.15) gives
+ *    e_ry = 5.00e-4 (Table 2.16) and e_rx at round-off, and under the bilinear field over the
+ *    lower right corner, Case III (Table 2.13, X1 = 14.75, X2 = 19.25), e_rx = 4.31e-3 (Table
+ *    2.18); its e_ry vanishes up to the 10 printed digits of gamma (the straight parts of the
+ *    interface balance a linear field only with the exact gamma), so 1e-9. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>
@@ -145,4 +157,101 @@ Test(coupling_2d3d, point_supported_plate_table_2_1) {
   cr_expect(fabs(pd - 10.0) <= 1e-10 * 10.0, "all PD: sum of reactions %.15g", pd);
   cr_expect(fabs(coupled - 10.1425) <= 0.01 * 10.1425, "coupled: sum of reactions %.6g, Table 2.1 10.1425", coupled);
   cr_expect(fabs(coupled - 10.0) > 1e-3, "the coupled model is out of balance");
+}
+
+/* got agrees with the printed value to its 3 significant digits */
+static void expect_printed(double got, double printed, const char *what) {
+  const double unit = pow(10.0, floor(log10(fabs(printed))) - 2);
+  cr_expect(fabs(got - printed) <= 0.5 * unit + 1e-12 * fabs(printed), "%s: %.6e, printed %.2e", what, got, printed);
+}
+
+/* Table A.3 fields: linear u2 = d (y - Y1)/(YB - Y1) and the quadratic cap */
+static void table_a3_linear(const double *x, double *u) { u[0] = 0.0, u[1] = 0.5 * (x[1] - 12.75) / (15.0 - 12.75); }
+static void table_a3_quadratic(const double *x, double *u) {
+  const double r2 = (x[0] - 11.5) * (x[0] - 11.5) + (x[1] - 23.0) * (x[1] - 23.0);
+  u[0] = 0.0, u[1] = r2 <= 2.25 * 2.25 ? (2.25 * 2.25 - r2) / (15.0 * 15.0) : 0.0;
+}
+
+/* tau_num at x0 = (11.5, 24.125) on a patch of the lattice with PD nodes below y0 = 24.125 */
+static void traction_a34(double m, field_fn f, double tau[3]) {
+  const double delta = 0.75, dx = delta / m, x0 = 11.5, y0 = 24.125;
+  const int K = (int)m + 3;
+  char deck[1024];
+  snprintf(deck, sizeof deck,
+           "dimension: 2\n"
+           "plane: stress\n"
+           "materials: {plate: {model: pmb, density: 1, youngs_modulus: 1}}\n"
+           "discretization: {spacing: %.17g, horizon: %.17g, thickness: 1,\n"
+           "  fill: [{shape: rectangle, min: [%.17g, %.17g], max: [%.17g, %.17g]}]}\n"
+           "regions: {pd: {shape: rectangle, min: [0, 0], max: [100, %.17g]}}\n"
+           "coupling: {pd_region: pd, partial_volume: exact}\n"
+           "solver: {type: implicit, load_steps: 1}\n"
+           "output: {picture: false}\n",
+           dx, delta, x0 - (K + 0.5) * dx, y0 - K * dx, x0 + (K + 0.5) * dx, y0 + K * dx, y0);
+  peri_sim s;
+  build(&s, deck);
+  for (int32_t i = 0; i < s.disc.p.n; ++i) f(&s.disc.p.x[3 * (size_t)i], &s.disc.p.u[3 * (size_t)i]);
+  const double at[3] = {x0, y0, 0};
+  peri_coupling_nonlocal_traction(&s, at, 1, +1, tau);
+  peri_sim_free(&s);
+}
+
+Test(coupling_2d3d, correction_factor_and_tractions_table_a_4) {
+  static const struct {
+    double m, gamma, linear, quadratic;
+  } table[] = {{3, 0.9784710341, 2.56e-1, -1.22e-2}, {8, 0.9974762599, 2.51e-1, -1.19e-2}};
+  for (int k = 0; k < 2; ++k) {
+    double tau[3];
+    traction_a34(table[k].m, table_a3_linear, tau);
+    const double gamma = 0.25 / tau[1];
+    cr_expect(fabs(gamma - table[k].gamma) <= 1e-10 * table[k].gamma, "m %g: gamma %.12f, Remark A.2 %.10f",
+              table[k].m, gamma, table[k].gamma);
+    cr_expect(fabs(tau[0]) <= 1e-15, "m %g: tau1 %.3e", table[k].m, tau[0]);
+    expect_printed(tau[1], table[k].linear, "linear tau2_num (Table A.4)");
+    traction_a34(table[k].m, table_a3_quadratic, tau);
+    cr_expect(fabs(tau[0]) <= 1e-15, "m %g: quadratic tau1 %.3e", table[k].m, tau[0]);
+    expect_printed(tau[1], table[k].quadratic, "quadratic tau2_num (Table A.4)");
+  }
+}
+
+static const char *plate_2_6_2 =
+    "dimension: 2\n"
+    "plane: stress\n"
+    "materials: {plate: {model: pmb, density: 1, youngs_modulus: 1}}\n"
+    "discretization: {spacing: 0.25, m: 3, thickness: 1,\n"
+    "                 fill: [{shape: rectangle, min: [-0.125, -0.125], max: [24.125, 34.125]}]}\n"
+    "regions: {pd: {shape: rectangle, min: [7.9, 13.9], max: [18.1, 24.1]}}\n"
+    "coupling: {pd_region: pd, partial_volume: exact, gamma: 0.9784710341}\n"
+    "solver: {type: implicit, load_steps: 1}\n"
+    "output: {picture: false}\n";
+
+/* Case II (Table 2.15): the quadratic cap of radius 2.25 at (11.5, 15) on u2 */
+static void case_2(const double *x, double *u) {
+  const double r2 = (x[0] - 11.5) * (x[0] - 11.5) + (x[1] - 15.0) * (x[1] - 15.0);
+  u[0] = 0.0, u[1] = r2 <= 2.25 * 2.25 ? (2.25 * 2.25 - r2) / (15.0 * 15.0) : 0.0;
+}
+
+/* Case III (Table 2.13): the bilinear tent on u2 over the lower right corner */
+static void case_3(const double *x, double *u) {
+  const double d = 0.5, X1 = 14.75, X2 = 19.25, Y1 = 12.75, Y2 = 17.25, YB = 15.0;
+  u[0] = 0.0, u[1] = 0.0;
+  if (x[0] <= X1 || x[0] >= X2) return;
+  if (x[1] > Y1 && x[1] < YB) u[1] = d * (x[1] - Y1) / (YB - Y1);
+  else if (x[1] >= YB && x[1] < Y2) u[1] = d * (1.0 - (x[1] - YB) / (Y2 - YB));
+}
+
+Test(coupling_2d3d, cases_2_and_3_tables_2_16_2_18) {
+  peri_sim s;
+  build(&s, plate_2_6_2);
+  cr_assert_eq(s.disc.p.n, 97 * 137);
+  double net[3], ratio[4];
+  imposed_ratio(&s, case_2);
+  peri_coupling_balance(&s, net, ratio);
+  cr_expect(ratio[0] <= 1e-13, "Case II e_rx %.3e", ratio[0]);
+  expect_printed(ratio[1], 5.00e-4, "Case II e_ry (Table 2.16)");
+  imposed_ratio(&s, case_3);
+  peri_coupling_balance(&s, net, ratio);
+  expect_printed(ratio[0], 4.31e-3, "Case III e_rx (Table 2.18)");
+  cr_expect(ratio[1] <= 1e-9, "Case III e_ry %.3e", ratio[1]);
+  peri_sim_free(&s);
 }
