@@ -3,7 +3,8 @@
  * the stiffness take element contributions only (elements that straddle the interface
  * reference PD nodes in their columns); PD rows take bond contributions only, to every
  * neighbour, FEM or PD. The global stiffness is therefore not symmetric. The PD side is the
- * linear bond-based model with the micromodulus family lambda(|xi|) = gamma c / |xi|^alpha.
+ * linear bond-based model with the micromodulus family lambda(|xi|) = gamma c / |xi|^alpha,
+ * or a state-based model (lps) linearised: its tangent at u = 0.
  * The FEM mesh is the structured one of the PD lattice: bars (1D), Q4 (2D), Hex8 (3D). */
 #ifndef PERI_COUPLING_H
 #define PERI_COUPLING_H
@@ -16,6 +17,7 @@
 typedef struct peri_sim peri_sim;
 
 typedef struct peri_coupling {
+  int32_t n_nodes;         /* owned nodes */
   int32_t *node_type;      /* [n] 1: PD node, 0: FEM node (the output field node_type) */
   int32_t n_pd;            /* PD nodes */
   double alpha;            /* micromodulus exponent */
@@ -35,6 +37,11 @@ typedef struct peri_coupling {
   int32_t n_offsets;
   int32_t *offset;         /* [3 n_offsets] lattice offsets of the family */
   double *offset_beta;     /* [n_offsets] */
+  /* state-based PD side: the rows of the PD nodes from the model's tangent at u = 0 (the
+   * linearised model), kept; NULL for the bond-based rows */
+  int32_t *tangent_count;  /* [n] columns of row i (0 for FEM nodes) */
+  int32_t **tangent_cols;
+  double **tangent_blocks;
 } peri_coupling;
 
 /* Area of the disk of radius r centred at the origin inside the rectangle [x0, x1] x [y0, y1],
@@ -51,7 +58,9 @@ double peri_coupling_micromodulus(int dim, peri_plane plane, double E, double al
                                   double cross_section);
 
 /* Builds the coupling of s: the nodes of the ascending list pd_nodes are PD, every other node
- * FEM; the elements of the node lattice (spacing dx) that have an FEM corner. exact_volumes:
+ * FEM; the elements of the node lattice (spacing dx) that have an FEM corner. A model with a
+ * tangent of reach 2 (state-based) gives the PD rows from its tangent at the current (zero)
+ * displacement; alpha, gamma and exact_volumes then do not apply. exact_volumes:
  * the PD families and partial volumes by exact cell-horizon intersection (1D and 2D). On bad
  * input (a node off the lattice, an FEM node in no element, alpha out of range) writes a message
  * naming the node into why (size n) and returns PERI_ERR_INPUT. */

@@ -1,5 +1,6 @@
 /* The coupling section of the deck (docs/coupling.md, docs/deck.md): which nodes are PD, the
  * micromodulus family of the PD side, and the solver settings the coupled stiffness needs. */
+#include <stdbool.h>
 #include <string.h>
 #include "peri/coupling.h"
 #include "peri/error.h"
@@ -31,9 +32,16 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root) {
     return peri_deck_error(peri_deck_get(cp, "partial_volume"), "key 'partial_volume': exact is for 1D and 2D "
                                                                 "(Ongaro 2022 gives no 3D rule)");
   if (!(gamma > 0.0)) return peri_deck_error(peri_deck_get(cp, "gamma"), "key 'gamma': expected a positive factor, got %g", gamma);
-  if (strcmp(s->mat.model->name, "pmb") != 0)
-    return peri_deck_error(cp, "coupling: the PD side is the linear bond-based model: the materials have model %s "
-                               "(give model pmb)", s->mat.model->name);
+  const bool state_based = s->mat.model->tangent_reach == 2 && s->mat.model->tangent;
+  if (strcmp(s->mat.model->name, "pmb") != 0 && !state_based)
+    return peri_deck_error(cp, "coupling: the PD side is bond-based (pmb) or a state-based model with a tangent "
+                               "(lps): the materials have model %s", s->mat.model->name);
+  static const char *const bond_only[] = {"micromodulus_exponent", "gamma", "partial_volume"};
+  for (int k = 0; state_based && k < 3; ++k)
+    if (peri_deck_get(cp, bond_only[k]))
+      return peri_deck_error(peri_deck_key_node(cp, bond_only[k]), "key '%s': only for the bond-based PD side (model "
+                                                                  "pmb); model %s takes its rows from its tangent",
+                             bond_only[k], s->mat.model->name);
   const peri_node *solver = peri_deck_get(root, "solver");
   if (s->solver.kind != PERI_SOLVER_IMPLICIT)
     return peri_deck_error(solver ? solver : cp, "coupling: needs solver type implicit (the coupled stiffness is "

@@ -38,6 +38,11 @@ void peri_coupling_free(peri_coupling *c) {
   free(c->lattice);
   free(c->offset);
   free(c->offset_beta);
+  if (c->tangent_cols)
+    for (int32_t i = 0; c->tangent_count && i < c->n_nodes; ++i) free(c->tangent_cols[i]), free(c->tangent_blocks[i]);
+  free(c->tangent_count);
+  free(c->tangent_cols);
+  free(c->tangent_blocks);
   memset(c, 0, sizeof *c);
 }
 
@@ -102,12 +107,24 @@ static void exact_offsets(peri_coupling *c, int dim, double dx, double delta) {
     }
 }
 
+/* Keeps the tangent rows of PD nodes (the model calls it once per row in one process). */
+static void keep_pd_row(void *ctx, int32_t i, int32_t count, const int32_t *cols, const double *blocks) {
+  peri_coupling *c = ctx;
+  if (!c->node_type[i] || count <= 0) return;
+  c->tangent_count[i] = count;
+  c->tangent_cols[i] = peri_malloc(sizeof(int32_t) * (size_t)count);
+  c->tangent_blocks[i] = peri_malloc(sizeof(double) * 9 * (size_t)count);
+  memcpy(c->tangent_cols[i], cols, sizeof(int32_t) * (size_t)count);
+  memcpy(c->tangent_blocks[i], blocks, sizeof(double) * 9 * (size_t)count);
+}
+
 int peri_coupling_build(peri_sim *s, const int32_t *pd_nodes, int32_t n_pd_nodes, double alpha, double gamma,
                         bool exact_volumes, char *why, size_t n) {
   const peri_geometry *g = &s->disc.geom;
   const peri_particles *p = &s->disc.p;
   peri_coupling *c = peri_calloc(1, sizeof *c);
   c->alpha = alpha, c->gamma = gamma;
+  c->n_nodes = p->n_owned;
   c->node_type = peri_calloc((size_t)(p->n > 0 ? p->n : 1), sizeof(int32_t));
   for (int32_t k = 0; k < n_pd_nodes; ++k) c->node_type[pd_nodes[k]] = 1;
   c->n_pd = n_pd_nodes;
@@ -156,6 +173,12 @@ int peri_coupling_build(peri_sim *s, const int32_t *pd_nodes, int32_t n_pd_nodes
   for (int32_t e = 0; e < c->n_elements; ++e)
     for (int a = 0; a < c->corners; ++a) c->node_element[fill[c->element_nodes[(size_t)e * c->corners + a]]++] = e;
   free(fill);
+  if (s->mat.model->tangent_reach == 2) { /* state-based: the linearised model's rows, kept */
+    c->tangent_count = peri_calloc((size_t)(p->n > 0 ? p->n : 1), sizeof(int32_t));
+    c->tangent_cols = peri_calloc((size_t)(p->n > 0 ? p->n : 1), sizeof(int32_t *));
+    c->tangent_blocks = peri_calloc((size_t)(p->n > 0 ? p->n : 1), sizeof(double *));
+    s->mat.model->tangent(s, keep_pd_row, c);
+  }
   s->coupling = c;
   return PERI_OK;
 }
@@ -182,6 +205,11 @@ static int32_t pd_row(const peri_sim *s, int32_t i, int32_t *cols, double *block
   cols[0] = i;
   int32_t count = 1;
   const double ci = c->c[p->material[i]];
+  if (c->tangent_count) { /* state-based: the kept row of the linearised model */
+    memcpy(cols, c->tangent_cols[i], sizeof(int32_t) * (size_t)c->tangent_count[i]);
+    memcpy(blocks, c->tangent_blocks[i], sizeof(double) * 9 * (size_t)c->tangent_count[i]);
+    return c->tangent_count[i];
+  }
   if (c->lattice) { /* exact partial volumes: every lattice node whose cell meets the disk */
     for (int32_t q = 0; q < c->n_offsets; ++q) {
       int64_t k[3];
@@ -238,6 +266,8 @@ static int64_t longest_row(const peri_sim *s) {
   const peri_bonds *b = &s->disc.bonds;
   int64_t longest = 27 + 1; /* the corners of the elements of a node, at most 3^dim */
   if (s->coupling->n_offsets + 1 > longest) longest = s->coupling->n_offsets + 1;
+  for (int32_t i = 0; s->coupling->tangent_count && i < s->disc.p.n_owned; ++i)
+    if (s->coupling->tangent_count[i] > longest) longest = s->coupling->tangent_count[i];
   for (int32_t i = 0; i < s->disc.p.n_owned; ++i)
     if (b->offset[i + 1] - b->offset[i] + 1 > longest) longest = b->offset[i + 1] - b->offset[i] + 1;
   return longest;
@@ -304,9 +334,9 @@ void peri_coupling_nonlocal_traction(const peri_sim *s, const double x0[3], int 
     const double depth = sign * (x0[axis] - xi[axis]); /* into the PD side */
     if (!on_line || !(depth > 0.0) || depth > g->horizon) continue;
     const int32_t count = pd_row(s, i, cols, blocks);
-    for (int32_t k = 1; k < count; ++k) {
+    for (int32_t k = 0; k < count; ++k) {
       const int32_t j = cols[k];
-      if (s->coupling->node_type[j] || sign * (p->x[3 * (size_t)j + axis] - x0[axis]) <= 0.0) continue;
+      if (j == i || s->coupling->node_type[j] || sign * (p->x[3 * (size_t)j + axis] - x0[axis]) <= 0.0) continue;
       const double *K = &blocks[9 * (size_t)k];
       for (int r = 0; r < 3; ++r)
         for (int q = 0; q < 3; ++q)

@@ -6,7 +6,7 @@
 #  - the point-supported plate (Table 2.1): the support reactions sum to 10.1425 within 1%;
 #  - bad input exits 2 before any work, naming the deck position and what is wrong: an
 #    unknown pd_region, an FEM node that belongs to no element, linear_solver cg, a solver
-#    other than implicit, a state-based material, bonds that may break.
+#    other than implicit, a bond-based key with a state-based material, bonds that may break.
 # In a build without PETSc the coupling needs the implicit solver, itself a positioned error.
 # Usage: bash tests/cli/coupling.sh PATH_TO_PERI   (from the repository root)
 set -u
@@ -88,9 +88,9 @@ d=$(deck explicit -e 's/solver: {type: implicit, load_steps: 1}/solver: {type: n
 fails_at "$d" "{type: nlcg" "coupling: needs solver type implicit"
 pass "a solver other than implicit is a positioned error"
 
-d=$(deck lps -e 's/model: pmb, density: 1,/model: lps, poisson_ratio: 0.3, density: 1,/')
-fails_at "$d" "{pd_region" "coupling: the PD side is the linear bond-based model"
-pass "a state-based material is a positioned error"
+d=$(deck lps -e 's/model: pmb, density: 1,/model: lps, poisson_ratio: 0.3, density: 1,/' -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, gamma: 0.98}/')
+fails_at "$d" "gamma" "key 'gamma': only for the bond-based PD side"
+pass "gamma with a state-based material is a positioned error"
 
 d=$(deck breaking -e 's/solver: {type: implicit, load_steps: 1}/solver: {type: implicit, load_steps: 1, breaking: true}/')
 fails_at "$d" "true}" "key 'breaking': the coupled model is linear elastic"

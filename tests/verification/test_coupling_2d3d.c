@@ -27,6 +27,7 @@
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include "peri/coupling.h"
 #include "peri/energies.h"
 #include "peri/quasistatic.h"
@@ -254,4 +255,54 @@ Test(coupling_2d3d, cases_2_and_3_tables_2_16_2_18) {
   expect_printed(ratio[0], 4.31e-3, "Case III e_rx (Table 2.18)");
   cr_expect(ratio[1] <= 1e-9, "Case III e_ry %.3e", ratio[1]);
   peri_sim_free(&s);
+}
+
+/* The state-based PD side (lps): its rows are the model's tangent at u = 0, kept. */
+static const char *plate_lps =
+    "dimension: %d\n"
+    "materials: {m: {model: lps, density: 1, youngs_modulus: 1, poisson_ratio: 0.3}}\n"
+    "discretization: {spacing: 1, m: 3, fill: [{shape: %s, min: %s, max: %s}]}\n"
+    "regions: {pd: {shape: %s, min: %s, max: %s}}\n"
+    "coupling: {pd_region: %s}\n"
+    "solver: {type: implicit, load_steps: 1}\n"
+    "output: {picture: false}\n";
+
+static void small_smooth(const double *x, double *u) {
+  for (int d = 0; d < 3; ++d) u[d] = 1e-7 * (sin(0.3 * x[0] + d) + cos(0.2 * x[1] - d) + 0.5 * sin(0.25 * x[2]));
+}
+
+Test(coupling_2d3d, lps_linear_patch_test_and_linearisation) {
+  for (int dim = 2; dim <= 3; ++dim) {
+    /* the PD block 2 delta inside the free surface: a state-based row reaches the families of
+     * the neighbours, whose dilatation the surface would change */
+    char deck[2048];
+    const char *shape = dim == 2 ? "rectangle" : "box";
+    const char *lo = dim == 2 ? "[-10.5, -12.5]" : "[-8.5, -7.5, -8.5]", *hi = dim == 2 ? "[10.5, 12.5]" : "[8.5, 9.5, 7.5]";
+    const char *plo = dim == 2 ? "[-3.25, -2.25]" : "[-2.25, -1.25, -2.25]", *phi = dim == 2 ? "[4.25, 5.25]" : "[2.25, 3.25, 1.25]";
+    snprintf(deck, sizeof deck, plate_lps, dim, shape, lo, hi, shape, plo, phi, "pd");
+    peri_sim s;
+    build(&s, deck);
+    const double e_r = imposed_ratio(&s, dim == 2 ? linear2 : linear3);
+    cr_expect(e_r <= 1e-13, "lps %dD: linear e_r %.3e", dim, e_r);
+    const double control = imposed_ratio(&s, dim == 2 ? quadratic2 : quadratic3);
+    cr_expect(control > 1e-6, "lps %dD: a quadratic field across the interface: e_r %.3e", dim, control);
+    peri_sim_free(&s);
+    /* all PD on a small body: the kept rows are the linearised model, so K u equals the
+     * model's force for a small u up to the quadratic remainder, relative O(|grad u|) = 1e-7;
+     * 1e-5 leaves room */
+    const char *small_lo = dim == 2 ? "[-4.5, -5.5]" : "[-3.5, -3.5, -3.5]", *small_hi = dim == 2 ? "[4.5, 5.5]" : "[3.5, 3.5, 3.5]";
+    snprintf(deck, sizeof deck, plate_lps, dim, shape, small_lo, small_hi, shape, plo, phi, "all");
+    build(&s, deck);
+    const int32_t n = s.disc.p.n;
+    for (int32_t i = 0; i < n; ++i) small_smooth(&s.disc.p.x[3 * (size_t)i], &s.disc.p.u[3 * (size_t)i]);
+    peri_coupling_force(&s);
+    double *linear = malloc(sizeof(double) * 3 * (size_t)n), scale = 0.0, diff = 0.0;
+    for (size_t k = 0; k < 3 * (size_t)n; ++k) linear[k] = s.disc.p.f[k], scale = fmax(scale, fabs(linear[k]));
+    s.solver.breaking = false;
+    s.mat.model->force(&s);
+    for (size_t k = 0; k < 3 * (size_t)n; ++k) diff = fmax(diff, fabs(s.disc.p.f[k] - linear[k]));
+    cr_expect(scale > 0.0 && diff <= 1e-5 * scale, "lps %dD: |K u - f(u)| %.3e of %.3e", dim, diff, scale);
+    free(linear);
+    peri_sim_free(&s);
+  }
 }
