@@ -38,7 +38,14 @@ void peri_linear_momentum(const peri_sim *s, double out[3]) {
 double peri_strain_energy(peri_sim *s) {
   peri_particles *p = &s->disc.p;
   if (!p->energy) p->energy = peri_calloc(p->n, sizeof(double));
-  s->mat.model->energy(s, p->energy);
+  if (s->coupling) { /* PD-FEM coupling: the work of the nodal forces, 1/2 u . K u (docs/coupling.md) */
+    for (int32_t i = 0; i < p->n_owned; ++i) {
+      const double *u = &p->u[3 * (size_t)i], *f = &p->f[3 * (size_t)i];
+      p->energy[i] = -0.5 * (u[0] * f[0] + u[1] * f[1] + u[2] * f[2]);
+    }
+  } else {
+    s->mat.model->energy(s, p->energy);
+  }
   double *terms = node_terms(s, 1), sum = 0.0;
   for (int32_t i = 0; i < p->n_owned; ++i) terms[i] = p->energy[i] * p->volume[i];
   peri_sum_owned(s, terms, 1, &sum);

@@ -6,6 +6,7 @@
 #include <string.h>
 #include "peri/comm.h"
 #include "peri/coupling.h"
+#include "peri/indicator.h"
 #include "peri/damage.h"
 #include "peri/damage_index.h"
 #include "peri/decompose.h"
@@ -27,6 +28,7 @@ struct peri_frames {
   int count;
   double *points, *damage, *energy;
   double *stress, *strain, *von_mises, *principal; /* allocated when first asked for */
+  double *d2u;
 };
 
 /* Stress (and its measures) of the current state into the frame buffers. */
@@ -175,6 +177,11 @@ static int frame_field(peri_frames *f, peri_sim *s, const char *name, peri_field
   else if (!strcmp(name, "material")) fl.idata = p->material;
   else if (!strcmp(name, "block")) fl.idata = p->block;
   else if (!strcmp(name, "node_type")) fl.idata = s->coupling->node_type;
+  else if (!strcmp(name, "d2u")) { /* D^2(u), eq. 2.115 (docs/coupling.md) */
+    if (!f->d2u) f->d2u = peri_malloc(sizeof(double) * (size_t)(p->n_owned > 0 ? p->n_owned : 1));
+    peri_second_derivative_indicator(s, f->d2u);
+    fl.data = f->d2u;
+  }
   else if (!strcmp(name, "volume")) fl.data = p->volume;
   else if (!strcmp(name, "strain_energy_density")) {
     peri_strain_energy(s);
@@ -304,6 +311,8 @@ int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
       values[i] = sqrt(q[3 * i] * q[3 * i] + q[3 * i + 1] * q[3 * i + 1] + q[3 * i + 2] * q[3 * i + 2]);
   } else if (!strcmp(name, "volume")) {
     memcpy(values, p->volume, sizeof(double) * (size_t)p->n_owned);
+  } else if (!strcmp(name, "d2u")) {
+    peri_second_derivative_indicator(s, values);
   } else {
     const int32_t *v = !strcmp(name, "block") ? p->block : !strcmp(name, "node_type") ? s->coupling->node_type : p->material;
     for (int32_t i = 0; i < p->n_owned; ++i) values[i] = v[i];
@@ -370,6 +379,7 @@ void peri_frames_close(peri_frames *f) {
   free(f->damage);
   free(f->stress);
   free(f->strain);
+  free(f->d2u);
   free(f->von_mises);
   free(f->principal);
   free(f);

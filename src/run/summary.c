@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include "peri/checkpoint.h"
 #include "peri/checkpoint_schedule.h"
+#include "peri/coupling.h"
 #include "peri/damage.h"
 #include "peri/model.h"
 #include "peri/quasistatic.h"
@@ -67,6 +68,12 @@ void peri_print_discretization(const peri_sim *s, FILE *out, const char *model, 
   fprintf(out, "peri %s: %s\n", PERI_VERSION, s->deck_path);
   fprintf(out, "  model        %s, %dD%s\n", model, s->disc.geom.dim, s->solver.kind == PERI_SOLVER_HEAT ? "" : model_plane(s));
   fprintf(out, "  nodes        %d\n", s->disc.p.n);
+  if (s->coupling) { /* PD-FEM coupling (docs/coupling.md) */
+    static const char *const element[] = {"", "bar", "Q4", "Hex8"};
+    fprintf(out, "  coupling     %d PD nodes, %d FEM nodes, %d %s elements%s\n", (int)s->coupling->n_pd,
+            (int)(s->disc.p.n - s->coupling->n_pd), (int)s->coupling->n_elements, element[s->disc.geom.dim],
+            s->coupling->lattice ? ", exact partial volumes" : "");
+  }
   fprintf(out, "  bonds        %lld directed (%.1f per node), %ld %s\n", (long long)s->disc.bonds.n_bonds,
           s->disc.p.n ? (double)s->disc.bonds.n_bonds / s->disc.p.n : 0.0, peri_broken_count(&s->disc.bonds), broken);
   fprintf(out, "  horizon      %g (m = %.4g, spacing %g)\n", s->disc.geom.horizon, s->disc.geom.horizon / s->disc.geom.spacing,

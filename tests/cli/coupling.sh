@@ -6,7 +6,8 @@
 #  - the point-supported plate (Table 2.1): the support reactions sum to 10.1425 within 1%;
 #  - bad input exits 2 before any work, naming the deck position and what is wrong: an
 #    unknown pd_region, an FEM node that belongs to no element, linear_solver cg, a solver
-#    other than implicit, a bond-based key with a state-based material, bonds that may break.
+#    other than implicit, a bond-based key with a state-based material, bonds that may break,
+#    a node off the lattice of the elements.
 # In a build without PETSc the coupling needs the implicit solver, itself a positioned error.
 # Usage: bash tests/cli/coupling.sh PATH_TO_PERI   (from the repository root)
 set -u
@@ -95,3 +96,16 @@ pass "gamma with a state-based material is a positioned error"
 d=$(deck breaking -e 's/solver: {type: implicit, load_steps: 1}/solver: {type: implicit, load_steps: 1, breaking: true}/')
 fails_at "$d" "true}" "key 'breaking': the coupled model is linear elastic"
 pass "breaking bonds is a positioned error"
+
+# a node off the lattice of the elements (a node file whose 9th node is 0.3 dx off)
+for x in 0 1 2 3 4 5 6 7 8.3 9 10 11 12; do echo "$x 1 1"; done >"$TMP/off.txt"
+cat >"$TMP/off.yaml" <<'DECK'
+dimension: 1
+materials: {bar: {model: pmb, density: 1, youngs_modulus: 1}}
+discretization: {spacing: 1, m: 3, node_file: off.txt}
+regions: {pd: {shape: interval, min: [3.5], max: [6.5]}}
+coupling: {pd_region: pd}
+solver: {type: implicit, load_steps: 1}
+DECK
+fails_at "$TMP/off.yaml" "{pd_region" "coupling: node 8 at (8.3, 0, 0) is not on the lattice of spacing 1"
+pass "a node off the lattice of the elements is a positioned error"
