@@ -378,6 +378,10 @@ static int parse_discretization(parse_ctx *c) {
     static const char *const fill_extra[] = {"material", NULL};
     int rc = PERI_OK;
     for (int k = 0; k < fill->count && rc == PERI_OK; ++k) {
+      if (peri_setup_is_image_fill(fill->items[k])) { /* image_keys.c */
+        rc = peri_setup_image_fill(s, fill->items[k], g->spacing, &gp.fill[k]);
+        continue;
+      }
       rc = peri_shape_parse(fill->items[k], g->dim, "discretization.fill", fill_extra, &gp.fill[k].shape);
       if (rc != PERI_OK) break;
       const char *mname = NULL;
@@ -396,7 +400,11 @@ static int parse_discretization(parse_ctx *c) {
       rc = parse_shape_list(remove, g->dim, "discretization.remove", NULL, &gp.remove, &gp.n_remove);
     if (rc == PERI_OK) rc = check_grid_size(d, &gp, isnan(m) ? horizon / g->spacing : m);
     if (rc == PERI_OK && peri_grid_generate(p, &gp) < 0) rc = PERI_ERR_INPUT;
-    for (int k = 0; k < gp.n_fill; ++k) peri_shape_free(&gp.fill[k].shape);
+    for (int k = 0; k < gp.n_fill; ++k) {
+      peri_shape_free(&gp.fill[k].shape);
+      peri_phase_map_free(gp.fill[k].phases);
+      free(gp.fill[k].phases);
+    }
     for (int k = 0; k < gp.n_remove; ++k) peri_shape_free(&gp.remove[k]);
     free(gp.fill);
     free(gp.remove);
