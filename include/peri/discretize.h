@@ -3,6 +3,7 @@
 #ifndef PERI_DISCRETIZE_H
 #define PERI_DISCRETIZE_H
 #include "peri/particles.h"
+#include "peri/phase_map.h"
 #include "peri/shape.h"
 
 typedef enum {
@@ -14,6 +15,8 @@ typedef enum {
 typedef struct peri_fill {
   peri_shape shape;
   int32_t material;
+  peri_phase_map *phases;       /* an image: the material of each pixel (shape is its rectangle);
+                                   a void pixel's points get no node; NULL otherwise */
 } peri_fill;
 
 typedef struct peri_grid_params {

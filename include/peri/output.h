@@ -67,6 +67,11 @@ int peri_png_write_field(const char *path, int32_t n, const double *points,
  * and unit under it (e.g. "damage [1]"). NULL axes: as peri_png_write_field. */
 typedef struct peri_png_axes {
   const char *x_label, *y_label, *value_label;
+  /* Optional (NULL: none): a phase per node (e.g. its material) and the nodes' reference
+   * positions [3n] on a grid of spacing `dot`: a black line is drawn between neighbouring grid
+   * nodes of different phases (the phase boundaries of a multi-material body). */
+  const int32_t *phase;
+  const double *reference;
 } peri_png_axes;
 int peri_png_write_field_axes(const char *path, int32_t n, const double *points, const double *values,
                               double vmin, double vmax, double dot, int width_px, const char *title,

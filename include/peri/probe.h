@@ -4,6 +4,7 @@
  *   mean:FIELD@x=X     mean over the nodes of the grid column nearest to x = X (also y=, z=)
  *   max:FIELD@x=X      largest value on that column
  *   reaction_REGION_x  total reaction force on a region (also _y, _z)
+ *   max_von_mises:MATERIAL, mean_stress:MATERIAL   per phase, layers left out (phase_stress.h)
  * with FIELD one of von_mises, stress_IJ, strain_IJ (I, J in x, y, z), displacement_I. */
 #ifndef PERI_PROBE_H
 #define PERI_PROBE_H

@@ -22,7 +22,5 @@ double peri_von_mises(const peri_sim *s, const double sig[9], double nu);
 void peri_principal_stresses(const peri_sim *s, const double sig[9], double nu, double out[3]);
 /* von_mises[n] (and principal[3n] if not NULL) of every owned node from sigma[9n]. */
 void peri_stress_measures(const peri_sim *s, const double *sigma, double *von_mises, double *principal);
-/* Prints "  max von Mises <material>: <value> Pa at (x, y, z)" for every material. */
-void peri_print_stress_summary(peri_sim *s, FILE *out);
 
 #endif

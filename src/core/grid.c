@@ -9,7 +9,7 @@
 /* A grid point by its integer lattice index, with the fill shape that owns it. */
 typedef struct {
   int64_t k[3];
-  int32_t owner;
+  int32_t owner, material;
 } grid_point;
 
 /* The order of a scan over one box: z slowest, then y, then x. Nodes are added in this
@@ -128,6 +128,9 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
           for (int r = 0; r < g->n_remove && !removed; r++)
             removed = peri_shape_contains(&g->remove[r], dim, x, tol);
           if (removed) continue;
+          /* an image gives each point the material of its pixel; a void pixel is a hole */
+          const int32_t material = g->fill[s].phases ? peri_phase_map_at(g->fill[s].phases, x) : g->fill[s].material;
+          if (material == PERI_PHASE_VOID) continue;
           if (count >= INT32_MAX) {
             peri_error("grid: more than 2^31 nodes; use a coarser spacing");
             free(points);
@@ -138,7 +141,7 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
             points = peri_realloc(points, (size_t)capacity * sizeof *points);
           }
           grid_point *point = &points[count];
-          *point = (grid_point){{k0, k1, k2}, s};
+          *point = (grid_point){{k0, k1, k2}, s, material};
           if (count > 0 && compare_scan_order(&points[count - 1], point) > 0) in_scan_order = false;
           count++;
         }
@@ -153,8 +156,7 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
   for (int64_t i = 0; i < count; i++) {
     for (int d = 0; d < 3; d++)
       x[d] = d < dim ? origin[d] + ((double)points[i].k[d] + off) * dx : 0.0;
-    int32_t owner = points[i].owner;
-    peri_particles_add(p, x, vol, g->fill[owner].material, owner + 1);
+    peri_particles_add(p, x, vol, points[i].material, points[i].owner + 1);
   }
   free(points);
   return count;

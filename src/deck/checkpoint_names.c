@@ -15,6 +15,7 @@
 #include "peri/deck.h"
 #include "peri/error.h"
 #include "peri/setup.h"
+#include "setup_parts.h"
 
 enum { NAME_MAX_LEN = 8192 };
 
@@ -145,6 +146,16 @@ int peri_checkpoint_check_names(const peri_sim *s, const peri_node *root) {
       ADD("the deck's mesh file", "%.*s/%s", (int)(slash - s->deck_path), s->deck_path, mesh->scalar);
     else
       ADD("the deck's mesh file", "%s", mesh->scalar);
+  }
+  const peri_node *fill = disc ? peri_deck_get(disc, "fill") : NULL;
+  for (int k = 0; fill && fill->kind == PERI_NODE_SEQUENCE && k < fill->count && n < 16; ++k) {
+    const peri_node *file = peri_setup_is_image_fill(fill->items[k]) ? peri_deck_get(fill->items[k], "file") : NULL;
+    if (!file || !file->scalar) continue;
+    const char *slash = strrchr(s->deck_path, '/'); /* an image: relative to the deck's directory */
+    if (file->scalar[0] != '/' && slash)
+      ADD("the deck's image", "%.*s/%s", (int)(slash - s->deck_path), s->deck_path, file->scalar);
+    else
+      ADD("the deck's image", "%s", file->scalar);
   }
 #undef ADD
   for (int k = 0; k < n; ++k) {

@@ -8,8 +8,7 @@
 #include "peri/error.h"
 #include "setup_parts.h"
 
-/* A path of the deck: relative to the deck's directory, or absolute. */
-static void deck_relative(const peri_sim *s, const char *path, char *full, size_t cap) {
+void peri_setup_deck_path(const peri_sim *s, const char *path, char *full, size_t cap) {
   const char *slash = strrchr(s->deck_path, '/');
   if (path[0] != '/' && slash)
     snprintf(full, cap, "%.*s/%s", (int)(slash - s->deck_path), s->deck_path, path);
@@ -42,7 +41,7 @@ int peri_setup_mesh(peri_sim *s, const peri_node *d, peri_mesh *mesh) {
   int rc = peri_deck_string(d, node_file ? "node_file" : "mesh", true, &path);
   if (rc != PERI_OK) return rc;
   char full[PATH_MAX + 256];
-  deck_relative(s, path, full, sizeof full);
+  peri_setup_deck_path(s, path, full, sizeof full);
   peri_mesh_format format = node_file ? PERI_MESH_TEXT : peri_mesh_format_of(path);
   const peri_node *fmt = peri_deck_get(d, "mesh_format");
   if (fmt) {

@@ -151,6 +151,9 @@ static int parse_materials(parse_ctx *c) {
     if (mats->items[m]->kind != PERI_NODE_MAPPING)
       return peri_deck_error(mats->items[m], "material '%s': expected a mapping, got %s",
                              mats->keys[m]->scalar, peri_deck_kind_name(mats->items[m]));
+    if (mats->keys[m]->scalar && !strcmp(mats->keys[m]->scalar, "void"))
+      return peri_deck_error(mats->keys[m], "material name 'void' is reserved: it means no material (a hole) in "
+                                            "discretization.fill");
     TRY(parse_material(c, mats->keys[m], mats->items[m], m));
   }
   return PERI_OK;
@@ -379,6 +382,10 @@ static int parse_discretization(parse_ctx *c) {
     static const char *const fill_extra[] = {"material", NULL};
     int rc = PERI_OK;
     for (int k = 0; k < fill->count && rc == PERI_OK; ++k) {
+      if (peri_setup_is_image_fill(fill->items[k])) { /* image_keys.c */
+        rc = peri_setup_image_fill(s, fill->items[k], g->spacing, &gp.fill[k]);
+        continue;
+      }
       rc = peri_shape_parse(fill->items[k], g->dim, "discretization.fill", fill_extra, &gp.fill[k].shape);
       if (rc != PERI_OK) break;
       const char *mname = NULL;
@@ -388,6 +395,10 @@ static int parse_discretization(parse_ctx *c) {
       }
       rc = peri_deck_string(fill->items[k], "material", true, &mname);
       if (rc != PERI_OK) break;
+      if (!strcmp(mname, "void")) { /* a hole over the shapes before it: a void defect (docs/microstructures.md) */
+        gp.fill[k].material = PERI_PHASE_VOID;
+        continue;
+      }
       int mi = peri_setup_find_material(s, peri_deck_get(fill->items[k], "material"), mname);
       if (mi < 0) rc = -mi;
       else gp.fill[k].material = mi;
@@ -397,7 +408,11 @@ static int parse_discretization(parse_ctx *c) {
       rc = parse_shape_list(remove, g->dim, "discretization.remove", NULL, &gp.remove, &gp.n_remove);
     if (rc == PERI_OK) rc = check_grid_size(d, &gp, isnan(m) ? horizon / g->spacing : m);
     if (rc == PERI_OK && peri_grid_generate(p, &gp) < 0) rc = PERI_ERR_INPUT;
-    for (int k = 0; k < gp.n_fill; ++k) peri_shape_free(&gp.fill[k].shape);
+    for (int k = 0; k < gp.n_fill; ++k) {
+      peri_shape_free(&gp.fill[k].shape);
+      peri_phase_map_free(gp.fill[k].phases);
+      free(gp.fill[k].phases);
+    }
     for (int k = 0; k < gp.n_remove; ++k) peri_shape_free(&gp.remove[k]);
     free(gp.fill);
     free(gp.remove);
@@ -612,7 +627,7 @@ static int parse_output(parse_ctx *c) {
   const peri_node *it = peri_deck_get(c->root, "output");
   static const char *const keys[] = {"directory", "every", "frames", "fields", "compress",
                                      "history_every", "picture", "plot", "checkpoint_every",
-                                     "checkpoint_file", "format", NULL};
+                                     "checkpoint_file", "format", "phase_stress", NULL};
   /* defaults */
   const char *base = strrchr(s->deck_path, '/');
   base = base ? base + 1 : s->deck_path;
@@ -668,6 +683,7 @@ static int parse_output(parse_ctx *c) {
         o->fields[o->n_fields++] = peri_strdup(f->scalar);
       }
     }
+    TRY(peri_deck_bool(it, "phase_stress", false, &o->phase_stress)); /* before the plot names its columns */
     TRY(peri_plot_parse(s, it)); /* output.plot (src/deck/plot_keys.c) */
     TRY(peri_checkpoint_parse(s, it)); /* output.checkpoint_* (src/deck/checkpoint_keys.c) */
     const peri_node *pic = peri_deck_get(it, "picture");

@@ -4,6 +4,7 @@
 #define PERI_SETUP_PARTS_H
 #include <stdbool.h>
 #include "peri/deck.h"
+#include "peri/discretize.h"
 #include "peri/mesh.h"
 #include "peri/sim.h"
 
@@ -40,6 +41,18 @@ int peri_setup_find_material(const peri_sim *s, const peri_node *at, const char 
  * "Meshes"): the mesh's points become the particles, their blocks mapped to materials by
  * discretization.blocks. The mesh stays in *mesh for the regions (its sets and point ids). */
 int peri_setup_mesh(peri_sim *s, const peri_node *d, peri_mesh *mesh);
+/* A path of the deck (a node file, a mesh, an image): relative to the deck's directory, or
+ * absolute (mesh_keys.c). */
+void peri_setup_deck_path(const peri_sim *s, const char *path, char *full, size_t cap);
+
+/* Whether a discretization.fill item is an image ({shape: image, ...}). */
+bool peri_setup_is_image_fill(const peri_node *item);
+/* An image fill item (image_keys.c, docs/microstructures.md): the PNG `file` read and its
+ * pixels mapped to materials (or voids) by `colors`, at `pixel_size`, its lower-left corner
+ * at `origin`. The fill's shape is the image's rectangle and out->phases its phase map
+ * (allocated; free with peri_phase_map_free and free). `spacing` is the grid's, which must not
+ * be finer than the pixels. */
+int peri_setup_image_fill(const peri_sim *s, const peri_node *item, double spacing, peri_fill *out);
 
 /* The regions section (region_keys.c): shapes, mesh sets, node set files, blocks, materials
  * and their unions, intersections and differences. `mesh` is the discretization's mesh or

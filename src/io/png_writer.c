@@ -304,6 +304,71 @@ static void draw_title(cairo_t *cr, const layout *L, const char *title) {
   cairo_set_font_size(cr, L->font_size);
 }
 
+/* Grid cell of a reference position, packed for sorting: neighbours found by binary search. */
+typedef struct cell_node {
+  int64_t key;
+  int32_t node;
+} cell_node;
+
+static int compare_cells(const void *a, const void *b) {
+  const cell_node *p = a, *q = b;
+  return p->key < q->key ? -1 : p->key > q->key ? 1 : (p->node > q->node) - (p->node < q->node);
+}
+
+static int64_t cell_key(int64_t ix, int64_t iy) { return ix * 4194304 + iy; } /* 2^22 rows */
+
+static int32_t find_cell(const cell_node *cells, int32_t n, int64_t key) {
+  int32_t lo = 0, hi = n;
+  while (lo < hi) {
+    const int32_t mid = lo + (hi - lo) / 2;
+    if (cells[mid].key < key) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo < n && cells[lo].key == key ? cells[lo].node : -1;
+}
+
+/* Lines between grid neighbours (right and up, in the reference grid) of different phases,
+ * on the shared edge of their squares at the current positions. */
+static void draw_phase_boundaries(cairo_t *cr, const layout *L, int32_t n, const double *points,
+                                  const peri_png_axes *axes, double dot) {
+  if (!axes || !axes->phase || !axes->reference || n <= 0 || !(dot > 0)) return;
+  const double *ref = axes->reference;
+  double x0 = INFINITY, y0 = INFINITY;
+  for (int32_t i = 0; i < n; i++) x0 = fmin(x0, ref[3 * i]), y0 = fmin(y0, ref[3 * i + 1]);
+  cell_node *cells = peri_malloc((size_t)n * sizeof *cells);
+  int64_t *ix = peri_malloc((size_t)n * sizeof *ix), *iy = peri_malloc((size_t)n * sizeof *iy);
+  for (int32_t i = 0; i < n; i++) {
+    ix[i] = llround((ref[3 * i] - x0) / dot), iy[i] = llround((ref[3 * i + 1] - y0) / dot);
+    cells[i] = (cell_node){cell_key(ix[i], iy[i]), i};
+  }
+  qsort(cells, (size_t)n, sizeof *cells, compare_cells);
+  cairo_save(cr);
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  cairo_set_line_width(cr, fmax(1.0, 0.2 * dot * L->scale));
+  cairo_set_line_cap(cr, CAIRO_LINE_CAP_SQUARE);
+  const double half = 0.5 * dot * L->scale;
+  for (int32_t i = 0; i < n; i++)
+    for (int dir = 0; dir < 2; dir++) {
+      const int32_t j = find_cell(cells, n, cell_key(ix[i] + (dir == 0), iy[i] + (dir == 1)));
+      if (j < 0 || axes->phase[j] == axes->phase[i]) continue;
+      const double cx = L->plot_x + (0.5 * (points[3 * i] + points[3 * j]) - L->xmin) * L->scale;
+      const double cy = L->plot_y + (L->ymax - 0.5 * (points[3 * i + 1] + points[3 * j + 1])) * L->scale;
+      if (!isfinite(cx) || !isfinite(cy)) continue;
+      if (dir == 0) { /* a vertical edge between i and its right neighbour */
+        cairo_move_to(cr, cx, cy - half);
+        cairo_line_to(cr, cx, cy + half);
+      } else {
+        cairo_move_to(cr, cx - half, cy);
+        cairo_line_to(cr, cx + half, cy);
+      }
+    }
+  cairo_stroke(cr);
+  cairo_restore(cr);
+  free(cells);
+  free(ix);
+  free(iy);
+}
+
 /* Saves through a temporary and a rename so a viewer never sees a half file. */
 static int save_png(cairo_surface_t *surface, const char *path) {
   size_t path_len = strlen(path);
@@ -360,6 +425,7 @@ int peri_png_write_field_axes(const char *path, int32_t n, const double *points,
   cairo_paint(cr);
 
   draw_nodes(cr, &L, n, points, values, vmin, vmax, dot);
+  draw_phase_boundaries(cr, &L, n, points, axes, dot);
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(cr, L.font_size);
   cairo_set_source_rgb(cr, 0, 0, 0);

@@ -378,14 +378,6 @@ static long lps_dilatation(peri_sim *s) {
   return n_broken;
 }
 
-/* Scalar force state t_ij of node i's half of the bond with extension e, length L. */
-static inline double lps_half(const peri_material *mat, double theta, double P, double m,
-                              double omega, double L, double e) {
-  const double alpha = mat->alpha_m / m;
-  return mat->n_theta * (mat->K_theta * theta - alpha * P / 3.0) * omega * L / m +
-         alpha * omega * (e - theta * L / 3.0);
-}
-
 static long lps_force_pass(peri_sim *s, bool update_s0) {
   const long broken = lps_dilatation(s);
   if (s->mat.s0_node && update_s0) peri_update_lammps_s0(s);
@@ -442,12 +434,12 @@ static double lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) 
   const peri_bonds *b = &s->disc.bonds;
   const int32_t j = b->neighbor[k];
   const double L = peri_bond_length(p->x, i, j), e = r - L, omega = peri_bonds_omega(b, L);
-  const double eth_i = s->state.thermal_strain ? s->state.thermal_strain[i] : 0.0;
-  const double eth_j = s->state.thermal_strain ? s->state.thermal_strain[j] : 0.0;
-  return lps_half(&s->mat.materials[p->material[i]], p->theta[i], p->pstate[i], p->wvol[i], omega, L,
-                  e - eth_i * L) +
-         lps_half(&s->mat.materials[p->material[j]], p->theta[j], p->pstate[j], p->wvol[j], omega, L,
-                  e - eth_j * L);
+  /* node i's half, omega (n_theta (K theta - alpha P/3) L/m + alpha (e - eth L - theta L/3))
+   * with its thermal strain eth, is omega (D L + B e) with i's coefficients D, B of the
+   * dilatation pass, which the force pass exchanges for ghosts (theta and P it does not): a
+   * node next to another rank's nodes gets their halves right */
+  const size_t n = (size_t)p->n;
+  return omega * (L * (p->coef[i] + p->coef[j]) + e * (p->coef[n + (size_t)i] + p->coef[n + (size_t)j]));
 }
 
 const peri_model_ops peri_model_lps = {

@@ -327,6 +327,16 @@ int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
   peri_gather_owned(s, f->points, 3, points);
   peri_gather_owned(s, p->x, 3, reference);
   peri_gather_owned(s, values, 1, every);
+  /* several materials in 2D: the material of every node, for the phase boundaries */
+  const bool phases = s->disc.geom.dim == 2 && s->mat.n_materials > 1;
+  int32_t *phase = root && phases ? peri_malloc(sizeof(int32_t) * room) : NULL;
+  if (phases) {
+    for (int32_t i = 0; i < p->n_owned; ++i) values[i] = p->material[i];
+    double *material = root ? peri_malloc(sizeof(double) * room) : NULL;
+    peri_gather_owned(s, values, 1, material);
+    for (size_t k = 0; root && k < all; ++k) phase[k] = (int32_t)material[k];
+    free(material);
+  }
   free(values);
   int rc = PERI_OK;
   if (root) {
@@ -360,13 +370,18 @@ int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
       else
         snprintf(title + len, sizeof title - len, ", slice %c = %.4g m", "xyz"[a], layer);
     }
-    const peri_png_axes axes = {.x_label = x_label, .y_label = y_label, .value_label = value_label};
+    peri_png_axes axes = {.x_label = x_label, .y_label = y_label, .value_label = value_label};
+    if (phase) { /* several materials in 2D: their boundaries drawn (docs/microstructures.md) */
+      axes.phase = phase;
+      axes.reference = reference;
+    }
     rc = peri_png_write_field_axes(path_out, drawn, points, every, vmin, vmax, s->disc.geom.spacing,
                                    s->out.picture_width, title, &axes);
   }
   free(points);
   free(reference);
   free(every);
+  free(phase);
   return peri_comm_max_int(rc);
 }
 

@@ -67,6 +67,17 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
     add(c, "phase");
     add(c, "dynamic_time");
   }
+  for (int m = 0; s->out.phase_stress && m < s->mat.n_materials; ++m) { /* docs/microstructures.md */
+    char name[300];
+    snprintf(name, sizeof name, "max_von_mises_%s", s->mat.materials[m].name);
+    add(c, name);
+    for (int d = 0; d < s->disc.geom.dim; ++d) {
+      snprintf(name, sizeof name, "max_von_mises_at_%s_%c", s->mat.materials[m].name, "xyz"[d]);
+      add(c, name);
+    }
+    snprintf(name, sizeof name, "mean_stress_%s", s->mat.materials[m].name);
+    add(c, name);
+  }
   const int n_thermal = peri_thermal_history_count(s); /* thermomechanics (docs/heat.md) */
   if (n_thermal > 0) {
     char **thermal = peri_calloc((size_t)n_thermal, sizeof(char *));
@@ -127,6 +138,7 @@ const char *peri_history_unit(const char *column) {
       {"momentum_", "kg*m/s", false}, {"indenter_force_", "N", false}, {"reaction_", "N", false},
       {"displacement_", "m", false}, {"mean_temperature_", "K", false}, {"heat_inflow_", "W", false},
       {"net_force_", "N", false},   {"out_of_balance", "1", false},
+      {"max_von_mises_at_", "m", false}, {"max_von_mises_", "Pa", false}, {"mean_stress_", "Pa", false},
   };
   for (size_t k = 0; k < sizeof units / sizeof units[0]; ++k)
     if (units[k].whole ? !strcmp(column, units[k].prefix)

@@ -23,6 +23,7 @@
 #include "peri/history_log.h"
 #include "peri/model.h"
 #include "peri/output.h"
+#include "peri/phase_stress.h"
 #include "peri/progress.h"
 #include "peri/run.h"
 #include "peri/solver.h"
@@ -93,6 +94,17 @@ static int write_history(peri_sim *s, run_ctx *c) {
   if (qs_dynamic_columns(s)) { /* static (0) or dynamic (1) phase, time in dynamics (docs/solvers.md) */
     c->log.row[k++] = (double)s->solver.qs.phase;
     c->log.row[k++] = s->solver.qs.dynamic_time;
+  }
+  if (s->out.phase_stress) { /* per material: largest von Mises stress, where, mean stress (docs/microstructures.md) */
+    peri_phase_stress *phases = peri_malloc(sizeof *phases * (size_t)s->mat.n_materials);
+    if (peri_phase_stresses_now(s, phases) != PERI_OK) c->failed = 1;
+    for (int m = 0; m < s->mat.n_materials; ++m) {
+      const bool any = phases[m].max_von_mises > -INFINITY; /* a material without body nodes: zeros */
+      c->log.row[k++] = any ? phases[m].max_von_mises : 0.0;
+      for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = any ? phases[m].where[d] : 0.0;
+      c->log.row[k++] = phases[m].mean_stress;
+    }
+    free(phases);
   }
   peri_thermal_history_values(s, c->log.row + k); /* total heat, temperature range (docs/heat.md) */
   k += peri_thermal_history_count(s);

@@ -104,7 +104,8 @@ Test(history_columns, every_column_has_its_unit) {
                {"broken_bond_fraction", "1"}, {"momentum_y", "kg*m/s"}, {"reaction_left_x", "N"},
                {"displacement_left_y", "m"}, {"indenter_force_z", "N"}, {"phase", "1"}, {"dynamic_time", "s"},
                {"total_heat", "J"}, {"max_temperature", "K"}, {"mean_temperature_hot", "K"},
-               {"heat_inflow_hot", "W"}};
+               {"heat_inflow_hot", "W"}, {"max_von_mises_bi2212", "Pa"}, {"max_von_mises_at_bi2212_x", "m"},
+               {"mean_stress_silver", "Pa"}};
   for (size_t k = 0; k < sizeof known / sizeof known[0]; ++k)
     cr_expect_str_eq(peri_history_unit(known[k].column) ? peri_history_unit(known[k].column) : "(none)", known[k].unit,
                      "column %s", known[k].column);
