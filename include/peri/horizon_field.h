@@ -9,6 +9,14 @@
 #include "peri/expr.h"
 #include "peri/particles.h"
 
+/* the default factor of the zero-energy mode control of the partial-stress force
+ * (src/model/partial_stress.c): the smallest of 0.25, 0.5, 1 with which the pulse and
+ * energy runs of tests/verification/test_horizon_pulse.c stay bounded over 4 x 10^4 steps */
+#define PERI_PARTIAL_STRESS_STABILIZATION 1.0
+
+/* the quadratic fit's basis: d linear and d(d+1)/2 quadratic terms, 9 in 3D */
+#define PERI_FIT_BASIS 9
+
 typedef struct peri_horizon_field {
   int32_t n;              /* nodes */
   double *delta;          /* [n] the horizon of each node */
@@ -28,7 +36,12 @@ typedef struct peri_horizon_field {
   /* the least-squares gradient stencil of each coupled node (src/model/partial_stress.c) */
   int64_t *stencil_offset;/* [n + 1] */
   int32_t *stencil_node;
-  double *stencil_weight; /* [3 per stencil entry] (sum xi xi^T)^-1 xi */
+  double *stencil_weight; /* [3 per stencil entry] (sum w xi xi^T)^-1 w xi */
+  double *stencil_bond;   /* [per stencil entry] w: V_j times the bond stiffness of i's state */
+  double *stencil_fit;    /* [PERI_FIT_BASIS per stencil entry] the rows of the quadratic fit of
+                             u_j - u_i (zero-energy mode control, src/model/partial_stress.c) */
+  double *stiffness;      /* [n] the bond stiffness factor of the control: PMB c_i, LPS alpha_m/m_i */
+  double stabilization;   /* the control's factor (discretization.partial_stress_stabilization) */
   uint8_t *needs_stress;  /* [n] coupled nodes and the nodes of their stencils */
   long ps_would_break;    /* bonds of coupled nodes beyond their critical stretch (kept intact) */
 } peri_horizon_field;

@@ -63,6 +63,9 @@ void peri_horizon_field_free(peri_horizon_field *h) {
   free(h->stencil_offset);
   free(h->stencil_node);
   free(h->stencil_weight);
+  free(h->stencil_bond);
+  free(h->stencil_fit);
+  free(h->stiffness);
   free(h->needs_stress);
   free(h);
 }

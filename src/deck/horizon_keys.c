@@ -92,6 +92,12 @@ int peri_setup_horizon_coupling(peri_sim *s, const peri_node *root, const bool *
     for (int32_t k = 0; k < region->count; ++k) h->coupled[region->nodes[k]] = 1;
     h->n_coupled = region->count;
   }
+  h->stabilization = PERI_PARTIAL_STRESS_STABILIZATION;
+  int rc = peri_deck_double(d, "partial_stress_stabilization", false, &h->stabilization);
+  if (rc != PERI_OK) return rc;
+  if (!(h->stabilization >= 0.0) || !isfinite(h->stabilization))
+    return peri_deck_error(peri_deck_get(d, "partial_stress_stabilization"),
+                           "key 'partial_stress_stabilization': must be a number >= 0");
   if (h->n_coupled > 0 && s->solver.kind == PERI_SOLVER_NLCG)
     return peri_deck_error(ps ? ps : at, "the partial-stress force is not the gradient of an energy, so nlcg cannot "
                            "minimise it: use solver.type adr, dynamic_relaxation or explicit, or set "

@@ -245,7 +245,8 @@ static int parse_interfaces(parse_ctx *c) {
 static const char *const discretization_keys[] = {
     "spacing", "horizon", "m", "placement", "origin", "thickness", "cross_section",
     "partial_volume", "influence", "weighted_volume", "surface_correction", "fill", "remove", "node_file",
-    "blocks", "volume", "max_nodes", "mesh", "mesh_format", "partial_stress", NULL};
+    "blocks", "volume", "max_nodes", "mesh", "mesh_format", "partial_stress",
+    "partial_stress_stabilization", NULL};
 
 static int parse_shape_list(const peri_node *list, int dim, const char *section,
                             const char *const *extra, peri_shape **shapes, int *count) {
@@ -327,9 +328,11 @@ static int parse_discretization(parse_ctx *c) {
   const bool horizon_field = peri_setup_horizon_is_field(d); /* an expression of x, y, z (horizon_keys.c) */
   if (!horizon_field) TRY(peri_deck_double(d, "horizon", false, &horizon));
   TRY(peri_deck_double(d, "m", false, &m));
-  if (!horizon_field && peri_deck_get(d, "partial_stress"))
-    return peri_deck_error(peri_deck_key_node(d, "partial_stress"), "key 'partial_stress': only with a horizon that "
-                           "varies (discretization.horizon an expression of x, y, z)");
+  static const char *const field_keys[] = {"partial_stress", "partial_stress_stabilization", NULL};
+  for (int k = 0; !horizon_field && field_keys[k]; ++k)
+    if (peri_deck_get(d, field_keys[k]))
+      return peri_deck_error(peri_deck_key_node(d, field_keys[k]), "key '%s': only with a horizon that varies "
+                             "(discretization.horizon an expression of x, y, z)", field_keys[k]);
   if ((isnan(horizon) && !horizon_field) == isnan(m))
     return peri_deck_error(d, "discretization: give exactly one of 'horizon' (a length) or 'm' "
                               "(horizon / spacing)");
