@@ -69,9 +69,6 @@ int peri_setup_horizon_coupling(peri_sim *s, const peri_node *root, const bool *
   }
   const peri_model_ops *model = peri_variable_horizon_model(s->mat.model);
   if (!model) return peri_deck_error(at, "key 'horizon': the %s model has no form with a horizon that varies", s->mat.model->name);
-  if (s->solver.kind == PERI_SOLVER_IMPLICIT)
-    return peri_deck_error(at, "key 'horizon': the implicit solver needs a tangent stiffness, which the models with a "
-                           "horizon that varies do not have; use adr, dynamic_relaxation or nlcg");
   s->mat.model = model;
 
   /* the coupling region: auto (default), none, or a region's nodes */
@@ -98,14 +95,30 @@ int peri_setup_horizon_coupling(peri_sim *s, const peri_node *root, const bool *
   if (!(h->stabilization >= 0.0) || !isfinite(h->stabilization))
     return peri_deck_error(peri_deck_get(d, "partial_stress_stabilization"),
                            "key 'partial_stress_stabilization': must be a number >= 0");
-  if (h->n_coupled > 0 && s->solver.kind == PERI_SOLVER_NLCG)
-    return peri_deck_error(ps ? ps : at, "the partial-stress force is not the gradient of an energy, so nlcg cannot "
-                           "minimise it: use solver.type adr, dynamic_relaxation or explicit, or set "
-                           "discretization.partial_stress: none (full peridynamics everywhere)");
+  if (h->n_coupled > 0 && s->disc.geom.dim > 1)
+    peri_warning("partial stress in %dD: the force passes the patch test, but explicit and relaxation runs through "
+                 "the transition are not stable yet and may grow without bound (docs/variable_horizon.md, "
+                 "\"Limits\"); discretization.partial_stress: none gives full peridynamics",
+                 s->disc.geom.dim);
   /* the critical stretch of a failure given as an energy scales as delta^-1/2 (docs/model_reference.md
    * 7.1); the pair table is resolved at the largest horizon */
   h->s0_scale = peri_malloc(sizeof(double) * (size_t)(s->disc.p.n > 0 ? s->disc.p.n : 1));
   for (int32_t i = 0; i < s->disc.p.n; ++i)
     h->s0_scale[i] = s0_from_energy[s->disc.p.material[i]] ? sqrt(h->max / h->delta[i]) : 1.0;
+  return PERI_OK;
+}
+
+int peri_setup_horizon_solver(const peri_sim *s, const peri_node *root) {
+  const peri_horizon_field *h = s->disc.horizon_field;
+  if (!h) return PERI_OK;
+  const peri_node *d = peri_deck_get(root, "discretization");
+  const peri_node *at = peri_deck_get(d, "horizon"), *ps = peri_deck_get(d, "partial_stress");
+  if (s->solver.kind == PERI_SOLVER_IMPLICIT)
+    return peri_deck_error(at, "key 'horizon': the implicit solver needs a tangent stiffness, which the models with a "
+                           "horizon that varies do not have; use adr, dynamic_relaxation or nlcg");
+  if (h->n_coupled > 0 && s->solver.kind == PERI_SOLVER_NLCG)
+    return peri_deck_error(ps ? ps : at, "the partial-stress force is not the gradient of an energy, so nlcg cannot "
+                           "minimise it: use solver.type adr, dynamic_relaxation or explicit, or set "
+                           "discretization.partial_stress: none (full peridynamics everywhere)");
   return PERI_OK;
 }

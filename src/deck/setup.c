@@ -792,6 +792,7 @@ static int build(parse_ctx *c) {
   TRY(peri_setup_check_layers(c->s, c->root));
   TRY(parse_indenter(c));
   TRY(parse_solver(c));
+  TRY(peri_setup_horizon_solver(s, root)); /* horizon_keys.c */
   TRY(parse_output(c));
   TRY(peri_setup_thermal(s, root)); /* heat conduction, thermal strain (docs/heat.md) */
   TRY(peri_plot_check(s, peri_deck_get(root, "output"))); /* the columns, thermal ones included */

@@ -57,5 +57,8 @@ int peri_setup_check_layers(const peri_sim *s, const peri_node *root);
 bool peri_setup_horizon_is_field(const peri_node *discretization);
 int peri_setup_horizon_field(peri_sim *s, const peri_node *discretization);
 int peri_setup_horizon_coupling(peri_sim *s, const peri_node *root, const bool *s0_from_energy);
+/* The solvers a horizon that varies rejects (after the solver section): implicit (no tangent),
+ * and nlcg with a coupling region (the partial stress is not an energy's gradient). */
+int peri_setup_horizon_solver(const peri_sim *s, const peri_node *root);
 
 #endif
