@@ -679,6 +679,9 @@ static int parse_output(parse_ctx *c) {
         }
         if (!strcmp(f->scalar, "dilatation") && s->mat.model != peri_model_find("lps"))
           return peri_deck_error(f, "output field 'dilatation': the %s model has no dilatation", s->mat.model->name);
+        if (!strcmp(f->scalar, "horizon") && !s->disc.horizon_field)
+          return peri_deck_error(f, "output field 'horizon': only with a horizon that varies (discretization.horizon "
+                                    "an expression of x, y, z)");
         o->fields[o->n_fields++] = peri_strdup(f->scalar);
       }
     }
