@@ -4,13 +4,13 @@
 #define PERI_PARTIAL_STRESS_H
 #include "peri/sim.h"
 
-/* Builds the least-squares gradient stencil of every coupled node: its neighbours within
- * 1.5 spacings (in 1D the two nearest, so the gradient is the central difference). Returns
- * PERI_OK, or PERI_ERR_INPUT after a message naming a node whose stencil does not span the
- * dimensions. */
+/* Builds, for every coupled node, the weighted least-squares gradient over its bonds (the
+ * weights V_j d t_i / d e of its own state) and the quadratic fit of the zero-energy mode
+ * control. Returns PERI_OK, or PERI_ERR_INPUT after a message naming a node whose bonds do not
+ * determine them. */
 int peri_partial_stress_prepare(peri_sim *s);
-/* nu0 of the coupled nodes and of their stencils' nodes from the force states in
- * h->state, then f_i = div nu0 at every coupled node i. */
+/* nu0 of the coupled nodes and of their bonds' nodes from the force states in h->state,
+ * then f_i = div nu0 plus the zero-energy mode control at every coupled node i. */
 void peri_partial_stress_force(peri_sim *s);
 
 #endif
