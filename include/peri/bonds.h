@@ -26,6 +26,10 @@ typedef struct peri_family_params {
   double spacing;             /* grid spacing dx (for the partial-volume ramp) */
   peri_partial_volume rule;   /* NONE: |xi| <= delta; LINEAR: ramp over delta +- dx/2 */
   peri_influence influence;
+  /* [n] the horizon of each node when it varies (docs/variable_horizon.md), else NULL: the
+   * pair i-j is then bonded within max(delta_i, delta_j) (with the rule's ramp), and
+   * `horizon` is the largest delta_i */
+  const double *node_horizon;
 } peri_family_params;
 
 typedef struct peri_bonds {

@@ -139,6 +139,7 @@ typedef struct peri_discretization {
   /* work items of the bond loops (src/model/node_blocks.c), built on first use */
   struct peri_node_blocks *node_blocks;
   bool generic_bond_loops;      /* tests: every node by the one-node path */
+  struct peri_horizon_field *horizon_field; /* a horizon per node (docs/variable_horizon.md), else NULL */
 } peri_discretization;
 
 /* The constitutive model and the materials with their resolved constants. */

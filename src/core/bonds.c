@@ -131,8 +131,12 @@ static int64_t scan(const cells *c, const peri_particles *p, const peri_family_p
             if (n_coincident) (*n_coincident)++;
             continue;
           }
+          if (fp->node_horizon) { /* a horizon per node: bonded within the larger of the two */
+            const double d = fmax(fp->node_horizon[i], fp->node_horizon[j]);
+            if (peri_partial_volume_factor(fp->rule, sqrt(r2), d, fp->spacing) <= 0) continue;
+          }
           /* Within delta every rule gives beta >= 1/2; only the LINEAR tail can reach 0. */
-          if (r2 > r2sure &&
+          else if (r2 > r2sure &&
               peri_partial_volume_factor(fp->rule, sqrt(r2), fp->horizon, fp->spacing) <= 0)
             continue;
           if (out) out[count] = j;

@@ -21,6 +21,7 @@
 #include "peri/sim.h"
 #include "peri/solver.h"
 #include "peri/history.h"
+#include "peri/horizon_field.h"
 #include "peri/quasistatic.h"
 #include "peri/overrides.h"
 #include "peri/thermal.h"
@@ -248,7 +249,8 @@ static int parse_interfaces(parse_ctx *c) {
 static const char *const discretization_keys[] = {
     "spacing", "horizon", "m", "placement", "origin", "thickness", "cross_section",
     "partial_volume", "influence", "weighted_volume", "surface_correction", "fill", "remove", "node_file",
-    "blocks", "volume", "max_nodes", "mesh", "mesh_format", NULL};
+    "blocks", "volume", "max_nodes", "mesh", "mesh_format", "partial_stress",
+    "partial_stress_stabilization", NULL};
 
 static int parse_shape_list(const peri_node *list, int dim, const char *section,
                             const char *const *extra, peri_shape **shapes, int *count) {
@@ -327,9 +329,15 @@ static int parse_discretization(parse_ctx *c) {
   g->spacing = NAN;
   TRY(peri_deck_double(d, "spacing", fill != NULL, &g->spacing));
   double horizon = NAN, m = NAN;
-  TRY(peri_deck_double(d, "horizon", false, &horizon));
+  const bool horizon_field = peri_setup_horizon_is_field(d); /* an expression of x, y, z (horizon_keys.c) */
+  if (!horizon_field) TRY(peri_deck_double(d, "horizon", false, &horizon));
   TRY(peri_deck_double(d, "m", false, &m));
-  if (isnan(horizon) == isnan(m))
+  static const char *const field_keys[] = {"partial_stress", "partial_stress_stabilization", NULL};
+  for (int k = 0; !horizon_field && field_keys[k]; ++k)
+    if (peri_deck_get(d, field_keys[k]))
+      return peri_deck_error(peri_deck_key_node(d, field_keys[k]), "key '%s': only with a horizon that varies "
+                             "(discretization.horizon an expression of x, y, z)", field_keys[k]);
+  if ((isnan(horizon) && !horizon_field) == isnan(m))
     return peri_deck_error(d, "discretization: give exactly one of 'horizon' (a length) or 'm' "
                               "(horizon / spacing)");
   g->thickness = 1.0;
@@ -406,7 +414,7 @@ static int parse_discretization(parse_ctx *c) {
     const peri_node *remove = peri_deck_get(d, "remove");
     if (rc == PERI_OK && remove)
       rc = parse_shape_list(remove, g->dim, "discretization.remove", NULL, &gp.remove, &gp.n_remove);
-    if (rc == PERI_OK) rc = check_grid_size(d, &gp, isnan(m) ? horizon / g->spacing : m);
+    if (rc == PERI_OK) rc = check_grid_size(d, &gp, !isnan(m) ? m : horizon_field ? 3.0 : horizon / g->spacing);
     if (rc == PERI_OK && peri_grid_generate(p, &gp) < 0) rc = PERI_ERR_INPUT;
     for (int k = 0; k < gp.n_fill; ++k) {
       peri_shape_free(&gp.fill[k].shape);
@@ -436,9 +444,11 @@ static int parse_discretization(parse_ctx *c) {
     if (!(volume > 0.0)) return peri_deck_error(peri_deck_get(d, "volume"), "key 'volume': must be positive");
     for (int32_t i = 0; i < p->n; ++i) p->volume[i] = volume;
   }
-  g->horizon = isnan(horizon) ? m * g->spacing : horizon;
-  if (!(g->horizon > 0.0)) return peri_deck_error(d, "discretization: the horizon must be positive");
-  s->disc.family.horizon = g->horizon;
+  if (!horizon_field) {
+    g->horizon = isnan(horizon) ? m * g->spacing : horizon;
+    if (!(g->horizon > 0.0)) return peri_deck_error(d, "discretization: the horizon must be positive");
+    s->disc.family.horizon = g->horizon;
+  }
   s->disc.family.spacing = g->spacing;
 
   /* order along a space-filling curve so that neighbours are near in memory */
@@ -450,6 +460,11 @@ static int parse_discretization(parse_ctx *c) {
     for (int32_t k = 0; k < p->n; ++k) c->node_of_point[perm[k]] = k;
   }
   free(perm);
+  if (horizon_field) {
+    if (peri_setup_heat_only(c->root))
+      return peri_deck_error(peri_deck_get(d, "horizon"), "key 'horizon': a horizon that varies is for mechanical runs");
+    TRY(peri_setup_horizon_field(s, d)); /* after the ordering: per node */
+  }
   peri_particles_alloc_state(p);
   return PERI_OK;
 }
@@ -680,6 +695,9 @@ static int parse_output(parse_ctx *c) {
         }
         if (!strcmp(f->scalar, "dilatation") && s->mat.model != peri_model_find("lps"))
           return peri_deck_error(f, "output field 'dilatation': the %s model has no dilatation", s->mat.model->name);
+        if (!strcmp(f->scalar, "horizon") && !s->disc.horizon_field)
+          return peri_deck_error(f, "output field 'horizon': only with a horizon that varies (discretization.horizon "
+                                    "an expression of x, y, z)");
         o->fields[o->n_fields++] = peri_strdup(f->scalar);
       }
     }
@@ -781,6 +799,11 @@ static int build(parse_ctx *c) {
   if (!heat_only) TRY(resolve_materials(c));
   TRY(parse_regions(c));
   peri_bonds_build(&s->disc.bonds, &s->disc.p, &s->disc.family);
+  if (s->disc.horizon_field) { /* the coupling region and the per-node models (horizon_keys.c) */
+    bool from_energy[s->mat.n_materials];
+    for (int m = 0; m < s->mat.n_materials; ++m) from_energy[m] = !isnan(c->failure[m].G0) || !isnan(c->failure[m].KIc);
+    TRY(peri_setup_horizon_coupling(s, root, from_energy));
+  }
   TRY(parse_precracks(c));
   peri_precracks_apply(s);
   if (!heat_only) TRY(parse_interfaces(c));
@@ -790,6 +813,7 @@ static int build(parse_ctx *c) {
   TRY(parse_indenter(c));
   TRY(parse_solver(c));
   TRY(peri_setup_coupling(s, root)); /* PD-FEM coupling (src/deck/coupling_keys.c) */
+  TRY(peri_setup_horizon_solver(s, root)); /* horizon_keys.c */
   TRY(parse_output(c));
   TRY(peri_setup_thermal(s, root)); /* heat conduction, thermal strain (docs/heat.md) */
   TRY(peri_plot_check(s, peri_deck_get(root, "output"))); /* the columns, thermal ones included */
@@ -878,6 +902,7 @@ void peri_sim_free(peri_sim *s) {
   peri_decomposition_free(s->par.dd); /* distributed runs (src/parallel/decompose.c) */
   peri_particles_free(&s->disc.p);
   peri_bonds_free(&s->disc.bonds);
+  peri_horizon_field_free(s->disc.horizon_field);
   peri_node_blocks_free(s->disc.node_blocks);
   for (int m = 0; m < s->mat.n_materials; ++m) free(s->mat.materials[m].name);
   free(s->mat.materials);

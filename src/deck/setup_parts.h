@@ -64,5 +64,17 @@ int peri_setup_check_layers(const peri_sim *s, const peri_node *root);
 /* The coupling section (coupling_keys.c, docs/coupling.md): PD and FEM nodes, the structured
  * elements, the solver settings of the coupled stiffness; after the solver section. */
 int peri_setup_coupling(peri_sim *s, const peri_node *root);
+/* discretization.horizon given as an expression of x, y, z (horizon_keys.c): whether it is
+ * one (a plain number is not); the field at every node, after the nodes are ordered (an
+ * error names the first node where it is not positive and finite); and, once the bonds
+ * exist, the coupling region of discretization.partial_stress, the model's per-node form
+ * and the combinations it rejects. s0_from_energy[m]: material m's critical stretch comes
+ * from a fracture energy or toughness. */
+bool peri_setup_horizon_is_field(const peri_node *discretization);
+int peri_setup_horizon_field(peri_sim *s, const peri_node *discretization);
+int peri_setup_horizon_coupling(peri_sim *s, const peri_node *root, const bool *s0_from_energy);
+/* The solvers a horizon that varies rejects (after the solver section): implicit (no tangent),
+ * and nlcg with a coupling region (the partial stress is not an energy's gradient). */
+int peri_setup_horizon_solver(const peri_sim *s, const peri_node *root);
 
 #endif

@@ -15,6 +15,7 @@
 #include "peri/heat_quantities.h"
 #include "peri/output.h"
 #include "peri/frames.h"
+#include "peri/horizon_field.h"
 #include "peri/stress.h"
 #include "peri/thermal.h"
 #include "frames_parts.h"
@@ -174,6 +175,7 @@ static int frame_field(peri_frames *f, peri_sim *s, const char *name, peri_field
     peri_damage_index(s, f->damage);
     fl.data = f->damage;
   } else if (!strcmp(name, "dilatation")) fl.data = p->theta;
+  else if (!strcmp(name, "horizon")) fl.data = s->disc.horizon_field->delta;
   else if (!strcmp(name, "material")) fl.idata = p->material;
   else if (!strcmp(name, "block")) fl.idata = p->block;
   else if (!strcmp(name, "node_type")) fl.idata = s->coupling->node_type;
@@ -283,6 +285,8 @@ int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
       values[i] = sqrt(v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
   } else if (!strcmp(name, "dilatation") && p->theta) {
     memcpy(values, p->theta, sizeof(double) * (size_t)p->n_owned);
+  } else if (!strcmp(name, "horizon") && s->disc.horizon_field) {
+    memcpy(values, s->disc.horizon_field->delta, sizeof(double) * (size_t)p->n_owned);
   } else if (!strcmp(name, "strain_energy_density")) {
     peri_strain_energy(s);
     memcpy(values, p->energy, sizeof(double) * (size_t)p->n_owned);

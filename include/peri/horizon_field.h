@@ -1,0 +1,61 @@
+/* A horizon that varies over the body (docs/variable_horizon.md): each node keeps its own
+ * delta_i, and the nodes of the partial-stress coupling region (docs/model_reference.md 15)
+ * are marked. NULL in a simulation whose horizon is one number. */
+#ifndef PERI_HORIZON_FIELD_H
+#define PERI_HORIZON_FIELD_H
+#include <stdbool.h>
+#include <stdint.h>
+#include "peri/bonds.h"
+#include "peri/expr.h"
+#include "peri/particles.h"
+
+/* the default factor of the zero-energy mode control of the partial-stress force
+ * (src/model/partial_stress.c), measured on the 1D pulse of tests/verification/
+ * test_horizon_pulse.c: without the control the energy grows a thousandfold in 2 x 10^4
+ * steps; with 0.25 or 1 it stays within 0.02% over 4 x 10^4 steps, and the reflection figures
+ * of docs/variable_horizon.md are those of 1 */
+#define PERI_PARTIAL_STRESS_STABILIZATION 1.0
+
+/* the quadratic fit's basis: d linear and d(d+1)/2 quadratic terms, 9 in 3D */
+#define PERI_FIT_BASIS 9
+
+typedef struct peri_horizon_field {
+  int32_t n;              /* nodes */
+  double *delta;          /* [n] the horizon of each node */
+  double min, max;        /* over the nodes */
+  double *s0_scale;       /* [n] critical stretch of a node's bonds over that of the table (which is
+                             resolved at `max`): sqrt(max / delta_i) for a failure given as an energy
+                             or a toughness, 1 for a critical stretch given as a number */
+  uint8_t *coupled;       /* [n] 1: the node's force is the divergence of the partial stress */
+  int32_t n_coupled;
+  /* the model's per-node constants and work arrays (src/model/variable_horizon.c) */
+  double *node_constant;  /* PMB: micromodulus c_i; LPS: weighted volume m_i */
+  double *theta, *pstate; /* LPS: dilatation and P_i of the last force evaluation */
+  double *state;          /* [n_bonds] scalar force state t_i<xi> of directed bond k (omega and the
+                             partial volume of i's horizon included) */
+  int64_t *reverse;       /* [n_bonds] bond j -> i of bond k = i -> j */
+  double *partial_stress; /* [9 n] nu0_i = sum_j T_i<xi_ij> (x) xi_ij V_j, row-major */
+  /* the least-squares gradient stencil of each coupled node (src/model/partial_stress.c) */
+  int64_t *stencil_offset;/* [n + 1] */
+  int32_t *stencil_node;
+  double *stencil_weight; /* [3 per stencil entry] (sum w xi xi^T)^-1 w xi */
+  double *stencil_bond;   /* [per stencil entry] w: V_j times the bond stiffness of i's state */
+  double *stencil_fit;    /* [PERI_FIT_BASIS per stencil entry] the rows of the quadratic fit of
+                             u_j - u_i (zero-energy mode control, src/model/partial_stress.c) */
+  double *stiffness;      /* [n] the bond stiffness factor of the control: PMB c_i, LPS alpha_m/m_i */
+  double stabilization;   /* the control's factor (discretization.partial_stress_stabilization) */
+  uint8_t *needs_stress;  /* [n] coupled nodes and the nodes of their stencils */
+  long ps_would_break;    /* bonds of coupled nodes beyond their critical stretch (kept intact) */
+} peri_horizon_field;
+
+/* Evaluates the horizon expression at every node of p (reference positions). Returns the
+ * field, or NULL with *bad set to the first node where the value is not positive and finite. */
+peri_horizon_field *peri_horizon_field_evaluate(const peri_particles *p, peri_expr *horizon, int32_t *bad);
+/* Marks the default coupling region: every node whose family holds a node with a different
+ * horizon (relative difference above 1e-12). */
+void peri_horizon_field_mark_transition(peri_horizon_field *h, const peri_bonds *b);
+/* Bond j -> i of every bond i -> j (both directions exist: the families are symmetric). */
+void peri_horizon_field_reverse_bonds(peri_horizon_field *h, const peri_bonds *b);
+void peri_horizon_field_free(peri_horizon_field *h);
+
+#endif

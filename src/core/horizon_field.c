@@ -1,0 +1,71 @@
+/* A horizon per node: the field from its expression, the default coupling region and the
+ * reverse of every bond (include/peri/horizon_field.h). */
+#include <math.h>
+#include <stdlib.h>
+#include "peri/error.h"
+#include "peri/horizon_field.h"
+
+peri_horizon_field *peri_horizon_field_evaluate(const peri_particles *p, peri_expr *horizon, int32_t *bad) {
+  *bad = -1;
+  peri_horizon_field *h = peri_calloc(1, sizeof *h);
+  h->n = p->n;
+  h->delta = peri_malloc(sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
+  h->coupled = peri_calloc((size_t)(p->n > 0 ? p->n : 1), 1);
+  h->min = INFINITY, h->max = 0.0;
+  /* serial: an expression binds its variables by address (include/peri/expr.h) */
+  for (int32_t i = 0; i < p->n; ++i) {
+    const double *x = p->x + 3 * (size_t)i;
+    const double d = peri_expr_eval(horizon, x[0], x[1], x[2], 0.0);
+    if (!(d > 0.0) || !isfinite(d)) {
+      *bad = i;
+      peri_horizon_field_free(h);
+      return NULL;
+    }
+    h->delta[i] = d;
+    h->min = fmin(h->min, d);
+    h->max = fmax(h->max, d);
+  }
+  return h;
+}
+
+void peri_horizon_field_mark_transition(peri_horizon_field *h, const peri_bonds *b) {
+  int32_t count = 0;
+#pragma omp parallel for schedule(static) reduction(+ : count)
+  for (int32_t i = 0; i < b->n_nodes; ++i) {
+    uint8_t differs = 0;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1] && !differs; ++k)
+      differs = fabs(h->delta[b->neighbor[k]] - h->delta[i]) > 1e-12 * h->delta[i];
+    h->coupled[i] = differs;
+    count += differs;
+  }
+  h->n_coupled = count;
+}
+
+void peri_horizon_field_reverse_bonds(peri_horizon_field *h, const peri_bonds *b) {
+  free(h->reverse);
+  h->reverse = peri_malloc(sizeof(int64_t) * (size_t)(b->n_bonds > 0 ? b->n_bonds : 1));
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int32_t i = 0; i < b->n_nodes; ++i)
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) h->reverse[k] = peri_bonds_find(b, b->neighbor[k], i);
+}
+
+void peri_horizon_field_free(peri_horizon_field *h) {
+  if (!h) return;
+  free(h->delta);
+  free(h->s0_scale);
+  free(h->coupled);
+  free(h->node_constant);
+  free(h->theta);
+  free(h->pstate);
+  free(h->state);
+  free(h->reverse);
+  free(h->partial_stress);
+  free(h->stencil_offset);
+  free(h->stencil_node);
+  free(h->stencil_weight);
+  free(h->stencil_bond);
+  free(h->stencil_fit);
+  free(h->stiffness);
+  free(h->needs_stress);
+  free(h);
+}

@@ -1,0 +1,124 @@
+/* discretization.horizon as a field of x, y, z and discretization.partial_stress
+ * (docs/deck.md section 6, docs/variable_horizon.md). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/comm.h"
+#include "peri/error.h"
+#include "peri/horizon_field.h"
+#include "peri/variable_horizon.h"
+#include "setup_parts.h"
+
+bool peri_setup_horizon_is_field(const peri_node *d) {
+  const peri_node *h = peri_deck_get(d, "horizon");
+  if (!h || !h->scalar) return false;
+  char *end = NULL;
+  strtod(h->scalar, &end);
+  while (end && *end == ' ') ++end;
+  return !(end && *end == '\0' && end != h->scalar);
+}
+
+int peri_setup_horizon_field(peri_sim *s, const peri_node *d) {
+  peri_expr *e = NULL;
+  int rc = peri_deck_expr(d, "horizon", true, &e);
+  if (rc != PERI_OK) return rc;
+  int32_t bad = -1;
+  peri_horizon_field *h = peri_horizon_field_evaluate(&s->disc.p, e, &bad);
+  peri_expr_free(e);
+  if (!h) {
+    const double *x = s->disc.p.x + 3 * (size_t)bad;
+    char where[128];
+    if (s->disc.geom.dim == 1) snprintf(where, sizeof where, "(%g)", x[0]);
+    else if (s->disc.geom.dim == 2) snprintf(where, sizeof where, "(%g, %g)", x[0], x[1]);
+    else snprintf(where, sizeof where, "(%g, %g, %g)", x[0], x[1], x[2]);
+    peri_expr *again = NULL;
+    peri_deck_expr(d, "horizon", true, &again);
+    const double value = peri_expr_eval(again, x[0], x[1], x[2], 0.0);
+    peri_expr_free(again);
+    return peri_deck_error(peri_deck_get(d, "horizon"), "key 'horizon': the horizon is %g at the node at %s; it "
+                           "must be positive and finite at every node", value, where);
+  }
+  s->disc.horizon_field = h;
+  s->disc.geom.horizon = h->max;
+  s->disc.family.horizon = h->max;
+  s->disc.family.node_horizon = h->delta;
+  return PERI_OK;
+}
+
+int peri_setup_horizon_coupling(peri_sim *s, const peri_node *root, const bool *s0_from_energy) {
+  peri_horizon_field *h = s->disc.horizon_field;
+  const peri_node *d = peri_deck_get(root, "discretization");
+  const peri_node *at = peri_deck_get(d, "horizon");
+  /* what the per-node models do not cover */
+  if (peri_comm_size() > 1)
+    return peri_deck_error(at, "key 'horizon': a horizon that varies runs in a single process (got %d MPI ranks)",
+                           peri_comm_size());
+  if (s->disc.surface_correction != PERI_SURFACE_NONE)
+    return peri_deck_error(peri_deck_get(d, "surface_correction"),
+                           "key 'surface_correction': not with a horizon that varies (the per-node constants of "
+                           "docs/variable_horizon.md are calibrated on each node's own family)");
+  if (peri_deck_get(root, "thermal"))
+    return peri_deck_error(peri_deck_get(root, "thermal"), "key 'thermal': not with a horizon that varies");
+  for (int m = 0; m < s->mat.n_materials; ++m) {
+    const peri_material *mat = &s->mat.materials[m];
+    if (mat->micromodulus_given || mat->lammps_s0)
+      return peri_deck_error(at, "key 'horizon': material '%s' gives a %s, which holds for one horizon; give its "
+                             "elastic moduli and a critical stretch or fracture energy instead", mat->name,
+                             mat->micromodulus_given ? "micromodulus" : "{s00, alpha} critical stretch");
+  }
+  const peri_model_ops *model = peri_variable_horizon_model(s->mat.model);
+  if (!model) return peri_deck_error(at, "key 'horizon': the %s model has no form with a horizon that varies", s->mat.model->name);
+  s->mat.model = model;
+
+  /* the coupling region: auto (default), none, or a region's nodes */
+  const peri_node *ps = peri_deck_get(d, "partial_stress");
+  const char *choice = "auto";
+  if (ps) {
+    int rc = peri_deck_string(d, "partial_stress", true, &choice);
+    if (rc != PERI_OK) return rc;
+  }
+  if (!strcmp(choice, "auto")) {
+    peri_horizon_field_mark_transition(h, &s->disc.bonds);
+  } else if (!strcmp(choice, "none")) {
+    h->n_coupled = 0;
+  } else {
+    int r = peri_setup_find_region(s, peri_deck_get(root, "regions"), ps, choice);
+    if (r < 0) return -r;
+    const peri_region *region = &s->cond.regions[r];
+    for (int32_t k = 0; k < region->count; ++k) h->coupled[region->nodes[k]] = 1;
+    h->n_coupled = region->count;
+  }
+  h->stabilization = PERI_PARTIAL_STRESS_STABILIZATION;
+  int rc = peri_deck_double(d, "partial_stress_stabilization", false, &h->stabilization);
+  if (rc != PERI_OK) return rc;
+  if (!(h->stabilization >= 0.0) || !isfinite(h->stabilization))
+    return peri_deck_error(peri_deck_get(d, "partial_stress_stabilization"),
+                           "key 'partial_stress_stabilization': must be a number >= 0");
+  if (h->n_coupled > 0 && s->disc.geom.dim > 1)
+    peri_warning("partial stress in %dD: the force passes the patch test, but explicit and relaxation runs through "
+                 "the transition are not stable yet and may grow without bound (docs/variable_horizon.md, "
+                 "\"Limits\"); discretization.partial_stress: none gives full peridynamics",
+                 s->disc.geom.dim);
+  /* the critical stretch of a failure given as an energy scales as delta^-1/2 (docs/model_reference.md
+   * 7.1); the pair table is resolved at the largest horizon */
+  h->s0_scale = peri_malloc(sizeof(double) * (size_t)(s->disc.p.n > 0 ? s->disc.p.n : 1));
+  for (int32_t i = 0; i < s->disc.p.n; ++i)
+    h->s0_scale[i] = s0_from_energy[s->disc.p.material[i]] ? sqrt(h->max / h->delta[i]) : 1.0;
+  return PERI_OK;
+}
+
+int peri_setup_horizon_solver(const peri_sim *s, const peri_node *root) {
+  const peri_horizon_field *h = s->disc.horizon_field;
+  if (!h) return PERI_OK;
+  const peri_node *d = peri_deck_get(root, "discretization");
+  const peri_node *at = peri_deck_get(d, "horizon"), *ps = peri_deck_get(d, "partial_stress");
+  if (s->solver.kind == PERI_SOLVER_IMPLICIT)
+    return peri_deck_error(at, "key 'horizon': the implicit solver needs a tangent stiffness, which the models with a "
+                           "horizon that varies do not have; use adr, dynamic_relaxation or nlcg");
+  if (h->n_coupled > 0 && s->solver.kind == PERI_SOLVER_NLCG)
+    return peri_deck_error(ps ? ps : at, "the partial-stress force is not the gradient of an energy, so nlcg cannot "
+                           "minimise it: use solver.type adr, dynamic_relaxation or explicit, or set "
+                           "discretization.partial_stress: none (full peridynamics everywhere)");
+  return PERI_OK;
+}

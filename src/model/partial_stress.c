@@ -1,0 +1,248 @@
+/* The partial-stress force L0 = div nu0 (docs/model_reference.md 15.3, docs/variable_horizon.md).
+ * nu0_i = sum_j T_i<xi_ij> (x) xi_ij V_j is the stress that node i's own force state carries;
+ * under u = a + Hx with T_delta = delta^-(d+1) Z<xi/delta> it does not depend on delta
+ * (Silling, Littlewood and Seleson 2013, "Partial stress field"), so its divergence passes
+ * the patch test where the full peridynamic force, which reads T at both ends of a bond,
+ * does not. The divergence is the least-squares gradient over the nearest neighbours: for
+ * node i, grad g = A^-1 sum_j (g_j - g_i) xi_ij with A = sum_j xi_ij xi_ij^T, exact for a
+ * linear g, with the weights w_ij = V_j d t_i / d e_ij of node i's own bonds over its horizon.
+ * (The central difference of the source, and the nearest-neighbour least-squares gradient,
+ * make the product of two odd difference operators whose symbol changes sign: modes with
+ * k dx near 1 then have a negative stiffness and an explicit pulse run diverges. With the
+ * bond weights the divergence is, in a uniform region, the adjoint of u -> nu0 up to a positive
+ * factor, so the product is negative semi-definite.) Its null space, and the transition where
+ * the operator is not symmetric, need one more term: the zero-energy mode control
+ *   f_i += kappa k_i sum_j w_ij z_ij,  z_ij = u_j - u_i - (F xi + xi^T Q xi / 2),
+ * where F and Q are the weighted least-squares fit of u_j - u_i over i's bonds. z vanishes
+ * for every quadratic field, so the control changes neither the patch test nor the long-wave
+ * modulus (the force of a field with k delta small changes at order (k delta)^4), and gives
+ * every other mode, the checkerboard included, a positive stiffness. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/error.h"
+#include "peri/horizon_field.h"
+#include "bond_kernel.h"
+#include "partial_stress.h"
+
+/* Inverse of the leading dim x dim block of a (3x3 row-major); false when singular
+ * (relative to the block's scale). */
+static bool invert_block(const double a[9], int dim, double inv[9]) {
+  memset(inv, 0, 9 * sizeof(double));
+  double scale = 0.0;
+  for (int k = 0; k < 9; ++k) scale = fmax(scale, fabs(a[k]));
+  if (!(scale > 0.0)) return false;
+  if (dim == 1) {
+    inv[0] = 1.0 / a[0];
+    return true;
+  }
+  if (dim == 2) {
+    const double det = a[0] * a[4] - a[1] * a[3];
+    if (!(fabs(det) > 1e-12 * scale * scale)) return false;
+    inv[0] = a[4] / det, inv[1] = -a[1] / det, inv[3] = -a[3] / det, inv[4] = a[0] / det;
+    return true;
+  }
+  const double c00 = a[4] * a[8] - a[5] * a[7], c01 = a[5] * a[6] - a[3] * a[8], c02 = a[3] * a[7] - a[4] * a[6];
+  const double det = a[0] * c00 + a[1] * c01 + a[2] * c02;
+  if (!(fabs(det) > 1e-12 * scale * scale * scale)) return false;
+  inv[0] = c00 / det, inv[3] = c01 / det, inv[6] = c02 / det;
+  inv[1] = (a[2] * a[7] - a[1] * a[8]) / det, inv[4] = (a[0] * a[8] - a[2] * a[6]) / det;
+  inv[7] = (a[1] * a[6] - a[0] * a[7]) / det;
+  inv[2] = (a[1] * a[5] - a[2] * a[4]) / det, inv[5] = (a[2] * a[3] - a[0] * a[5]) / det;
+  inv[8] = (a[0] * a[4] - a[1] * a[3]) / det;
+  return true;
+}
+
+/* The weight of bond i-j in node i's gradient: V_j times the bond stiffness of i's force state,
+ * d t_i / d e (PMB omega beta_i / |xi|, LPS omega beta_i), so that in a uniform region the
+ * divergence is the adjoint of the map u -> nu0 and their product is negative semi-definite. */
+/* The fit's basis at xi / delta: its d linear terms, then xi_a xi_b / 2 for a <= b. */
+static int fit_basis(int dim, const double xi[3], double delta, double phi[PERI_FIT_BASIS]) {
+  double y[3] = {xi[0] / delta, xi[1] / delta, xi[2] / delta};
+  int n = 0;
+  for (int a = 0; a < dim; ++a) phi[n++] = y[a];
+  for (int a = 0; a < dim; ++a)
+    for (int b = a; b < dim; ++b) phi[n++] = (a == b ? 0.5 : 1.0) * y[a] * y[b];
+  return n;
+}
+
+/* In-place inverse of the n x n matrix m (row-major, n <= PERI_FIT_BASIS) by Gauss-Jordan with
+ * partial pivoting; false when a pivot falls below 1e-12 of the matrix's largest entry. */
+static bool invert_small(double *m, int n) {
+  double inv[PERI_FIT_BASIS * PERI_FIT_BASIS] = {0}, scale = 0.0;
+  for (int k = 0; k < n * n; ++k) scale = fmax(scale, fabs(m[k]));
+  for (int k = 0; k < n; ++k) inv[k * n + k] = 1.0;
+  for (int c = 0; c < n; ++c) {
+    int pivot = c;
+    for (int r = c + 1; r < n; ++r)
+      if (fabs(m[r * n + c]) > fabs(m[pivot * n + c])) pivot = r;
+    if (!(fabs(m[pivot * n + c]) > 1e-12 * scale)) return false;
+    for (int k = 0; k < n; ++k) {
+      double t = m[c * n + k];
+      m[c * n + k] = m[pivot * n + k], m[pivot * n + k] = t;
+      t = inv[c * n + k];
+      inv[c * n + k] = inv[pivot * n + k], inv[pivot * n + k] = t;
+    }
+    const double d = m[c * n + c];
+    for (int k = 0; k < n; ++k) m[c * n + k] /= d, inv[c * n + k] /= d;
+    for (int r = 0; r < n; ++r) {
+      if (r == c) continue;
+      const double factor = m[r * n + c];
+      for (int k = 0; k < n; ++k) m[r * n + k] -= factor * m[c * n + k], inv[r * n + k] -= factor * inv[c * n + k];
+    }
+  }
+  memcpy(m, inv, sizeof(double) * (size_t)(n * n));
+  return true;
+}
+
+static double gradient_weight(const peri_sim *s, int32_t i, int32_t j, double r0) {
+  const peri_family_params *f = &s->disc.bonds.family;
+  const double delta = s->disc.horizon_field->delta[i];
+  const double w = peri_partial_volume_factor(f->rule, r0, delta, f->spacing) * peri_influence_value(f->influence, r0, delta);
+  return w * s->disc.p.volume[j] / (s->mat.model->fixed_poisson ? r0 : 1.0);
+}
+
+int peri_partial_stress_prepare(peri_sim *s) {
+  peri_horizon_field *h = s->disc.horizon_field;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const int dim = p->dim;
+  free(h->stencil_offset), free(h->stencil_node), free(h->stencil_weight), free(h->needs_stress);
+  h->stencil_offset = peri_calloc((size_t)p->n_owned + 1, sizeof(int64_t));
+  h->needs_stress = peri_calloc((size_t)(p->n > 0 ? p->n : 1), 1);
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    int64_t count = 0;
+    if (h->coupled[i])
+      for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
+        count += gradient_weight(s, i, b->neighbor[k], peri_bond_length(p->x, i, b->neighbor[k])) > 0.0;
+    h->stencil_offset[i + 1] = h->stencil_offset[i] + count;
+  }
+  const int64_t total = h->stencil_offset[p->n_owned];
+  h->stencil_node = peri_malloc(sizeof(int32_t) * (size_t)(total > 0 ? total : 1));
+  h->stencil_weight = peri_malloc(3 * sizeof(double) * (size_t)(total > 0 ? total : 1));
+  free(h->stencil_bond), free(h->stencil_fit), free(h->stiffness);
+  h->stencil_bond = peri_malloc(sizeof(double) * (size_t)(total > 0 ? total : 1));
+  h->stencil_fit = peri_calloc(PERI_FIT_BASIS * (size_t)(total > 0 ? total : 1), sizeof(double));
+  h->stiffness = peri_calloc((size_t)(p->n > 0 ? p->n : 1), sizeof(double));
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    if (!h->coupled[i]) continue;
+    const peri_material *mat = &s->mat.materials[p->material[i]];
+    h->stiffness[i] = s->mat.model->fixed_poisson ? h->node_constant[i] : mat->alpha_m / h->node_constant[i];
+    h->needs_stress[i] = 1;
+    int64_t e = h->stencil_offset[i];
+    double a[9] = {0};
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      const int32_t j = b->neighbor[k];
+      double xi[3];
+      const double w = gradient_weight(s, i, j, peri_bond_xi(p->x, i, j, xi));
+      if (!(w > 0.0)) continue;
+      h->stencil_node[e] = j;
+      h->stencil_bond[e] = w;
+      for (int r = 0; r < 3; ++r) h->stencil_weight[3 * e + r] = w * xi[r];
+      ++e;
+      h->needs_stress[j] = 1;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) a[3 * r + c] += w * xi[r] * xi[c];
+    }
+    double inv[9];
+    if (!invert_block(a, dim, inv)) {
+      const double *x = p->x + 3 * (size_t)i;
+      peri_error("partial stress: the bonds of the node at (%g, %g, %g) do not span %d dimensions, so it has no "
+                 "gradient; keep the coupling region away from isolated nodes", x[0], x[1], x[2], dim);
+      return PERI_ERR_INPUT;
+    }
+    /* the quadratic fit: rows w_j M^-1 phi_j with M = sum_j w_j phi_j phi_j^T */
+    double fit[PERI_FIT_BASIS * PERI_FIT_BASIS] = {0}, phi[PERI_FIT_BASIS];
+    int nb = 0;
+    for (int64_t t = h->stencil_offset[i]; t < e; ++t) {
+      double xi[3];
+      peri_bond_xi(p->x, i, h->stencil_node[t], xi);
+      nb = fit_basis(dim, xi, h->delta[i], phi);
+      for (int r = 0; r < nb; ++r)
+        for (int c = 0; c < nb; ++c) fit[r * nb + c] += h->stencil_bond[t] * phi[r] * phi[c];
+    }
+    if (!invert_small(fit, nb)) {
+      const double *x = p->x + 3 * (size_t)i;
+      peri_error("partial stress: the bonds of the node at (%g, %g, %g) do not determine a quadratic fit (too few "
+                 "neighbours in its horizon); keep the coupling region away from isolated nodes", x[0], x[1], x[2]);
+      return PERI_ERR_INPUT;
+    }
+    for (int64_t t = h->stencil_offset[i]; t < e; ++t) {
+      double xi[3];
+      peri_bond_xi(p->x, i, h->stencil_node[t], xi);
+      fit_basis(dim, xi, h->delta[i], phi);
+      for (int r = 0; r < nb; ++r) {
+        double row = 0.0;
+        for (int c = 0; c < nb; ++c) row += fit[r * nb + c] * phi[c];
+        h->stencil_fit[PERI_FIT_BASIS * t + r] = h->stencil_bond[t] * row;
+      }
+    }
+    for (int64_t t = h->stencil_offset[i]; t < e; ++t) {
+      const double wx[3] = {h->stencil_weight[3 * t], h->stencil_weight[3 * t + 1], h->stencil_weight[3 * t + 2]};
+      for (int r = 0; r < 3; ++r) h->stencil_weight[3 * t + r] = inv[3 * r] * wx[0] + inv[3 * r + 1] * wx[1] + inv[3 * r + 2] * wx[2];
+    }
+  }
+  free(h->partial_stress);
+  h->partial_stress = peri_calloc(9 * (size_t)(p->n > 0 ? p->n : 1), sizeof(double));
+  return PERI_OK;
+}
+
+void peri_partial_stress_force(peri_sim *s) {
+  peri_horizon_field *h = s->disc.horizon_field;
+  peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  double *nu = h->partial_stress;
+  /* nu0_i = sum_j t_i<xi> (y_j - y_i)/|y_j - y_i| (x) xi V_j over the intact bonds */
+#pragma omp parallel for schedule(dynamic, 64)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    if (!h->needs_stress[i]) continue;
+    double sum[9] = {0};
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      if (b->broken[k]) continue;
+      const int32_t j = b->neighbor[k];
+      double xi[3], dy[3];
+      peri_bond_xi(p->x, i, j, xi);
+      const double r = peri_deformed_bond(p->x, p->u, i, j, dy);
+      if (!(r > 0.0)) continue;
+      const double g = h->state[k] * p->volume[j] / r;
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) sum[3 * a + c] += g * dy[a] * xi[c];
+    }
+    memcpy(nu + 9 * (size_t)i, sum, sizeof sum);
+  }
+  /* f_a = sum_b d nu_ab / d x_b */
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    if (!h->coupled[i]) continue;
+    double f[3] = {0, 0, 0};
+    const double *nu_i = nu + 9 * (size_t)i;
+    for (int64_t t = h->stencil_offset[i]; t < h->stencil_offset[i + 1]; ++t) {
+      const double *nu_j = nu + 9 * (size_t)h->stencil_node[t], *w = h->stencil_weight + 3 * t;
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) f[a] += (nu_j[3 * a + c] - nu_i[3 * a + c]) * w[c];
+    }
+    /* zero-energy mode control: the part of u_j - u_i that the quadratic fit leaves */
+    double coef[PERI_FIT_BASIS][3] = {{0}}, phi[PERI_FIT_BASIS];
+    const double *ui = p->u + 3 * (size_t)i;
+    int nb = 0;
+    for (int64_t t = h->stencil_offset[i]; t < h->stencil_offset[i + 1]; ++t) {
+      const double *uj = p->u + 3 * (size_t)h->stencil_node[t], *q = h->stencil_fit + PERI_FIT_BASIS * t;
+      for (int l = 0; l < PERI_FIT_BASIS; ++l)
+        for (int a = 0; a < 3; ++a) coef[l][a] += q[l] * (uj[a] - ui[a]);
+    }
+    double control[3] = {0, 0, 0};
+    for (int64_t t = h->stencil_offset[i]; t < h->stencil_offset[i + 1]; ++t) {
+      const int32_t j = h->stencil_node[t];
+      double xi[3];
+      peri_bond_xi(p->x, i, j, xi);
+      nb = fit_basis(p->dim, xi, h->delta[i], phi);
+      for (int a = 0; a < 3; ++a) {
+        double z = p->u[3 * (size_t)j + a] - ui[a];
+        for (int l = 0; l < nb; ++l) z -= phi[l] * coef[l][a];
+        control[a] += h->stencil_bond[t] * z;
+      }
+    }
+    const double kappa = h->stabilization * h->stiffness[i];
+    for (int a = 0; a < 3; ++a) p->f[3 * (size_t)i + a] = f[a] + kappa * control[a];
+  }
+}

@@ -1,0 +1,16 @@
+/* The partial-stress force of the coupling region (docs/model_reference.md 15.2-15.3,
+ * docs/variable_horizon.md): L0 = div nu0 with nu0_i = sum_j T_i<xi_ij> (x) xi_ij V_j. */
+#ifndef PERI_PARTIAL_STRESS_H
+#define PERI_PARTIAL_STRESS_H
+#include "peri/sim.h"
+
+/* Builds, for every coupled node, the weighted least-squares gradient over its bonds (the
+ * weights V_j d t_i / d e of its own state) and the quadratic fit of the zero-energy mode
+ * control. Returns PERI_OK, or PERI_ERR_INPUT after a message naming a node whose bonds do not
+ * determine them. */
+int peri_partial_stress_prepare(peri_sim *s);
+/* nu0 of the coupled nodes and of their bonds' nodes from the force states in h->state,
+ * then f_i = div nu0 plus the zero-energy mode control at every coupled node i. */
+void peri_partial_stress_force(peri_sim *s);
+
+#endif

@@ -1,0 +1,294 @@
+/* PMB and LPS with a horizon per node (docs/variable_horizon.md, docs/model_reference.md 15).
+ * Node i's force state has its own horizon delta_i: T_i<xi> = t_i(xi) M with the partial
+ * volume and influence of i's horizon, zero beyond it. A bond i-j exists when |xi| is within
+ * max(delta_i, delta_j) (include/peri/bonds.h), and the full peridynamic force is
+ *   f_i = sum_j (t_i<xi_ij> + t_j<xi_ji>) M_ij V_j,
+ * each end with its own constants, which pass the patch test only where delta is constant:
+ * the nodes of the coupling region take the divergence of the partial stress instead
+ * (partial_stress.c). Per-node constants:
+ *   PMB: t_i = c_i omega beta_i s / 2, c_i = c(delta_i) S(delta_i) / S_i with c(delta) the
+ *        micromodulus of docs/model_reference.md 2.3, S(delta) = int |xi| dV over the horizon
+ *        and S_i = sum_j omega beta_i |xi| V_j its discrete value (with omega = 1/|xi| this
+ *        is the symmetric micromodulus d^2 K (1/V_H,i + 1/V_H,j)/|xi| of section 15.3);
+ *   LPS: the model of lps.c with the weighted volume m_i, dilatation and P_i of i's own
+ *        horizon (T_delta = delta^-(d+1) Z<xi/delta> follows from m_i ~ delta^(d+2)).
+ * This is a per-node path without the node blocks of pmb.c and lps.c: the force states are
+ * stored per directed bond, since the partial stress needs them. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/constants.h"
+#include "peri/error.h"
+#include "peri/horizon_field.h"
+#include "peri/model.h"
+#include "peri/variable_horizon.h"
+#include "bond_kernel.h"
+#include "partial_stress.h"
+
+typedef enum { VH_PMB, VH_LPS } vh_kind;
+
+/* omega beta of a bond of reference length r0 in the horizon delta_i */
+static inline double vh_weight(const peri_family_params *f, double delta_i, double r0) {
+  return peri_partial_volume_factor(f->rule, r0, delta_i, f->spacing) * peri_influence_value(f->influence, r0, delta_i);
+}
+
+/* int |xi| dV over a horizon of radius delta (the thickness or cross-section included) */
+static double horizon_first_moment(const peri_geometry *g, double delta) {
+  const double radial = peri_influence_moment(PERI_INFLUENCE_CONSTANT, g->dim, delta);
+  if (g->dim == 3) return 4.0 * M_PI * radial;
+  if (g->dim == 2) return 2.0 * M_PI * g->thickness * radial;
+  return 2.0 * g->cross_section * radial;
+}
+
+static int vh_init(peri_sim *s, vh_kind kind) {
+  peri_horizon_field *h = s->disc.horizon_field;
+  peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const peri_family_params *f = &b->family;
+  const size_t nb = (size_t)(b->n_bonds > 0 ? b->n_bonds : 1), n = (size_t)(p->n > 0 ? p->n : 1);
+  h->state = peri_calloc(nb, sizeof(double));
+  h->node_constant = peri_calloc(n, sizeof(double));
+  peri_horizon_field_reverse_bonds(h, b);
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    const double delta = h->delta[i];
+    double sum = 0.0;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      const double r0 = peri_bond_length(p->x, i, b->neighbor[k]);
+      sum += vh_weight(f, delta, r0) * r0 * (kind == VH_LPS ? r0 : 1.0) * p->volume[b->neighbor[k]];
+    }
+    const peri_material *mat = &s->mat.materials[p->material[i]];
+    peri_geometry g = s->disc.geom;
+    g.horizon = delta;
+    if (kind == VH_LPS && s->disc.analytic_weighted_volume) sum = peri_weighted_volume_analytic(&g, f->influence);
+    if (!(sum > 0.0)) {
+      peri_error("node at (%g, %g, %g) has no bonds within its horizon %g", p->x[3 * i], p->x[3 * i + 1],
+                 p->x[3 * i + 2], delta);
+      return PERI_ERR_INPUT;
+    }
+    h->node_constant[i] = kind == VH_PMB ? peri_pmb_micromodulus(&g, mat->E, mat->K) * horizon_first_moment(&g, delta) / sum
+                                         : sum;
+  }
+  /* the stable time step reads one micromodulus per material: the stiffest node's (that of
+   * the smallest horizon), a bound for every node */
+  peri_geometry smallest = s->disc.geom;
+  smallest.horizon = h->min;
+  for (int m = 0; m < s->mat.n_materials; ++m) {
+    peri_material *mat = &s->mat.materials[m];
+    if (kind == VH_LPS) {
+      peri_lps_constants(&s->disc.geom, mat->K, mat->mu, &mat->n_theta, &mat->K_theta, &mat->alpha_m);
+      mat->c_stable = peri_stable_micromodulus(&smallest, peri_pwave_modulus(&s->disc.geom, mat->E, mat->nu, mat->K, mat->mu));
+    } else {
+      mat->c_stable = 0.0;
+      for (int32_t i = 0; i < p->n_owned; ++i)
+        if (p->material[i] == m) mat->c_stable = fmax(mat->c_stable, h->node_constant[i]);
+      mat->micromodulus = mat->c_stable;
+    }
+  }
+  if (kind == VH_LPS) {
+    p->theta = peri_calloc(n, sizeof(double));
+    p->pstate = peri_calloc(n, sizeof(double));
+    p->wvol = peri_calloc(n, sizeof(double));
+    memcpy(p->wvol, h->node_constant, sizeof(double) * (size_t)p->n);
+  }
+  return h->n_coupled > 0 ? peri_partial_stress_prepare(s) : PERI_OK;
+}
+
+static int vh_pmb_init(peri_sim *s) { return vh_init(s, VH_PMB); }
+static int vh_lps_init(peri_sim *s) { return vh_init(s, VH_LPS); }
+
+/* Breaks every intact bond beyond its critical stretch (the same decision from both ends);
+ * a bond of a coupled node stays intact and is counted in h->ps_would_break, with a warning
+ * the first time (cracks belong to the full peridynamic region). */
+static long vh_break(peri_sim *s) {
+  peri_horizon_field *h = s->disc.horizon_field;
+  const peri_particles *p = &s->disc.p;
+  peri_bonds *b = &s->disc.bonds;
+  long broken = 0, kept = 0;
+  int32_t first_kept = -1;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : broken, kept)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      if (b->broken[k]) continue;
+      const int32_t j = b->neighbor[k];
+      double dy[3];
+      const double r0 = peri_bond_length(p->x, i, j), r = peri_deformed_bond(p->x, p->u, i, j, dy);
+      const double s0 = peri_bond_s0(s, i, j) * fmin(h->s0_scale[i], h->s0_scale[j]);
+      if (!((r - r0) / r0 > s0)) continue;
+      if (h->coupled[i] || h->coupled[j]) {
+        kept++;
+#pragma omp critical(vh_first_kept)
+        if (first_kept < 0 || i < first_kept) first_kept = i;
+        continue;
+      }
+      b->broken[k] = 1;
+      broken++;
+    }
+  }
+  if (kept > 0 && h->ps_would_break == 0) {
+    const double *x = p->x + 3 * (size_t)first_kept;
+    peri_warning("partial stress: %ld bond directions of the coupling region are beyond their critical stretch "
+                 "(first at the node at (%g, %g, %g)); they are kept intact, since cracks may only run where the "
+                 "force is full peridynamics (docs/variable_horizon.md)",
+                 kept, x[0], x[1], x[2]);
+  }
+  h->ps_would_break += kept;
+  return broken;
+}
+
+/* LPS: theta_i and P_i of node i's horizon (lps.c), from the intact bonds */
+static void vh_lps_dilatation(peri_sim *s) {
+  peri_horizon_field *h = s->disc.horizon_field;
+  peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    double we_x = 0.0, w_xx = 0.0;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      if (b->broken[k]) continue;
+      const int32_t j = b->neighbor[k];
+      double dy[3];
+      const double r0 = peri_bond_length(p->x, i, j), r = peri_deformed_bond(p->x, p->u, i, j, dy);
+      const double w = vh_weight(&b->family, h->delta[i], r0) * r0 * p->volume[j];
+      we_x += w * (r - r0);
+      w_xx += w * r0;
+    }
+    const peri_material *mat = &s->mat.materials[p->material[i]];
+    const double m = h->node_constant[i], theta = mat->n_theta * we_x / m;
+    p->theta[i] = theta;
+    p->pstate[i] = we_x - theta * (mat->peer_force_state ? m : w_xx) / 3.0;
+  }
+}
+
+/* t_i<xi_ij> of every intact directed bond into h->state (0 for a broken one) */
+static void vh_states(peri_sim *s, vh_kind kind) {
+  peri_horizon_field *h = s->disc.horizon_field;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    const peri_material *mat = &s->mat.materials[p->material[i]];
+    const double c = h->node_constant[i];
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      const int32_t j = b->neighbor[k];
+      double dy[3];
+      const double r0 = peri_bond_length(p->x, i, j), r = peri_deformed_bond(p->x, p->u, i, j, dy);
+      const double w = vh_weight(&b->family, h->delta[i], r0), e = r - r0;
+      double t;
+      if (kind == VH_PMB) {
+        t = 0.5 * c * w * e / r0;
+      } else { /* lps.c lps_half: n_theta (K_theta theta - alpha P/3) omega L/m + alpha omega e^d */
+        const double alpha = mat->alpha_m / c, theta = p->theta[i];
+        t = w * (mat->n_theta * (mat->K_theta * theta - alpha * p->pstate[i] / 3.0) * r0 / c +
+                 alpha * (e - theta * r0 / 3.0));
+      }
+      h->state[k] = b->broken[k] ? 0.0 : t;
+    }
+  }
+}
+
+static long vh_force(peri_sim *s, vh_kind kind) {
+  peri_horizon_field *h = s->disc.horizon_field;
+  peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const bool breaking = s->solver.breaking, after = s->solver.break_after_force;
+  long broken = breaking && !after ? vh_break(s) : 0;
+  if (kind == VH_LPS) vh_lps_dilatation(s);
+  vh_states(s, kind);
+  /* the full peridynamic force outside the coupling region */
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    if (h->coupled[i]) continue;
+    double f[3] = {0, 0, 0};
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      if (b->broken[k]) continue;
+      const int32_t j = b->neighbor[k];
+      double dy[3];
+      const double r = peri_deformed_bond(p->x, p->u, i, j, dy);
+      if (!(r > 0.0)) continue;
+      const double g = (h->state[k] + h->state[h->reverse[k]]) * p->volume[j] / r;
+      for (int a = 0; a < 3; ++a) f[a] += g * dy[a];
+    }
+    for (int a = 0; a < 3; ++a) p->f[3 * (size_t)i + a] = f[a];
+  }
+  if (h->n_coupled > 0) peri_partial_stress_force(s);
+  if (breaking && after) broken = vh_break(s);
+  return broken;
+}
+
+static long vh_pmb_force(peri_sim *s) { return vh_force(s, VH_PMB); }
+static long vh_lps_force(peri_sim *s) { return vh_force(s, VH_LPS); }
+
+/* W_i: PMB 1/4 sum_j c_i omega beta_i s^2 |xi| V_j (half of each bond's micropotential goes
+ * to each end, each end with its own horizon); LPS K_theta theta_i^2/2 + (alpha_m/m_i)/2
+ * sum_j omega beta_i (e^d)^2 V_j as in lps.c (the peer form's energy for the peer state). */
+static void vh_energy(peri_sim *s, double *W, vh_kind kind) {
+  peri_horizon_field *h = s->disc.horizon_field;
+  peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  if (kind == VH_LPS) vh_lps_dilatation(s);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    const peri_material *mat = &s->mat.materials[p->material[i]];
+    const double c = h->node_constant[i];
+    const double theta = kind == VH_LPS ? p->theta[i] : 0.0;
+    double sum = 0.0, sum_e2 = 0.0;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      if (b->broken[k]) continue;
+      const int32_t j = b->neighbor[k];
+      double dy[3];
+      const double r0 = peri_bond_length(p->x, i, j), r = peri_deformed_bond(p->x, p->u, i, j, dy);
+      const double w = vh_weight(&b->family, h->delta[i], r0) * p->volume[j], e = r - r0;
+      if (kind == VH_PMB) {
+        sum += 0.25 * c * w * e * e / r0;
+      } else {
+        const double ed = e - theta * r0 / 3.0;
+        sum += w * ed * ed;
+        sum_e2 += w * e * e;
+      }
+    }
+    if (kind == VH_PMB) W[i] = sum;
+    else
+      W[i] = mat->peer_force_state ? peri_lps_peer_energy(mat, theta, mat->alpha_m / c, sum_e2)
+                                   : 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / c) * sum;
+  }
+}
+
+static void vh_pmb_energy(peri_sim *s, double *W) { vh_energy(s, W, VH_PMB); }
+static void vh_lps_energy(peri_sim *s, double *W) { vh_energy(s, W, VH_LPS); }
+
+/* t_ij + t_ji at the last force evaluation, over the family's partial volume (by which
+ * stress recovery multiplies it): each end's partial volume is already in its state. */
+static double vh_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
+  (void)r;
+  const peri_horizon_field *h = s->disc.horizon_field;
+  const peri_bonds *b = &s->disc.bonds;
+  const double r0 = peri_bond_length(s->disc.p.x, i, b->neighbor[k]);
+  const double beta = peri_bonds_beta(b, r0);
+  return beta > 0.0 ? (h->state[k] + h->state[h->reverse[k]]) / beta : 0.0;
+}
+
+static const peri_model_ops vh_pmb = {
+    .name = "pmb",
+    .description = "bond-based PMB with a horizon per node",
+    .fixed_poisson = 1,
+    .init = vh_pmb_init,
+    .force = vh_pmb_force,
+    .energy = vh_pmb_energy,
+    .pair_force = vh_pair_force,
+};
+
+static const peri_model_ops vh_lps = {
+    .name = "lps",
+    .description = "ordinary state-based LPS with a horizon per node",
+    .fixed_poisson = 0,
+    .init = vh_lps_init,
+    .force = vh_lps_force,
+    .energy = vh_lps_energy,
+    .pair_force = vh_pair_force,
+};
+
+const peri_model_ops *peri_variable_horizon_model(const peri_model_ops *model) {
+  if (model == peri_model_find("pmb")) return &vh_pmb;
+  if (model == peri_model_find("lps")) return &vh_lps;
+  return NULL;
+}
