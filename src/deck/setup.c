@@ -7,6 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "peri/checkpoint.h"
+#include "peri/contact.h"
 #include "peri/conduction.h"
 #include "peri/constants.h"
 #include "peri/damage.h"
@@ -715,7 +716,7 @@ static int parse_output(parse_ctx *c) {
 
 static const char *const top_keys[] = {"dimension", "plane", "discretization", "materials",
                                        "interfaces", "regions", "precracks", "boundary_conditions",
-                                       "indenter", "solver", "output", "thermal", NULL};
+                                       "indenter", "solver", "output", "thermal", "contact", NULL};
 
 /* A count derived from the ratio of two deck numbers, such as end_time / time_step. The
  * ratio is rounded up (less a rounding allowance); a count that a long cannot hold is an
@@ -772,6 +773,7 @@ static int build(parse_ctx *c) {
   TRY(peri_setup_check_layers(c->s, c->root));
   TRY(parse_indenter(c));
   TRY(parse_solver(c));
+  TRY(peri_setup_contact(s, root)); /* short-range forces (docs/contact.md) */
   TRY(parse_output(c));
   TRY(peri_setup_thermal(s, root)); /* heat conduction, thermal strain (docs/heat.md) */
   TRY(peri_plot_check(s, peri_deck_get(root, "output"))); /* the columns, thermal ones included */
@@ -875,6 +877,7 @@ void peri_sim_free(peri_sim *s) {
   free(s->cond.precracks);
   for (int d = 0; d < 3; ++d) peri_expr_free(s->cond.indenter.center[d]);
   free(s->cond.indenter.block_force);
+  peri_contact_free(s->contact);
   free(s->cond.prescribed);
   for (int k = 0; k < s->out.n_fields; ++k) free(s->out.fields[k]);
   free(s->out.fields);

@@ -48,4 +48,8 @@ int peri_setup_regions(peri_sim *s, const peri_node *root, const peri_mesh *mesh
 /* Fictitious layer regions have every node's motion prescribed (after the boundary conditions). */
 int peri_setup_check_layers(const peri_sim *s, const peri_node *root);
 
+/* The contact section (contact_keys.c, docs/contact.md): short-range forces; after the
+ * model's constants and the solver section. */
+int peri_setup_contact(peri_sim *s, const peri_node *root);
+
 #endif

@@ -1,0 +1,169 @@
+/* The candidate pairs of short-range contact (include/peri/contact_list.h): a cell list over
+ * the deformed positions finds, for every node, the nodes within the largest contact distance
+ * plus the skin; the list is kept until a node has moved half the skin, since two nodes that
+ * each moved less than skin/2 are still farther apart than d_ij if they were farther than
+ * d_ij + skin at the build. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/contact_list.h"
+#include "peri/error.h"
+
+bool peri_contact_list_stale(const peri_contact_list *l, const double *u, int32_t n, double skin) {
+  if (!l->u_built || l->n != n) return true;
+  const double limit2 = 0.25 * skin * skin;
+  bool moved = false;
+#pragma omp parallel for schedule(static) reduction(|| : moved)
+  for (int32_t i = 0; i < n; ++i) {
+    const double *a = &u[3 * (size_t)i], *b = &l->u_built[3 * (size_t)i];
+    const double d0 = a[0] - b[0], d1 = a[1] - b[1], d2 = a[2] - b[2];
+    moved = moved || d0 * d0 + d1 * d1 + d2 * d2 > limit2;
+  }
+  return moved;
+}
+
+/* The cell grid over the deformed positions: cells at least `h` wide, at most about 2n of
+ * them (a fragment that flew far widens the cells instead of allocating empty ones). */
+typedef struct {
+  double lo[3], h;
+  int64_t nc[3];
+  int64_t *start;   /* [cells+1] */
+  int32_t *node;    /* [n] nodes by cell, in index order within a cell */
+} cell_grid;
+
+static int64_t cell_coord(const cell_grid *g, const double *y, int a) {
+  int64_t c = (int64_t)floor((y[a] - g->lo[a]) / g->h);
+  return c < 0 ? 0 : c >= g->nc[a] ? g->nc[a] - 1 : c;
+}
+
+static int64_t cell_of(const cell_grid *g, const double *y) {
+  return (cell_coord(g, y, 2) * g->nc[1] + cell_coord(g, y, 1)) * g->nc[0] + cell_coord(g, y, 0);
+}
+
+static void grid_build(cell_grid *g, const double *y, int32_t n, double h) {
+  double lo[3] = {DBL_MAX, DBL_MAX, DBL_MAX}, hi[3] = {-DBL_MAX, -DBL_MAX, -DBL_MAX};
+  for (int32_t i = 0; i < n; ++i)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = fmin(lo[a], y[3 * (size_t)i + a]);
+      hi[a] = fmax(hi[a], y[3 * (size_t)i + a]);
+    }
+  const double max_cells = 2.0 * n + 8.0;
+  for (;;) {
+    double cells = 1.0;
+    for (int a = 0; a < 3; ++a) cells *= fmax(1.0, floor((hi[a] - lo[a]) / h));
+    if (cells <= max_cells) break;
+    h *= 1.26;
+  }
+  g->h = h;
+  int64_t total = 1;
+  for (int a = 0; a < 3; ++a) {
+    g->lo[a] = lo[a];
+    g->nc[a] = (int64_t)fmax(1.0, floor((hi[a] - lo[a]) / h));
+    total *= g->nc[a];
+  }
+  /* a counting sort by cell keeps the index order within each cell */
+  g->start = peri_calloc((size_t)total + 1, sizeof(int64_t));
+  g->node = peri_malloc(sizeof(int32_t) * (n > 0 ? (size_t)n : 1));
+  int64_t *cell = peri_malloc(sizeof(int64_t) * (n > 0 ? (size_t)n : 1));
+  for (int32_t i = 0; i < n; ++i) {
+    cell[i] = cell_of(g, &y[3 * (size_t)i]);
+    ++g->start[cell[i] + 1];
+  }
+  for (int64_t c = 0; c < total; ++c) g->start[c + 1] += g->start[c];
+  int64_t *fill = peri_malloc(sizeof(int64_t) * (size_t)total);
+  memcpy(fill, g->start, sizeof(int64_t) * (size_t)total);
+  for (int32_t i = 0; i < n; ++i) g->node[fill[cell[i]]++] = i;
+  free(fill);
+  free(cell);
+}
+
+/* Visits the listed partners of node i (count only when `out` is NULL); returns their number.
+ * Cells are at least max_reach + skin wide, so the 27 cells around i's cell hold them all. */
+static int64_t scan_node(const cell_grid *g, const double *x, const double *y, int32_t i,
+                         const peri_contact_reach *r, int32_t *out, double *reach_out) {
+  const double *yi = &y[3 * (size_t)i], *xi = &x[3 * (size_t)i];
+  int64_t c[3], count = 0;
+  for (int a = 0; a < 3; ++a) c[a] = cell_coord(g, yi, a);
+  for (int64_t cz = c[2] > 0 ? c[2] - 1 : 0; cz <= c[2] + 1 && cz < g->nc[2]; ++cz)
+    for (int64_t cy = c[1] > 0 ? c[1] - 1 : 0; cy <= c[1] + 1 && cy < g->nc[1]; ++cy)
+      for (int64_t cx = c[0] > 0 ? c[0] - 1 : 0; cx <= c[0] + 1 && cx < g->nc[0]; ++cx) {
+        const int64_t cell = (cz * g->nc[1] + cy) * g->nc[0] + cx;
+        for (int64_t k = g->start[cell]; k < g->start[cell + 1]; ++k) {
+          const int32_t j = g->node[k];
+          if (j == i) continue;
+          const double *yj = &y[3 * (size_t)j], *xj = &x[3 * (size_t)j];
+          double r2 = 0.0, r02 = 0.0;
+          for (int a = 0; a < 3; ++a) {
+            r2 += (yi[a] - yj[a]) * (yi[a] - yj[a]);
+            r02 += (xi[a] - xj[a]) * (xi[a] - xj[a]);
+          }
+          const double d = fmin(r->ratio * sqrt(r02), r->max_reach), listed = d + r->skin;
+          if (r2 >= listed * listed) continue;
+          if (out) {
+            out[count] = j;
+            reach_out[count] = d;
+          }
+          ++count;
+        }
+      }
+  return count;
+}
+
+void peri_contact_list_build(peri_contact_list *l, const double *x, const double *u, int32_t n,
+                             const peri_contact_reach *reach) {
+  double *y = peri_malloc(sizeof(double) * 3 * (n > 0 ? (size_t)n : 1));
+#pragma omp parallel for schedule(static)
+  for (size_t c = 0; c < 3 * (size_t)n; ++c) y[c] = x[c] + u[c];
+  cell_grid g;
+  grid_build(&g, y, n, reach->max_reach + reach->skin);
+  if (l->n != n || !l->offset) {
+    free(l->offset);
+    free(l->u_built);
+    l->offset = peri_malloc(sizeof(int64_t) * ((size_t)n + 1));
+    l->u_built = peri_malloc(sizeof(double) * 3 * (n > 0 ? (size_t)n : 1));
+    l->n = n;
+  }
+  l->offset[0] = 0;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int32_t i = 0; i < n; ++i) l->offset[i + 1] = scan_node(&g, x, y, i, reach, NULL, NULL);
+  for (int32_t i = 0; i < n; ++i) l->offset[i + 1] += l->offset[i];
+  const int64_t entries = l->offset[n];
+  if (entries > l->capacity || !l->partner) {
+    free(l->partner);
+    free(l->reach);
+    l->capacity = entries + entries / 4 + 16;
+    l->partner = peri_malloc(sizeof(int32_t) * (size_t)l->capacity);
+    l->reach = peri_malloc(sizeof(double) * (size_t)l->capacity);
+  }
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int32_t i = 0; i < n; ++i) {
+    const int64_t o = l->offset[i], m = l->offset[i + 1] - o;
+    scan_node(&g, x, y, i, reach, &l->partner[o], &l->reach[o]);
+    /* index order: the sums over partners do not depend on the cells of the build */
+    for (int64_t a = 1; a < m; ++a) {
+      const int32_t j = l->partner[o + a];
+      const double d = l->reach[o + a];
+      int64_t b = a;
+      for (; b > 0 && l->partner[o + b - 1] > j; --b) {
+        l->partner[o + b] = l->partner[o + b - 1];
+        l->reach[o + b] = l->reach[o + b - 1];
+      }
+      l->partner[o + b] = j;
+      l->reach[o + b] = d;
+    }
+  }
+  memcpy(l->u_built, u, sizeof(double) * 3 * (size_t)n);
+  ++l->builds;
+  free(g.start);
+  free(g.node);
+  free(y);
+}
+
+void peri_contact_list_free(peri_contact_list *l) {
+  free(l->offset);
+  free(l->partner);
+  free(l->reach);
+  free(l->u_built);
+  memset(l, 0, sizeof *l);
+}
