@@ -33,8 +33,14 @@ typedef struct {
 } cell_grid;
 
 static int64_t cell_coord(const cell_grid *g, const double *y, int a) {
-  int64_t c = (int64_t)floor((y[a] - g->lo[a]) / g->h);
-  return c < 0 ? 0 : c >= g->nc[a] ? g->nc[a] - 1 : c;
+  const double c = floor((y[a] - g->lo[a]) / g->h); /* not finite: clamped (the run stops after the step) */
+  return !(c >= 0.0) ? 0 : c >= (double)g->nc[a] ? g->nc[a] - 1 : (int64_t)c;
+}
+
+/* Cells along one axis: at least 1, at most max_cells (an extent that is not finite). */
+static double cells_along(double extent, double h, double max_cells) {
+  const double c = floor(extent / h);
+  return !(c >= 1.0) ? 1.0 : c > max_cells ? max_cells : c;
 }
 
 static int64_t cell_of(const cell_grid *g, const double *y) {
@@ -49,9 +55,9 @@ static void grid_build(cell_grid *g, const double *y, int32_t n, double h) {
       hi[a] = fmax(hi[a], y[3 * (size_t)i + a]);
     }
   const double max_cells = 2.0 * n + 8.0;
-  for (;;) {
+  for (int widen = 0; widen < 400; ++widen) {
     double cells = 1.0;
-    for (int a = 0; a < 3; ++a) cells *= fmax(1.0, floor((hi[a] - lo[a]) / h));
+    for (int a = 0; a < 3; ++a) cells *= cells_along(hi[a] - lo[a], h, max_cells);
     if (cells <= max_cells) break;
     h *= 1.26;
   }
@@ -59,7 +65,7 @@ static void grid_build(cell_grid *g, const double *y, int32_t n, double h) {
   int64_t total = 1;
   for (int a = 0; a < 3; ++a) {
     g->lo[a] = lo[a];
-    g->nc[a] = (int64_t)fmax(1.0, floor((hi[a] - lo[a]) / h));
+    g->nc[a] = (int64_t)cells_along(hi[a] - lo[a], h, max_cells);
     total *= g->nc[a];
   }
   /* a counting sort by cell keeps the index order within each cell */
