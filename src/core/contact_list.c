@@ -9,6 +9,9 @@
 #include <string.h>
 #include "peri/contact_list.h"
 #include "peri/error.h"
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 bool peri_contact_list_stale(const peri_contact_list *l, const double *u, int32_t n, double skin) {
   if (!l->u_built || l->n != n) return true;
@@ -23,8 +26,8 @@ bool peri_contact_list_stale(const peri_contact_list *l, const double *u, int32_
   return moved;
 }
 
-/* The cell grid over the deformed positions: cells at least `h` wide, at most about 2n of
- * them (a fragment that flew far widens the cells instead of allocating empty ones). */
+/* The cell grid over the deformed positions: cells at least `h` wide, at most 8n + 2^16 of
+ * them, 8 bytes each (a fragment that flew far widens the cells beyond that). */
 typedef struct {
   double lo[3], h;
   int64_t nc[3];
@@ -54,7 +57,7 @@ static void grid_build(cell_grid *g, const double *y, int32_t n, double h) {
       lo[a] = fmin(lo[a], y[3 * (size_t)i + a]);
       hi[a] = fmax(hi[a], y[3 * (size_t)i + a]);
     }
-  const double max_cells = 2.0 * n + 8.0;
+  const double max_cells = 8.0 * n + 65536.0;
   for (int widen = 0; widen < 400; ++widen) {
     double cells = 1.0;
     for (int a = 0; a < 3; ++a) cells *= cells_along(hi[a] - lo[a], h, max_cells);
@@ -84,36 +87,72 @@ static void grid_build(cell_grid *g, const double *y, int32_t n, double h) {
   free(cell);
 }
 
-/* Visits the listed partners of node i (count only when `out` is NULL); returns their number.
- * Cells are at least max_reach + skin wide, so the 27 cells around i's cell hold them all. */
+/* A thread's entries, grown as it goes. */
+typedef struct {
+  int32_t *partner;
+  double *reach;
+  int64_t size, capacity;
+} entry_buffer;
+
+static void buffer_reserve(entry_buffer *b, int64_t more) {
+  if (b->size + more <= b->capacity) return;
+  b->capacity = 2 * (b->size + more) + 64;
+  b->partner = peri_realloc(b->partner, sizeof(int32_t) * (size_t)b->capacity);
+  b->reach = peri_realloc(b->reach, sizeof(double) * (size_t)b->capacity);
+}
+
+/* Cells are at least half of max_reach + skin wide, and the 5 x 5 x 5 cells around a node's
+ * cell hold every node within max_reach + skin: 58% of the volume of 3 x 3 x 3 cells of the
+ * full width, so fewer candidates. */
+#define STENCIL 2
+
+/* Appends the listed partners of node i to buf; returns their number. */
 static int64_t scan_node(const cell_grid *g, const double *x, const double *y, int32_t i,
-                         const peri_contact_reach *r, int32_t *out, double *reach_out) {
+                         const peri_contact_reach *r, entry_buffer *buf) {
   const double *yi = &y[3 * (size_t)i], *xi = &x[3 * (size_t)i];
   int64_t c[3], count = 0;
+  const double farthest2 = (r->max_reach + r->skin) * (r->max_reach + r->skin);
   for (int a = 0; a < 3; ++a) c[a] = cell_coord(g, yi, a);
-  for (int64_t cz = c[2] > 0 ? c[2] - 1 : 0; cz <= c[2] + 1 && cz < g->nc[2]; ++cz)
-    for (int64_t cy = c[1] > 0 ? c[1] - 1 : 0; cy <= c[1] + 1 && cy < g->nc[1]; ++cy)
-      for (int64_t cx = c[0] > 0 ? c[0] - 1 : 0; cx <= c[0] + 1 && cx < g->nc[0]; ++cx) {
+  for (int64_t cz = c[2] > STENCIL ? c[2] - STENCIL : 0; cz <= c[2] + STENCIL && cz < g->nc[2]; ++cz)
+    for (int64_t cy = c[1] > STENCIL ? c[1] - STENCIL : 0; cy <= c[1] + STENCIL && cy < g->nc[1]; ++cy)
+      for (int64_t cx = c[0] > STENCIL ? c[0] - STENCIL : 0; cx <= c[0] + STENCIL && cx < g->nc[0]; ++cx) {
         const int64_t cell = (cz * g->nc[1] + cy) * g->nc[0] + cx;
+        buffer_reserve(buf, count + g->start[cell + 1] - g->start[cell]);
+        int32_t *out = &buf->partner[buf->size];
+        double *reach_out = &buf->reach[buf->size];
         for (int64_t k = g->start[cell]; k < g->start[cell + 1]; ++k) {
           const int32_t j = g->node[k];
           if (j == i) continue;
           const double *yj = &y[3 * (size_t)j], *xj = &x[3 * (size_t)j];
-          double r2 = 0.0, r02 = 0.0;
-          for (int a = 0; a < 3; ++a) {
-            r2 += (yi[a] - yj[a]) * (yi[a] - yj[a]);
-            r02 += (xi[a] - xj[a]) * (xi[a] - xj[a]);
-          }
+          const double r2 = (yi[0] - yj[0]) * (yi[0] - yj[0]) + (yi[1] - yj[1]) * (yi[1] - yj[1]) +
+                            (yi[2] - yj[2]) * (yi[2] - yj[2]);
+          if (r2 >= farthest2) continue; /* most candidates: no square root */
+          const double r02 = (xi[0] - xj[0]) * (xi[0] - xj[0]) + (xi[1] - xj[1]) * (xi[1] - xj[1]) +
+                             (xi[2] - xj[2]) * (xi[2] - xj[2]);
           const double d = fmin(r->ratio * sqrt(r02), r->max_reach), listed = d + r->skin;
           if (r2 >= listed * listed) continue;
-          if (out) {
-            out[count] = j;
-            reach_out[count] = d;
-          }
+          out[count] = j;
+          reach_out[count] = d;
           ++count;
         }
       }
   return count;
+}
+
+/* Sorts one node's partners by index (insertion: a few tens of entries), so that the sums
+ * over them do not depend on the cells of the build. */
+static void sort_partners(int32_t *partner, double *reach, int64_t m) {
+  for (int64_t a = 1; a < m; ++a) {
+    const int32_t j = partner[a];
+    const double d = reach[a];
+    int64_t b = a;
+    for (; b > 0 && partner[b - 1] > j; --b) {
+      partner[b] = partner[b - 1];
+      reach[b] = reach[b - 1];
+    }
+    partner[b] = j;
+    reach[b] = d;
+  }
 }
 
 void peri_contact_list_build(peri_contact_list *l, const double *x, const double *u, int32_t n,
@@ -122,7 +161,7 @@ void peri_contact_list_build(peri_contact_list *l, const double *x, const double
 #pragma omp parallel for schedule(static)
   for (size_t c = 0; c < 3 * (size_t)n; ++c) y[c] = x[c] + u[c];
   cell_grid g;
-  grid_build(&g, y, n, reach->max_reach + reach->skin);
+  grid_build(&g, y, n, (reach->max_reach + reach->skin) / STENCIL);
   if (l->n != n || !l->offset) {
     free(l->offset);
     free(l->u_built);
@@ -131,8 +170,30 @@ void peri_contact_list_build(peri_contact_list *l, const double *x, const double
     l->n = n;
   }
   l->offset[0] = 0;
-#pragma omp parallel for schedule(dynamic, 256)
-  for (int32_t i = 0; i < n; ++i) l->offset[i + 1] = scan_node(&g, x, y, i, reach, NULL, NULL);
+  /* one pass: each thread scans a contiguous range of nodes into its own buffer, the
+   * ranges are then laid end to end in node order */
+  int threads = 1, used = 1;
+#ifdef _OPENMP
+  threads = omp_get_max_threads();
+#endif
+  entry_buffer *buffers = peri_calloc((size_t)threads, sizeof(entry_buffer));
+#pragma omp parallel num_threads(threads)
+  {
+    int t = 0, nt = 1;
+#ifdef _OPENMP
+    t = omp_get_thread_num();
+    nt = omp_get_num_threads();
+#endif
+    if (t == 0) used = nt; /* the team may be smaller than asked */
+    const int32_t i0 = (int32_t)((int64_t)n * t / nt), i1 = (int32_t)((int64_t)n * (t + 1) / nt);
+    entry_buffer *b = &buffers[t];
+    for (int32_t i = i0; i < i1; ++i) {
+      const int64_t m = scan_node(&g, x, y, i, reach, b);
+      sort_partners(&b->partner[b->size], &b->reach[b->size], m);
+      b->size += m;
+      l->offset[i + 1] = m;
+    }
+  }
   for (int32_t i = 0; i < n; ++i) l->offset[i + 1] += l->offset[i];
   const int64_t entries = l->offset[n];
   if (entries > l->capacity || !l->partner) {
@@ -142,23 +203,19 @@ void peri_contact_list_build(peri_contact_list *l, const double *x, const double
     l->partner = peri_malloc(sizeof(int32_t) * (size_t)l->capacity);
     l->reach = peri_malloc(sizeof(double) * (size_t)l->capacity);
   }
-#pragma omp parallel for schedule(dynamic, 256)
-  for (int32_t i = 0; i < n; ++i) {
-    const int64_t o = l->offset[i], m = l->offset[i + 1] - o;
-    scan_node(&g, x, y, i, reach, &l->partner[o], &l->reach[o]);
-    /* index order: the sums over partners do not depend on the cells of the build */
-    for (int64_t a = 1; a < m; ++a) {
-      const int32_t j = l->partner[o + a];
-      const double d = l->reach[o + a];
-      int64_t b = a;
-      for (; b > 0 && l->partner[o + b - 1] > j; --b) {
-        l->partner[o + b] = l->partner[o + b - 1];
-        l->reach[o + b] = l->reach[o + b - 1];
-      }
-      l->partner[o + b] = j;
-      l->reach[o + b] = d;
+#pragma omp parallel for schedule(static, 1) num_threads(used)
+  for (int t = 0; t < used; ++t) {
+    const int32_t i0 = (int32_t)((int64_t)n * t / used);
+    if (buffers[t].size > 0) {
+      memcpy(&l->partner[l->offset[i0]], buffers[t].partner, sizeof(int32_t) * (size_t)buffers[t].size);
+      memcpy(&l->reach[l->offset[i0]], buffers[t].reach, sizeof(double) * (size_t)buffers[t].size);
     }
   }
+  for (int t = 0; t < threads; ++t) {
+    free(buffers[t].partner);
+    free(buffers[t].reach);
+  }
+  free(buffers);
   memcpy(l->u_built, u, sizeof(double) * 3 * (size_t)n);
   ++l->builds;
   free(g.start);
