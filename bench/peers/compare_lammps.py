@@ -6,7 +6,10 @@ side and checks that the mean damage (peri's index and the broken-bond fraction)
 TOL at every printed step. Exit status 0 when it does, 1 otherwise.
 
   compare_lammps.py PERI_SERIES MODEL [--tol 1e-6] [--every 100] [--radius R --length L]
-                    [--steps N] [--set key=value ...]
+                    [--steps N] [--short-range] [--set key=value ...]
+
+With --short-range both run the pair styles' short-range contact forces (peri:
+contact.short_range, docs/contact.md).
 """
 import argparse
 import os
@@ -30,11 +33,14 @@ def main():
     p.add_argument("--radius", type=float, default=0.005)
     p.add_argument("--length", type=float, default=0.005)
     p.add_argument("--set", action="append", default=[])
+    p.add_argument("--short-range", action="store_true")
     a = p.parse_args()
     deck = os.path.join(ROOT, "examples", "lammps_peri_%s.yaml" % a.model)
     sets = ["solver.steps=%d" % a.steps, "discretization.fill.0.radius=%r" % a.radius,
             "discretization.fill.0.length=%r" % a.length,
             "discretization.fill.0.center=[0, %r, 0]" % (-a.length)] + a.set
+    if a.short_range:
+        sets.append("contact.short_range=true")
     with tempfile.TemporaryDirectory() as tmp:
         nodes = os.path.join(tmp, "nodes.txt")
         peri = subprocess.run([a.peri_series, deck, nodes, str(a.every)] + sets, capture_output=True, text=True)
@@ -42,7 +48,8 @@ def main():
             sys.stderr.write(peri.stdout + peri.stderr)
             return 2
         ref = subprocess.run([sys.executable, os.path.join(HERE, "lammps_peri.py"), nodes, "--model", a.model,
-                              "--steps", str(a.steps), "--every", str(a.every)], capture_output=True, text=True)
+                              "--steps", str(a.steps), "--every", str(a.every)] + (["--short-range"] if a.short_range else []),
+                             capture_output=True, text=True)
         if ref.returncode != 0:
             sys.stderr.write(ref.stdout + ref.stderr)
             return 2

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """A straightforward NumPy re-implementation of the LAMMPS PERI update loop (pair peri/pmb and
-pair peri/lps with fix peri/neigh, fix nve and fix indent sphere), without the short-range
-contact forces of the pair styles, written from the semantics of LAMMPS's pair_peri_pmb.cpp,
+pair peri/lps with fix peri/neigh, fix nve and fix indent sphere), with the short-range
+contact forces of the pair styles on request (--short-range), written from the semantics of LAMMPS's pair_peri_pmb.cpp,
 pair_peri_lps.cpp, fix_peri_neigh.cpp and compute_damage_atom.cpp:
 
 - families: every j with |x_j - x_i|^2 <= delta^2 (fix peri/neigh), built once;
@@ -15,6 +15,9 @@ pair_peri_lps.cpp, fix_peri_neigh.cpp and compute_damage_atom.cpp:
 - breaking after the force: a bond intact at the start of the evaluation is cut when its
   stretch exceeds min(s0_i, s0_j) of the previous evaluation; then
   s0_i = s00 - alpha min_j s_ij over the bonds intact at the start; s0 starts at DBL_MAX;
+- short-range forces (--short-range): every pair closer than d_ij = min(0.9 r0, 1.35 lc),
+  bonded or not, f_i += 15 k V_j (d_ij - r)/delta (y_i - y_j)/r with k = c (pmb) or
+  18 K/(pi delta^4) (lps), from all pairs of the current positions at every evaluation;
 - fix nve (velocity Verlet, mass density rho) and fix indent sphere (force k (R - r)^2
   outward for r < R, centre y0 + vy t at the time of the force).
 
@@ -117,6 +120,8 @@ class Lammps:
         self.intact = on & ~cut
         has = np.isfinite(smin)
         self.s0[has] = a.s00 - a.alpha * smin[has]
+        if a.short_range:
+            f += self.short_range()
         # fix indent sphere
         if a.indenter_radius > 0:
             c = np.array([a.indenter_x, a.indenter_y0 + a.indenter_vy * t, a.indenter_z])
@@ -125,6 +130,24 @@ class Lammps:
             dR = rr - a.indenter_radius
             hit = dR < 0.0
             f[hit] += dx[hit] * (a.indenter_k * dR[hit] ** 2 / rr[hit])[:, None]
+        return f
+
+    def short_range(self):
+        a = self.a
+        y = self.x0 + self.u
+        reach = 1.35 * a.lattice
+        I, J = families(y, reach)
+        d0 = self.x0[I] - self.x0[J]
+        dij = np.minimum(0.9 * np.sqrt(np.einsum("ij,ij->i", d0, d0)), reach)
+        d = y[I] - y[J]
+        r = np.sqrt(np.einsum("ij,ij->i", d, d))
+        hit = (r < dij) & (r > 0.0)
+        k = a.c if a.model == "pmb" else 18.0 * a.K / (np.pi * a.horizon ** 4)
+        g = np.zeros(len(I))
+        g[hit] = 15.0 * k * self.vol[J[hit]] * (dij[hit] - r[hit]) / (a.horizon * r[hit])
+        f = np.zeros((self.n, 3))
+        for c in range(3):
+            f[:, c] = np.bincount(I, g * d[:, c], self.n)
         return f
 
     def row(self, step):
@@ -182,6 +205,7 @@ def main():
     p.add_argument("--indenter-y0", type=float, default=0.00155)
     p.add_argument("--indenter-vy", type=float, default=-100.0)
     p.add_argument("--indenter-z", type=float, default=0.0)
+    p.add_argument("--short-range", action="store_true", help="the pair styles' short-range forces")
     a = p.parse_args()
     nodes = np.loadtxt(a.nodes, ndmin=2)
     Lammps(nodes[:, :3], nodes[:, 3], a).run(sys.stdout)

@@ -223,6 +223,7 @@ typedef struct peri_sim {
   peri_parallel par;
   struct peri_thermal *thermal;  /* heat conduction (docs/heat.md), NULL without */
   struct peri_coupling *coupling; /* PD-FEM coupling (docs/coupling.md), NULL without */
+  struct peri_contact *contact;  /* contact (docs/contact.md), NULL without */
 } peri_sim;
 
 /* Whether the solver is one of the quasi-static ones (adr, dynamic_relaxation, nlcg, implicit). */

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "peri/checkpoint.h"
+#include "peri/contact.h"
 #include "peri/conduction.h"
 #include "peri/coupling.h"
 #include "peri/constants.h"
@@ -750,7 +751,8 @@ static int parse_output(parse_ctx *c) {
 
 static const char *const top_keys[] = {"dimension", "plane", "discretization", "materials",
                                        "interfaces", "regions", "precracks", "boundary_conditions",
-                                       "indenter", "solver", "output", "thermal", "coupling", NULL};
+                                       "indenter", "solver", "output", "thermal", "coupling", "contact",
+                                       NULL};
 
 /* A count derived from the ratio of two deck numbers, such as end_time / time_step. The
  * ratio is rounded up (less a rounding allowance); a count that a long cannot hold is an
@@ -814,6 +816,7 @@ static int build(parse_ctx *c) {
   TRY(parse_solver(c));
   TRY(peri_setup_coupling(s, root)); /* PD-FEM coupling (src/deck/coupling_keys.c) */
   TRY(peri_setup_horizon_solver(s, root)); /* horizon_keys.c */
+  TRY(peri_setup_contact(s, root)); /* short-range forces (docs/contact.md) */
   TRY(parse_output(c));
   TRY(peri_setup_thermal(s, root)); /* heat conduction, thermal strain (docs/heat.md) */
   TRY(peri_plot_check(s, peri_deck_get(root, "output"))); /* the columns, thermal ones included */
@@ -920,6 +923,7 @@ void peri_sim_free(peri_sim *s) {
   free(s->cond.precracks);
   for (int d = 0; d < 3; ++d) peri_expr_free(s->cond.indenter.center[d]);
   free(s->cond.indenter.block_force);
+  peri_contact_free(s->contact);
   free(s->cond.prescribed);
   for (int k = 0; k < s->out.n_fields; ++k) free(s->out.fields[k]);
   free(s->out.fields);

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include "peri/contact.h"
 #include "peri/checkpoint_schedule.h"
 #include "peri/clock.h"
 #include "peri/comm.h"
@@ -239,6 +240,9 @@ int peri_run_finish(peri_run_session *r) {
              wall, wall > 0 ? (s->state.step - c.first_step) / wall : 0.0, wall > 0 ? updates / wall : 0.0,
              omp_get_max_threads());
     printf("  broken bonds %ld of %lld\n", broken, (long long)peri_global_bonds(s));
+    if (s->contact && s->contact->short_range) /* the pair list's builds (docs/contact.md) */
+      printf("  contact      short-range forces, pair list built %ld times (skin %g m), %lld pairs in the last\n",
+             s->contact->list.builds, s->contact->skin, (long long)(s->contact->list.offset ? s->contact->list.offset[s->contact->list.n] : 0));
     double tpl_bytes = 0.0;
     const double in_blocks = peri_node_blocks_share(s, &tpl_bytes);
     if (in_blocks >= 0.0) /* of this rank's bonds (rank 0's on MPI ranks) */

@@ -6,6 +6,7 @@
 #include "peri/checkpoint.h"
 #include "peri/checkpoint_schedule.h"
 #include "peri/coupling.h"
+#include "peri/contact.h"
 #include "peri/damage.h"
 #include "peri/model.h"
 #include "peri/quasistatic.h"
@@ -99,6 +100,9 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
   else
     fprintf(out, "  time step    %g s (stable estimate %g s), %ld steps to t = %g s\n", s->solver.dt,
             peri_stable_dt(s), s->solver.steps, s->solver.dt * s->solver.steps);
+  if (s->contact && s->contact->short_range) /* docs/contact.md */
+    fprintf(out, "  contact      short-range forces: c_S = %g c, d = min(%g |xi|, %g m), list skin %g m\n",
+            s->contact->stiffness_factor, PERI_SHORT_RANGE_RATIO, peri_contact_max_reach(s), s->contact->skin);
   if (s->thermal) peri_thermal_print_summary(s, out); /* thermomechanics (docs/heat.md) */
   peri_checkpoint_print_summary(s, out);               /* docs/restart.md */
 }

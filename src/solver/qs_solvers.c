@@ -5,6 +5,7 @@
  * so the solvers and their shared helpers (qs_common.c) never call each other in a loop.
  * A new solver is one file, one line here and its name under solver.type in the deck. */
 #include <stddef.h>
+#include "peri/contact.h"
 #include "peri/error.h"
 #include "peri/implicit.h"
 #include "peri/quasistatic.h"
@@ -28,6 +29,7 @@ peri_qs_status peri_solve_equilibrium(peri_sim *s) {
 }
 
 int peri_solver_check_ranks(const peri_sim *s, int ranks) {
+  if (peri_contact_check_ranks(s, ranks) != PERI_OK) return PERI_ERR_INPUT;
   const peri_qs_solver_ops *solver = peri_qs_solver(s->solver.kind);
   if (ranks <= 1 || !solver || !solver->check_ranks) return PERI_OK;
   return solver->check_ranks(s, ranks);

@@ -1,0 +1,34 @@
+/* Contact (docs/contact.md): short-range forces between any two nodes closer than their
+ * contact distance, bonded or not, within a body and across bodies. */
+#ifndef PERI_CONTACT_H
+#define PERI_CONTACT_H
+#include <stdbool.h>
+#include "peri/contact_list.h"
+
+struct peri_sim;
+
+/* The LAMMPS form of the short-range force (MODELS.md 17.1; Parks et al. 2008, LAMMPS
+ * pair peri/pmb): between nodes closer than d_ij = min(0.9 |x_i - x_j|, 1.35 (r_i + r_j)),
+ * r_i = dx/2, the force density on i is (c_S/delta) (d_ij - |y_i - y_j|) V_j along
+ * (y_i - y_j)/|y_i - y_j|, with c_S = stiffness_factor x c. */
+#define PERI_SHORT_RANGE_RATIO 0.9      /* of the reference distance (LAMMPS pair peri) */
+#define PERI_SHORT_RANGE_RADIUS 1.35    /* of r_i + r_j (LAMMPS pair peri, lattice constant) */
+#define PERI_SHORT_RANGE_FACTOR 15.0    /* c_S / c, Silling, EMU theory manual (2005) p. 18 */
+
+typedef struct peri_contact {
+  bool short_range;             /* contact.short_range given */
+  double stiffness_factor;      /* c_S / c */
+  double skin;                  /* list margin (m) */
+  double *c_material;           /* [materials] c of each material (PMB micromodulus of its K, E) */
+  peri_contact_list list;
+} peri_contact;
+
+/* The short-range force's constants of each material, once the model's are known. */
+void peri_contact_init(struct peri_sim *s);
+/* The contact distance of the farthest pair, 1.35 dx. */
+double peri_contact_max_reach(const struct peri_sim *s);
+/* Rejects a run on several MPI ranks (the list does not reach across ranks). */
+int peri_contact_check_ranks(const struct peri_sim *s, int ranks);
+void peri_contact_free(peri_contact *c);
+
+#endif
