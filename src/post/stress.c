@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/comm.h"
+#include "peri/coupling.h"
 #include "peri/error.h"
 #include "peri/model.h"
 #include "peri/stress.h"
@@ -42,6 +43,9 @@ int peri_stress(peri_sim *s, double *sigma) {
     for (int a = 0; a < 3; ++a)
       for (int c = 0; c < 3; ++c) out[3 * a + c] = 0.5 * (sg[3 * a + c] + sg[3 * c + a]);
   }
+  /* PD-FEM coupling: the pass above evaluated the PD model's forces on every node; the
+   * coupled model's forces are what the history and the reactions read (docs/coupling.md) */
+  if (s->coupling) peri_coupling_force(s);
   return PERI_OK;
 }
 
