@@ -15,6 +15,7 @@
 #include "peri/setup.h"
 #include "peri/sim.h"
 #include "omp_wait.h"
+#include "rve_command.h"
 
 static void usage(FILE *out) {
   fprintf(out,
@@ -23,6 +24,7 @@ static void usage(FILE *out) {
           "       peri check DECK [--set KEY=VALUE ...]\n"
           "       peri sweep DECK --set-list KEY=V1,V2,... [--set-list ...] --quantity NAME [...]\n"
           "                  [--set KEY=VALUE ...] [--threads N]\n"
+          "       peri rve [KEY=VALUE ...] [--threads N]\n"
           "       peri --help | --version\n"
           "\n"
           "  run     reads the YAML deck, builds the particles and bonds, runs the solver and\n"
@@ -32,6 +34,8 @@ static void usage(FILE *out) {
           "  sweep   runs the deck once per value of the --set-list keys (several lists are\n"
           "          taken in step: the k-th run uses the k-th value of each) without writing\n"
           "          output, and prints a Markdown table of the quantities\n"
+          "  rve     Monte-Carlo homogenization of a nanocomposite RVE: E11, E22, nu12, nu21,\n"
+          "          mean +- standard deviation (keys: docs/microstructures.md section 7)\n"
           "\n"
           "  --threads N         OpenMP threads (default: OMP_NUM_THREADS or all cores)\n"
           "  --quiet             no summary and no progress\n"
@@ -206,8 +210,9 @@ static int command(int argc, char **argv) {
     return 0;
   }
   const char *command = argv[1];
+  if (!strcmp(command, "rve")) return peri_rve_command(argc - 2, argv + 2);
   if (strcmp(command, "run") && strcmp(command, "check") && strcmp(command, "sweep")) {
-    peri_error("unknown command '%s' (commands: run, check, sweep; see peri --help)", command);
+    peri_error("unknown command '%s' (commands: run, check, sweep, rve; see peri --help)", command);
     return PERI_ERR_INPUT;
   }
   const bool is_sweep = !strcmp(command, "sweep");
