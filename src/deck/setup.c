@@ -51,7 +51,8 @@ typedef struct parse_ctx {
 static const char *const material_keys[] = {
     "model", "density", "youngs_modulus", "poisson_ratio", "bulk_modulus", "shear_modulus",
     "micromodulus", "critical_stretch", "fracture_energy", "fracture_toughness",
-    "conductivity", "specific_heat", "thermal_expansion", "force_state", NULL};
+    "conductivity", "specific_heat", "thermal_expansion", "force_state",
+    "plasticity", NULL};
 
 static int parse_material(parse_ctx *c, const peri_node *key, const peri_node *map, int index) {
   peri_sim *s = c->s;
@@ -762,6 +763,7 @@ static int build(parse_ctx *c) {
   TRY(parse_materials(c));
   TRY(parse_discretization(c));
   if (!heat_only) TRY(resolve_materials(c));
+  if (!heat_only) TRY(peri_setup_plasticity(s, root)); /* sublayers (plasticity_keys.c, docs/plasticity.md) */
   TRY(parse_regions(c));
   peri_bonds_build(&s->disc.bonds, &s->disc.p, &s->disc.family);
   TRY(parse_precracks(c));
@@ -772,6 +774,7 @@ static int build(parse_ctx *c) {
   TRY(peri_setup_check_layers(c->s, c->root));
   TRY(parse_indenter(c));
   TRY(parse_solver(c));
+  TRY(peri_setup_plasticity_solver(s, root));
   TRY(parse_output(c));
   TRY(peri_setup_thermal(s, root)); /* heat conduction, thermal strain (docs/heat.md) */
   TRY(peri_plot_check(s, peri_deck_get(root, "output"))); /* the columns, thermal ones included */
@@ -861,12 +864,13 @@ void peri_sim_free(peri_sim *s) {
   peri_particles_free(&s->disc.p);
   peri_bonds_free(&s->disc.bonds);
   peri_node_blocks_free(s->disc.node_blocks);
-  for (int m = 0; m < s->mat.n_materials; ++m) free(s->mat.materials[m].name);
+  for (int m = 0; m < s->mat.n_materials; ++m) free(s->mat.materials[m].name), free(s->mat.materials[m].sublayers);
   free(s->mat.materials);
   free(s->mat.pair_s0);
   free(s->mat.s0_node);
   peri_thermal_free(s->thermal);
   free(s->state.thermal_strain);
+  free(s->state.plastic_stretch);
   for (int r = 0; r < s->cond.n_regions; ++r) peri_region_free(&s->cond.regions[r]);
   free(s->cond.regions);
   for (int k = 0; k < s->cond.n_bcs; ++k)

@@ -48,4 +48,10 @@ int peri_setup_regions(peri_sim *s, const peri_node *root, const peri_mesh *mesh
 /* Fictitious layer regions have every node's motion prescribed (after the boundary conditions). */
 int peri_setup_check_layers(const peri_sim *s, const peri_node *root);
 
+/* The materials' plasticity keys (plasticity_keys.c, docs/plasticity.md): the sublayers of
+ * every plastic material, after the elastic constants are resolved; then, once the solver is
+ * parsed, whether the solver can carry a plastic state. */
+int peri_setup_plasticity(peri_sim *s, const peri_node *root);
+int peri_setup_plasticity_solver(const peri_sim *s, const peri_node *root);
+
 #endif
