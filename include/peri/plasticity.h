@@ -59,6 +59,18 @@ static inline double peri_sublayer_return(const peri_sublayers *sl, double scale
   }
   return plastic;
 }
+/* The same from the committed plastic stretches base[] into sp[] (base unchanged; base may
+ * be sp). */
+static inline double peri_sublayer_return_from(const peri_sublayers *sl, double scale, double s, const double *base,
+                                               double *sp) {
+  double plastic = 0.0;
+  for (int k = 0; k < sl->n; ++k) {
+    const double sy = sl->yield[k] * scale, trial = s - base[k];
+    sp[k] = trial > sy ? s - sy : trial < -sy ? s + sy : base[k];
+    plastic += sl->weight[k] * sp[k];
+  }
+  return plastic;
+}
 
 /* Elastic energy of the sublayers of one bond per unit c omega |xi| beta V: sum_k W_k
  * (s - sp_k)^2 / 2. */
@@ -67,5 +79,20 @@ static inline double peri_sublayer_energy(const peri_sublayers *sl, double s, co
   for (int k = 0; k < sl->n; ++k) e += 0.5 * sl->weight[k] * (s - sp[k]) * (s - sp[k]);
   return e;
 }
+
+/* Outputs (src/post/plastic_fields.c, docs/plasticity.md), of the owned nodes. */
+struct peri_sim;
+/* Yield index psi_i = sum_j beta V_j [s^p_1,ij != 0] / sum_j beta V_j over the family: the
+ * volume fraction of bonds whose first sublayer has yielded (model reference 16.3). */
+void peri_yield_index(const struct peri_sim *s, double *psi);
+/* Largest |sum_k W_k s^p_k| over the node's intact bonds (the bond's plastic stretch). */
+void peri_plastic_stretch_field(const struct peri_sim *s, double *out);
+/* The mean yield index of the nodes (all ranks). */
+double peri_mean_yield_index(const struct peri_sim *s);
+/* Quasi-static solvers: the plastic state of the accepted load step becomes the one the next
+ * iterations map from (nothing without plasticity or in dynamics). */
+void peri_plastic_commit(struct peri_sim *s);
+/* The plastic part of bond k's stretch (src/model/plastic_bonds.c). */
+double peri_plastic_bond_stretch(const struct peri_sim *s, int32_t i, int64_t k);
 
 #endif

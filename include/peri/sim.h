@@ -197,6 +197,10 @@ typedef struct peri_state {
    * bond (bond k's at plastic_stretch[k * plastic_layers]), NULL when no material is plastic */
   double *plastic_stretch;
   int plastic_layers;
+  /* quasi-static solvers: the plastic stretches of the last accepted load step, from which
+   * every iteration maps (so the iterations' path leaves no plastic trace); NULL in dynamics,
+   * whose steps map from the previous step in place */
+  double *plastic_committed;
   struct peri_restart *restart; /* checkpoint to continue from (--restart), NULL otherwise */
 } peri_state;
 

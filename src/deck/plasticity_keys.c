@@ -100,11 +100,15 @@ int peri_setup_plasticity(peri_sim *s, const peri_node *root) {
   return PERI_OK;
 }
 
-int peri_setup_plasticity_solver(const peri_sim *s, const peri_node *root) {
+int peri_setup_plasticity_solver(peri_sim *s, const peri_node *root) {
   if (!s->state.plastic_stretch) return PERI_OK;
-  if (s->solver.kind == PERI_SOLVER_EXPLICIT || s->solver.kind == PERI_SOLVER_ADR ||
-      s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION)
+  if (s->solver.kind == PERI_SOLVER_EXPLICIT) return PERI_OK;
+  if (s->solver.kind == PERI_SOLVER_ADR || s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION) {
+    /* load steps map from the accepted state (src/model/plastic_bonds.c) */
+    const size_t n = (size_t)s->state.plastic_layers * (size_t)s->disc.bonds.n_bonds;
+    s->state.plastic_committed = peri_calloc(n > 0 ? n : 1, sizeof(double));
     return PERI_OK;
+  }
   /* a line search or a Newton iteration evaluates the force at trial states, which would
    * commit plastic flow that the accepted state never reaches */
   const peri_node *solver = peri_deck_get(root, "solver");

@@ -52,6 +52,6 @@ int peri_setup_check_layers(const peri_sim *s, const peri_node *root);
  * every plastic material, after the elastic constants are resolved; then, once the solver is
  * parsed, whether the solver can carry a plastic state. */
 int peri_setup_plasticity(peri_sim *s, const peri_node *root);
-int peri_setup_plasticity_solver(const peri_sim *s, const peri_node *root);
+int peri_setup_plasticity_solver(peri_sim *s, const peri_node *root);
 
 #endif

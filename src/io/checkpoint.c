@@ -191,6 +191,9 @@ void peri_restart_apply(peri_sim *s) {
     const int64_t first = s->par.dd ? s->par.dd->bond_first[s->par.dd->rank] : 0;
     memcpy(s->state.plastic_stretch, r->plastic + (size_t)first * layers,
            sizeof(double) * layers * (size_t)s->disc.bonds.n_bonds);
+    if (s->state.plastic_committed) /* a checkpoint is written at an accepted load step */
+      memcpy(s->state.plastic_committed, s->state.plastic_stretch,
+             sizeof(double) * layers * (size_t)s->disc.bonds.n_bonds);
   }
   memcpy(s->cond.indenter.force, r->indenter_force, sizeof r->indenter_force);
   peri_quasi_static *q = &s->solver.qs;

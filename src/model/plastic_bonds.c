@@ -4,7 +4,10 @@
  * from i), so the two copies stay equal without any exchange, and each thread writes only
  * its own nodes' bonds. The return mapping runs at every force evaluation; it is idempotent
  * at a fixed stretch, so a second evaluation at the same displacement (the LAMMPS breaking
- * order, the energy) changes nothing.
+ * order, the energy) changes nothing. Quasi-static solvers map from the state of the last
+ * accepted load step (s->state.plastic_committed), committed by peri_plastic_commit, so the
+ * iterations of a solve, whose stretches overshoot on the way, leave no plastic trace: the
+ * load step is a backward-Euler step of the flow.
  *
  * The force is the elastic one at the elastic stretch s^e = s - sum_k W_k s^p_k: PMB
  * f = c s^e omega beta V M; LPS with the elastic extension e^e = s^e |xi| in both the
@@ -77,9 +80,16 @@ static inline int break_or_return(peri_sim *s, int32_t i, int64_t k, int32_t j, 
     return 1;
   }
   const peri_sublayers *sl = bond_layers(s, i, j);
-  *plastic = sl ? peri_sublayer_return(sl, 1.0, stretch, s->state.plastic_stretch + k * s->state.plastic_layers)
-                : 0.0;
+  const int64_t at = k * s->state.plastic_layers;
+  const double *base = s->state.plastic_committed ? s->state.plastic_committed + at : s->state.plastic_stretch + at;
+  *plastic = sl ? peri_sublayer_return_from(sl, 1.0, stretch, base, s->state.plastic_stretch + at) : 0.0;
   return 0;
+}
+
+void peri_plastic_commit(peri_sim *s) {
+  if (s->state.plastic_committed)
+    memcpy(s->state.plastic_committed, s->state.plastic_stretch,
+           sizeof(double) * (size_t)s->state.plastic_layers * (size_t)s->disc.bonds.n_bonds);
 }
 
 long peri_plastic_pmb_force(peri_sim *s, bool update_s0) {

@@ -3,6 +3,7 @@
  * has sublayers (s->state.plastic_stretch set), so the elastic loops carry no plasticity. */
 #ifndef PERI_PLASTIC_BONDS_H
 #define PERI_PLASTIC_BONDS_H
+#include "peri/plasticity.h"
 #include "peri/sim.h"
 
 /* Allocates the plastic state when a material has sublayers (nothing otherwise). Returns
@@ -15,7 +16,6 @@ long peri_plastic_lps_force(peri_sim *s, bool update_s0);
 /* Elastic strain energy densities at the current plastic state. */
 void peri_plastic_pmb_energy(peri_sim *s, double *W);
 void peri_plastic_lps_energy(peri_sim *s, double *W);
-/* The plastic part of bond k's stretch, sum_k W_k s^p_k (0 for an elastic bond or run). */
-double peri_plastic_bond_stretch(const peri_sim *s, int32_t i, int64_t k);
+/* (peri_plastic_bond_stretch: include/peri/plasticity.h) */
 
 #endif
