@@ -17,6 +17,8 @@ typedef struct peri_sublayers {
   int n;
   double weight[PERI_MAX_SUBLAYERS]; /* W_k, sum 1 */
   double yield[PERI_MAX_SUBLAYERS];  /* s_yk, increasing */
+  /* ductile failure: the bond breaks when |sum_k W_k s^p_k| exceeds it (INFINITY: never) */
+  double critical_plastic_stretch;
 } peri_sublayers;
 
 /* The weights sum to 1 within this (docs/plasticity.md: the printed weights of Ebrahimi

@@ -2,6 +2,7 @@
  * sublayers given as weights and yield stretches, or built from a stress-strain curve (a
  * table of points or a power law at given strains). Run once the elastic constants are
  * resolved (the construction needs E). */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include "peri/deck.h"
@@ -23,7 +24,8 @@ static const peri_node *item_or(const peri_node *map, const char *key, int bad) 
 }
 
 static int parse_one(const peri_node *pl, peri_material *mat) {
-  static const char *const keys[] = {"weights", "yield_stretches", "strains", "stresses", "power_law", NULL};
+  static const char *const keys[] = {"weights", "yield_stretches", "strains", "stresses", "power_law",
+                                     "critical_plastic_stretch", NULL};
   char section[200];
   snprintf(section, sizeof section, "materials.%s.plasticity", mat->name);
   TRY(peri_deck_allow(pl, section, keys));
@@ -82,6 +84,13 @@ static int parse_one(const peri_node *pl, peri_material *mat) {
     if (peri_sublayers_check(&sl, &bad, why, sizeof why) != 0) /* (the weights of a curve sum to 1 exactly) */
       return peri_deck_error(pl, "%s: %s", section, why);
   }
+  sl.critical_plastic_stretch = INFINITY;
+  if (peri_deck_get(pl, "critical_plastic_stretch")) {
+    TRY(peri_deck_double(pl, "critical_plastic_stretch", true, &sl.critical_plastic_stretch));
+    if (!(sl.critical_plastic_stretch > 0.0))
+      return peri_deck_error(peri_deck_get(pl, "critical_plastic_stretch"),
+                             "key 'critical_plastic_stretch': must be positive");
+  }
   mat->sublayers = peri_malloc(sizeof sl);
   *mat->sublayers = sl;
   return PERI_OK;
@@ -102,6 +111,11 @@ int peri_setup_plasticity(peri_sim *s, const peri_node *root) {
 
 int peri_setup_plasticity_solver(peri_sim *s, const peri_node *root) {
   if (!s->state.plastic_stretch) return PERI_OK;
+  if (s->disc.surface_correction != 0) {
+    const peri_node *d = peri_deck_get(root, "discretization");
+    return peri_deck_error(d ? peri_deck_get(d, "surface_correction") : root,
+                           "discretization.surface_correction: not available with plastic materials");
+  }
   if (s->solver.kind == PERI_SOLVER_EXPLICIT) return PERI_OK;
   if (s->solver.kind == PERI_SOLVER_ADR || s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION) {
     /* load steps map from the accepted state (src/model/plastic_bonds.c) */

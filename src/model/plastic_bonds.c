@@ -38,10 +38,6 @@ int peri_plastic_init(peri_sim *s) {
     if (s->mat.materials[m].sublayers && s->mat.materials[m].sublayers->n > layers)
       layers = s->mat.materials[m].sublayers->n;
   if (layers == 0) return PERI_OK;
-  if (s->disc.surface_correction != 0) {
-    peri_error("plasticity: discretization.surface_correction is not available with plastic materials");
-    return PERI_ERR_INPUT;
-  }
   const size_t n = (size_t)s->disc.bonds.n_bonds * (size_t)layers;
   s->state.plastic_stretch = peri_calloc(n > 0 ? n : 1, sizeof(double));
   s->state.plastic_layers = layers;
@@ -85,18 +81,25 @@ void peri_plastic_commit(peri_sim *s) {
 typedef struct pair_layers {
   int layers, nm;
   double *W, *Y;
+  double *critical; /* [a n_materials + b] critical plastic stretch of the pair (INFINITY: none) */
+  bool ductile;     /* some pair has one */
 } pair_layers;
 
 static pair_layers pair_layers_of(const peri_sim *s) {
   const int nm = s->mat.n_materials, L = s->state.plastic_layers;
   pair_layers t = {L, nm, peri_malloc(sizeof(double) * (size_t)(nm * nm * L)),
-                   peri_malloc(sizeof(double) * (size_t)(nm * nm * L))};
+                   peri_malloc(sizeof(double) * (size_t)(nm * nm * L)), peri_malloc(sizeof(double) * (size_t)(nm * nm)),
+                   false};
   const peri_particles *p = &s->disc.p;
   (void)p;
   for (int a = 0; a < nm; ++a)
     for (int b = 0; b < nm; ++b) {
       const peri_sublayers *A = s->mat.materials[a].sublayers, *B = s->mat.materials[b].sublayers;
       const peri_sublayers *sl = A == B || !B ? A : !A ? B : A->yield[0] <= B->yield[0] ? A : B;
+      /* the smaller of the two ends' (a symmetric choice) */
+      const double ca = A ? A->critical_plastic_stretch : INFINITY, cb = B ? B->critical_plastic_stretch : INFINITY;
+      t.critical[a * nm + b] = fmin(ca, cb);
+      t.ductile |= isfinite(t.critical[a * nm + b]);
       for (int l = 0; l < L; ++l) {
         const bool real = sl && l < sl->n;
         t.W[(a * nm + b) * L + l] = real ? sl->weight[l] : 0.0;
@@ -106,7 +109,7 @@ static pair_layers pair_layers_of(const peri_sim *s) {
   return t;
 }
 
-static void pair_layers_free(pair_layers *t) { free(t->W), free(t->Y); }
+static void pair_layers_free(pair_layers *t) { free(t->W), free(t->Y), free(t->critical); }
 
 /* Node i's bonds a chunk at a time: the deformed vectors, stretches and the margin over the
  * breaking screen (a vector loop), the exact breaking test of the candidates (scalar, rare),
@@ -203,6 +206,19 @@ static inline __attribute__((always_inline)) void plastic_chunk_map(peri_sim *s,
   case 3: plastic_return_chunk(s, pl, i, k0, n, c, 3); break;
   case 4: plastic_return_chunk(s, pl, i, k0, n, c, 4); break;
   default: plastic_return_chunk(s, pl, i, k0, n, c, pl->layers); break;
+  }
+  /* ductile failure: a bond whose plastic stretch passes the critical one breaks now (both
+   * ends see the same plastic stretch; no-fail nodes never break) */
+  if (breaking && pl->ductile && !(s->disc.p.flags[i] & PERI_NODE_NO_FAIL)) {
+    const int32_t *material = s->disc.p.material;
+    const double *critical = pl->critical + material[i] * pl->nm;
+    for (int a = 0; a < n; ++a)
+      if (c->intact[a] != 0.0 && fabs(c->s[a] - c->se[a]) > critical[material[c->j[a]]] &&
+          !(s->disc.p.flags[c->j[a]] & PERI_NODE_NO_FAIL)) {
+        s->disc.bonds.broken[k0 + a] = 1;
+        c->intact[a] = 0.0;
+        ++*broken;
+      }
   }
 }
 

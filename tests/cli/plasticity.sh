@@ -4,6 +4,8 @@
 #    unloaded and reloaded in compression: the reaction per area follows the power-law curve
 #    sigma = 400 MPa (eps/0.002)^0.1 at every breakpoint, unloads with slope E, and on the
 #    reverse branch drops by 2 sigma_k at eps_a - 2 eps_k (Masing rule), each within 2%;
+#  - ductile failure: with critical_plastic_stretch the bar breaks between the strains where the
+#    plastic stretch sum_k W_k (eps - s_yk)+ passes it;
 #  - peri check reports the sublayers and the plastic state's bytes per directed bond;
 #  - bad plasticity input: file:line:column, exit 2 (weights that do not sum to 1, yield
 #    stretches that do not increase, a curve with a negative slope, a solver with trial states);
@@ -40,6 +42,26 @@ awk -F, -v c="$col" '
   }
   END { exit (bad || rows != 10) }' "$hist" || fail "the bar does not follow the hardening curve and the Masing rule (above)"
 pass "1D bar (ADR): breakpoints, elastic unloading and the Masing reverse branch within 2%"
+
+# --- ductile failure: critical_plastic_stretch 0.005; the plastic stretch of the bar's bonds,
+# sum_k W_k (eps - s_yk)+, reaches it at eps_f = (0.005 + 0.9444 * 0.002 + 0.03015 * 0.0065) /
+# (0.9444 + 0.03015) = 0.00727: the bar carries load at eps = 0.0072 and none at 0.0074
+sed -e 's|power_law: {yield_stress: 400e6, yield_strain: 0.002, exponent: 0.1}|&\n      critical_plastic_stretch: 0.005|' \
+  -e 's|x\*(t<1.5 ? 0.002\*t .*)"|x*(t<1.5 ? 0.0072*t : 0.0074)"|' \
+  -e 's|end_time: 10, load_steps: 10|end_time: 2, load_steps: 2|' "$deck" >"$TMP/ductile.yaml"
+grep -q 'critical_plastic_stretch: 0.005' "$TMP/ductile.yaml" && grep -q '0.0074)' "$TMP/ductile.yaml" ||
+  fail "could not write the ductile bar deck"
+run_peri run "$TMP/ductile.yaml" --quiet --output "$TMP/ductile"
+expect_status 0
+hist="$TMP/ductile/history.csv"
+r1=$(sed -n 3p "$hist" | cut -d, -f"$(csv_column "$hist" reaction_pulled_x)")
+r2=$(sed -n 4p "$hist" | cut -d, -f"$(csv_column "$hist" reaction_pulled_x)")
+b2=$(sed -n 4p "$hist" | cut -d, -f"$(csv_column "$hist" broken_bond_fraction)")
+# at 0.0072 the curve gives 400 MPa (0.0072/0.002)^0.1 between breakpoints 2 and 3
+awk -v r="$r1" 'BEGIN { s = r / 1.0e-4; exit !(s > 450e6 && s < 480e6) }' || fail "ductile bar at 0.0072: $r1 N"
+awk -v r="$r2" -v b="$b2" 'BEGIN { exit !(r < 1 && r > -1 && b > 0.99) }' ||
+  fail "ductile bar at 0.0074: reaction $r2 N, broken fraction $b2 (expected 0 and every bond)"
+pass "critical plastic stretch: the bar holds at eps = 0.0072 ($r1 N) and has broken at 0.0074"
 
 # --- peri check: the sublayers and the plastic state's bytes per bond
 run_peri check "$deck"
@@ -80,6 +102,10 @@ expect_stderr_contains "$d:9:18: error: materials.steel.plasticity: the first po
 run_peri check "$deck" --set solver.type=nlcg
 expect_status 2
 expect_stderr_contains "plasticity needs solver type explicit, adr or dynamic_relaxation"
+run_peri check "$DECKS/plate_pmb.yaml" --set discretization.surface_correction=energy \
+  --set 'materials.glass={model: pmb, density: 2440, youngs_modulus: 72.0e9, plasticity: {weights: [1], yield_stretches: [1.0e-4]}}'
+expect_status 2
+expect_stderr_contains "error: discretization.surface_correction: not available with plastic materials"
 pass "bad plasticity input: file:line:column, exit 2"
 
 # --- threads: a plastic fracture run is the same with 1 and 3 threads
