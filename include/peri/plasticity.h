@@ -82,15 +82,7 @@ static inline double peri_sublayer_energy(const peri_sublayers *sl, double s, co
   return e;
 }
 
-/* Outputs (src/post/plastic_fields.c, docs/plasticity.md), of the owned nodes. */
 struct peri_sim;
-/* Yield index psi_i = sum_j beta V_j [s^p_1,ij != 0] / sum_j beta V_j over the family: the
- * volume fraction of bonds whose first sublayer has yielded (model reference 16.3). */
-void peri_yield_index(const struct peri_sim *s, double *psi);
-/* Largest |sum_k W_k s^p_k| over the node's intact bonds (the bond's plastic stretch). */
-void peri_plastic_stretch_field(const struct peri_sim *s, double *out);
-/* The mean yield index of the nodes (all ranks). */
-double peri_mean_yield_index(const struct peri_sim *s);
 /* Quasi-static solvers: the plastic state of the accepted load step becomes the one the next
  * iterations map from (nothing without plasticity or in dynamics). */
 void peri_plastic_commit(struct peri_sim *s);

@@ -12,7 +12,7 @@
 #include "peri/error.h"
 #include "peri/heat_quantities.h"
 #include "peri/output.h"
-#include "peri/plasticity.h"
+#include "peri/plastic_fields.h"
 #include "peri/frames.h"
 #include "peri/stress.h"
 #include "peri/thermal.h"

@@ -5,6 +5,7 @@
 #include "peri/comm.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
+#include "peri/plastic_fields.h"
 #include "peri/plasticity.h"
 #include "peri/sim.h"
 

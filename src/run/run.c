@@ -22,7 +22,7 @@
 #include "peri/history_log.h"
 #include "peri/model.h"
 #include "peri/output.h"
-#include "peri/plasticity.h"
+#include "peri/plastic_fields.h"
 #include "peri/progress.h"
 #include "peri/run.h"
 #include "peri/solver.h"
