@@ -2,6 +2,7 @@
 #ifndef PERI_MATERIAL_H
 #define PERI_MATERIAL_H
 #include <stdbool.h>
+#include "peri/plasticity.h"
 
 typedef enum { PERI_PLANE_NONE = 0, PERI_PLANE_STRESS = 1, PERI_PLANE_STRAIN = 2 } peri_plane;
 
@@ -37,6 +38,8 @@ typedef struct peri_material {
   double conductivity;    /* kappa (W/(m K)) */
   double specific_heat;   /* c (J/(kg K)) */
   double thermal_expansion; /* alpha_T (1/K), 0 when not given */
+  /* sublayer plasticity (docs/plasticity.md), NULL for an elastic material */
+  peri_sublayers *sublayers;
 } peri_material;
 
 /* Resolves E, nu, K, mu from whichever two were given (NaN = not given). For models with a

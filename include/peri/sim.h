@@ -195,6 +195,14 @@ typedef struct peri_state {
   double *step_load;            /* explicit: [3n] external load density of the last step, the left
                                    end of the next step's work integral (kept for checkpoints) */
   double *thermal_strain;       /* [n] alpha_T,eff (T - T_ref) per node, NULL without thermomechanics */
+  /* sublayer plasticity (docs/plasticity.md): plastic_layers plastic stretches per directed
+   * bond (bond k's at plastic_stretch[k * plastic_layers]), NULL when no material is plastic */
+  double *plastic_stretch;
+  int plastic_layers;
+  /* quasi-static solvers: the plastic stretches of the last accepted load step, from which
+   * every iteration maps (so the iterations' path leaves no plastic trace); NULL in dynamics,
+   * whose steps map from the previous step in place */
+  double *plastic_committed;
   struct peri_restart *restart; /* checkpoint to continue from (--restart), NULL otherwise */
 } peri_state;
 

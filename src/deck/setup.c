@@ -54,7 +54,8 @@ typedef struct parse_ctx {
 static const char *const material_keys[] = {
     "model", "density", "youngs_modulus", "poisson_ratio", "bulk_modulus", "shear_modulus",
     "micromodulus", "critical_stretch", "fracture_energy", "fracture_toughness",
-    "conductivity", "specific_heat", "thermal_expansion", "force_state", NULL};
+    "conductivity", "specific_heat", "thermal_expansion", "force_state",
+    "plasticity", NULL};
 
 static int parse_material(parse_ctx *c, const peri_node *key, const peri_node *map, int index) {
   peri_sim *s = c->s;
@@ -799,6 +800,7 @@ static int build(parse_ctx *c) {
   TRY(parse_materials(c));
   TRY(parse_discretization(c));
   if (!heat_only) TRY(resolve_materials(c));
+  if (!heat_only) TRY(peri_setup_plasticity(s, root)); /* sublayers (plasticity_keys.c, docs/plasticity.md) */
   TRY(parse_regions(c));
   peri_bonds_build(&s->disc.bonds, &s->disc.p, &s->disc.family);
   if (s->disc.horizon_field) { /* the coupling region and the per-node models (horizon_keys.c) */
@@ -817,6 +819,7 @@ static int build(parse_ctx *c) {
   TRY(peri_setup_coupling(s, root)); /* PD-FEM coupling (src/deck/coupling_keys.c) */
   TRY(peri_setup_horizon_solver(s, root)); /* horizon_keys.c */
   TRY(peri_setup_contact(s, root)); /* short-range forces (docs/contact.md) */
+  TRY(peri_setup_plasticity_solver(s, root));
   TRY(parse_output(c));
   TRY(peri_setup_thermal(s, root)); /* heat conduction, thermal strain (docs/heat.md) */
   TRY(peri_plot_check(s, peri_deck_get(root, "output"))); /* the columns, thermal ones included */
@@ -907,7 +910,7 @@ void peri_sim_free(peri_sim *s) {
   peri_bonds_free(&s->disc.bonds);
   peri_horizon_field_free(s->disc.horizon_field);
   peri_node_blocks_free(s->disc.node_blocks);
-  for (int m = 0; m < s->mat.n_materials; ++m) free(s->mat.materials[m].name);
+  for (int m = 0; m < s->mat.n_materials; ++m) free(s->mat.materials[m].name), free(s->mat.materials[m].sublayers);
   free(s->mat.materials);
   free(s->mat.pair_s0);
   free(s->mat.s0_node);
@@ -915,6 +918,8 @@ void peri_sim_free(peri_sim *s) {
   peri_coupling_free(s->coupling);
   free(s->coupling);
   free(s->state.thermal_strain);
+  free(s->state.plastic_stretch);
+  free(s->state.plastic_committed);
   for (int r = 0; r < s->cond.n_regions; ++r) peri_region_free(&s->cond.regions[r]);
   free(s->cond.regions);
   for (int k = 0; k < s->cond.n_bcs; ++k)

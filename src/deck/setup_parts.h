@@ -79,5 +79,10 @@ int peri_setup_horizon_solver(const peri_sim *s, const peri_node *root);
 /* The contact section (contact_keys.c, docs/contact.md): short-range forces; after the
  * model's constants and the solver section. */
 int peri_setup_contact(peri_sim *s, const peri_node *root);
+/* The materials' plasticity keys (plasticity_keys.c, docs/plasticity.md): the sublayers of
+ * every plastic material, after the elastic constants are resolved; then, once the solver is
+ * parsed, whether the solver can carry a plastic state. */
+int peri_setup_plasticity(peri_sim *s, const peri_node *root);
+int peri_setup_plasticity_solver(peri_sim *s, const peri_node *root);
 
 #endif

@@ -10,6 +10,8 @@
  *   /nodes            u, v, f [n][3], damage [n]; theta, wvol, pstate, smin, s0,
  *                     thermal_strain [n] and step_load [n][3] when the run has them
  *   /bonds/broken     [n_bonds] uint8, 0 intact / 1 broken, in bond (CSR) order
+ *   /bonds/plastic_stretch [n_bonds][layers] doubles, the sublayers' plastic stretches
+ *                     (docs/plasticity.md), when a material is plastic
  *   /indenter/force   [3]
  *   /quasi_static     attributes reference, last_reference, residual, iterations, solves,
  *                     force_evaluations, cutbacks, dynamic_time, dynamic_phases, dynamic_steps
@@ -46,6 +48,7 @@ struct peri_restart {
   int64_t n_bonds;
   double *u, *v, *f, *damage, *theta, *wvol, *pstate, *smin, *s0, *thermal_strain, *step_load;
   uint8_t *broken;
+  double *plastic; /* [n_bonds * plastic_layers] */
   double indenter_force[3];
   peri_quasi_static qs;
   bool thermal;
@@ -70,6 +73,7 @@ void peri_restart_free(struct peri_restart *r) {
                       r->thermal_strain, r->step_load, r->T, r->history, r->frame_times};
   for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k) free(arrays[k]);
   free(r->broken);
+  free(r->plastic);
   free(r->cut);
   free(r->growing_cut);
   for (long k = 0; k < r->frames_listed; ++k) free(r->frame_files[k]);
@@ -150,6 +154,8 @@ static void release_arrays(struct peri_restart *r) {
     *arrays[k] = NULL;
   }
   free(r->broken);
+  free(r->plastic);
+  r->plastic = NULL;
   free(r->cut);
   free(r->growing_cut);
   r->broken = r->cut = NULL;
@@ -180,6 +186,15 @@ void peri_restart_apply(peri_sim *s) {
   }
   copy_bonds(s, s->disc.bonds.broken, r->broken);
   ++s->disc.bonds.broken_edits;
+  if (r->plastic && s->state.plastic_stretch && s->disc.bonds.n_bonds > 0) {
+    const size_t layers = (size_t)s->state.plastic_layers;
+    const int64_t first = s->par.dd ? s->par.dd->bond_first[s->par.dd->rank] : 0;
+    memcpy(s->state.plastic_stretch, r->plastic + (size_t)first * layers,
+           sizeof(double) * layers * (size_t)s->disc.bonds.n_bonds);
+    if (s->state.plastic_committed) /* a checkpoint is written at an accepted load step */
+      memcpy(s->state.plastic_committed, s->state.plastic_stretch,
+             sizeof(double) * layers * (size_t)s->disc.bonds.n_bonds);
+  }
   memcpy(s->cond.indenter.force, r->indenter_force, sizeof r->indenter_force);
   peri_quasi_static *q = &s->solver.qs;
   q->reference = r->qs.reference;
@@ -342,6 +357,7 @@ typedef struct state_view {
   uint64_t bond_hash;
   const double *x, *u, *v, *f, *damage, *theta, *wvol, *pstate, *smin, *s0, *thermal_strain, *step_load, *T;
   const uint8_t *broken, *cut;
+  const double *plastic; /* plastic_layers per bond, NULL without plasticity */
   long growing_next; /* growing-crack bonds cut, over all ranks */
   void *gathered[16]; /* rank 0's gathered arrays, freed by view_free */
   int n_gathered;
@@ -367,6 +383,22 @@ static const uint8_t *gather_bonds(const peri_sim *s, state_view *v, const uint8
   return all;
 }
 
+/* The plastic stretches of every rank's families on rank 0 (collective). */
+static const double *gather_plastic(const peri_sim *s, state_view *v) {
+  const double *local = s->state.plastic_stretch;
+  if (!local) return NULL;
+  const peri_decomposition *d = s->par.dd;
+  const int64_t layers = s->state.plastic_layers;
+  double *all = NULL;
+  if (d->rank == 0) all = peri_malloc(sizeof(double) * (size_t)(v->n_bonds > 0 ? v->n_bonds * layers : 1));
+  int64_t *counts = peri_malloc(sizeof(int64_t) * (size_t)d->size);
+  for (int r = 0; r < d->size; ++r) counts[r] = (d->bond_first[r + 1] - d->bond_first[r]) * layers;
+  peri_comm_gather_doubles(local, s->disc.bonds.n_bonds * layers, counts, all);
+  free(counts);
+  if (all) v->gathered[v->n_gathered++] = all;
+  return all;
+}
+
 /* The view of the state of s; on MPI ranks every rank must call it (it gathers). */
 static void view_of(const peri_sim *s, state_view *v) {
   const peri_particles *p = &s->disc.p;
@@ -382,6 +414,7 @@ static void view_of(const peri_sim *s, state_view *v) {
     v->s0 = s->mat.s0_node, v->thermal_strain = s->state.thermal_strain, v->step_load = s->state.step_load;
     v->T = th ? th->T : NULL;
     v->broken = s->disc.bonds.broken, v->cut = cut;
+    v->plastic = s->state.plastic_stretch;
     v->growing_next = th ? (long)th->growing_next : 0;
     return;
   }
@@ -402,6 +435,7 @@ static void view_of(const peri_sim *s, state_view *v) {
   v->step_load = gather_nodes(s, v, s->state.step_load, 3);
   v->T = th ? gather_nodes(s, v, th->T, 1) : NULL;
   v->broken = gather_bonds(s, v, s->disc.bonds.broken);
+  v->plastic = gather_plastic(s, v);
   v->cut = gather_bonds(s, v, cut);
   /* each rank cuts the growing bonds of its families in the global (time) order, so the
    * global position is the sum of the ranks' positions */
@@ -461,6 +495,7 @@ static void write_contents(writer *w, const peri_sim *s, const state_view *v, co
 
   g = group_create(w, root, "bonds");
   dataset_put(w, g, "broken", H5T_STD_U8LE, H5T_NATIVE_UINT8, (hsize_t)v->n_bonds, 0, v->broken);
+  if (v->plastic) doubles_put(w, g, "plastic_stretch", (size_t)v->n_bonds, s->state.plastic_layers, v->plastic);
   group_close(g);
 
   g = group_create(w, root, "indenter");
@@ -847,6 +882,13 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
   out->broken = get_array(r, g, "broken", H5T_NATIVE_UINT8, 1, (hsize_t)s->disc.bonds.n_bonds, 1, true);
   for (int64_t k = 0; out->broken && !r->failed && k < s->disc.bonds.n_bonds; ++k)
     if (out->broken[k] > 1) bad(r, "%s", "dataset /bonds/broken has flags other than 0 and 1 (damaged file)");
+  if (!r->failed) {
+    out->plastic = s->state.plastic_stretch ? get_doubles(r, g, "plastic_stretch", (size_t)s->disc.bonds.n_bonds,
+                                                          s->state.plastic_layers, false)
+                                            : NULL;
+    if (!r->failed && s->state.plastic_stretch && !out->plastic)
+      bad(r, "%s", "has no /bonds/plastic_stretch of the deck's plastic materials (written without plasticity?)");
+  }
   group_close(g);
 
   g = group_open(r, "indenter", true);

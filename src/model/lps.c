@@ -13,9 +13,11 @@
 #include "peri/model.h"
 #include "bond_kernel.h"
 #include "node_blocks.h"
+#include "plastic_bonds.h"
 #include "surface_correction.h"
 
 static int lps_init(peri_sim *s) {
+  if (peri_plastic_init(s) != PERI_OK) return PERI_ERR_INPUT; /* sublayer plasticity (docs/plasticity.md) */
   peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   for (int m = 0; m < s->mat.n_materials; ++m) {
@@ -400,6 +402,7 @@ static long lps_force_pass(peri_sim *s, bool update_s0) {
 }
 
 static long lps_force(peri_sim *s) {
+  if (s->state.plastic_stretch) return peri_force_in_breaking_order(s, peri_plastic_lps_force);
   return peri_force_in_breaking_order(s, s->disc.bonds.surface_G ? peri_corrected_lps_force : lps_force_pass);
 }
 
@@ -410,6 +413,10 @@ static long lps_force(peri_sim *s) {
 static void lps_energy(peri_sim *s, double *W) {
   if (s->disc.bonds.surface_G) {
     peri_corrected_lps_energy(s, W);
+    return;
+  }
+  if (s->state.plastic_stretch) {
+    peri_plastic_lps_energy(s, W);
     return;
   }
   peri_node_blocks *items = peri_node_blocks_refresh(s);
@@ -433,7 +440,8 @@ static double lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) 
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const int32_t j = b->neighbor[k];
-  const double L = peri_bond_length(p->x, i, j), e = r - L, omega = peri_bonds_omega(b, L);
+  const double L = peri_bond_length(p->x, i, j), omega = peri_bonds_omega(b, L);
+  const double e = r - L - peri_plastic_bond_stretch(s, i, k) * L; /* the elastic extension */
   /* node i's half, omega (n_theta (K theta - alpha P/3) L/m + alpha (e - eth L - theta L/3))
    * with its thermal strain eth, is omega (D L + B e) with i's coefficients D, B of the
    * dilatation pass, which the force pass exchanges for ghosts (theta and P it does not): a

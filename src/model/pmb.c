@@ -8,6 +8,7 @@
 #include "peri/model.h"
 #include "bond_kernel.h"
 #include "node_blocks.h"
+#include "plastic_bonds.h"
 #include "surface_correction.h"
 
 static int pmb_init(peri_sim *s) {
@@ -20,6 +21,7 @@ static int pmb_init(peri_sim *s) {
   }
   peri_particles *p = &s->disc.p;
   p->coef = peri_malloc(sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
+  if (peri_plastic_init(s) != PERI_OK) return PERI_ERR_INPUT; /* sublayer plasticity (docs/plasticity.md) */
   return peri_surface_factors(s, false); /* (none without discretization.surface_correction) */
 }
 
@@ -256,6 +258,7 @@ static long pmb_force_pass(peri_sim *s, bool update_s0) {
 }
 
 static long pmb_force(peri_sim *s) {
+  if (s->state.plastic_stretch) return peri_force_in_breaking_order(s, peri_plastic_pmb_force);
   return peri_force_in_breaking_order(s, s->disc.bonds.surface_G ? peri_corrected_pmb_force : pmb_force_pass);
 }
 
@@ -369,6 +372,10 @@ static void pmb_energy(peri_sim *s, double *W) {
     peri_corrected_pmb_energy(s, W);
     return;
   }
+  if (s->state.plastic_stretch) {
+    peri_plastic_pmb_energy(s, W);
+    return;
+  }
   peri_particles *p = &s->disc.p;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->mat.materials[p->material[i]].micromodulus;
@@ -399,7 +406,8 @@ static double pmb_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) 
   const peri_bonds *b = &s->disc.bonds;
   const int32_t j = b->neighbor[k];
   const double r0 = peri_bond_length(p->x, i, j);
-  const double stretch = (r - r0) / r0 - peri_bond_thermal_stretch(s->state.thermal_strain, i, j);
+  const double stretch = (r - r0) / r0 - peri_bond_thermal_stretch(s->state.thermal_strain, i, j) -
+                         peri_plastic_bond_stretch(s, i, k);
   const double c = 0.5 * (s->mat.materials[p->material[i]].micromodulus + s->mat.materials[p->material[j]].micromodulus);
   return c * stretch * peri_bonds_omega(b, r0);
 }

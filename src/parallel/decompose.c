@@ -275,6 +275,9 @@ int peri_decompose(peri_sim *s) {
   free(s->cond.prescribed);
   s->cond.prescribed = peri_calloc(3 * (size_t)(n_local > 0 ? n_local : 1), 1);
   localize_regions(s, g0, g1);
+  /* the plastic state of the owned families (docs/plasticity.md) */
+  SLICE(s->state.plastic_stretch, sizeof(double) * (size_t)s->state.plastic_layers, bond_from, bond_count);
+  SLICE(s->state.plastic_committed, sizeof(double) * (size_t)s->state.plastic_layers, bond_from, bond_count);
   if (s->thermal) {
     const bool shared_cut = !s->thermal->own_cut;
     localize_bonds(b, g0, g1, local_of);

@@ -14,6 +14,7 @@
 #include "peri/error.h"
 #include "peri/heat_quantities.h"
 #include "peri/output.h"
+#include "peri/plastic_fields.h"
 #include "peri/frames.h"
 #include "peri/horizon_field.h"
 #include "peri/stress.h"
@@ -30,7 +31,14 @@ struct peri_frames {
   double *points, *damage, *energy;
   double *stress, *strain, *von_mises, *principal; /* allocated when first asked for */
   double *d2u;
+  double *yield_index, *plastic_stretch;           /* (docs/plasticity.md) likewise */
 };
+
+/* A frame buffer of one value per owned node, allocated on first use. */
+static double *node_buffer(const peri_sim *s, double **buffer) {
+  if (!*buffer) *buffer = peri_malloc(sizeof(double) * (size_t)(s->disc.p.n_owned > 0 ? s->disc.p.n_owned : 1));
+  return *buffer;
+}
 
 /* Stress (and its measures) of the current state into the frame buffers. */
 static int compute_stress(peri_frames *f, peri_sim *s) {
@@ -199,6 +207,11 @@ static int frame_field(peri_frames *f, peri_sim *s, const char *name, peri_field
   } else if (!strcmp(name, "heat_flux")) { /* into-flux, Bobaru & Duangpanya 2012 eq. 7 */
     peri_thermal_flux(s);
     fl.data = s->thermal->flux;
+  } else if (!strcmp(name, "yield_index") || !strcmp(name, "plastic_stretch")) { /* docs/plasticity.md */
+    double *values = node_buffer(s, !strcmp(name, "yield_index") ? &f->yield_index : &f->plastic_stretch);
+    if (!strcmp(name, "yield_index")) peri_yield_index(s, values);
+    else peri_plastic_stretch_field(s, values);
+    fl.data = values;
   } else if (!strcmp(name, "strain")) {
     if (!f->strain) f->strain = peri_malloc(sizeof(double) * 9 * (size_t)p->n_owned);
     peri_strain(s, f->strain);
@@ -306,6 +319,11 @@ int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
       values[i] = sqrt(sum);
     }
     free(e);
+  } else if (!strcmp(name, "yield_index") && s->state.plastic_stretch) {
+    peri_yield_index(s, values);
+    vmin = 0.0, vmax = 1.0;
+  } else if (!strcmp(name, "plastic_stretch") && s->state.plastic_stretch) {
+    peri_plastic_stretch_field(s, values);
   } else if (!strcmp(name, "temperature") && s->thermal) {
     memcpy(values, s->thermal->T, sizeof(double) * (size_t)p->n_owned);
   } else if (!strcmp(name, "heat_flux") && s->thermal) {
@@ -401,5 +419,7 @@ void peri_frames_close(peri_frames *f) {
   free(f->d2u);
   free(f->von_mises);
   free(f->principal);
+  free(f->yield_index);
+  free(f->plastic_stretch);
   free(f);
 }

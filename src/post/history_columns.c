@@ -51,6 +51,7 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
                                       "energy_balance", "broken_bond_fraction"};
   for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; ++k) add(c, fixed[k]);
   add(c, "mean_damage"); /* the mean damage index of the nodes */
+  if (s->state.plastic_stretch) add(c, "mean_yield_index"); /* docs/plasticity.md */
   char buf[64];
   for (int d = 0; d < s->disc.geom.dim; ++d) {
     snprintf(buf, sizeof buf, "momentum_%c", "xyz"[d]);
@@ -133,7 +134,7 @@ const char *peri_history_unit(const char *column) {
   } units[] = {
       {"time", "s", true},          {"step", "1", true},           {"kinetic_energy", "J", true},
       {"strain_energy", "J", true}, {"external_work", "J", true},  {"energy_balance", "J", true},
-      {"broken_bond_fraction", "1", true}, {"mean_damage", "1", true}, {"phase", "1", true},   {"dynamic_time", "s", true},
+      {"broken_bond_fraction", "1", true}, {"mean_damage", "1", true}, {"mean_yield_index", "1", true}, {"phase", "1", true},   {"dynamic_time", "s", true},
       {"total_heat", "J", true},    {"min_temperature", "K", true}, {"max_temperature", "K", true},
       {"momentum_", "kg*m/s", false}, {"indenter_force_", "N", false}, {"reaction_", "N", false},
       {"displacement_", "m", false}, {"mean_temperature_", "K", false}, {"heat_inflow_", "W", false},

@@ -25,6 +25,7 @@
 #include "peri/model.h"
 #include "peri/output.h"
 #include "peri/phase_stress.h"
+#include "peri/plastic_fields.h"
 #include "peri/progress.h"
 #include "peri/run.h"
 #include "peri/solver.h"
@@ -76,6 +77,7 @@ static int write_history(peri_sim *s, run_ctx *c) {
   const int64_t n_bonds = peri_global_bonds(s); /* all ranks (docs/parallel.md) */
   c->log.row[k++] = n_bonds ? (double)peri_global_broken(s) / (double)n_bonds : 0.0;
   c->log.row[k++] = peri_mean_damage(s); /* the mean of the damage field */
+  if (s->state.plastic_stretch) c->log.row[k++] = peri_mean_yield_index(s); /* docs/plasticity.md */
   double momentum[3];
   peri_linear_momentum(s, momentum);
   for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = momentum[d];

@@ -57,7 +57,9 @@ double peri_memory_estimate(const peri_sim *s) {
   if (s->disc.p.theta) per_node += 3 * 8;
   if (s->mat.s0_node) per_node += 2 * 8;
   per_node += 6 * 8; /* the bond loops' copies of x and u (src/model/node_blocks.c) */
-  return n * per_node + (n + 1) * 8 + nb * (peri_bonds_bytes_per_bond(&s->disc.bonds) + peri_node_blocks_bytes_bound());
+  const double plastic = 8.0 * s->state.plastic_layers; /* sublayer plastic stretches (docs/plasticity.md) */
+  return n * per_node + (n + 1) * 8 +
+         nb * (peri_bonds_bytes_per_bond(&s->disc.bonds) + peri_node_blocks_bytes_bound() + plastic);
 }
 
 static const char *model_plane(const peri_sim *s) {
@@ -95,7 +97,15 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
     fprintf(out, "  material     %s: rho %g, E %g, nu %.4g, K %g, critical stretch %g%s\n", mat->name,
             mat->density, mat->E, mat->nu, mat->K, mat->lammps_s0 ? mat->s00 : mat->critical_stretch,
             mat->lammps_s0 ? " (s00, compression-dependent)" : "");
+    const peri_sublayers *sl = mat->sublayers;
+    if (!sl) continue;
+    fprintf(out, "  plasticity   %s: %d sublayers (W, s_y):", mat->name, sl->n);
+    for (int k = 0; k < sl->n; ++k) fprintf(out, " (%.4f, %.4g)", sl->weight[k], sl->yield[k]);
+    fprintf(out, "\n");
   }
+  if (s->state.plastic_stretch)
+    fprintf(out, "  plastic state %d bytes per directed bond (%d plastic stretches)\n", 8 * s->state.plastic_layers,
+            s->state.plastic_layers);
   if (peri_is_quasi_static(s)) peri_print_quasi_static_summary(s, out);
   else
     fprintf(out, "  time step    %g s (stable estimate %g s), %ld steps to t = %g s\n", s->solver.dt,

@@ -11,6 +11,7 @@
 #include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/model.h"
+#include "peri/plasticity.h"
 #include "peri/quasistatic.h"
 
 static const char *solver_name(peri_solver_kind k) {
@@ -177,7 +178,7 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
       }
       if (retry) continue;
       if (!stop && rc == PERI_OK) peri_qs_work_step(&work, s);
-      if (!stop) t_done = t;
+      if (!stop) t_done = t, peri_plastic_commit(s); /* the accepted plastic state (docs/plasticity.md) */
     }
     s->state.time = t_done;
     if (rc != PERI_OK || stop) break;

@@ -7,7 +7,8 @@
 # without interruption: history.csv, the .pvd, every VTU frame and the final checkpoint
 # (whose displacements are also compared with h5dump). Decks: a 2D PMB plate with a
 # pre-crack whose crack keeps growing after the checkpoint, its LPS twin, the PMB plate with
-# the compression-dependent critical stretch (per-node s0 carried over), a heat deck with
+# the compression-dependent critical stretch (per-node s0 carried over), the PMB plate with
+# sublayer plasticity (the plastic stretches of every bond carried over), a heat deck with
 # a growing crack, a two-way thermomechanical quench, and a 1D quasi-static bar restarted
 # before it breaks through in a dynamic phase. Then a truncated or damaged checkpoint, one
 # of another discretization, one of another model and one beyond the deck's end are refused
@@ -109,6 +110,9 @@ restart_case pmb "$DECKS/plate_pmb.yaml" 100 200 broken_bond_fraction "${every[@
 restart_case lps "$DECKS/plate_lps.yaml" 150 200 broken_bond_fraction "${every[@]}"
 restart_case compression_s0 "$DECKS/plate_pmb.yaml" 100 200 broken_bond_fraction "${every[@]}" \
   --set 'materials.glass={model: pmb, density: 2440, youngs_modulus: 72.0e9, critical_stretch: {s00: 0.00016, alpha: 0.25}}'
+# sublayer plasticity (docs/plasticity.md): the plastic state of every bond is carried over
+restart_case plastic "$DECKS/plate_pmb.yaml" 100 200 mean_yield_index "${every[@]}" \
+  --set 'materials.glass={model: pmb, density: 2440, youngs_modulus: 72.0e9, fracture_energy: 3.8, plasticity: {weights: [0.9, 0.1], yield_stretches: [5.0e-5, 2.0e-4]}}'
 restart_case heat "$DECKS/restart_heat.yaml" 20 60 broken_bond_fraction
 restart_case thermal_shock "$DECKS/restart_thermal_shock.yaml" 240 512 broken_bond_fraction
 # the bar breaks through at load step 21 in a dynamic phase (solver.dynamic_switch), whose

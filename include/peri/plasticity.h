@@ -1,0 +1,92 @@
+/* Sublayer plasticity (docs/plasticity.md; model reference section 16, Ebrahimi 2020 ch. 5):
+ * a bond is n elastic-perfectly-plastic sublayers in parallel, sublayer k of weight W_k and
+ * yield stretch s_yk, all at the bond's stretch. Each bond stores the plastic stretch of each
+ * of its sublayers; the force is the elastic one evaluated at the elastic stretch
+ *   s^e = s - sum_k W_k s^p_k.
+ * The sublayers come from (W_k, s_yk) or from a uniaxial stress-strain curve (a power law or
+ * a table of points) by the construction of section 16.1. */
+#ifndef PERI_PLASTICITY_H
+#define PERI_PLASTICITY_H
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#define PERI_MAX_SUBLAYERS 16
+
+typedef struct peri_sublayers {
+  int n;
+  double weight[PERI_MAX_SUBLAYERS]; /* W_k, sum 1 */
+  double yield[PERI_MAX_SUBLAYERS];  /* s_yk, increasing */
+  /* ductile failure: the bond breaks when |sum_k W_k s^p_k| exceeds it (INFINITY: never) */
+  double critical_plastic_stretch;
+} peri_sublayers;
+
+/* The weights sum to 1 within this (docs/plasticity.md: the printed weights of Ebrahimi
+ * Table 5.2 have 4 digits, whose sum is 1 within 1e-4). */
+#define PERI_SUBLAYER_WEIGHT_TOLERANCE 1e-3
+
+/* The sublayers of a piecewise-linear uniaxial curve through the origin and the n points
+ * (strain[k], stress[k]) (model reference 16.1): s_yk = strain[k], e_1 = E, e_k the slope of
+ * segment k, W_k = (e_k - e_{k+1})/E with e_{n+1} = 0. The first point must lie on the
+ * elastic line (stress[0] = E strain[0] within 1e-3). Returns 0, or on bad input -1 with the
+ * index of the offending point in *bad and a message in why: strains not increasing, a
+ * negative slope, a slope that increases (a negative weight), too many points. */
+int peri_sublayers_from_curve(double E, int n, const double *strain, const double *stress, peri_sublayers *out,
+                              int *bad, char *why, size_t why_size);
+/* Breakpoint stresses of the power-law hardening curve sigma = sigma0 (eps/eps0)^exponent
+ * (eps >= eps0; Ebrahimi eq. 5.7 as corrected in the model reference, section 20) at the
+ * given strains. */
+void peri_power_law_stresses(double sigma0, double eps0, double exponent, int n, const double *strain,
+                             double *stress);
+/* Checks given sublayers: weights positive and summing to 1 within
+ * PERI_SUBLAYER_WEIGHT_TOLERANCE, yield stretches positive and increasing. Returns 0, or -1
+ * with the offending index in *bad (-1 for the sum) and a message. */
+int peri_sublayers_check(const peri_sublayers *sl, int *bad, char *why, size_t why_size);
+
+/* Stress of the bond curve at a monotonic uniaxial strain eps from the virgin state,
+ * divided by E: sum_k W_k min(eps, s_yk). */
+double peri_sublayers_monotonic(const peri_sublayers *sl, double eps);
+
+/* Return mapping of one bond (model reference 16.2) at total mechanical stretch s: updates
+ * the plastic stretches sp[0 .. n-1] of its sublayers and returns sum_k W_k sp_k, the
+ * plastic part of the stretch (s^e = s - that). `scale` multiplies the yield stretches
+ * (1 without rate dependence). Idempotent: a second call at the same s changes nothing. */
+static inline double peri_sublayer_return(const peri_sublayers *sl, double scale, double s, double *sp) {
+  double plastic = 0.0;
+  for (int k = 0; k < sl->n; ++k) {
+    const double sy = sl->yield[k] * scale, trial = s - sp[k];
+    if (trial > sy) sp[k] = s - sy;
+    else if (trial < -sy) sp[k] = s + sy;
+    plastic += sl->weight[k] * sp[k];
+  }
+  return plastic;
+}
+/* The same from the committed plastic stretches base[] into sp[] (base unchanged; base may
+ * be sp). */
+static inline double peri_sublayer_return_from(const peri_sublayers *sl, double scale, double s, const double *base,
+                                               double *sp) {
+  double plastic = 0.0;
+  for (int k = 0; k < sl->n; ++k) {
+    const double sy = sl->yield[k] * scale, trial = s - base[k];
+    sp[k] = trial > sy ? s - sy : trial < -sy ? s + sy : base[k];
+    plastic += sl->weight[k] * sp[k];
+  }
+  return plastic;
+}
+
+/* Elastic energy of the sublayers of one bond per unit c omega |xi| beta V: sum_k W_k
+ * (s - sp_k)^2 / 2. */
+static inline double peri_sublayer_energy(const peri_sublayers *sl, double s, const double *sp) {
+  double e = 0.0;
+  for (int k = 0; k < sl->n; ++k) e += 0.5 * sl->weight[k] * (s - sp[k]) * (s - sp[k]);
+  return e;
+}
+
+struct peri_sim;
+/* Quasi-static solvers: the plastic state of the accepted load step becomes the one the next
+ * iterations map from (nothing without plasticity or in dynamics). */
+void peri_plastic_commit(struct peri_sim *s);
+/* The plastic part of bond k's stretch (src/model/plastic_bonds.c). */
+double peri_plastic_bond_stretch(const struct peri_sim *s, int32_t i, int64_t k);
+
+#endif

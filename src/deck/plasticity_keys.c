@@ -1,0 +1,132 @@
+/* The materials' plasticity keys (docs/deck.md "Plasticity", docs/plasticity.md): the
+ * sublayers given as weights and yield stretches, or built from a stress-strain curve (a
+ * table of points or a power law at given strains). Run once the elastic constants are
+ * resolved (the construction needs E). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include "peri/deck.h"
+#include "peri/error.h"
+#include "peri/plasticity.h"
+#include "setup_parts.h"
+
+#define TRY(expr)                   \
+  do {                              \
+    int rc_ = (expr);               \
+    if (rc_ != PERI_OK) return rc_; \
+  } while (0)
+
+/* The item `bad` of the sequence under `key` (for the position of a message), else the key's value. */
+static const peri_node *item_or(const peri_node *map, const char *key, int bad) {
+  const peri_node *seq = peri_deck_get(map, key);
+  if (seq && seq->kind == PERI_NODE_SEQUENCE && bad >= 0 && bad < seq->count) return seq->items[bad];
+  return seq ? seq : map;
+}
+
+static int parse_one(const peri_node *pl, peri_material *mat) {
+  static const char *const keys[] = {"weights", "yield_stretches", "strains", "stresses", "power_law",
+                                     "critical_plastic_stretch", NULL};
+  char section[200];
+  snprintf(section, sizeof section, "materials.%s.plasticity", mat->name);
+  TRY(peri_deck_allow(pl, section, keys));
+  peri_sublayers sl = {0};
+  char why[256];
+  int bad = -1;
+  const bool given = peri_deck_get(pl, "weights") || peri_deck_get(pl, "yield_stretches");
+  const bool curve = peri_deck_get(pl, "strains") || peri_deck_get(pl, "stresses") || peri_deck_get(pl, "power_law");
+  if (given == curve)
+    return peri_deck_error(pl, "%s: give either weights and yield_stretches, or strains with stresses or power_law",
+                           section);
+  if (given) {
+    int nw = 0, ny = 0;
+    TRY(peri_deck_vector_range(pl, "weights", true, 1, PERI_MAX_SUBLAYERS, sl.weight, &nw));
+    TRY(peri_deck_vector_range(pl, "yield_stretches", true, 1, PERI_MAX_SUBLAYERS, sl.yield, &ny));
+    if (nw != ny)
+      return peri_deck_error(peri_deck_get(pl, "yield_stretches"), "%s: %d weights but %d yield_stretches", section, nw,
+                             ny);
+    sl.n = nw;
+    if (peri_sublayers_check(&sl, &bad, why, sizeof why) != 0) {
+      const peri_node *at = bad < 0 ? peri_deck_get(pl, "weights")
+                            : !(sl.weight[bad] > 0.0) ? item_or(pl, "weights", bad)
+                                                       : item_or(pl, "yield_stretches", bad);
+      return peri_deck_error(at, "%s: %s", section, why);
+    }
+  } else {
+    double strain[PERI_MAX_SUBLAYERS], stress[PERI_MAX_SUBLAYERS];
+    int n = 0, ns = 0;
+    TRY(peri_deck_vector_range(pl, "strains", true, 1, PERI_MAX_SUBLAYERS, strain, &n));
+    const peri_node *law = peri_deck_get(pl, "power_law");
+    if (law && peri_deck_get(pl, "stresses"))
+      return peri_deck_error(law, "%s: give stresses or power_law, not both", section);
+    if (law) {
+      static const char *const law_keys[] = {"yield_stress", "yield_strain", "exponent", NULL};
+      double sigma0 = 0.0, eps0 = 0.0, exponent = 0.0;
+      TRY(peri_deck_allow(law, "power_law", law_keys));
+      TRY(peri_deck_double(law, "yield_stress", true, &sigma0));
+      TRY(peri_deck_double(law, "yield_strain", true, &eps0));
+      TRY(peri_deck_double(law, "exponent", true, &exponent));
+      if (!(sigma0 > 0.0) || !(eps0 > 0.0))
+        return peri_deck_error(law, "power_law: yield_stress and yield_strain must be positive");
+      if (!(exponent >= 0.0 && exponent <= 1.0))
+        return peri_deck_error(peri_deck_get(law, "exponent"), "power_law: exponent must be in [0, 1]");
+      for (int k = 0; k < n; ++k)
+        if (strain[k] < eps0 * (1.0 - 1e-9))
+          return peri_deck_error(item_or(pl, "strains", k), "%s: strain %g is below the power law's yield_strain %g",
+                                 section, strain[k], eps0);
+      peri_power_law_stresses(sigma0, eps0, exponent, n, strain, stress);
+    } else {
+      TRY(peri_deck_vector_range(pl, "stresses", true, 1, PERI_MAX_SUBLAYERS, stress, &ns));
+      if (ns != n)
+        return peri_deck_error(peri_deck_get(pl, "stresses"), "%s: %d strains but %d stresses", section, n, ns);
+    }
+    if (peri_sublayers_from_curve(mat->E, n, strain, stress, &sl, &bad, why, sizeof why) != 0)
+      return peri_deck_error(item_or(pl, law ? "strains" : "stresses", bad), "%s: %s", section, why);
+    if (peri_sublayers_check(&sl, &bad, why, sizeof why) != 0) /* (the weights of a curve sum to 1 exactly) */
+      return peri_deck_error(pl, "%s: %s", section, why);
+  }
+  sl.critical_plastic_stretch = INFINITY;
+  if (peri_deck_get(pl, "critical_plastic_stretch")) {
+    TRY(peri_deck_double(pl, "critical_plastic_stretch", true, &sl.critical_plastic_stretch));
+    if (!(sl.critical_plastic_stretch > 0.0))
+      return peri_deck_error(peri_deck_get(pl, "critical_plastic_stretch"),
+                             "key 'critical_plastic_stretch': must be positive");
+  }
+  mat->sublayers = peri_malloc(sizeof sl);
+  *mat->sublayers = sl;
+  return PERI_OK;
+}
+
+int peri_setup_plasticity(peri_sim *s, const peri_node *root) {
+  const peri_node *mats = peri_deck_get(root, "materials");
+  for (int m = 0; m < s->mat.n_materials && mats; ++m) {
+    const peri_node *pl = peri_deck_get(mats->items[m], "plasticity");
+    if (!pl) continue;
+    if (pl->kind != PERI_NODE_MAPPING)
+      return peri_deck_error(pl, "materials.%s.plasticity: expected a mapping, got %s", s->mat.materials[m].name,
+                             peri_deck_kind_name(pl));
+    TRY(parse_one(pl, &s->mat.materials[m]));
+  }
+  return PERI_OK;
+}
+
+int peri_setup_plasticity_solver(peri_sim *s, const peri_node *root) {
+  if (!s->state.plastic_stretch) return PERI_OK;
+  if (s->disc.surface_correction != 0) {
+    const peri_node *d = peri_deck_get(root, "discretization");
+    return peri_deck_error(d ? peri_deck_get(d, "surface_correction") : root,
+                           "discretization.surface_correction: not available with plastic materials");
+  }
+  if (s->solver.kind == PERI_SOLVER_EXPLICIT) return PERI_OK;
+  if (s->solver.kind == PERI_SOLVER_ADR || s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION) {
+    /* load steps map from the accepted state (src/model/plastic_bonds.c) */
+    const size_t n = (size_t)s->state.plastic_layers * (size_t)s->disc.bonds.n_bonds;
+    s->state.plastic_committed = peri_calloc(n > 0 ? n : 1, sizeof(double));
+    return PERI_OK;
+  }
+  /* a line search or a Newton iteration evaluates the force at trial states, which would
+   * commit plastic flow that the accepted state never reaches */
+  const peri_node *solver = peri_deck_get(root, "solver");
+  return peri_deck_error(solver ? peri_deck_get(solver, "type") : root,
+                         "solver: plasticity needs solver type explicit, adr or dynamic_relaxation (the plastic state "
+                         "follows every force evaluation)");
+}

@@ -1,0 +1,404 @@
+/* Sublayer plasticity in the bond loops (model reference 16.2, docs/plasticity.md). Every
+ * directed bond stores the plastic stretch of each sublayer; both ends of a bond compute
+ * the same stretch bit for bit (the deformed vector from j is the exact negative of that
+ * from i), so the two copies stay equal without any exchange, and each thread writes only
+ * its own nodes' bonds. The return mapping runs at every force evaluation; it is idempotent
+ * at a fixed stretch, so a second evaluation at the same displacement (the LAMMPS breaking
+ * order, the energy) changes nothing. Quasi-static solvers map from the state of the last
+ * accepted load step (s->state.plastic_committed), committed by peri_plastic_commit, so the
+ * iterations of a solve, whose stretches overshoot on the way, leave no plastic trace: the
+ * load step is a backward-Euler step of the flow.
+ *
+ * The force is the elastic one at the elastic stretch s^e = s - sum_k W_k s^p_k: PMB
+ * f = c s^e omega beta V M; LPS with the elastic extension e^e = s^e |xi| in both the
+ * dilatation sum and the deviatoric term (yield enters theta: a bond's plastic flow takes
+ * part in the volume change its node sees). */
+#include <math.h>
+#include <string.h>
+#include "peri/error.h"
+#include "peri/plasticity.h"
+#include <stdlib.h>
+#include "bond_kernel.h"
+#include "node_blocks.h"
+#include "plastic_bonds.h"
+
+/* The sublayers of bond i-j: those of the common material; between two materials the ones
+ * of the material that yields first (a symmetric choice); NULL when neither is plastic. */
+static const peri_sublayers *bond_layers(const peri_sim *s, int32_t i, int32_t j) {
+  const peri_particles *p = &s->disc.p;
+  const peri_sublayers *a = s->mat.materials[p->material[i]].sublayers, *b = s->mat.materials[p->material[j]].sublayers;
+  if (a == b || !b) return a;
+  if (!a) return b;
+  return a->yield[0] <= b->yield[0] ? a : b;
+}
+
+int peri_plastic_init(peri_sim *s) {
+  int layers = 0;
+  for (int m = 0; m < s->mat.n_materials; ++m)
+    if (s->mat.materials[m].sublayers && s->mat.materials[m].sublayers->n > layers)
+      layers = s->mat.materials[m].sublayers->n;
+  if (layers == 0) return PERI_OK;
+  const size_t n = (size_t)s->disc.bonds.n_bonds * (size_t)layers;
+  s->state.plastic_stretch = peri_calloc(n > 0 ? n : 1, sizeof(double));
+  s->state.plastic_layers = layers;
+  return PERI_OK;
+}
+
+double peri_plastic_bond_stretch(const peri_sim *s, int32_t i, int64_t k) {
+  if (!s->state.plastic_stretch) return 0.0;
+  const peri_sublayers *sl = bond_layers(s, i, s->disc.bonds.neighbor[k]);
+  if (!sl) return 0.0;
+  const double *sp = s->state.plastic_stretch + k * s->state.plastic_layers;
+  double plastic = 0.0;
+  for (int l = 0; l < sl->n; ++l) plastic += sl->weight[l] * sp[l];
+  return plastic;
+}
+
+/* Bond k of node i at the current displacement: the deformed vector, its length and
+ * reference length, and the mechanical stretch. */
+typedef struct bond_state {
+  double dy[3], r, r0, s;
+} bond_state;
+
+static inline bond_state bond_at(const peri_sim *s, int32_t i, int32_t j) {
+  const peri_particles *p = &s->disc.p;
+  bond_state st;
+  st.r = peri_deformed_bond(p->x, p->u, i, j, st.dy);
+  st.r0 = peri_bond_length(p->x, i, j);
+  st.s = (st.r - st.r0) / st.r0 - peri_bond_thermal_stretch(s->state.thermal_strain, i, j);
+  return st;
+}
+
+void peri_plastic_commit(peri_sim *s) {
+  if (s->state.plastic_committed)
+    memcpy(s->state.plastic_committed, s->state.plastic_stretch,
+           sizeof(double) * (size_t)s->state.plastic_layers * (size_t)s->disc.bonds.n_bonds);
+}
+
+/* The sublayers of every pair of materials, padded to the run's layer count with layers of
+ * weight 0 that never yield, so every bond maps the same number of layers branch-free:
+ * W and Y [(a n_materials + b) layers + l]; an elastic pair has only padding. */
+typedef struct pair_layers {
+  int layers, nm;
+  double *W, *Y;
+  double *critical; /* [a n_materials + b] critical plastic stretch of the pair (INFINITY: none) */
+  bool ductile;     /* some pair has one */
+} pair_layers;
+
+static pair_layers pair_layers_of(const peri_sim *s) {
+  const int nm = s->mat.n_materials, L = s->state.plastic_layers;
+  pair_layers t = {L, nm, peri_malloc(sizeof(double) * (size_t)(nm * nm * L)),
+                   peri_malloc(sizeof(double) * (size_t)(nm * nm * L)), peri_malloc(sizeof(double) * (size_t)(nm * nm)),
+                   false};
+  const peri_particles *p = &s->disc.p;
+  (void)p;
+  for (int a = 0; a < nm; ++a)
+    for (int b = 0; b < nm; ++b) {
+      const peri_sublayers *A = s->mat.materials[a].sublayers, *B = s->mat.materials[b].sublayers;
+      const peri_sublayers *sl = A == B || !B ? A : !A ? B : A->yield[0] <= B->yield[0] ? A : B;
+      /* the smaller of the two ends' (a symmetric choice) */
+      const double ca = A ? A->critical_plastic_stretch : INFINITY, cb = B ? B->critical_plastic_stretch : INFINITY;
+      t.critical[a * nm + b] = fmin(ca, cb);
+      t.ductile |= isfinite(t.critical[a * nm + b]);
+      for (int l = 0; l < L; ++l) {
+        const bool real = sl && l < sl->n;
+        t.W[(a * nm + b) * L + l] = real ? sl->weight[l] : 0.0;
+        t.Y[(a * nm + b) * L + l] = real ? sl->yield[l] : INFINITY;
+      }
+    }
+  return t;
+}
+
+static void pair_layers_free(pair_layers *t) { free(t->W), free(t->Y), free(t->critical); }
+
+/* Node i's bonds a chunk at a time: the deformed vectors, stretches and the margin over the
+ * breaking screen (a vector loop), the exact breaking test of the candidates (scalar, rare),
+ * then the return mapping of every intact bond, branch-free (clamping the committed plastic
+ * stretch of each layer to [s - s_y, s + s_y]), and `use` with each bond's elastic stretch.
+ * Fills the chunk arrays of the caller. */
+#define PLASTIC_CHUNK 256
+typedef struct plastic_chunk {
+  int n;
+  int64_t k0;
+  int32_t j[PLASTIC_CHUNK];
+  double y0[PLASTIC_CHUNK], y1[PLASTIC_CHUNK], y2[PLASTIC_CHUNK], r[PLASTIC_CHUNK], r0[PLASTIC_CHUNK],
+      s[PLASTIC_CHUNK], se[PLASTIC_CHUNK], intact[PLASTIC_CHUNK];
+} plastic_chunk;
+
+/* The return mapping of the chunk's bonds (L layers each, from the committed state or in
+ * place) and their elastic stretches s - sum_l W_l s^p_l into c->se. */
+static inline __attribute__((always_inline)) void plastic_return_chunk(peri_sim *s, const pair_layers *pl, int32_t i,
+                                                                       int64_t k0, int n, plastic_chunk *c,
+                                                                       const int L) {
+  const int nm = pl->nm;
+  const int32_t *restrict material = s->disc.p.material;
+  const int row = material[i] * nm;
+  double *restrict out = s->state.plastic_stretch + k0 * L;
+  const bool committed = s->state.plastic_committed != NULL;
+  const double *base = committed ? s->state.plastic_committed + k0 * L : out;
+  const double *restrict cs = c->s, *restrict on = c->intact;
+  const int32_t *restrict cj = c->j;
+  double *restrict se = c->se;
+  for (int a = 0; a < n; ++a) {
+    const int pair = (row + material[cj[a]]) * L;
+    const double *restrict W = pl->W + pair, *restrict Y = pl->Y + pair;
+    const double st = cs[a];
+    double plastic = 0.0;
+    for (int l = 0; l < L; ++l) {
+      const double b = base[a * L + l];
+      /* clamp to [s - s_y, s + s_y]: the return mapping of an elastic-perfectly-plastic layer */
+      const double v = on[a] != 0.0 ? peri_min(peri_max(b, st - Y[l]), st + Y[l]) : b;
+      /* stored only when it changes (mapping in place, most bonds are elastic in a step: no
+       * write traffic) or when mapping from the committed state */
+      if (v != b || committed) out[a * L + l] = v;
+      plastic += W[l] * v;
+    }
+    se[a] = st - plastic;
+  }
+}
+
+static inline __attribute__((always_inline)) void plastic_chunk_map(peri_sim *s, const peri_bond_view *w,
+                                                                    const pair_layers *pl, int32_t i, int64_t k0,
+                                                                    int n, bool breaking, bool thermal,
+                                                                    plastic_chunk *c, long *broken, double *smin) {
+  const int32_t *restrict nbr = w->neighbor + k0;
+  const uint8_t *restrict flag = w->broken + k0;
+  const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
+                         *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict eth = w->eth, *restrict bound = w->s0_bound;
+  const double xi0 = X0[i], xi1 = X1[i], xi2 = X2[i], ui0 = U0[i], ui1 = U1[i], ui2 = U2[i];
+  const double eth_i = thermal ? eth[i] : 0.0, bound_i = bound[i];
+  double excess[PLASTIC_CHUNK], low = *smin;
+  c->n = n, c->k0 = k0;
+  /* the 1-byte flags as doubles first: read in the vector loop they would force 64-lane
+   * vectors and a scalar tail (bond_kernel.h) */
+  if (memchr(flag, 1, (size_t)n))
+    for (int a = 0; a < n; ++a) c->intact[a] = flag[a] ? 0.0 : 1.0;
+  else
+    for (int a = 0; a < n; ++a) c->intact[a] = 1.0;
+  const double *restrict intact = c->intact;
+  int32_t *restrict cj = c->j;
+  double *restrict cy0 = c->y0, *restrict cy1 = c->y1, *restrict cy2 = c->y2, *restrict cr = c->r,
+                   *restrict cr0 = c->r0, *restrict cs = c->s;
+#pragma omp simd reduction(min : low)
+  for (int a = 0; a < n; ++a) {
+    const int32_t j = nbr[a];
+    const double x0 = X0[j] - xi0, x1 = X1[j] - xi1, x2 = X2[j] - xi2;
+    const double d0 = x0 + (U0[j] - ui0), d1 = x1 + (U1[j] - ui1), d2 = x2 + (U2[j] - ui2);
+    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2), r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+    const double st = (r - r0) / r0 - (thermal ? 0.5 * (eth_i + eth[j]) : 0.0);
+    cj[a] = j, cy0[a] = d0, cy1[a] = d1, cy2[a] = d2, cr[a] = r, cr0[a] = r0, cs[a] = st;
+    const double on = intact[a];
+    excess[a] = on * (st - peri_min(bound_i, bound[j])) - (1.0 - on);
+    low = peri_min(low, on != 0.0 ? st : INFINITY);
+  }
+  *smin = low;
+  if (breaking)
+    for (int a = 0; a < n; ++a)
+      if (excess[a] > 0.0 && c->s[a] > peri_bond_s0(s, i, c->j[a])) {
+        s->disc.bonds.broken[k0 + a] = 1;
+        c->intact[a] = 0.0;
+        ++*broken;
+      }
+  /* a constant layer count for the common ones, so the layers of a bond are one short vector */
+  switch (pl->layers) {
+  case 1: plastic_return_chunk(s, pl, i, k0, n, c, 1); break;
+  case 2: plastic_return_chunk(s, pl, i, k0, n, c, 2); break;
+  case 3: plastic_return_chunk(s, pl, i, k0, n, c, 3); break;
+  case 4: plastic_return_chunk(s, pl, i, k0, n, c, 4); break;
+  default: plastic_return_chunk(s, pl, i, k0, n, c, pl->layers); break;
+  }
+  /* ductile failure: a bond whose plastic stretch passes the critical one breaks now (both
+   * ends see the same plastic stretch; no-fail nodes never break) */
+  if (breaking && pl->ductile && !(s->disc.p.flags[i] & PERI_NODE_NO_FAIL)) {
+    const int32_t *material = s->disc.p.material;
+    const double *critical = pl->critical + material[i] * pl->nm;
+    for (int a = 0; a < n; ++a)
+      if (c->intact[a] != 0.0 && fabs(c->s[a] - c->se[a]) > critical[material[c->j[a]]] &&
+          !(s->disc.p.flags[c->j[a]] & PERI_NODE_NO_FAIL)) {
+        s->disc.bonds.broken[k0 + a] = 1;
+        c->intact[a] = 0.0;
+        ++*broken;
+      }
+  }
+}
+
+long peri_plastic_pmb_force(peri_sim *s, bool update_s0) {
+  peri_particles *p = &s->disc.p;
+  peri_bonds *b = &s->disc.bonds;
+  const bool breaking = s->solver.breaking, track_smin = s->mat.s0_node != NULL;
+  const bool thermal = s->state.thermal_strain != NULL;
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->mat.materials[p->material[i]].micromodulus;
+  peri_update_s0_bound(s);
+  const peri_node_blocks *items = peri_node_blocks_refresh(s);
+  const peri_bond_view w = peri_bond_view_of(s, items->soa);
+  pair_layers pl = pair_layers_of(s);
+  const peri_influence influence = b->family.influence;
+  long n_broken = 0;
+#pragma omp parallel reduction(+ : n_broken)
+  {
+    plastic_chunk *c = peri_malloc(sizeof *c);
+#pragma omp for schedule(static)
+    for (int32_t i = 0; i < p->n_owned; ++i) {
+      const double ci = w.coef[i];
+      double f0 = 0.0, f1 = 0.0, f2 = 0.0, smin = INFINITY;
+      for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PLASTIC_CHUNK) {
+        const int n = (int)(b->offset[i + 1] - k0 < PLASTIC_CHUNK ? b->offset[i + 1] - k0 : PLASTIC_CHUNK);
+        if (thermal) plastic_chunk_map(s, &w, &pl, i, k0, n, breaking, true, c, &n_broken, &smin);
+        else plastic_chunk_map(s, &w, &pl, i, k0, n, breaking, false, c, &n_broken, &smin);
+        double g[PLASTIC_CHUNK];
+#pragma omp simd
+        for (int a = 0; a < n; ++a) {
+          const int32_t j = c->j[a];
+          const double r0 = c->r0[a];
+          const double scale = 0.5 * (ci + w.coef[j]) * c->se[a] * peri_eval_omega(&w.fam, influence, r0) *
+                               peri_eval_beta(&w.fam, r0) * w.V[j] / c->r[a];
+          g[a] = c->intact[a] != 0.0 && c->r[a] > 0.0 ? scale : 0.0;
+        }
+        for (int a = 0; a < n; ++a) { /* in family order */
+          f0 = fma(g[a], c->y0[a], f0);
+          f1 = fma(g[a], c->y1[a], f1);
+          f2 = fma(g[a], c->y2[a], f2);
+        }
+      }
+      p->f[3 * (size_t)i] = f0, p->f[3 * (size_t)i + 1] = f1, p->f[3 * (size_t)i + 2] = f2;
+      if (track_smin) p->smin[i] = smin;
+    }
+    free(c);
+  }
+  pair_layers_free(&pl);
+  if (n_broken > 0) ++b->broken_edits; /* the elastic loops' copies of the flags follow */
+  if (track_smin && update_s0) peri_update_lammps_s0(s);
+  return n_broken;
+}
+
+void peri_plastic_pmb_energy(peri_sim *s, double *W) {
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    const double ci = s->mat.materials[p->material[i]].micromodulus;
+    double sum = 0.0;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      if (b->broken[k]) continue;
+      const int32_t j = b->neighbor[k];
+      const bond_state st = bond_at(s, i, j);
+      const peri_sublayers *sl = bond_layers(s, i, j);
+      /* per bond sum_k W_k c (s - s^p_k)^2 |xi| / 2 (the elastic part of the micropotential) */
+      const double e2 = sl ? peri_sublayer_energy(sl, st.s, s->state.plastic_stretch + k * s->state.plastic_layers)
+                           : 0.5 * st.s * st.s;
+      const double c = 0.5 * (ci + s->mat.materials[p->material[j]].micromodulus);
+      sum += c * e2 * peri_bonds_omega(b, st.r0) * st.r0 * peri_bonds_beta(b, st.r0) * p->volume[j];
+    }
+    W[i] = 0.5 * sum;
+  }
+}
+
+/* LPS pass 1: breaking, return mapping, dilatation theta, P and the force pass's per-node
+ * coefficients D (coef[0 .. n-1]) and B = alpha (coef[n .. 2n-1]) as in src/model/lps.c, with
+ * the elastic extension e^e = (s - s^p) |xi| in place of e. */
+static long lps_plastic_dilatation(peri_sim *s) {
+  peri_particles *p = &s->disc.p;
+  peri_bonds *b = &s->disc.bonds;
+  const double *eth = s->state.thermal_strain;
+  const bool breaking = s->solver.breaking, track_smin = s->mat.s0_node != NULL, thermal = eth != NULL;
+  const size_t n = (size_t)p->n;
+  peri_update_s0_bound(s);
+  const peri_node_blocks *items = peri_node_blocks_refresh(s);
+  const peri_bond_view w = peri_bond_view_of(s, items->soa);
+  pair_layers pl = pair_layers_of(s);
+  const peri_influence influence = b->family.influence;
+  long n_broken = 0;
+#pragma omp parallel reduction(+ : n_broken)
+  {
+    plastic_chunk *c = peri_malloc(sizeof *c);
+#pragma omp for schedule(static)
+    for (int32_t i = 0; i < p->n_owned; ++i) {
+      const double eth_i = thermal ? eth[i] : 0.0;
+      double we_x = 0.0, w_xx = 0.0, smin = INFINITY;
+      for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PLASTIC_CHUNK) {
+        const int nk = (int)(b->offset[i + 1] - k0 < PLASTIC_CHUNK ? b->offset[i + 1] - k0 : PLASTIC_CHUNK);
+        if (thermal) plastic_chunk_map(s, &w, &pl, i, k0, nk, breaking, true, c, &n_broken, &smin);
+        else plastic_chunk_map(s, &w, &pl, i, k0, nk, breaking, false, c, &n_broken, &smin);
+        double q[PLASTIC_CHUNK], x[PLASTIC_CHUNK];
+#pragma omp simd
+        for (int a = 0; a < nk; ++a) {
+          const double r0 = c->r0[a];
+          /* w = omega |xi| beta V_j (0 for a broken bond); q = e^e - alpha_T dT_i |xi| with the
+           * elastic extension e^e = (s - s^p) |xi| + the bond's thermal extension */
+          const double wt = c->intact[a] * peri_eval_omega(&w.fam, influence, r0) * r0 * peri_eval_beta(&w.fam, r0) *
+                            w.V[c->j[a]];
+          const double plastic = c->s[a] - c->se[a];
+          q[a] = wt * (c->r[a] - r0 - (plastic + eth_i) * r0);
+          x[a] = wt * r0;
+        }
+        for (int a = 0; a < nk; ++a) we_x += q[a], w_xx += x[a]; /* in family order */
+      }
+      const peri_material *mat = &s->mat.materials[p->material[i]];
+      const double m = p->wvol[i];
+      const double theta = mat->n_theta * we_x / m;
+      const double P = we_x - theta * (mat->peer_force_state ? m : w_xx) / 3.0;
+      const double alpha = mat->alpha_m / m;
+      p->theta[i] = theta;
+      p->pstate[i] = P;
+      p->coef[i] = mat->n_theta * (mat->K_theta * theta - alpha * P / 3.0) / m - alpha * (eth_i + theta / 3.0);
+      p->coef[n + (size_t)i] = alpha;
+      if (track_smin) p->smin[i] = smin;
+    }
+    free(c);
+  }
+  pair_layers_free(&pl);
+  if (n_broken > 0) ++b->broken_edits;
+  return n_broken;
+}
+
+long peri_plastic_lps_force(peri_sim *s, bool update_s0) {
+  const long broken = lps_plastic_dilatation(s);
+  if (s->mat.s0_node && update_s0) peri_update_lammps_s0(s);
+  peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const size_t n = (size_t)p->n;
+  peri_sim_exchange(s, p->coef, 1);
+  peri_sim_exchange(s, p->coef + n, 1);
+  const double *D = p->coef, *B = p->coef + n;
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    double f[3] = {0.0, 0.0, 0.0};
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      if (b->broken[k]) continue;
+      const int32_t j = b->neighbor[k];
+      const bond_state st = bond_at(s, i, j);
+      const double e_elastic = st.r - st.r0 - peri_plastic_bond_stretch(s, i, k) * st.r0;
+      /* t_ij + t_ji = omega (|xi| (D_i + D_j) + e^e (B_i + B_j)) */
+      const double t = peri_bonds_omega(b, st.r0) * (st.r0 * (D[i] + D[j]) + e_elastic * (B[i] + B[j]));
+      const double g = st.r > 0.0 ? t * peri_bonds_beta(b, st.r0) * p->volume[j] / st.r : 0.0;
+      for (int d = 0; d < 3; ++d) f[d] += g * st.dy[d];
+    }
+    for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = f[d];
+  }
+  return broken;
+}
+
+void peri_plastic_lps_energy(peri_sim *s, double *W) {
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const double *eth = s->state.thermal_strain;
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    const double eth_i = eth ? eth[i] : 0.0;
+    double wq = 0.0, wx = 0.0, q2 = 0.0; /* sum w q, sum w |xi|, sum omega beta V q^2 */
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      if (b->broken[k]) continue;
+      const int32_t j = b->neighbor[k];
+      const bond_state st = bond_at(s, i, j);
+      const double q = st.r - st.r0 - (peri_plastic_bond_stretch(s, i, k) + eth_i) * st.r0;
+      const double obv = peri_bonds_omega(b, st.r0) * peri_bonds_beta(b, st.r0) * p->volume[j];
+      wq += obv * st.r0 * q, wx += obv * st.r0 * st.r0, q2 += obv * q * q;
+    }
+    const peri_material *mat = &s->mat.materials[p->material[i]];
+    const double m = p->wvol[i], theta = mat->n_theta * wq / m;
+    const double deviatoric = q2 - (2.0 * theta / 3.0) * wq + (theta * theta / 9.0) * wx;
+    W[i] = mat->peer_force_state ? peri_lps_peer_energy(mat, theta, mat->alpha_m / m, q2)
+                                 : 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * deviatoric;
+  }
+}

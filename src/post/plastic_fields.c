@@ -1,0 +1,51 @@
+/* The plasticity outputs (docs/plasticity.md, model reference 16.3): yield index and plastic
+ * stretch per node, their mean for the history. */
+#include <math.h>
+#include <stdlib.h>
+#include "peri/comm.h"
+#include "peri/decompose.h"
+#include "peri/error.h"
+#include "peri/plastic_fields.h"
+#include "peri/plasticity.h"
+#include "peri/sim.h"
+
+void peri_yield_index(const peri_sim *s, double *psi) {
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const double *sp = s->state.plastic_stretch;
+  const int layers = s->state.plastic_layers;
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    double all = 0.0, yielded = 0.0;
+    for (int64_t k = b->offset[i]; sp && k < b->offset[i + 1]; ++k) {
+      const int32_t j = b->neighbor[k];
+      const double w = peri_bonds_beta(b, peri_bond_length(p->x, i, j)) * p->volume[j];
+      all += w;
+      if (sp[k * layers] != 0.0) yielded += w;
+    }
+    psi[i] = all > 0.0 ? yielded / all : 0.0;
+  }
+}
+
+void peri_plastic_stretch_field(const peri_sim *s, double *out) {
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    double largest = 0.0;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
+      if (!b->broken[k]) largest = fmax(largest, fabs(peri_plastic_bond_stretch(s, i, k)));
+    out[i] = largest;
+  }
+}
+
+double peri_mean_yield_index(const peri_sim *s) {
+  const int32_t n = s->disc.p.n_owned;
+  double *psi = peri_malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
+  peri_yield_index(s, psi);
+  double sum = 0.0;
+  peri_sum_owned(s, psi, 1, &sum); /* fixed-order blocks: the same on any number of ranks */
+  free(psi);
+  const int64_t nodes = peri_global_nodes(s);
+  return nodes > 0 ? sum / (double)nodes : 0.0;
+}

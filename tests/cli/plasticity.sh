@@ -1,0 +1,127 @@
+#!/usr/bin/env bash
+# Sublayer plasticity from the command line (docs/plasticity.md):
+#  - a 1D bar loaded quasi-statically (ADR) through the breakpoints of Ebrahimi Table 5.2,
+#    unloaded and reloaded in compression: the reaction per area follows the power-law curve
+#    sigma = 400 MPa (eps/0.002)^0.1 at every breakpoint, unloads with slope E, and on the
+#    reverse branch drops by 2 sigma_k at eps_a - 2 eps_k (Masing rule), each within 2%;
+#  - ductile failure: with critical_plastic_stretch the bar breaks between the strains where the
+#    plastic stretch sum_k W_k (eps - s_yk)+ passes it;
+#  - peri check reports the sublayers and the plastic state's bytes per directed bond;
+#  - bad plasticity input: file:line:column, exit 2 (weights that do not sum to 1, yield
+#    stretches that do not increase, a curve with a negative slope, a solver with trial states);
+#  - the thread count does not change a plastic fracture run (history and frames bitwise).
+# Usage: bash tests/cli/plasticity.sh PATH_TO_PERI   (from the repository root)
+set -u
+source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
+cli_init "$@"
+
+# --- the cyclic bar
+deck="$DECKS/plastic_bar.yaml"
+run_peri run "$deck" --quiet --output "$TMP/bar"
+expect_status 0
+hist="$TMP/bar/history.csv"
+col=$(csv_column "$hist" reaction_pulled_x)
+[[ -n "$col" ]] || fail "history.csv has no reaction_pulled_x"
+# expected stress per load step: the curve at the four breakpoints, flat to the peak 0.025,
+# elastic unloading by 0.003 (600 MPa), then sigma_peak - 2 sigma_k at 0.025 - 2 eps_k
+awk -F, -v c="$col" '
+  function curve(e) { return 400e6 * (e / 0.002) ^ 0.1 }
+  BEGIN {
+    split("0.002 0.0065 0.0124 0.0168", eps, " ")
+    for (k = 1; k <= 4; ++k) want[k] = curve(eps[k])
+    peak = curve(0.0168); want[5] = peak; want[6] = peak - 200e9 * 0.003
+    for (k = 1; k <= 4; ++k) want[6 + k] = peak - 2 * curve(eps[k])
+  }
+  NR > 2 {
+    step = $2; got = $c / 1.0e-4
+    err = (got - want[step]) / (want[step] < 0 ? -want[step] : want[step])
+    if (err < 0) err = -err
+    printf "  load step %d: %.6g Pa, expected %.6g Pa (%.3f%%)\n", step, got, want[step], 100 * err
+    if (err > 0.02) bad = 1
+    ++rows
+  }
+  END { exit (bad || rows != 10) }' "$hist" || fail "the bar does not follow the hardening curve and the Masing rule (above)"
+pass "1D bar (ADR): breakpoints, elastic unloading and the Masing reverse branch within 2%"
+
+# --- ductile failure: critical_plastic_stretch 0.005; the plastic stretch of the bar's bonds,
+# sum_k W_k (eps - s_yk)+, reaches it at eps_f = (0.005 + 0.9444 * 0.002 + 0.03015 * 0.0065) /
+# (0.9444 + 0.03015) = 0.00727: the bar carries load at eps = 0.0072 and none at 0.0074
+sed -e 's|power_law: {yield_stress: 400e6, yield_strain: 0.002, exponent: 0.1}|&\n      critical_plastic_stretch: 0.005|' \
+  -e 's|x\*(t<1.5 ? 0.002\*t .*)"|x*(t<1.5 ? 0.0072*t : 0.0074)"|' \
+  -e 's|end_time: 10, load_steps: 10|end_time: 2, load_steps: 2|' "$deck" >"$TMP/ductile.yaml"
+grep -q 'critical_plastic_stretch: 0.005' "$TMP/ductile.yaml" && grep -q '0.0074)' "$TMP/ductile.yaml" ||
+  fail "could not write the ductile bar deck"
+run_peri run "$TMP/ductile.yaml" --quiet --output "$TMP/ductile"
+expect_status 0
+hist="$TMP/ductile/history.csv"
+r1=$(sed -n 3p "$hist" | cut -d, -f"$(csv_column "$hist" reaction_pulled_x)")
+r2=$(sed -n 4p "$hist" | cut -d, -f"$(csv_column "$hist" reaction_pulled_x)")
+b2=$(sed -n 4p "$hist" | cut -d, -f"$(csv_column "$hist" broken_bond_fraction)")
+# at 0.0072 the curve gives 400 MPa (0.0072/0.002)^0.1 between breakpoints 2 and 3
+awk -v r="$r1" 'BEGIN { s = r / 1.0e-4; exit !(s > 450e6 && s < 480e6) }' || fail "ductile bar at 0.0072: $r1 N"
+awk -v r="$r2" -v b="$b2" 'BEGIN { exit !(r < 1 && r > -1 && b > 0.99) }' ||
+  fail "ductile bar at 0.0074: reaction $r2 N, broken fraction $b2 (expected 0 and every bond)"
+pass "critical plastic stretch: the bar holds at eps = 0.0072 ($r1 N) and has broken at 0.0074"
+
+# --- peri check: the sublayers and the plastic state's bytes per bond
+run_peri check "$deck"
+expect_status 0
+expect_stdout_contains "plasticity   steel: 4 sublayers (W, s_y): (0.9444, 0.002) (0.0302, 0.0065) (0.0086, 0.0124) (0.0168, 0.0168)"
+expect_stdout_contains "plastic state 32 bytes per directed bond (4 plastic stretches)"
+pass "peri check lists the sublayers and 32 bytes per directed bond"
+
+# --- bad input: file:line:column, exit 2
+bad_deck() { # NAME PLASTICITY_LINES...: the bar with these plasticity lines
+  local name=$1
+  shift
+  {
+    printf 'dimension: 1\nmaterials:\n  steel:\n    model: pmb\n    density: 7800\n    youngs_modulus: 200e9\n'
+    printf '    plasticity:\n'
+    printf '      %s\n' "$@"
+    printf 'discretization: {spacing: 0.01, m: 3, cross_section: 1.0e-4, fill: [{shape: interval, min: [0], max: [0.3]}]}\n'
+    printf 'solver: {type: explicit, steps: 10}\noutput: {picture: false}\n'
+  } >"$TMP/$name.yaml"
+  echo "$TMP/$name.yaml"
+}
+d=$(bad_deck sum "weights: [0.9, 0.05]" "yield_stretches: [0.002, 0.004]")
+run_peri check "$d"
+expect_status 2
+expect_stderr_contains "$d:8:16: error: materials.steel.plasticity: the weights sum to 0.95, not 1 (within 0.001)"
+d=$(bad_deck order "weights: [0.9, 0.1]" "yield_stretches: [0.002, 0.002]")
+run_peri check "$d"
+expect_status 2
+expect_stderr_contains "$d:9:32: error: materials.steel.plasticity: yield stretch 2 (0.002) must be positive and larger than the one before"
+d=$(bad_deck slope "strains: [0.002, 0.004, 0.006]" "stresses: [400e6, 450e6, 440e6]")
+run_peri check "$d"
+expect_status 2
+expect_stderr_contains "$d:9:32: error: materials.steel.plasticity: point 3: the curve has a negative slope"
+d=$(bad_deck line "strains: [0.002, 0.004]" "stresses: [300e6, 450e6]")
+run_peri check "$d"
+expect_status 2
+expect_stderr_contains "$d:9:18: error: materials.steel.plasticity: the first point (0.002, 3e+08) must lie on the elastic line"
+run_peri check "$deck" --set solver.type=nlcg
+expect_status 2
+expect_stderr_contains "plasticity needs solver type explicit, adr or dynamic_relaxation"
+run_peri check "$DECKS/plate_pmb.yaml" --set discretization.surface_correction=energy \
+  --set 'materials.glass={model: pmb, density: 2440, youngs_modulus: 72.0e9, plasticity: {weights: [1], yield_stretches: [1.0e-4]}}'
+expect_status 2
+expect_stderr_contains "error: discretization.surface_correction: not available with plastic materials"
+pass "bad plasticity input: file:line:column, exit 2"
+
+# --- threads: a plastic fracture run is the same with 1 and 3 threads
+plate="$DECKS/plate_pmb.yaml"
+plastic_glass='materials.glass={model: pmb, density: 2440, youngs_modulus: 72.0e9, fracture_energy: 3.8, plasticity: {weights: [0.9, 0.1], yield_stretches: [5.0e-5, 2.0e-4]}}'
+for threads in 1 3; do
+  run_peri run "$plate" --quiet --threads "$threads" --output "$TMP/plate$threads" --set "$plastic_glass" \
+    --set 'output.fields=[displacement, damage, yield_index, plastic_stretch]'
+  expect_status 0
+done
+cmp -s "$TMP/plate1/history.csv" "$TMP/plate3/history.csv" || fail "history.csv differs between 1 and 3 threads"
+for f in "$TMP"/plate1/*.vtu; do
+  cmp -s "$f" "$TMP/plate3/$(basename "$f")" || fail "$(basename "$f") differs between 1 and 3 threads"
+done
+psi=$(tail -n 1 "$TMP/plate1/history.csv" | cut -d, -f"$(csv_column "$TMP/plate1/history.csv" mean_yield_index)")
+awk -v p="$psi" 'BEGIN { exit !(p > 0.1 && p < 1) }' || fail "the plate barely yields (mean yield index $psi): the comparison tests little"
+pass "threads 1 and 3: history.csv and frames bitwise equal (mean yield index $psi)"
+
+echo "PASS: $CLI_NAME"

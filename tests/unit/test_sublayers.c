@@ -1,0 +1,110 @@
+/* Construction of the mechanical sublayers (model reference 16.1, docs/plasticity.md) and the
+ * return mapping of one bond (16.2).
+ *  - Ebrahimi 2020 Table 5.2: sigma = sigma0 (eps/eps0)^n with sigma0 = 400 MPa, eps0 = 0.002,
+ *    n = 0.1, E = 200 GPa, breakpoints 0.002, 0.0065, 0.0124, 0.0168 give the printed weights
+ *    0.9444, 0.0301, 0.0087, 0.0168 to the fourth decimal within one unit (the thesis read its
+ *    weights off the graph of the curve, §5.2.1: the exact construction gives 0.94440,
+ *    0.03015, 0.00863, 0.01682), and the printed yield stretches exactly.
+ *  - The bond curve sum W_k min(eps, s_yk) passes through every breakpoint (sigma_k / E).
+ *  - Bad curves and sublayers are refused with the offending point.
+ *  - The return mapping: elastic-perfectly-plastic sublayers, kinematic hardening. */
+#include <criterion/criterion.h>
+#include <math.h>
+#include "peri/plasticity.h"
+
+#define E_STEEL 200e9
+
+static const double strains[4] = {0.002, 0.0065, 0.0124, 0.0168};
+
+static peri_sublayers table_5_2(void) {
+  double stress[4];
+  peri_power_law_stresses(400e6, 0.002, 0.1, 4, strains, stress);
+  peri_sublayers sl;
+  int bad;
+  char why[256];
+  cr_assert_eq(peri_sublayers_from_curve(E_STEEL, 4, strains, stress, &sl, &bad, why, sizeof why), 0, "%s", why);
+  return sl;
+}
+
+Test(sublayers, table_5_2_weights) {
+  const peri_sublayers sl = table_5_2();
+  static const double printed_W[4] = {0.9444, 0.0301, 0.0087, 0.0168};
+  cr_assert_eq(sl.n, 4);
+  double sum = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    cr_log_info("W_%d = %.5f (printed %.4f), s_y = %.4f", k + 1, sl.weight[k], printed_W[k], sl.yield[k]);
+    cr_expect(fabs(sl.weight[k] - printed_W[k]) <= 1.0e-4, "W_%d = %.5f, printed %.4f", k + 1, sl.weight[k],
+              printed_W[k]);
+    cr_expect_eq(sl.yield[k], strains[k]);
+    sum += sl.weight[k];
+  }
+  cr_expect(fabs(sum - 1.0) < 1e-12, "weights sum to %.15g", sum);
+  /* W_1 = 1 - e_2/E: the first segment after yield, (450.04 - 400) MPa over 0.0045 */
+  cr_expect(fabs(sl.weight[0] - (1.0 - 400e6 * (pow(3.25, 0.1) - 1.0) / 0.0045 / E_STEEL)) < 1e-12);
+}
+
+Test(sublayers, curve_through_breakpoints) {
+  const peri_sublayers sl = table_5_2();
+  for (int k = 0; k < 4; ++k) {
+    const double sigma = 400e6 * pow(strains[k] / 0.002, 0.1);
+    cr_expect(fabs(E_STEEL * peri_sublayers_monotonic(&sl, strains[k]) / sigma - 1.0) < 1e-12, "breakpoint %d", k + 1);
+  }
+  /* flat beyond the last breakpoint */
+  cr_expect(fabs(peri_sublayers_monotonic(&sl, 0.05) - peri_sublayers_monotonic(&sl, strains[3])) < 1e-15);
+}
+
+Test(sublayers, bad_curves) {
+  peri_sublayers sl;
+  int bad = -2;
+  char why[256];
+  const double eps[3] = {0.002, 0.004, 0.006};
+  const double softening[3] = {400e6, 450e6, 440e6};
+  cr_expect_neq(peri_sublayers_from_curve(E_STEEL, 3, eps, softening, &sl, &bad, why, sizeof why), 0);
+  cr_expect_eq(bad, 2);
+  cr_expect(strstr(why, "negative slope") != NULL, "%s", why);
+  const double eps_back[3] = {0.002, 0.004, 0.004};
+  const double rising[3] = {400e6, 450e6, 460e6};
+  cr_expect_neq(peri_sublayers_from_curve(E_STEEL, 3, eps_back, rising, &sl, &bad, why, sizeof why), 0);
+  cr_expect_eq(bad, 2);
+  const double off_line[3] = {300e6, 450e6, 460e6};
+  cr_expect_neq(peri_sublayers_from_curve(E_STEEL, 3, eps, off_line, &sl, &bad, why, sizeof why), 0);
+  cr_expect_eq(bad, 0);
+  const double stiffening[3] = {400e6, 410e6, 500e6};
+  cr_expect_neq(peri_sublayers_from_curve(E_STEEL, 3, eps, stiffening, &sl, &bad, why, sizeof why), 0);
+  cr_expect_eq(bad, 2);
+}
+
+Test(sublayers, bad_sublayers) {
+  int bad = -2;
+  char why[256];
+  peri_sublayers sl = {.n = 2, .weight = {0.9, 0.09}, .yield = {0.001, 0.002}};
+  cr_expect_neq(peri_sublayers_check(&sl, &bad, why, sizeof why), 0);
+  cr_expect_eq(bad, -1);
+  cr_expect(strstr(why, "sum to 0.99") != NULL, "%s", why);
+  sl.weight[1] = 0.0995; /* within 1e-3 */
+  cr_expect_eq(peri_sublayers_check(&sl, &bad, why, sizeof why), 0);
+  sl.weight[1] = 0.1, sl.yield[1] = 0.001;
+  cr_expect_neq(peri_sublayers_check(&sl, &bad, why, sizeof why), 0);
+  cr_expect_eq(bad, 1);
+}
+
+/* One bond, two sublayers (W = 0.5, 0.5; s_y = 1, 3 in units of 1e-3): loading, unloading,
+ * reverse yield after a drop of 2 s_y1 (kinematic hardening), idempotence. */
+Test(sublayers, return_mapping) {
+  const peri_sublayers sl = {.n = 2, .weight = {0.5, 0.5}, .yield = {1e-3, 3e-3}};
+  double sp[2] = {0.0, 0.0};
+  cr_expect_eq(peri_sublayer_return(&sl, 1.0, 0.8e-3, sp), 0.0);
+  /* s = 2e-3: sublayer 1 flows by 1e-3, s^e = 2e-3 - 0.5e-3 */
+  const double p = peri_sublayer_return(&sl, 1.0, 2e-3, sp);
+  cr_expect(fabs(p - 0.5e-3) < 1e-18 && fabs(sp[0] - 1e-3) < 1e-18 && sp[1] == 0.0);
+  cr_expect_eq(peri_sublayer_return(&sl, 1.0, 2e-3, sp), p, "not idempotent");
+  /* unloading by less than 2 s_y1 is elastic */
+  cr_expect_eq(peri_sublayer_return(&sl, 1.0, 0.1e-3, sp), p);
+  /* below 2e-3 - 2e-3 = 0 sublayer 1 yields in compression */
+  const double q = peri_sublayer_return(&sl, 1.0, -0.5e-3, sp);
+  cr_expect(fabs(sp[0] - 0.5e-3) < 1e-18, "reverse yield: sp1 = %g", sp[0]);
+  cr_expect(fabs(q - 0.25e-3) < 1e-18);
+  /* rate scaling doubles the yield stretches */
+  double fresh[2] = {0.0, 0.0};
+  cr_expect_eq(peri_sublayer_return(&sl, 2.0, 2e-3, fresh), 0.0);
+}
