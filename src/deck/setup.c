@@ -306,6 +306,9 @@ static int check_graded_zones(const peri_node *d, const peri_node *fill, const p
     return peri_deck_error(peri_deck_key_node(d, gp->origin_given ? "origin" : "placement"), "discretization: a "
                            "graded grid (a fill shape with its own spacing) places each zone's nodes at its own "
                            "cell centres: no 'origin', and 'placement' centers");
+  if (peri_deck_get(d, "volume"))
+    return peri_deck_error(peri_deck_key_node(d, "volume"), "key 'volume': not on a graded grid (a node's volume is "
+                           "its zone's cell, so that the volumes tile the body)");
   for (int k = 0; k < gp->n_fill; ++k) {
     const peri_shape *a = &gp->fill[k].shape;
     const double dx = gp->fill[k].spacing > 0.0 ? gp->fill[k].spacing : gp->spacing;

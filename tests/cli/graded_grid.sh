@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Graded grids (docs/variable_horizon.md, "Graded grids"): zones that do not tile the body
 # (a side not a whole multiple of the zone's spacing, overlapping zones, a zone that is not a
-# box, a lattice origin) exit 2 with the deck position before any work; a run writes the
+# box, a lattice origin, a given node volume) exit 2 with the deck position before any work; a run writes the
 # spacing and horizon fields; the example deck checks.
 # Usage: bash tests/cli/graded_grid.sh PATH_TO_PERI   (from the repository root)
 set -u
@@ -58,6 +58,10 @@ pass "a zone that is not a box"
 deck "$TMP/origin.yaml" "$GOOD" "  origin: [0.0]"
 fails_at "$TMP/origin.yaml" "origin" "discretization: a graded grid (a fill shape with its own spacing)"
 pass "a lattice origin"
+
+deck "$TMP/volume.yaml" "$GOOD" "  volume: 1.0e-9"
+fails_at "$TMP/volume.yaml" "volume" "key 'volume': not on a graded grid"
+pass "a given node volume"
 
 deck "$TMP/negative.yaml" "    - {shape: box, min: [0.0], max: [0.02], spacing: -2.0e-3}" ""
 fails_at "$TMP/negative.yaml" "-2.0e-3" "key 'spacing': must be positive"
