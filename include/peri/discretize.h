@@ -17,6 +17,7 @@ typedef struct peri_fill {
   int32_t material;
   peri_phase_map *phases;       /* an image: the material of each pixel (shape is its rectangle);
                                    a void pixel's points get no node; NULL otherwise */
+  double spacing;          /* > 0: this zone's own node spacing (a graded grid), else the grid's */
 } peri_fill;
 
 typedef struct peri_grid_params {
@@ -44,6 +45,13 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g);
  * in the bounding boxes of the fill shapes, each with one or two spacings of margin (0
  * when a fill shape is unbounded). Cheap: no point is tested. */
 double peri_grid_points_bound(const peri_grid_params *g);
+
+/* A graded grid: a fill shape has its own spacing (peri_fill.spacing). Each shape is then
+ * a zone whose lattice starts at its own lower corner, so disjoint boxes whose sides are
+ * whole multiples of their spacing are tiled exactly (docs/variable_horizon.md). */
+bool peri_grid_is_graded(const peri_grid_params *g);
+/* The edge of the square, cube or interval of a node's volume: its spacing on a grid. */
+double peri_grid_node_spacing(double volume, int dim, double thickness, double cross_section);
 
 /* Permutation that orders nodes in rows along the axis with the longest rows (rows one
  * `spacing` wide), the rows along a Morton (Z-order) curve of the other two axes; ties

@@ -51,9 +51,12 @@ typedef struct peri_horizon_field {
 /* Evaluates the horizon expression at every node of p (reference positions). Returns the
  * field, or NULL with *bad set to the first node where the value is not positive and finite. */
 peri_horizon_field *peri_horizon_field_evaluate(const peri_particles *p, peri_expr *horizon, int32_t *bad);
+/* The field of the given horizons, each positive and finite (a graded grid's m dx_i). */
+peri_horizon_field *peri_horizon_field_from_values(int32_t n, const double *delta);
 /* Marks the default coupling region: every node whose family holds a node with a different
- * horizon (relative difference above 1e-12). */
-void peri_horizon_field_mark_transition(peri_horizon_field *h, const peri_bonds *b);
+ * horizon or volume (relative difference above 1e-12), and where volumes differ (a graded
+ * grid) also every node whose family holds such a node. */
+void peri_horizon_field_mark_transition(peri_horizon_field *h, const peri_bonds *b, const double *volume);
 /* Bond j -> i of every bond i -> j (both directions exist: the families are symmetric). */
 void peri_horizon_field_reverse_bonds(peri_horizon_field *h, const peri_bonds *b);
 void peri_horizon_field_free(peri_horizon_field *h);

@@ -47,19 +47,47 @@ static bool grid_origin(const peri_grid_params *g, bool report, double origin[3]
   return true;
 }
 
-/* Index range of fill shape s, one extra on each side: containment (with the tolerance)
- * decides, so rounding here cannot drop a boundary node. Returns the number of points. */
-static double shape_range(const peri_grid_params *g, int s, const double origin[3],
-                          int64_t kmin[3], int64_t kmax[3]) {
+/* The node spacing of fill shape s: its own (a graded grid), else the grid's. */
+static double fill_spacing(const peri_grid_params *g, int s) {
+  return g->fill[s].spacing > 0 ? g->fill[s].spacing : g->spacing;
+}
+
+bool peri_grid_is_graded(const peri_grid_params *g) {
+  for (int s = 0; s < g->n_fill; s++)
+    if (fill_spacing(g, s) != g->spacing) return true;
+  return false;
+}
+
+double peri_grid_node_spacing(double volume, int dim, double thickness, double cross_section) {
+  if (dim == 2) return sqrt(volume / thickness);
+  if (dim == 1) return volume / cross_section;
+  return cbrt(volume);
+}
+
+/* The lattice origin of fill shape s: that of the grid, or on a graded grid the lower
+ * corner of the shape's own box, so that its cells tile it. */
+static void shape_origin(const peri_grid_params *g, int s, const double grid[3], double origin[3]) {
   double slo[3], shi[3];
   peri_shape_bounds(&g->fill[s].shape, g->dim, slo, shi);
+  const bool graded = peri_grid_is_graded(g);
+  for (int d = 0; d < 3; d++) origin[d] = graded && d < g->dim ? slo[d] : grid[d];
+}
+
+/* Index range of fill shape s, one extra on each side: containment (with the tolerance)
+ * decides, so rounding here cannot drop a boundary node. Returns the number of points. */
+static double shape_range(const peri_grid_params *g, int s, const double grid_origin[3],
+                          int64_t kmin[3], int64_t kmax[3]) {
+  double slo[3], shi[3], origin[3];
+  peri_shape_bounds(&g->fill[s].shape, g->dim, slo, shi);
+  shape_origin(g, s, grid_origin, origin);
+  const double dx = fill_spacing(g, s);
   double off = g->placement == PERI_PLACE_CENTERS ? 0.5 : 0.0;
   double total = 1;
   for (int d = 0; d < 3; d++) {
     kmin[d] = kmax[d] = 0;
     if (d >= g->dim) continue;
-    double a = floor((slo[d] - origin[d]) / g->spacing - off) - 1;
-    double b = ceil((shi[d] - origin[d]) / g->spacing - off) + 1;
+    double a = floor((slo[d] - origin[d]) / dx - off) - 1;
+    double b = ceil((shi[d] - origin[d]) / dx - off) + 1;
     total *= b - a + 1;
     if (!isfinite(total) || total > 1e18) return INFINITY;
     kmin[d] = (int64_t)a;
@@ -86,23 +114,26 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
     peri_error("grid: dimension must be 1, 2 or 3, got %d", dim);
     return -1;
   }
-  double dx = g->spacing;
-  if (!(dx > 0) || !isfinite(dx)) {
-    peri_error("grid: spacing must be a positive number, got %g", dx);
-    return -1;
+  for (int s = -1; s < g->n_fill; s++) {
+    const double dx = s < 0 ? g->spacing : fill_spacing(g, s);
+    if (!(dx > 0) || !isfinite(dx)) {
+      peri_error("grid: spacing must be a positive number, got %g", dx);
+      return -1;
+    }
   }
   if (g->n_fill <= 0) {
     peri_error("grid: no shape to fill");
     return -1;
   }
-  double origin[3];
-  if (!grid_origin(g, true, origin)) return -1;
+  double grid[3];
+  if (!grid_origin(g, true, grid)) return -1;
   if (!(peri_grid_points_bound(g) <= 4.0 * INT32_MAX)) {
-    peri_error("grid: spacing %g over the fill shapes' bounding boxes would exceed 2^31 nodes", dx);
+    peri_error("grid: spacing %g over the fill shapes' bounding boxes would exceed 2^31 nodes", g->spacing);
     return -1;
   }
   double off = g->placement == PERI_PLACE_CENTERS ? 0.5 : 0.0;
-  double tol = 1e-9 * dx;
+  /* a graded grid keeps its nodes zone by zone (the zones' lattice indices do not compare) */
+  const bool graded = peri_grid_is_graded(g);
 
   /* Each shape keeps the points it owns: a point belongs to the last fill shape that
    * contains it, so a point also inside a later shape is left to that one. */
@@ -112,7 +143,10 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
   double x[3] = {0, 0, 0};
   for (int s = 0; s < g->n_fill; s++) {
     int64_t kmin[3], kmax[3];
-    shape_range(g, s, origin, kmin, kmax);
+    double origin[3];
+    shape_origin(g, s, grid, origin);
+    const double dx = fill_spacing(g, s), tol = 1e-9 * dx;
+    shape_range(g, s, grid, kmin, kmax);
     for (int64_t k2 = kmin[2]; k2 <= kmax[2]; k2++) {
       if (dim > 2) x[2] = origin[2] + ((double)k2 + off) * dx;
       for (int64_t k1 = kmin[1]; k1 <= kmax[1]; k1++) {
@@ -142,7 +176,7 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
           }
           grid_point *point = &points[count];
           *point = (grid_point){{k0, k1, k2}, s, material};
-          if (count > 0 && compare_scan_order(&points[count - 1], point) > 0) in_scan_order = false;
+          if (!graded && count > 0 && compare_scan_order(&points[count - 1], point) > 0) in_scan_order = false;
           count++;
         }
       }
@@ -150,13 +184,17 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
   }
   if (!in_scan_order) qsort(points, (size_t)count, sizeof *points, compare_scan_order);
 
-  double vol = pow(dx, dim);
-  if (dim == 2 && g->thickness > 0) vol *= g->thickness;
-  if (dim == 1 && g->cross_section > 0) vol *= g->cross_section;
   for (int64_t i = 0; i < count; i++) {
+    int32_t owner = points[i].owner;
+    const double dx = fill_spacing(g, owner);
+    double origin[3];
+    shape_origin(g, owner, grid, origin);
+    double vol = pow(dx, dim);
+    if (dim == 2 && g->thickness > 0) vol *= g->thickness;
+    if (dim == 1 && g->cross_section > 0) vol *= g->cross_section;
     for (int d = 0; d < 3; d++)
       x[d] = d < dim ? origin[d] + ((double)points[i].k[d] + off) * dx : 0.0;
-    peri_particles_add(p, x, vol, points[i].material, points[i].owner + 1);
+    peri_particles_add(p, x, vol, points[i].material, owner + 1);
   }
   free(points);
   return count;

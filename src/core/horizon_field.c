@@ -5,13 +5,28 @@
 #include "peri/error.h"
 #include "peri/horizon_field.h"
 
+static peri_horizon_field *field_alloc(int32_t n) {
+  peri_horizon_field *h = peri_calloc(1, sizeof *h);
+  h->n = n;
+  h->delta = peri_malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
+  h->coupled = peri_calloc((size_t)(n > 0 ? n : 1), 1);
+  h->min = INFINITY, h->max = 0.0;
+  return h;
+}
+
+peri_horizon_field *peri_horizon_field_from_values(int32_t n, const double *delta) {
+  peri_horizon_field *h = field_alloc(n);
+  for (int32_t i = 0; i < n; ++i) {
+    h->delta[i] = delta[i];
+    h->min = fmin(h->min, delta[i]);
+    h->max = fmax(h->max, delta[i]);
+  }
+  return h;
+}
+
 peri_horizon_field *peri_horizon_field_evaluate(const peri_particles *p, peri_expr *horizon, int32_t *bad) {
   *bad = -1;
-  peri_horizon_field *h = peri_calloc(1, sizeof *h);
-  h->n = p->n;
-  h->delta = peri_malloc(sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
-  h->coupled = peri_calloc((size_t)(p->n > 0 ? p->n : 1), 1);
-  h->min = INFINITY, h->max = 0.0;
+  peri_horizon_field *h = field_alloc(p->n);
   /* serial: an expression binds its variables by address (include/peri/expr.h) */
   for (int32_t i = 0; i < p->n; ++i) {
     const double *x = p->x + 3 * (size_t)i;
@@ -28,16 +43,33 @@ peri_horizon_field *peri_horizon_field_evaluate(const peri_particles *p, peri_ex
   return h;
 }
 
-void peri_horizon_field_mark_transition(peri_horizon_field *h, const peri_bonds *b) {
-  int32_t count = 0;
-#pragma omp parallel for schedule(static) reduction(+ : count)
+static bool relative_difference(double a, double b) { return fabs(a - b) > 1e-12 * fabs(a); }
+
+void peri_horizon_field_mark_transition(peri_horizon_field *h, const peri_bonds *b, const double *volume) {
+  int32_t graded = 0;
+#pragma omp parallel for schedule(static) reduction(+ : graded)
   for (int32_t i = 0; i < b->n_nodes; ++i) {
-    uint8_t differs = 0;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1] && !differs; ++k)
-      differs = fabs(h->delta[b->neighbor[k]] - h->delta[i]) > 1e-12 * h->delta[i];
+    uint8_t differs = 0, volumes = 0;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1] && !differs; ++k) {
+      volumes = volumes || relative_difference(volume[b->neighbor[k]], volume[i]);
+      differs = volumes || relative_difference(h->delta[b->neighbor[k]], h->delta[i]);
+    }
     h->coupled[i] = differs;
-    count += differs;
+    graded += volumes;
   }
+  /* Where the volumes change, a node's constants (calibrated on its own family) differ from
+   * those of a uniform grid, so a full-PD neighbour reading its force state would see ghost
+   * forces: the region takes one more family layer. */
+  if (graded > 0) {
+    uint8_t *seed = peri_malloc((size_t)(b->n_nodes > 0 ? b->n_nodes : 1));
+    for (int32_t i = 0; i < b->n_nodes; ++i) seed[i] = h->coupled[i];
+#pragma omp parallel for schedule(static)
+    for (int32_t i = 0; i < b->n_nodes; ++i)
+      for (int64_t k = b->offset[i]; k < b->offset[i + 1] && !h->coupled[i]; ++k) h->coupled[i] = seed[b->neighbor[k]];
+    free(seed);
+  }
+  int32_t count = 0;
+  for (int32_t i = 0; i < b->n_nodes; ++i) count += h->coupled[i];
   h->n_coupled = count;
 }
 

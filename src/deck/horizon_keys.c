@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/comm.h"
+#include "peri/discretize.h"
 #include "peri/error.h"
 #include "peri/horizon_field.h"
 #include "peri/variable_horizon.h"
@@ -19,7 +20,28 @@ bool peri_setup_horizon_is_field(const peri_node *d) {
   return !(end && *end == '\0' && end != h->scalar);
 }
 
+/* A graded grid with m = horizon / spacing: delta_i = m dx_i, dx_i the node's own spacing. */
+static int horizon_from_spacing(peri_sim *s, const peri_node *d) {
+  double m = NAN;
+  int rc = peri_deck_double(d, "m", true, &m);
+  if (rc != PERI_OK) return rc;
+  if (!(m > 0.0) || !isfinite(m)) return peri_deck_error(peri_deck_get(d, "m"), "key 'm': must be positive");
+  const peri_particles *p = &s->disc.p;
+  const peri_geometry *g = &s->disc.geom;
+  double *delta = peri_malloc(sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
+  for (int32_t i = 0; i < p->n; ++i)
+    delta[i] = m * peri_grid_node_spacing(p->volume[i], g->dim, g->thickness, g->cross_section);
+  peri_horizon_field *h = peri_horizon_field_from_values(p->n, delta);
+  free(delta);
+  s->disc.horizon_field = h;
+  s->disc.geom.horizon = h->max;
+  s->disc.family.horizon = h->max;
+  s->disc.family.node_horizon = h->delta;
+  return PERI_OK;
+}
+
 int peri_setup_horizon_field(peri_sim *s, const peri_node *d) {
+  if (!peri_setup_horizon_is_field(d)) return horizon_from_spacing(s, d);
   peri_expr *e = NULL;
   int rc = peri_deck_expr(d, "horizon", true, &e);
   if (rc != PERI_OK) return rc;
@@ -49,7 +71,7 @@ int peri_setup_horizon_field(peri_sim *s, const peri_node *d) {
 int peri_setup_horizon_coupling(peri_sim *s, const peri_node *root, const bool *s0_from_energy) {
   peri_horizon_field *h = s->disc.horizon_field;
   const peri_node *d = peri_deck_get(root, "discretization");
-  const peri_node *at = peri_deck_get(d, "horizon");
+  const peri_node *at = peri_deck_get(d, "horizon") ? peri_deck_get(d, "horizon") : peri_deck_get(d, "m");
   /* what the per-node models do not cover */
   if (peri_comm_size() > 1)
     return peri_deck_error(at, "key 'horizon': a horizon that varies runs in a single process (got %d MPI ranks)",
@@ -79,7 +101,7 @@ int peri_setup_horizon_coupling(peri_sim *s, const peri_node *root, const bool *
     if (rc != PERI_OK) return rc;
   }
   if (!strcmp(choice, "auto")) {
-    peri_horizon_field_mark_transition(h, &s->disc.bonds);
+    peri_horizon_field_mark_transition(h, &s->disc.bonds, s->disc.p.volume);
   } else if (!strcmp(choice, "none")) {
     h->n_coupled = 0;
   } else {
@@ -112,7 +134,8 @@ int peri_setup_horizon_solver(const peri_sim *s, const peri_node *root) {
   const peri_horizon_field *h = s->disc.horizon_field;
   if (!h) return PERI_OK;
   const peri_node *d = peri_deck_get(root, "discretization");
-  const peri_node *at = peri_deck_get(d, "horizon"), *ps = peri_deck_get(d, "partial_stress");
+  const peri_node *at = peri_deck_get(d, "horizon") ? peri_deck_get(d, "horizon") : peri_deck_get(d, "m");
+  const peri_node *ps = peri_deck_get(d, "partial_stress");
   if (s->solver.kind == PERI_SOLVER_IMPLICIT)
     return peri_deck_error(at, "key 'horizon': the implicit solver needs a tangent stiffness, which the models with a "
                            "horizon that varies do not have; use adr, dynamic_relaxation or nlcg");

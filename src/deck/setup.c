@@ -305,6 +305,42 @@ static int check_grid_size(const peri_node *d, const peri_grid_params *gp, doubl
   return PERI_OK;
 }
 
+/* The zones of a graded grid tile the body exactly: cell-centred boxes whose sides are
+ * whole multiples of their spacing, no two overlapping (docs/variable_horizon.md). */
+static int check_graded_zones(const peri_node *d, const peri_node *fill, const peri_grid_params *gp) {
+  if (gp->placement != PERI_PLACE_CENTERS || gp->origin_given)
+    return peri_deck_error(peri_deck_key_node(d, gp->origin_given ? "origin" : "placement"), "discretization: a "
+                           "graded grid (a fill shape with its own spacing) places each zone's nodes at its own "
+                           "cell centres: no 'origin', and 'placement' centers");
+  if (peri_deck_get(d, "volume"))
+    return peri_deck_error(peri_deck_key_node(d, "volume"), "key 'volume': not on a graded grid (a node's volume is "
+                           "its zone's cell, so that the volumes tile the body)");
+  for (int k = 0; k < gp->n_fill; ++k) {
+    const peri_shape *a = &gp->fill[k].shape;
+    const double dx = gp->fill[k].spacing > 0.0 ? gp->fill[k].spacing : gp->spacing;
+    if (a->kind != PERI_SHAPE_BOX)
+      return peri_deck_error(fill->items[k], "discretization.fill item %d: on a graded grid every zone is a box "
+                             "(cut holes and notches with 'remove')", k + 1);
+    for (int c = 0; c < gp->dim; ++c) {
+      const double cells = (a->max[c] - a->min[c]) / dx;
+      if (fabs(cells - round(cells)) > 1e-9 * fmax(1.0, cells))
+        return peri_deck_error(fill->items[k], "discretization.fill item %d: its side along axis %d is %g "
+                               "spacings (%g); on a graded grid a zone's sides are whole multiples of its spacing",
+                               k + 1, c + 1, cells, dx);
+    }
+    for (int j = 0; j < k; ++j) {
+      const peri_shape *b = &gp->fill[j].shape;
+      bool overlap = true;
+      for (int c = 0; c < gp->dim; ++c)
+        overlap = overlap && fmin(a->max[c], b->max[c]) - fmax(a->min[c], b->min[c]) > 1e-9 * dx;
+      if (overlap)
+        return peri_deck_error(fill->items[k], "discretization.fill item %d overlaps item %d; the zones of a "
+                               "graded grid do not overlap", k + 1, j + 1);
+    }
+  }
+  return PERI_OK;
+}
+
 static int parse_discretization(parse_ctx *c) {
   peri_sim *s = c->s;
   const peri_node *d = peri_deck_get(c->root, "discretization");
@@ -331,15 +367,20 @@ static int parse_discretization(parse_ctx *c) {
   g->spacing = NAN;
   TRY(peri_deck_double(d, "spacing", fill != NULL, &g->spacing));
   double horizon = NAN, m = NAN;
-  const bool horizon_field = peri_setup_horizon_is_field(d); /* an expression of x, y, z (horizon_keys.c) */
-  if (!horizon_field) TRY(peri_deck_double(d, "horizon", false, &horizon));
+  const bool horizon_expression = peri_setup_horizon_is_field(d); /* an expression of x, y, z (horizon_keys.c) */
+  if (!horizon_expression) TRY(peri_deck_double(d, "horizon", false, &horizon));
   TRY(peri_deck_double(d, "m", false, &m));
+  bool zone_spacing = false; /* a graded grid: a fill shape with its own spacing */
+  for (int k = 0; fill && fill->kind == PERI_NODE_SEQUENCE && k < fill->count; ++k)
+    zone_spacing = zone_spacing || peri_deck_get(fill->items[k], "spacing") != NULL;
+  /* a horizon per node: an expression, or m times each node's spacing on a graded grid */
+  const bool horizon_field = horizon_expression || (zone_spacing && !isnan(m));
   static const char *const field_keys[] = {"partial_stress", "partial_stress_stabilization", NULL};
   for (int k = 0; !horizon_field && field_keys[k]; ++k)
     if (peri_deck_get(d, field_keys[k]))
       return peri_deck_error(peri_deck_key_node(d, field_keys[k]), "key '%s': only with a horizon that varies "
-                             "(discretization.horizon an expression of x, y, z)", field_keys[k]);
-  if ((isnan(horizon) && !horizon_field) == isnan(m))
+                             "(discretization.horizon an expression of x, y, z, or m on a graded grid)", field_keys[k]);
+  if ((isnan(horizon) && !horizon_expression) == isnan(m))
     return peri_deck_error(d, "discretization: give exactly one of 'horizon' (a length) or 'm' "
                               "(horizon / spacing)");
   g->thickness = 1.0;
@@ -389,7 +430,7 @@ static int parse_discretization(parse_ctx *c) {
       return peri_deck_error(fill, "key 'fill': expected a list of shapes, each with a material");
     gp.n_fill = fill->count;
     gp.fill = peri_calloc(fill->count, sizeof(peri_fill));
-    static const char *const fill_extra[] = {"material", NULL};
+    static const char *const fill_extra[] = {"material", "spacing", NULL};
     int rc = PERI_OK;
     for (int k = 0; k < fill->count && rc == PERI_OK; ++k) {
       if (peri_setup_is_image_fill(fill->items[k])) { /* image_keys.c */
@@ -397,6 +438,9 @@ static int parse_discretization(parse_ctx *c) {
         continue;
       }
       rc = peri_shape_parse(fill->items[k], g->dim, "discretization.fill", fill_extra, &gp.fill[k].shape);
+      if (rc == PERI_OK) rc = peri_deck_double(fill->items[k], "spacing", false, &gp.fill[k].spacing);
+      if (rc == PERI_OK && peri_deck_get(fill->items[k], "spacing") && !(gp.fill[k].spacing > 0.0))
+        rc = peri_deck_error(peri_deck_get(fill->items[k], "spacing"), "key 'spacing': must be positive");
       if (rc != PERI_OK) break;
       const char *mname = NULL;
       if (s->mat.n_materials == 1 && !peri_deck_get(fill->items[k], "material")) {
@@ -416,7 +460,10 @@ static int parse_discretization(parse_ctx *c) {
     const peri_node *remove = peri_deck_get(d, "remove");
     if (rc == PERI_OK && remove)
       rc = parse_shape_list(remove, g->dim, "discretization.remove", NULL, &gp.remove, &gp.n_remove);
+    if (rc == PERI_OK && peri_grid_is_graded(&gp)) rc = check_graded_zones(d, fill, &gp);
     if (rc == PERI_OK) rc = check_grid_size(d, &gp, !isnan(m) ? m : horizon_field ? 3.0 : horizon / g->spacing);
+    for (int k = 0; k < gp.n_fill && rc == PERI_OK; ++k) /* the finest zone's: ordering, partial volumes */
+      if (gp.fill[k].spacing > 0.0) g->spacing = fmin(g->spacing, gp.fill[k].spacing);
     if (rc == PERI_OK && peri_grid_generate(p, &gp) < 0) rc = PERI_ERR_INPUT;
     for (int k = 0; k < gp.n_fill; ++k) {
       peri_shape_free(&gp.fill[k].shape);

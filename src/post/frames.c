@@ -8,6 +8,7 @@
 #include "peri/coupling.h"
 #include "peri/indicator.h"
 #include "peri/damage.h"
+#include "peri/discretize.h"
 #include "peri/damage_index.h"
 #include "peri/decompose.h"
 #include "peri/energies.h"
@@ -32,12 +33,20 @@ struct peri_frames {
   double *stress, *strain, *von_mises, *principal; /* allocated when first asked for */
   double *d2u;
   double *yield_index, *plastic_stretch;           /* (docs/plasticity.md) likewise */
+  double *spacing;
 };
 
 /* A frame buffer of one value per owned node, allocated on first use. */
 static double *node_buffer(const peri_sim *s, double **buffer) {
   if (!*buffer) *buffer = peri_malloc(sizeof(double) * (size_t)(s->disc.p.n_owned > 0 ? s->disc.p.n_owned : 1));
   return *buffer;
+}
+
+/* Each node's spacing, the edge of its volume's cell (a graded grid's zone spacing). */
+static void node_spacing(const peri_sim *s, double *out) {
+  const peri_geometry *g = &s->disc.geom;
+  for (int32_t i = 0; i < s->disc.p.n_owned; ++i)
+    out[i] = peri_grid_node_spacing(s->disc.p.volume[i], g->dim, g->thickness, g->cross_section);
 }
 
 /* Stress (and its measures) of the current state into the frame buffers. */
@@ -184,6 +193,11 @@ static int frame_field(peri_frames *f, peri_sim *s, const char *name, peri_field
     fl.data = f->damage;
   } else if (!strcmp(name, "dilatation")) fl.data = p->theta;
   else if (!strcmp(name, "horizon")) fl.data = s->disc.horizon_field->delta;
+  else if (!strcmp(name, "spacing")) {
+    if (!f->spacing) f->spacing = peri_malloc(sizeof(double) * (size_t)(p->n_owned > 0 ? p->n_owned : 1));
+    node_spacing(s, f->spacing);
+    fl.data = f->spacing;
+  }
   else if (!strcmp(name, "material")) fl.idata = p->material;
   else if (!strcmp(name, "block")) fl.idata = p->block;
   else if (!strcmp(name, "node_type")) fl.idata = s->coupling->node_type;
@@ -300,6 +314,8 @@ int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
     memcpy(values, p->theta, sizeof(double) * (size_t)p->n_owned);
   } else if (!strcmp(name, "horizon") && s->disc.horizon_field) {
     memcpy(values, s->disc.horizon_field->delta, sizeof(double) * (size_t)p->n_owned);
+  } else if (!strcmp(name, "spacing")) {
+    node_spacing(s, values);
   } else if (!strcmp(name, "strain_energy_density")) {
     peri_strain_energy(s);
     memcpy(values, p->energy, sizeof(double) * (size_t)p->n_owned);
@@ -421,5 +437,6 @@ void peri_frames_close(peri_frames *f) {
   free(f->principal);
   free(f->yield_index);
   free(f->plastic_stretch);
+  free(f->spacing);
   free(f);
 }
