@@ -716,7 +716,8 @@ static int parse_output(parse_ctx *c) {
 
 static const char *const top_keys[] = {"dimension", "plane", "discretization", "materials",
                                        "interfaces", "regions", "precracks", "boundary_conditions",
-                                       "indenter", "solver", "output", "thermal", "contact", NULL};
+                                       "indenter", "solver", "output", "thermal", "contact",
+                                       "bodies", NULL};
 
 /* A count derived from the ratio of two deck numbers, such as end_time / time_step. The
  * ratio is rounded up (less a rounding allowance); a count that a long cannot hold is an
@@ -765,6 +766,7 @@ static int build(parse_ctx *c) {
   if (!heat_only) TRY(resolve_materials(c));
   TRY(parse_regions(c));
   peri_bonds_build(&s->disc.bonds, &s->disc.p, &s->disc.family);
+  TRY(peri_setup_bodies(s, root)); /* no bonds across bodies (docs/contact.md) */
   TRY(parse_precracks(c));
   peri_precracks_apply(s);
   if (!heat_only) TRY(parse_interfaces(c));
