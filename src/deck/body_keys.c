@@ -51,9 +51,8 @@ int peri_setup_bodies(peri_sim *s, const peri_node *root) {
       if (label[i] != NO_BODY) {
         const double *x = &p->x[3 * i];
         rc = peri_deck_error(it, "bodies: bodies '%s' and '%s' overlap at t = 0: both hold the node at "
-                                 "(%g, %g, %g) and %s; separate their regions",
-                             s->cond.regions[first[label[i]]].name, reg->name, x[0], x[1], x[2],
-                             "a node belongs to at most one body");
+                                 "(%g, %g, %g); a node belongs to at most one body, so separate their regions",
+                             s->cond.regions[first[label[i]]].name, reg->name, x[0], x[1], x[2]);
         break;
       }
       label[i] = k;
