@@ -90,6 +90,10 @@ int64_t peri_bonds_find(const peri_bonds *b, int32_t i, int32_t j);
 /* Bytes used by all per-bond arrays, divided by n_bonds. */
 double peri_bonds_bytes_per_bond(const peri_bonds *b);
 void peri_bonds_free(peri_bonds *b);
+/* Removes every bond i-j whose ends have different labels (label[] over all n nodes, owned
+ * and ghosts), keeping each family sorted; returns the number of directed bonds removed.
+ * Separate bodies of one deck (docs/contact.md "Bodies"). */
+int64_t peri_bonds_keep_within(peri_bonds *b, const int32_t *label);
 /* Number of broken directed bonds. */
 long peri_broken_count(const peri_bonds *b);
 /* FNV-1a hash of the bond families of nodes 0..n-1 (CSR offsets and neighbours): a

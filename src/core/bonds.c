@@ -234,6 +234,24 @@ int64_t peri_bonds_find(const peri_bonds *b, int32_t i, int32_t j) {
   return -1;
 }
 
+int64_t peri_bonds_keep_within(peri_bonds *b, const int32_t *label) {
+  int64_t kept = 0;
+  for (int32_t i = 0; i < b->n_nodes; i++) { /* in place: kept never passes the read position */
+    const int64_t from = b->offset[i], to = b->offset[i + 1];
+    b->offset[i] = kept;
+    for (int64_t k = from; k < to; k++)
+      if (label[b->neighbor[k]] == label[i]) {
+        b->neighbor[kept] = b->neighbor[k];
+        b->broken[kept] = b->broken[k];
+        kept++;
+      }
+  }
+  const int64_t removed = b->n_bonds - kept;
+  b->offset[b->n_nodes] = kept;
+  b->n_bonds = kept;
+  return removed;
+}
+
 double peri_bonds_bytes_per_bond(const peri_bonds *b) {
   if (b->n_bonds <= 0) return 0.0;
   return (double)(sizeof *b->neighbor + sizeof *b->broken);

@@ -800,7 +800,7 @@ static int parse_output(parse_ctx *c) {
 static const char *const top_keys[] = {"dimension", "plane", "discretization", "materials",
                                        "interfaces", "regions", "precracks", "boundary_conditions",
                                        "indenter", "solver", "output", "thermal", "coupling", "contact",
-                                       NULL};
+                                       "bodies", NULL};
 
 /* A count derived from the ratio of two deck numbers, such as end_time / time_step. The
  * ratio is rounded up (less a rounding allowance); a count that a long cannot hold is an
@@ -850,6 +850,7 @@ static int build(parse_ctx *c) {
   if (!heat_only) TRY(peri_setup_plasticity(s, root)); /* sublayers (plasticity_keys.c, docs/plasticity.md) */
   TRY(parse_regions(c));
   peri_bonds_build(&s->disc.bonds, &s->disc.p, &s->disc.family);
+  TRY(peri_setup_bodies(s, root)); /* no bonds across bodies (docs/contact.md) */
   if (s->disc.horizon_field) { /* the coupling region and the per-node models (horizon_keys.c) */
     bool from_energy[s->mat.n_materials];
     for (int m = 0; m < s->mat.n_materials; ++m) from_energy[m] = !isnan(c->failure[m].G0) || !isnan(c->failure[m].KIc);

@@ -85,4 +85,9 @@ int peri_setup_contact(peri_sim *s, const peri_node *root);
 int peri_setup_plasticity(peri_sim *s, const peri_node *root);
 int peri_setup_plasticity_solver(peri_sim *s, const peri_node *root);
 
+/* The bodies key (body_keys.c, docs/contact.md "Bodies"): regions that are separate bodies,
+ * each node in at most one; the bonds between two bodies are removed. After the regions and
+ * the bonds, before pre-cracks and the model's constants. */
+int peri_setup_bodies(peri_sim *s, const peri_node *root);
+
 #endif
