@@ -24,33 +24,14 @@
 #include "peri/horizon_field.h"
 #include "bond_kernel.h"
 #include "partial_stress.h"
+#include "peri/small_matrix.h"
 
 /* Inverse of the leading dim x dim block of a (3x3 row-major); false when singular
- * (relative to the block's scale). */
+ * relative to the block's scale. */
 static bool invert_block(const double a[9], int dim, double inv[9]) {
-  memset(inv, 0, 9 * sizeof(double));
   double scale = 0.0;
   for (int k = 0; k < 9; ++k) scale = fmax(scale, fabs(a[k]));
-  if (!(scale > 0.0)) return false;
-  if (dim == 1) {
-    inv[0] = 1.0 / a[0];
-    return true;
-  }
-  if (dim == 2) {
-    const double det = a[0] * a[4] - a[1] * a[3];
-    if (!(fabs(det) > 1e-12 * scale * scale)) return false;
-    inv[0] = a[4] / det, inv[1] = -a[1] / det, inv[3] = -a[3] / det, inv[4] = a[0] / det;
-    return true;
-  }
-  const double c00 = a[4] * a[8] - a[5] * a[7], c01 = a[5] * a[6] - a[3] * a[8], c02 = a[3] * a[7] - a[4] * a[6];
-  const double det = a[0] * c00 + a[1] * c01 + a[2] * c02;
-  if (!(fabs(det) > 1e-12 * scale * scale * scale)) return false;
-  inv[0] = c00 / det, inv[3] = c01 / det, inv[6] = c02 / det;
-  inv[1] = (a[2] * a[7] - a[1] * a[8]) / det, inv[4] = (a[0] * a[8] - a[2] * a[6]) / det;
-  inv[7] = (a[1] * a[6] - a[0] * a[7]) / det;
-  inv[2] = (a[1] * a[5] - a[2] * a[4]) / det, inv[5] = (a[2] * a[3] - a[0] * a[5]) / det;
-  inv[8] = (a[0] * a[4] - a[1] * a[3]) / det;
-  return true;
+  return peri_invert_block3(a, dim, 1e-12 * pow(scale, dim), inv);
 }
 
 /* The weight of bond i-j in node i's gradient: V_j times the bond stiffness of i's force state,

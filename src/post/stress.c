@@ -7,6 +7,7 @@
 #include "peri/error.h"
 #include "peri/model.h"
 #include "peri/stress.h"
+#include "peri/small_matrix.h"
 
 int peri_stress(peri_sim *s, double *sigma) {
   peri_particles *p = &s->disc.p;
@@ -49,31 +50,6 @@ int peri_stress(peri_sim *s, double *sigma) {
   return PERI_OK;
 }
 
-/* Inverse of the leading dim x dim block of a 3x3 matrix; false when singular. */
-static bool invert(const double a[9], int dim, double inv[9]) {
-  memset(inv, 0, 9 * sizeof(double));
-  if (dim == 1) {
-    if (a[0] == 0.0) return false;
-    inv[0] = 1.0 / a[0];
-    return true;
-  }
-  if (dim == 2) {
-    const double det = a[0] * a[4] - a[1] * a[3];
-    if (!(fabs(det) > 1e-300)) return false;
-    inv[0] = a[4] / det, inv[1] = -a[1] / det, inv[3] = -a[3] / det, inv[4] = a[0] / det;
-    return true;
-  }
-  const double c00 = a[4] * a[8] - a[5] * a[7], c01 = a[5] * a[6] - a[3] * a[8], c02 = a[3] * a[7] - a[4] * a[6];
-  const double det = a[0] * c00 + a[1] * c01 + a[2] * c02;
-  if (!(fabs(det) > 1e-300)) return false;
-  inv[0] = c00 / det, inv[3] = c01 / det, inv[6] = c02 / det;
-  inv[1] = (a[2] * a[7] - a[1] * a[8]) / det, inv[4] = (a[0] * a[8] - a[2] * a[6]) / det;
-  inv[7] = (a[1] * a[6] - a[0] * a[7]) / det;
-  inv[2] = (a[1] * a[5] - a[2] * a[4]) / det, inv[5] = (a[2] * a[3] - a[0] * a[5]) / det;
-  inv[8] = (a[0] * a[4] - a[1] * a[3]) / det;
-  return true;
-}
-
 void peri_strain(const peri_sim *s, double *eps) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
@@ -100,7 +76,7 @@ void peri_strain(const peri_sim *s, double *eps) {
     }
     double *e = &eps[9 * (size_t)i];
     memset(e, 0, 9 * sizeof(double));
-    if (!invert(K, dim, Kinv)) continue;
+    if (!peri_invert_block3(K, dim, 1e-300, Kinv)) continue;
     for (int a = 0; a < dim; ++a)
       for (int c = 0; c < dim; ++c)
         for (int m = 0; m < dim; ++m) F[3 * a + c] += A[3 * a + m] * Kinv[3 * m + c];
