@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/error.h"
+#include "peri/output.h"
+#include "peri/plot.h"
 #include "peri/rve.h"
 
 typedef struct key {
@@ -39,10 +41,58 @@ static int parse_long(const char *name, const char *text, long lo, long hi, long
   return 0;
 }
 
+/* A picture of realization 0 (seed 002 Fig. 3.12): filler nodes 1, matrix nodes 0, the
+ * platelets' outlines drawn as phase boundaries. */
+static int write_picture(const peri_rve_params *p, const char *path) {
+  peri_rve_geometry g = {0};
+  if (peri_rve_generate(p, 0, &g)) return -1;
+  const int32_t count = g.n * g.n;
+  double *x = malloc(3 * (size_t)count * sizeof *x), *value = malloc((size_t)count * sizeof *value);
+  int32_t *phase = malloc((size_t)count * sizeof *phase);
+  int rc = -1;
+  if (x && value && phase) {
+    for (int32_t k = 0; k < count; ++k) {
+      x[3 * k] = ((k % g.n) + 0.5) * p->spacing, x[3 * k + 1] = ((k / g.n) + 0.5) * p->spacing, x[3 * k + 2] = 0;
+      phase[k] = g.platelet[k] >= 0;
+      value[k] = phase[k];
+    }
+    char title[160];
+    snprintf(title, sizeof title, "RVE realization 0: %d platelets, filler nodes %.2f%%", g.platelets,
+             100.0 * (double)g.filler_nodes / count);
+    const peri_png_axes axes = {"x [m]", "y [m]", "filler (1) or matrix (0)", phase, x};
+    rc = peri_png_write_field_axes(path, count, x, value, 0, 1, p->spacing, 900, title, &axes) ? -1 : 0;
+  } else {
+    peri_error("rve: out of memory");
+  }
+  free(x), free(value), free(phase);
+  peri_rve_geometry_free(&g);
+  return rc;
+}
+
+/* The running mean of the tensile modulus (E11 + E22)/2 against the number of realizations
+ * (seed 002 Fig. 3.14). */
+static int write_convergence(const peri_rve_moduli *each, long count, const char *path) {
+  double *n = malloc((size_t)count * sizeof *n), *mean = malloc((size_t)count * sizeof *mean);
+  int rc = -1;
+  if (n && mean) {
+    double sum = 0;
+    for (long k = 0; k < count; ++k) {
+      sum += 0.5 * (each[k].E11 + each[k].E22) * 1e-9;
+      n[k] = (double)(k + 1), mean[k] = sum / (double)(k + 1);
+    }
+    rc = peri_plot_write(path, n, mean, (size_t)count, "realizations", "mean tensile modulus (E11 + E22)/2 [GPa]",
+                         "Running mean of the homogenized modulus", 900, 600) ? -1 : 0;
+  } else {
+    peri_error("rve: out of memory");
+  }
+  free(n), free(mean);
+  return rc;
+}
+
 int peri_rve_command(int argc, char **argv) {
   peri_rve_params p = peri_rve_params_default();
   long realizations = 10, m = p.m, seed = (long)p.seed, threads = 0;
-  const char *csv = NULL;
+  const char *csv = NULL, *picture = NULL, *convergence = NULL;
   const key keys[] = {{"side", &p.side},
                       {"spacing", &p.spacing},
                       {"E_matrix", &p.E_matrix},
@@ -79,10 +129,12 @@ int peri_rve_command(int argc, char **argv) {
     if (!found && len == 4 && !strncmp(argv[a], "seed", 4))
       found = 1, bad = parse_long("seed", val, 0, 2147483647L, &seed);
     if (!found && len == 3 && !strncmp(argv[a], "csv", 3)) found = 1, csv = val;
+    if (!found && len == 7 && !strncmp(argv[a], "picture", 7)) found = 1, picture = val;
+    if (!found && len == 11 && !strncmp(argv[a], "convergence", 11)) found = 1, convergence = val;
     if (!found) {
       peri_error("rve: unknown key '%.*s' (keys: side, spacing, m, E_matrix, E_filler, rho_matrix, "
                  "rho_filler, weight_fraction, kappa, aspect_mean, aspect_std, thickness, max_turn, "
-                 "strain, realizations, seed, csv)",
+                 "strain, realizations, seed, csv, picture, convergence)",
                  (int)len, argv[a]);
       return 2;
     }
@@ -96,6 +148,10 @@ int peri_rve_command(int argc, char **argv) {
     return 2;
   }
   if (threads > 0) omp_set_num_threads((int)threads);
+  if (picture && write_picture(&p, picture)) {
+    if (out) fclose(out);
+    return 1;
+  }
   const int n = (int)(p.side / p.spacing + 0.5);
   const double vol = peri_rve_volume_fraction(p.weight_fraction, p.rho_filler, p.rho_matrix);
   printf("rve: side %g m, %d x %d nodes, m = %d, filler volume fraction %.5f (eq. 3.2), kappa %g,\n"
@@ -122,6 +178,8 @@ int peri_rve_command(int argc, char **argv) {
     const double scale = q < 2 ? 1e-9 : 1.0;
     printf("%-16s %.6g +- %.3g%s\n", names[q], mean * scale, std * scale, q < 2 ? " GPa" : "");
   }
+  int rc = 0;
+  if (convergence && write_convergence(each, realizations, convergence)) rc = 1;
   if (out) {
     fprintf(out, "realization,platelets,filler_fraction,E11,E22,nu12,nu21,iterations\n");
     for (long k = 0; k < realizations; ++k) {
@@ -132,5 +190,5 @@ int peri_rve_command(int argc, char **argv) {
     fclose(out);
   }
   free(each), free(v);
-  return 0;
+  return rc;
 }

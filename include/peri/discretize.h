@@ -2,6 +2,7 @@
  * from a node file; ordering along a space-filling curve. */
 #ifndef PERI_DISCRETIZE_H
 #define PERI_DISCRETIZE_H
+#include "peri/detachment.h"
 #include "peri/particles.h"
 #include "peri/phase_map.h"
 #include "peri/shape.h"
@@ -18,6 +19,8 @@ typedef struct peri_fill {
   peri_phase_map *phases;       /* an image: the material of each pixel (shape is its rectangle);
                                    a void pixel's points get no node; NULL otherwise */
   double spacing;          /* > 0: this zone's own node spacing (a graded grid), else the grid's */
+  peri_detachment *detachment; /* a defect along a phase boundary, applied after every other fill
+                                  shape (shape is the region it is limited to); NULL otherwise */
 } peri_fill;
 
 typedef struct peri_grid_params {

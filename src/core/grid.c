@@ -27,6 +27,7 @@ static bool grid_origin(const peri_grid_params *g, bool report, double origin[3]
   double lo[3] = {0, 0, 0};
   for (int s = 0; s < g->n_fill; s++) {
     double slo[3], shi[3];
+    if (g->fill[s].detachment) continue; /* it makes no points of its own */
     if (!peri_shape_bounds(&g->fill[s].shape, g->dim, slo, shi)) {
       if (report)
         peri_error("grid: fill shape %d is unbounded (shape: all); a grid needs bounded shapes",
@@ -102,9 +103,36 @@ double peri_grid_points_bound(const peri_grid_params *g) {
   double total = 0;
   for (int s = 0; s < g->n_fill; s++) {
     int64_t kmin[3], kmax[3];
+    if (g->fill[s].detachment) continue;
     total += shape_range(g, s, origin, kmin, kmax);
   }
   return total;
+}
+
+/* The detachment defects, in deck order, on the points the fill shapes made (a uniform grid:
+ * the deck refuses them on a graded one); the points that turn void are dropped. */
+static int64_t apply_detachments(const peri_grid_params *g, const double grid[3], double off, grid_point *points,
+                                 int64_t count) {
+  for (int s = 0; s < g->n_fill; s++) {
+    if (!g->fill[s].detachment || count == 0) continue;
+    int64_t *k = peri_malloc((size_t)count * 3 * sizeof *k);
+    int32_t *material = peri_malloc((size_t)count * sizeof *material);
+    for (int64_t i = 0; i < count; i++) {
+      for (int d = 0; d < 3; d++) k[3 * i + d] = points[i].k[d];
+      material[i] = points[i].material;
+    }
+    peri_detach_points(g->fill[s].detachment, &g->fill[s].shape, g->dim, count, k, material, grid, g->spacing, off);
+    int64_t kept = 0;
+    for (int64_t i = 0; i < count; i++) {
+      if (material[i] == PERI_PHASE_VOID) continue;
+      points[kept] = points[i];
+      points[kept++].material = material[i];
+    }
+    count = kept;
+    free(k);
+    free(material);
+  }
+  return count;
 }
 
 int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
@@ -144,6 +172,7 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
   for (int s = 0; s < g->n_fill; s++) {
     int64_t kmin[3], kmax[3];
     double origin[3];
+    if (g->fill[s].detachment) continue;
     shape_origin(g, s, grid, origin);
     const double dx = fill_spacing(g, s), tol = 1e-9 * dx;
     shape_range(g, s, grid, kmin, kmax);
@@ -156,7 +185,7 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
           if (!peri_shape_contains(&g->fill[s].shape, dim, x, tol)) continue;
           bool later = false;
           for (int t = s + 1; t < g->n_fill && !later; t++)
-            later = peri_shape_contains(&g->fill[t].shape, dim, x, tol);
+            later = !g->fill[t].detachment && peri_shape_contains(&g->fill[t].shape, dim, x, tol);
           if (later) continue;
           bool removed = false;
           for (int r = 0; r < g->n_remove && !removed; r++)
@@ -183,6 +212,7 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
     }
   }
   if (!in_scan_order) qsort(points, (size_t)count, sizeof *points, compare_scan_order);
+  count = apply_detachments(g, grid, off, points, count);
 
   for (int64_t i = 0; i < count; i++) {
     int32_t owner = points[i].owner;

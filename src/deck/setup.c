@@ -318,6 +318,9 @@ static int check_graded_zones(const peri_node *d, const peri_node *fill, const p
   for (int k = 0; k < gp->n_fill; ++k) {
     const peri_shape *a = &gp->fill[k].shape;
     const double dx = gp->fill[k].spacing > 0.0 ? gp->fill[k].spacing : gp->spacing;
+    if (gp->fill[k].detachment)
+      return peri_deck_error(fill->items[k], "discretization.fill item %d: a detachment defect needs a uniform grid "
+                             "(no fill shape with its own spacing)", k + 1);
     if (a->kind != PERI_SHAPE_BOX)
       return peri_deck_error(fill->items[k], "discretization.fill item %d: on a graded grid every zone is a box "
                              "(cut holes and notches with 'remove')", k + 1);
@@ -437,6 +440,10 @@ static int parse_discretization(parse_ctx *c) {
         rc = peri_setup_image_fill(s, fill->items[k], g->spacing, &gp.fill[k]);
         continue;
       }
+      if (peri_setup_is_detachment_fill(fill->items[k])) { /* detachment_keys.c */
+        rc = peri_setup_detachment_fill(s, fill->items[k], g->spacing, &gp.fill[k]);
+        continue;
+      }
       rc = peri_shape_parse(fill->items[k], g->dim, "discretization.fill", fill_extra, &gp.fill[k].shape);
       if (rc == PERI_OK) rc = peri_deck_double(fill->items[k], "spacing", false, &gp.fill[k].spacing);
       if (rc == PERI_OK && peri_deck_get(fill->items[k], "spacing") && !(gp.fill[k].spacing > 0.0))
@@ -469,6 +476,7 @@ static int parse_discretization(parse_ctx *c) {
       peri_shape_free(&gp.fill[k].shape);
       peri_phase_map_free(gp.fill[k].phases);
       free(gp.fill[k].phases);
+      free(gp.fill[k].detachment);
     }
     for (int k = 0; k < gp.n_remove; ++k) peri_shape_free(&gp.remove[k]);
     free(gp.fill);

@@ -53,6 +53,12 @@ bool peri_setup_is_image_fill(const peri_node *item);
  * (allocated; free with peri_phase_map_free and free). `spacing` is the grid's, which must not
  * be finer than the pixels. */
 int peri_setup_image_fill(const peri_sim *s, const peri_node *item, double spacing, peri_fill *out);
+/* Whether a discretization.fill item is a detachment defect ({shape: detachment, ...}). */
+bool peri_setup_is_detachment_fill(const peri_node *item);
+/* A detachment fill item (detachment_keys.c, docs/microstructures.md section 3): out->detachment
+ * (allocated; free it) and its `within` shape (the whole plane when absent). `spacing` is the
+ * grid's: the thickness must reach the nodes next to the boundary. */
+int peri_setup_detachment_fill(const peri_sim *s, const peri_node *item, double spacing, peri_fill *out);
 
 /* The regions section (region_keys.c): shapes, mesh sets, node set files, blocks, materials
  * and their unions, intersections and differences. `mesh` is the discretization's mesh or

@@ -83,6 +83,13 @@ void peri_print_discretization(const peri_sim *s, FILE *out, const char *model, 
           s->disc.geom.spacing);
 }
 
+/* The nodes of material m (counted where the "nodes" line is: before the nodes are distributed). */
+static long material_nodes(const peri_sim *s, int m) {
+  long count = 0;
+  for (int i = 0; i < s->disc.p.n; ++i) count += s->disc.p.material[i] == m;
+  return count;
+}
+
 void peri_print_summary(const peri_sim *s, FILE *out) {
   if (s->solver.kind == PERI_SOLVER_HEAT) { /* conduction only (docs/heat.md) */
     peri_thermal_print_summary(s, out);
@@ -94,7 +101,9 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
           peri_memory_estimate(s) / 1e6, peri_bonds_bytes_per_bond(&s->disc.bonds), peri_node_blocks_bytes_bound());
   for (int m = 0; m < s->mat.n_materials; ++m) {
     const peri_material *mat = &s->mat.materials[m];
-    fprintf(out, "  material     %s: rho %g, E %g, nu %.4g, K %g, critical stretch %g%s\n", mat->name,
+    char count[48] = ""; /* several materials: how many nodes each has (defects change it) */
+    if (s->mat.n_materials > 1) snprintf(count, sizeof count, "%ld nodes, ", material_nodes(s, m));
+    fprintf(out, "  material     %s: %srho %g, E %g, nu %.4g, K %g, critical stretch %g%s\n", mat->name, count,
             mat->density, mat->E, mat->nu, mat->K, mat->lammps_s0 ? mat->s00 : mat->critical_stretch,
             mat->lammps_s0 ? " (s00, compression-dependent)" : "");
     const peri_sublayers *sl = mat->sublayers;
