@@ -34,6 +34,10 @@ typedef struct peri_horizon_field {
   double *state;          /* [n_bonds] scalar force state t_i<xi> of directed bond k (omega and the
                              partial volume of i's horizon included) */
   int64_t *reverse;       /* [n_bonds] bond j -> i of bond k = i -> j */
+  /* PMB without a coupling region (one pass over the bonds, src/model/variable_horizon.c) */
+  double *bond_length;    /* [n_bonds] |xi| of directed bond k */
+  double *bond_state;     /* [n_bonds] t_i<xi_ij> / e: c_i omega beta_i / (2 |xi|) */
+  double *bond_pair;      /* [n_bonds] (t_ij + t_ji) V_j / e of bond k */
   double *partial_stress; /* [9 n] nu0_i = sum_j T_i<xi_ij> (x) xi_ij V_j, row-major */
   /* the least-squares gradient stencil of each coupled node (src/model/partial_stress.c) */
   int64_t *stencil_offset;/* [n + 1] */

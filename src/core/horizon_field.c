@@ -91,6 +91,9 @@ void peri_horizon_field_free(peri_horizon_field *h) {
   free(h->pstate);
   free(h->state);
   free(h->reverse);
+  free(h->bond_length);
+  free(h->bond_state);
+  free(h->bond_pair);
   free(h->partial_stress);
   free(h->stencil_offset);
   free(h->stencil_node);

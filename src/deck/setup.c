@@ -380,7 +380,8 @@ static int parse_discretization(parse_ctx *c) {
   const bool horizon_field = horizon_expression || (zone_spacing && !isnan(m));
   static const char *const field_keys[] = {"partial_stress", "partial_stress_stabilization", NULL};
   for (int k = 0; !horizon_field && field_keys[k]; ++k)
-    if (peri_deck_get(d, field_keys[k]))
+    if (peri_deck_get(d, field_keys[k]) && !(k == 0 && peri_deck_get(d, field_keys[k])->scalar &&
+                                             !strcmp(peri_deck_get(d, field_keys[k])->scalar, "none")))
       return peri_deck_error(peri_deck_key_node(d, field_keys[k]), "key '%s': only with a horizon that varies "
                              "(discretization.horizon an expression of x, y, z, or m on a graded grid)", field_keys[k]);
   if ((isnan(horizon) && !horizon_expression) == isnan(m))

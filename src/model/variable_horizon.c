@@ -40,6 +40,29 @@ static double horizon_first_moment(const peri_geometry *g, double delta) {
   return 2.0 * g->cross_section * radial;
 }
 
+/* PMB without a coupling region: the per-bond constants of the one-pass force (vh_pmb_force_fused),
+ * from the node constants c_i (both ends' before the pairs are formed). */
+static void pmb_bond_constants(peri_sim *s) {
+  peri_horizon_field *h = s->disc.horizon_field;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const size_t nb = (size_t)(b->n_bonds > 0 ? b->n_bonds : 1);
+  h->bond_length = peri_malloc(nb * sizeof(double));
+  h->bond_state = peri_malloc(nb * sizeof(double));
+  h->bond_pair = peri_malloc(nb * sizeof(double));
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int32_t i = 0; i < p->n_owned; ++i)
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      const double r0 = peri_bond_length(p->x, i, b->neighbor[k]);
+      h->bond_length[k] = r0;
+      h->bond_state[k] = 0.5 * h->node_constant[i] * vh_weight(&b->family, h->delta[i], r0) / r0;
+    }
+#pragma omp parallel for schedule(dynamic, 256)
+  for (int32_t i = 0; i < p->n_owned; ++i)
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
+      h->bond_pair[k] = (h->bond_state[k] + h->bond_state[h->reverse[k]]) * p->volume[b->neighbor[k]];
+}
+
 static int vh_init(peri_sim *s, vh_kind kind) {
   peri_horizon_field *h = s->disc.horizon_field;
   peri_particles *p = &s->disc.p;
@@ -84,6 +107,7 @@ static int vh_init(peri_sim *s, vh_kind kind) {
       mat->micromodulus = mat->c_stable;
     }
   }
+  if (kind == VH_PMB && h->n_coupled == 0) pmb_bond_constants(s);
   if (kind == VH_LPS) {
     p->theta = peri_calloc(n, sizeof(double));
     p->pstate = peri_calloc(n, sizeof(double));
@@ -186,7 +210,42 @@ static void vh_states(peri_sim *s, vh_kind kind) {
   }
 }
 
+/* PMB without a coupling region, breaking before the force or not at all: vh_break, vh_states
+ * and the force loop of vh_force in one pass over the bonds, with the constants of
+ * pmb_bond_constants. Both directions of a bond see the same stretch and critical stretch, so
+ * each end breaks its own direction with the decision of vh_break. */
+static long vh_pmb_force_fused(peri_sim *s) {
+  peri_horizon_field *h = s->disc.horizon_field;
+  peri_particles *p = &s->disc.p;
+  peri_bonds *b = &s->disc.bonds;
+  const bool breaking = s->solver.breaking;
+  long broken = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : broken)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    double f[3] = {0, 0, 0};
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      h->state[k] = 0.0;
+      if (b->broken[k]) continue;
+      const int32_t j = b->neighbor[k];
+      double dy[3];
+      const double r = peri_deformed_bond(p->x, p->u, i, j, dy), r0 = h->bond_length[k], e = r - r0;
+      if (breaking && e / r0 > peri_bond_s0(s, i, j) * fmin(h->s0_scale[i], h->s0_scale[j])) {
+        b->broken[k] = 1;
+        broken++;
+        continue;
+      }
+      h->state[k] = h->bond_state[k] * e;
+      if (!(r > 0.0)) continue;
+      const double g = h->bond_pair[k] * e / r;
+      for (int a = 0; a < 3; ++a) f[a] += g * dy[a];
+    }
+    for (int a = 0; a < 3; ++a) p->f[3 * (size_t)i + a] = f[a];
+  }
+  return broken;
+}
+
 static long vh_force(peri_sim *s, vh_kind kind) {
+  if (kind == VH_PMB && s->disc.horizon_field->bond_pair && !s->solver.break_after_force) return vh_pmb_force_fused(s);
   peri_horizon_field *h = s->disc.horizon_field;
   peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
