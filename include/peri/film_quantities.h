@@ -25,9 +25,9 @@ double peri_region_strain_energy(const peri_sim *s, int region);
 /* The deflection profile w(x) of a film region: for each lattice column of the region (its
  * nodes that share an x, fictitious layer nodes left out) the transverse displacement (y in
  * 2D, z in 3D) of its top node, the linear trend removed, Hann-windowed. Its discrete Fourier
- * transform gives the wrinkle amplitude (the largest |W_k|, k >= 1, as the amplitude of a
- * sine: 2|W_k| / the window's sum) and the wavelength (the column span over that k, refined by
- * a Gaussian through the neighbouring bins). Both 0 when the region has fewer than 4 columns or no deflection.
+ * transform gives the dominant wave number (the largest |W_k|, k >= 1, refined by a Gaussian
+ * through the neighbouring bins), the wavelength (the column span over it) and the amplitude
+ * (of the least-squares sine of that wave number through the detrended profile). Both 0 when the region has fewer than 4 columns or no deflection.
  * The same on every rank. */
 void peri_wrinkle_profile(const peri_sim *s, int region, double *amplitude, double *wavelength);
 
