@@ -12,7 +12,8 @@
 void peri_interface_flags(const peri_sim *s, int32_t *flag);
 
 /* Over all ranks: the broken directed bonds joining two materials, and sigma_int, the
- * largest force of an intact such bond, |pair force| beta V_i V_j, divided by the area of a
+ * largest tensile force of an intact such bond, pair force x beta V_i V_j (0 when none is in
+ * tension: compressed bonds do not hold a film down), divided by the area of a
  * node's face (dx^2 in 3D, dx times the thickness in 2D: dx^2 for a slice one spacing
  * thick, the seed's "maximum interface force / dx^2"). Needs the forces of the present state
  * (the model's pair_force reads the last force evaluation's state). */

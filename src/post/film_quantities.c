@@ -45,7 +45,8 @@ void peri_interface_history(const peri_sim *s, long *broken, double *max_stress)
       const double r = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
       if (!(r > 0.0)) continue;
       const double beta = peri_bonds_beta(b, peri_bond_length(p->x, i, j));
-      const double force = fabs(s->mat.model->pair_force(s, i, k, r)) * beta * p->volume[i] * p->volume[j];
+      /* tension only: the bonds that hold the film down and break when it lifts off */
+      const double force = s->mat.model->pair_force(s, i, k, r) * beta * p->volume[i] * p->volume[j];
       const double stress = force / face_area(s, i);
       if (stress > largest) largest = stress;
     }
