@@ -19,13 +19,13 @@
 #include "peri/energies.h"
 #include "peri/error.h"
 #include "peri/film_quantities.h"
+#include "peri/film_series.h"
 #include "peri/frames.h"
 #include "peri/heat_quantities.h"
 #include "peri/history.h"
 #include "peri/history_log.h"
 #include "peri/model.h"
 #include "peri/output.h"
-#include "peri/plot.h"
 #include "peri/phase_stress.h"
 #include "peri/plastic_fields.h"
 #include "peri/progress.h"
@@ -43,26 +43,8 @@ typedef struct run_ctx {
   int failed;
   long first_step;              /* step the solver started from (a restart's checkpoint) */
   long stop_at;                 /* the step (or load step) after which the solver returns */
-  /* output.wrinkles: the film's energy, amplitude and wavelength at every history row, for the
-   * onsets at the end (docs/thin_films.md) */
-  double *film_rows;            /* 5 per row: time, film strain energy, amplitude, wavelength, broken interface bonds */
-  long film_n, film_capacity;
+  peri_film_series film;        /* output.wrinkles: the film's rows, for the onsets at the end */
 } run_ctx;
-
-/* A history row of the film series. */
-enum { FILM_ROW = 5 };
-static void film_row_add(run_ctx *c, const peri_sim *s, double amplitude, double wavelength) {
-  if (c->film_n == c->film_capacity) {
-    c->film_capacity = c->film_capacity ? 2 * c->film_capacity : 64;
-    c->film_rows = peri_realloc(c->film_rows, sizeof(double) * FILM_ROW * (size_t)c->film_capacity);
-  }
-  long broken = 0;
-  double stress = 0.0;
-  peri_interface_history(s, &broken, &stress);
-  double *row = &c->film_rows[FILM_ROW * c->film_n++];
-  row[0] = s->state.time, row[1] = peri_region_strain_energy(s, s->out.wrinkle_region);
-  row[2] = amplitude, row[3] = wavelength, row[4] = (double)broken;
-}
 
 /* Mean displacement of a region's nodes (quasi-static history: the imposed displacement),
  * over the owned nodes of every rank in fixed-order sums. */
@@ -141,7 +123,7 @@ static int write_history(peri_sim *s, run_ctx *c) {
   }
   if (s->out.wrinkle_region > 0) { /* amplitude and wavelength of the film's deflection */
     peri_wrinkle_profile(s, s->out.wrinkle_region, &c->log.row[k], &c->log.row[k + 1]);
-    film_row_add(c, s, c->log.row[k], c->log.row[k + 1]);
+    peri_film_series_add(&c->film, s, c->log.row[k], c->log.row[k + 1]);
     k += 2;
   }
   peri_thermal_history_values(s, c->log.row + k); /* total heat, temperature range (docs/heat.md) */
@@ -244,85 +226,6 @@ const double *peri_run_history(const peri_run_session *r, long *rows, int *colum
   return r->c.log.kept;
 }
 
-/* The onsets of wrinkling and of delamination (peri_wrinkle_onsets, docs/thin_films.md): rows
- * of the film series, -1 where there is none. */
-static void film_onsets(const run_ctx *c, int *wrinkling, int *delamination) {
-  const long n = c->film_n;
-  const size_t room = (size_t)(n > 0 ? n : 1);
-  double *t = peri_malloc(sizeof(double) * room), *energy = peri_malloc(sizeof(double) * room),
-         *broken = peri_malloc(sizeof(double) * room);
-  for (long k = 0; k < n; ++k) {
-    const double *row = &c->film_rows[FILM_ROW * k];
-    t[k] = row[0], energy[k] = row[1], broken[k] = row[4];
-  }
-  peri_wrinkle_onsets(t, energy, broken, (int)n, wrinkling, delamination);
-  free(t);
-  free(energy);
-  free(broken);
-}
-
-static void print_onsets(const peri_sim *s, const run_ctx *c) {
-  int at[2];
-  film_onsets(c, &at[0], &at[1]);
-  static const char *const what[] = {"wrinkling", "wrinkling with delamination"};
-  for (int m = 0; m < 2; ++m) {
-    if (at[m] < 0) {
-      printf("  onset        %s: none (%s)\n", what[m], m ? "no interface bond broke" : "no local maximum of the film's energy rate");
-      continue;
-    }
-    const double *row = &c->film_rows[FILM_ROW * at[m]];
-    printf("  onset        %s at t = %.6g (load step %d): strain energy of '%s' %.6g J, wrinkle amplitude %.4g m, wavelength %.4g m\n",
-           what[m], row[0], at[m], s->cond.regions[s->out.wrinkle_region].name, row[1], row[2], row[3]);
-  }
-}
-
-/* wrinkling.csv (the onsets) and wrinkling_energy.png (the film's energy against the
- * pseudo-time, the onsets marked) in the output directory; rank 0 writes them. `path`: the
- * picture's path for the summary. */
-static int write_onsets(const peri_sim *s, const run_ctx *c, char *path, size_t size) {
-  path[0] = '\0';
-  if (peri_comm_rank() != 0) return PERI_OK;
-  int at[2];
-  film_onsets(c, &at[0], &at[1]);
-  char file[4300];
-  snprintf(file, sizeof file, "%s/wrinkling.csv", s->out.directory);
-  FILE *f = fopen(file, "w");
-  if (!f) {
-    peri_error("cannot write %s", file);
-    return PERI_ERR_RUN;
-  }
-  fprintf(f, "onset,time,load_step,strain_energy,wrinkle_amplitude,wrinkle_wavelength\n");
-  static const char *const names[] = {"wrinkling", "delamination"};
-  for (int m = 0; m < 2; ++m) {
-    if (at[m] < 0) continue; /* none found: no row */
-    const double *row = &c->film_rows[FILM_ROW * at[m]];
-    fprintf(f, "%s,%.10g,%d,%.10g,%.10g,%.10g\n", names[m], row[0], at[m], row[1], row[2], row[3]);
-  }
-  if (fclose(f) != 0) {
-    peri_error("cannot write %s", file);
-    return PERI_ERR_RUN;
-  }
-  const long n = c->film_n;
-  double *t = peri_malloc(sizeof(double) * (size_t)(n > 0 ? n : 1)), *u = peri_malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
-  for (long k = 0; k < n; ++k) t[k] = c->film_rows[FILM_ROW * k], u[k] = c->film_rows[FILM_ROW * k + 1];
-  size_t marks[2];
-  const char *labels[2];
-  size_t n_marks = 0;
-  for (int m = 0; m < 2; ++m)
-    if (at[m] >= 0) marks[n_marks] = (size_t)at[m], labels[n_marks++] = m ? "wrinkling + delamination" : "wrinkling";
-  char ylabel[300], title[600];
-  snprintf(ylabel, sizeof ylabel, "strain_energy_%s [J]", s->cond.regions[s->out.wrinkle_region].name);
-  snprintf(title, sizeof title, "%s: energy criterion", s->out.basename);
-  snprintf(path, size, "%s/wrinkling_energy.png", s->out.directory);
-  const int rc = n > 0 ? peri_plot_write_marked(path, t, u, (size_t)n, marks, n_marks, labels, "time = applied strain [1]",
-                                                ylabel, title, 1200, 800)
-                       : PERI_OK;
-  if (rc != PERI_OK || n == 0) path[0] = '\0';
-  free(t);
-  free(u);
-  return rc;
-}
-
 int peri_run_finish(peri_run_session *r) {
   if (r->finished) return r->rc;
   peri_sim *s = r->s;
@@ -338,7 +241,7 @@ int peri_run_finish(peri_run_session *r) {
     if (peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) rc = PERI_ERR_RUN, picture[0] = 0;
   }
   char onsets[4400] = "";
-  if (s->out.wrinkle_region > 0 && write_onsets(s, &c, onsets, sizeof onsets) != PERI_OK) rc = PERI_ERR_RUN;
+  if (s->out.wrinkle_region > 0 && peri_film_series_write(&c.film, s, onsets, sizeof onsets) != PERI_OK) rc = PERI_ERR_RUN;
   rc = peri_comm_max_int(rc); /* one status for all ranks */
   if (!s->out.quiet) {
     double updates = (double)peri_global_bonds(s) * (s->state.step - c.first_step);
@@ -367,7 +270,7 @@ int peri_run_finish(peri_run_session *r) {
       printf("  bond loops   %.1f%% of the bonds eight nodes at a time (node blocks, %.2f bytes per bond)\n",
              100.0 * in_blocks, tpl_bytes);
     peri_print_stress_summary(s, stdout); /* per-material maxima over every rank */
-    if (s->out.wrinkle_region > 0) print_onsets(s, &c);
+    if (s->out.wrinkle_region > 0) peri_film_series_print(&c.film, s);
     printf("  output       %s/%s.%s (%s), %s/history.csv%s%s%s%s%s%s\n", s->out.directory, s->out.basename,
            s->out.vtu ? "pvd" : "e", s->out.vtu && s->out.exodus ? "VTU series and Exodus II .e" : s->out.vtu ? "VTU series" : "Exodus II",
            s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot, onsets[0] ? ", " : "", onsets);
@@ -378,7 +281,7 @@ int peri_run_finish(peri_run_session *r) {
 int peri_run_close(peri_run_session *r) {
   if (!r) return PERI_OK;
   const int rc = peri_run_finish(r);
-  free(r->c.film_rows);
+  peri_film_series_free(&r->c.film);
   peri_frames_close(r->c.frames);
   peri_history_log_close(&r->c.log);
   free(r);
