@@ -10,6 +10,13 @@
 int peri_plot_write(const char *path, const double *x, const double *y, size_t n, const char *xlabel,
                     const char *ylabel, const char *title, int width, int height);
 
+/* The same with the points marks[0 .. n_marks-1] (indices into x, y) ringed in red and
+ * labelled with mark_labels (NULL: no labels), e.g. the detected onsets of a film's wrinkling
+ * on its energy curve (docs/thin_films.md). */
+int peri_plot_write_marked(const char *path, const double *x, const double *y, size_t n, const size_t *marks,
+                           size_t n_marks, const char *const *mark_labels, const char *xlabel, const char *ylabel,
+                           const char *title, int width, int height);
+
 /* A tick step of 1, 2 or 5 times a power of ten giving about `want` intervals of span. */
 double peri_plot_nice_step(double span, int want);
 

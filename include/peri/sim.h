@@ -114,6 +114,11 @@ typedef struct peri_output {
   bool quiet;                   /* no summary and no progress line */
   bool vtu, exodus;             /* output.format: the VTU series, the Exodus II file (docs/output.md) */
   bool phase_stress;            /* output.phase_stress: per-material stress columns in history.csv (docs/microstructures.md) */
+  /* films on substrates (docs/thin_films.md): history columns of the interfaces between
+   * materials, the strain energy of every region, and the wrinkles of a film region (its
+   * index in cond.regions, 0: none) */
+  bool interface_history, region_energy;
+  int wrinkle_region;
   int picture_normal;           /* 3D pictures: axis normal to the picture plane (0 x, 1 y, 2 z) */
   bool picture_projection;      /* 3D pictures: every node seen along the normal (else a slice) */
   bool picture_at_given;        /* 3D slice: at picture_at (else the middle of the body) */

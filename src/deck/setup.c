@@ -700,7 +700,8 @@ static int parse_output(parse_ctx *c) {
   const peri_node *it = peri_deck_get(c->root, "output");
   static const char *const keys[] = {"directory", "every", "frames", "fields", "compress",
                                      "history_every", "picture", "plot", "checkpoint_every",
-                                     "checkpoint_file", "format", "phase_stress", NULL};
+                                     "checkpoint_file", "format", "phase_stress",
+                                     "interface_history", "region_energy", "wrinkles", NULL};
   /* defaults */
   const char *base = strrchr(s->deck_path, '/');
   base = base ? base + 1 : s->deck_path;
@@ -760,6 +761,7 @@ static int parse_output(parse_ctx *c) {
       }
     }
     TRY(peri_deck_bool(it, "phase_stress", false, &o->phase_stress)); /* before the plot names its columns */
+    TRY(peri_setup_film_output(s, c->root, it)); /* interfaces, regions, wrinkles (film_keys.c) */
     TRY(peri_plot_parse(s, it)); /* output.plot (src/deck/plot_keys.c) */
     TRY(peri_checkpoint_parse(s, it)); /* output.checkpoint_* (src/deck/checkpoint_keys.c) */
     const peri_node *pic = peri_deck_get(it, "picture");
@@ -809,7 +811,7 @@ static int parse_output(parse_ctx *c) {
 static const char *const top_keys[] = {"dimension", "plane", "discretization", "materials",
                                        "interfaces", "regions", "precracks", "boundary_conditions",
                                        "indenter", "solver", "output", "thermal", "coupling", "contact",
-                                       "bodies", NULL};
+                                       "bodies", "imperfection", NULL};
 
 /* A count derived from the ratio of two deck numbers, such as end_time / time_step. The
  * ratio is rounded up (less a rounding allowance); a count that a long cannot hold is an
@@ -868,6 +870,7 @@ static int build(parse_ctx *c) {
   TRY(parse_precracks(c));
   peri_precracks_apply(s);
   if (!heat_only) TRY(parse_interfaces(c));
+  TRY(peri_setup_imperfection(s, root)); /* a film's offset reference positions (film_keys.c) */
   TRY(s->mat.model->init(s));
   TRY(parse_conditions(c));
   TRY(peri_setup_check_layers(c->s, c->root));

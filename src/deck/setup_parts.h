@@ -96,4 +96,11 @@ int peri_setup_plasticity_solver(peri_sim *s, const peri_node *root);
  * the bonds, before pre-cracks and the model's constants. */
 int peri_setup_bodies(peri_sim *s, const peri_node *root);
 
+/* Films on substrates (film_keys.c, docs/thin_films.md): the imperfection section, a
+ * transverse offset of a region's reference positions (after the regions and the bonds, before
+ * the model's constants); and the output keys interface_history, region_energy and wrinkles
+ * (in the output section). */
+int peri_setup_imperfection(peri_sim *s, const peri_node *root);
+int peri_setup_film_output(peri_sim *s, const peri_node *root, const peri_node *output);
+
 #endif

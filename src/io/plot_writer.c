@@ -32,6 +32,12 @@ static void range(const double *v, size_t n, double *lo, double *hi) {
 
 int peri_plot_write(const char *path, const double *x, const double *y, size_t n, const char *xlabel,
                     const char *ylabel, const char *title, int width, int height) {
+  return peri_plot_write_marked(path, x, y, n, NULL, 0, NULL, xlabel, ylabel, title, width, height);
+}
+
+int peri_plot_write_marked(const char *path, const double *x, const double *y, size_t n, const size_t *marks,
+                           size_t n_marks, const char *const *mark_labels, const char *xlabel, const char *ylabel,
+                           const char *title, int width, int height) {
   cairo_surface_t *surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
   if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
     peri_error("cannot draw %s: %s", path, cairo_status_to_string(cairo_surface_status(surface)));
@@ -118,6 +124,27 @@ int peri_plot_write(const char *path, const double *x, const double *y, size_t n
       cairo_arc(cr, PX(x[k]), PY(y[k]), 0.18 * fs, 0, 2 * M_PI);
       cairo_fill(cr);
     }
+  /* the marked points: a red ring and a label above each */
+  cairo_set_font_size(cr, fs);
+  for (size_t m = 0; m < n_marks; ++m) {
+    const size_t k = marks[m];
+    if (k >= n || !isfinite(x[k]) || !isfinite(y[k])) continue;
+    cairo_set_source_rgb(cr, 0.85, 0.10, 0.10);
+    cairo_set_line_width(cr, 3.0);
+    cairo_new_sub_path(cr);
+    cairo_arc(cr, PX(x[k]), PY(y[k]), 0.6 * fs, 0, 2 * M_PI);
+    cairo_stroke(cr);
+    if (mark_labels && mark_labels[m]) {
+      cairo_text_extents(cr, mark_labels[m], &ext);
+      double tx = PX(x[k]) - ext.x_advance / 2;
+      if (tx + ext.x_advance > right) tx = right - ext.x_advance - 0.3 * fs;
+      if (tx < left) tx = left + 0.3 * fs;
+      double ty = PY(y[k]) - 1.0 * fs;
+      if (ty < top + 1.2 * fs) ty = PY(y[k]) + 1.8 * fs;
+      cairo_move_to(cr, tx, ty);
+      cairo_show_text(cr, mark_labels[m]);
+    }
+  }
 #undef PX
 #undef PY
   cairo_destroy(cr);

@@ -16,6 +16,7 @@
 #include "peri/heat_quantities.h"
 #include "peri/output.h"
 #include "peri/plastic_fields.h"
+#include "peri/film_quantities.h"
 #include "peri/frames.h"
 #include "peri/horizon_field.h"
 #include "peri/stress.h"
@@ -34,6 +35,7 @@ struct peri_frames {
   double *d2u;
   double *yield_index, *plastic_stretch;           /* (docs/plasticity.md) likewise */
   double *spacing;
+  int32_t *interface;            /* the interface nodes (docs/thin_films.md) */
 };
 
 /* A frame buffer of one value per owned node, allocated on first use. */
@@ -201,6 +203,11 @@ static int frame_field(peri_frames *f, peri_sim *s, const char *name, peri_field
   else if (!strcmp(name, "material")) fl.idata = p->material;
   else if (!strcmp(name, "block")) fl.idata = p->block;
   else if (!strcmp(name, "node_type")) fl.idata = s->coupling->node_type;
+  else if (!strcmp(name, "interface")) {
+    if (!f->interface) f->interface = peri_malloc(sizeof(int32_t) * (size_t)(p->n_owned > 0 ? p->n_owned : 1));
+    peri_interface_flags(s, f->interface);
+    fl.idata = f->interface;
+  }
   else if (!strcmp(name, "d2u")) { /* D^2(u), eq. 2.115 (docs/coupling.md) */
     if (!f->d2u) f->d2u = peri_malloc(sizeof(double) * (size_t)(p->n_owned > 0 ? p->n_owned : 1));
     peri_second_derivative_indicator(s, f->d2u);
@@ -316,6 +323,11 @@ int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
     memcpy(values, s->disc.horizon_field->delta, sizeof(double) * (size_t)p->n_owned);
   } else if (!strcmp(name, "spacing")) {
     node_spacing(s, values);
+  } else if (!strcmp(name, "interface")) {
+    int32_t *flag = peri_malloc(sizeof(int32_t) * (size_t)(p->n_owned > 0 ? p->n_owned : 1));
+    peri_interface_flags(s, flag);
+    for (int32_t i = 0; i < p->n_owned; ++i) values[i] = flag[i];
+    free(flag);
   } else if (!strcmp(name, "strain_energy_density")) {
     peri_strain_energy(s);
     memcpy(values, p->energy, sizeof(double) * (size_t)p->n_owned);
@@ -438,5 +450,6 @@ void peri_frames_close(peri_frames *f) {
   free(f->yield_index);
   free(f->plastic_stretch);
   free(f->spacing);
+  free(f->interface);
   free(f);
 }

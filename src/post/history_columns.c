@@ -52,7 +52,7 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
   for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; ++k) add(c, fixed[k]);
   add(c, "mean_damage"); /* the mean damage index of the nodes */
   if (s->state.plastic_stretch) add(c, "mean_yield_index"); /* docs/plasticity.md */
-  char buf[64];
+  char buf[300];
   for (int d = 0; d < s->disc.geom.dim; ++d) {
     snprintf(buf, sizeof buf, "momentum_%c", "xyz"[d]);
     add(c, buf);
@@ -78,6 +78,19 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
     }
     snprintf(name, sizeof name, "mean_stress_%s", s->mat.materials[m].name);
     add(c, name);
+  }
+  if (s->out.region_energy) /* per region (docs/thin_films.md) */
+    for (int r = 1; r < s->cond.n_regions; ++r) {
+      snprintf(buf, sizeof buf, "strain_energy_%s", s->cond.regions[r].name);
+      add(c, buf);
+    }
+  if (s->out.interface_history) { /* interfaces between materials (docs/thin_films.md) */
+    add(c, "broken_interface_bonds");
+    add(c, "max_interface_stress");
+  }
+  if (s->out.wrinkle_region > 0) { /* the film's deflection profile (docs/thin_films.md) */
+    add(c, "wrinkle_amplitude");
+    add(c, "wrinkle_wavelength");
   }
   const int n_thermal = peri_thermal_history_count(s); /* thermomechanics (docs/heat.md) */
   if (n_thermal > 0) {
@@ -140,6 +153,8 @@ const char *peri_history_unit(const char *column) {
       {"displacement_", "m", false}, {"mean_temperature_", "K", false}, {"heat_inflow_", "W", false},
       {"net_force_", "N", false},   {"out_of_balance", "1", false},
       {"max_von_mises_at_", "m", false}, {"max_von_mises_", "Pa", false}, {"mean_stress_", "Pa", false},
+      {"strain_energy_", "J", false}, {"broken_interface_bonds", "1", true}, {"max_interface_stress", "Pa", true},
+      {"wrinkle_amplitude", "m", true}, {"wrinkle_wavelength", "m", true},
   };
   for (size_t k = 0; k < sizeof units / sizeof units[0]; ++k)
     if (units[k].whole ? !strcmp(column, units[k].prefix)

@@ -18,6 +18,8 @@
 #include "peri/decompose.h"
 #include "peri/energies.h"
 #include "peri/error.h"
+#include "peri/film_quantities.h"
+#include "peri/film_series.h"
 #include "peri/frames.h"
 #include "peri/heat_quantities.h"
 #include "peri/history.h"
@@ -41,6 +43,7 @@ typedef struct run_ctx {
   int failed;
   long first_step;              /* step the solver started from (a restart's checkpoint) */
   long stop_at;                 /* the step (or load step) after which the solver returns */
+  peri_film_series film;        /* output.wrinkles: the film's rows, for the onsets at the end */
 } run_ctx;
 
 /* Mean displacement of a region's nodes (quasi-static history: the imposed displacement),
@@ -108,6 +111,20 @@ static int write_history(peri_sim *s, run_ctx *c) {
       c->log.row[k++] = phases[m].mean_stress;
     }
     free(phases);
+  }
+  if (s->out.region_energy) /* per region, from the densities peri_strain_energy left (docs/thin_films.md) */
+    for (int r = 1; r < s->cond.n_regions; ++r) c->log.row[k++] = peri_region_strain_energy(s, r);
+  if (s->out.interface_history) { /* broken interface bonds and sigma_int (docs/thin_films.md) */
+    long broken = 0;
+    double stress = 0.0;
+    peri_interface_history(s, &broken, &stress);
+    c->log.row[k++] = (double)broken;
+    c->log.row[k++] = stress;
+  }
+  if (s->out.wrinkle_region > 0) { /* amplitude and wavelength of the film's deflection */
+    peri_wrinkle_profile(s, s->out.wrinkle_region, &c->log.row[k], &c->log.row[k + 1]);
+    peri_film_series_add(&c->film, s, c->log.row[k], c->log.row[k + 1]);
+    k += 2;
   }
   peri_thermal_history_values(s, c->log.row + k); /* total heat, temperature range (docs/heat.md) */
   k += peri_thermal_history_count(s);
@@ -223,6 +240,8 @@ int peri_run_finish(peri_run_session *r) {
   if (rc == PERI_OK && s->out.picture && s->disc.geom.dim >= 2) {
     if (peri_frames_picture(c.frames, s, picture, sizeof picture) != PERI_OK) rc = PERI_ERR_RUN, picture[0] = 0;
   }
+  char onsets[4400] = "";
+  if (s->out.wrinkle_region > 0 && peri_film_series_write(&c.film, s, onsets, sizeof onsets) != PERI_OK) rc = PERI_ERR_RUN;
   rc = peri_comm_max_int(rc); /* one status for all ranks */
   if (!s->out.quiet) {
     double updates = (double)peri_global_bonds(s) * (s->state.step - c.first_step);
@@ -251,9 +270,10 @@ int peri_run_finish(peri_run_session *r) {
       printf("  bond loops   %.1f%% of the bonds eight nodes at a time (node blocks, %.2f bytes per bond)\n",
              100.0 * in_blocks, tpl_bytes);
     peri_print_stress_summary(s, stdout); /* per-material maxima over every rank */
-    printf("  output       %s/%s.%s (%s), %s/history.csv%s%s%s%s\n", s->out.directory, s->out.basename,
+    if (s->out.wrinkle_region > 0) peri_film_series_print(&c.film, s);
+    printf("  output       %s/%s.%s (%s), %s/history.csv%s%s%s%s%s%s\n", s->out.directory, s->out.basename,
            s->out.vtu ? "pvd" : "e", s->out.vtu && s->out.exodus ? "VTU series and Exodus II .e" : s->out.vtu ? "VTU series" : "Exodus II",
-           s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot);
+           s->out.directory, picture[0] ? ", " : "", picture, plot[0] ? ", " : "", plot, onsets[0] ? ", " : "", onsets);
   }
   return r->rc = rc;
 }
@@ -261,6 +281,7 @@ int peri_run_finish(peri_run_session *r) {
 int peri_run_close(peri_run_session *r) {
   if (!r) return PERI_OK;
   const int rc = peri_run_finish(r);
+  peri_film_series_free(&r->c.film);
   peri_frames_close(r->c.frames);
   peri_history_log_close(&r->c.log);
   free(r);
