@@ -4,6 +4,7 @@
  * region); what makes it a body is that no bond joins it to another body, so the bodies
  * interact only through contact. */
 #include <stdlib.h>
+#include "peri/bodies.h"
 #include "peri/comm.h"
 #include "peri/error.h"
 #include "setup_parts.h"
@@ -11,7 +12,7 @@
 #define TRY(x) do { int rc_ = (x); if (rc_ != PERI_OK) return rc_; } while (0)
 
 /* Label of a node outside every body: such nodes keep their bonds among themselves. */
-#define NO_BODY (-1)
+#define NO_BODY PERI_NO_BODY
 
 int peri_setup_bodies(peri_sim *s, const peri_node *root) {
   const peri_node *list = peri_deck_get(root, "bodies");
@@ -58,8 +59,15 @@ int peri_setup_bodies(peri_sim *s, const peri_node *root) {
       label[i] = k;
     }
   }
-  if (rc == PERI_OK) peri_bonds_keep_within(&s->disc.bonds, label);
-  free(first);
-  free(label);
-  return rc;
+  if (rc != PERI_OK) {
+    free(first);
+    free(label);
+    return rc;
+  }
+  peri_bonds_keep_within(&s->disc.bonds, label);
+  /* kept for the body output field and the per-body sums of history.csv */
+  peri_bodies *bodies = peri_calloc(1, sizeof *bodies);
+  *bodies = (peri_bodies){.count = list->count, .region = first, .label = label};
+  s->bodies = bodies;
+  return PERI_OK;
 }

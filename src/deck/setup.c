@@ -7,6 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 #include "peri/checkpoint.h"
+#include "peri/bodies.h"
 #include "peri/contact.h"
 #include "peri/conduction.h"
 #include "peri/coupling.h"
@@ -977,6 +978,7 @@ void peri_sim_free(peri_sim *s) {
   for (int d = 0; d < 3; ++d) peri_expr_free(s->cond.indenter.center[d]);
   free(s->cond.indenter.block_force);
   peri_contact_free(s->contact);
+  peri_bodies_free(s->bodies);
   free(s->cond.prescribed);
   for (int k = 0; k < s->out.n_fields; ++k) free(s->out.fields[k]);
   free(s->out.fields);

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/bodies.h"
 #include "peri/error.h"
 #include "peri/heat_quantities.h"
 #include "peri/history.h"
@@ -45,6 +46,31 @@ static void heat_columns(column_list *c, const peri_sim *s) {
   }
 }
 
+/* Per body (docs/contact.md "Bodies"), named by its region: mass, momentum, kinetic energy,
+ * mean velocity, mass of the damaged nodes (phi > 0) and of the detached ones (phi = 1). */
+static void body_columns(column_list *c, const peri_sim *s) {
+  char buf[300];
+  for (int b = 0; s->bodies && b < s->bodies->count; ++b) {
+    const char *name = s->cond.regions[s->bodies->region[b]].name;
+    snprintf(buf, sizeof buf, "mass_%s", name);
+    add(c, buf);
+    for (int d = 0; d < s->disc.geom.dim; ++d) {
+      snprintf(buf, sizeof buf, "momentum_%s_%c", name, "xyz"[d]);
+      add(c, buf);
+    }
+    snprintf(buf, sizeof buf, "kinetic_energy_%s", name);
+    add(c, buf);
+    for (int d = 0; d < s->disc.geom.dim; ++d) {
+      snprintf(buf, sizeof buf, "mean_velocity_%s_%c", name, "xyz"[d]);
+      add(c, buf);
+    }
+    snprintf(buf, sizeof buf, "damaged_mass_%s", name);
+    add(c, buf);
+    snprintf(buf, sizeof buf, "detached_mass_%s", name);
+    add(c, buf);
+  }
+}
+
 /* Mechanical runs, explicit and quasi-static (src/run/run.c). */
 static void mechanical_columns(column_list *c, const peri_sim *s) {
   static const char *const fixed[] = {"time", "step", "kinetic_energy", "strain_energy", "external_work",
@@ -62,6 +88,7 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
     add(c, buf);
   }
   add_per_region_axis(c, s, "reaction");
+  body_columns(c, s);
   const bool qs = peri_is_quasi_static(s);
   if (qs) add_per_region_axis(c, s, "displacement"); /* the imposed displacements */
   if (qs && s->solver.qs.dynamic.on) { /* the switch to dynamics (docs/solvers.md section 4) */
@@ -139,7 +166,9 @@ const char *peri_history_unit(const char *column) {
       {"momentum_", "kg*m/s", false}, {"indenter_force_", "N", false}, {"reaction_", "N", false},
       {"displacement_", "m", false}, {"mean_temperature_", "K", false}, {"heat_inflow_", "W", false},
       {"net_force_", "N", false},   {"out_of_balance", "1", false},
-      {"max_von_mises_at_", "m", false}, {"max_von_mises_", "Pa", false}, {"mean_stress_", "Pa", false},
+      {"max_von_mises_at_", "m", false},
+      {"mass_", "kg", false}, {"kinetic_energy_", "J", false}, {"mean_velocity_", "m/s", false},
+      {"damaged_mass_", "kg", false}, {"detached_mass_", "kg", false}, {"max_von_mises_", "Pa", false}, {"mean_stress_", "Pa", false},
   };
   for (size_t k = 0; k < sizeof units / sizeof units[0]; ++k)
     if (units[k].whole ? !strcmp(column, units[k].prefix)

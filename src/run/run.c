@@ -7,6 +7,7 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include "peri/bodies.h"
 #include "peri/contact.h"
 #include "peri/checkpoint_schedule.h"
 #include "peri/clock.h"
@@ -87,6 +88,20 @@ static int write_history(peri_sim *s, run_ctx *c) {
     double reaction[3];
     peri_region_reaction(s, r, reaction);
     for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = reaction[d];
+  }
+  if (s->bodies) { /* per body: mass, momentum, kinetic energy, mean velocity, damaged and detached mass */
+    peri_body_sums *sums = peri_malloc(sizeof *sums * (size_t)s->bodies->count);
+    peri_body_sums_now(s, sums);
+    for (int b = 0; b < s->bodies->count; ++b) {
+      const peri_body_sums *o = &sums[b];
+      c->log.row[k++] = o->mass;
+      for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = o->momentum[d];
+      c->log.row[k++] = o->kinetic_energy;
+      for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = o->mass > 0.0 ? o->momentum[d] / o->mass : 0.0;
+      c->log.row[k++] = o->damaged_mass;
+      c->log.row[k++] = o->detached_mass;
+    }
+    free(sums);
   }
   if (peri_is_quasi_static(s)) /* quasi-static: the imposed displacements */
     for (int r = 1; r < s->cond.n_regions; ++r) {
