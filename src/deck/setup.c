@@ -801,7 +801,7 @@ static int parse_output(parse_ctx *c) {
 static const char *const top_keys[] = {"dimension", "plane", "discretization", "materials",
                                        "interfaces", "regions", "precracks", "boundary_conditions",
                                        "indenter", "solver", "output", "thermal", "coupling", "contact",
-                                       "bodies", NULL};
+                                       "bodies", "body_interfaces", NULL};
 
 /* A count derived from the ratio of two deck numbers, such as end_time / time_step. The
  * ratio is rounded up (less a rounding allowance); a count that a long cannot hold is an
