@@ -8,6 +8,7 @@
 #include "peri/heat_quantities.h"
 #include "peri/history.h"
 #include "peri/thermal.h"
+#include "peri/tools.h"
 
 typedef struct column_list {
   char **names;
@@ -71,6 +72,29 @@ static void body_columns(column_list *c, const peri_sim *s) {
   }
 }
 
+/* Per rigid tool (docs/contact.md "Rigid tools"): the force of the body on it, its position,
+ * normal and tangential force, their ratio (the coefficient of friction) and the distance
+ * slid across its direction. */
+static void tool_columns(column_list *c, const peri_sim *s) {
+  char buf[300];
+  for (int k = 0; s->tools && k < s->tools->count; ++k) {
+    const char *name = s->tools->tool[k].name;
+    for (int d = 0; d < s->disc.geom.dim; ++d) {
+      snprintf(buf, sizeof buf, "tool_%s_force_%c", name, "xyz"[d]);
+      add(c, buf);
+    }
+    for (int d = 0; d < s->disc.geom.dim; ++d) {
+      snprintf(buf, sizeof buf, "tool_%s_position_%c", name, "xyz"[d]);
+      add(c, buf);
+    }
+    static const char *const each[] = {"normal_force", "tangential_force", "cof", "sliding_distance"};
+    for (size_t j = 0; j < sizeof each / sizeof each[0]; ++j) {
+      snprintf(buf, sizeof buf, "tool_%s_%s", name, each[j]);
+      add(c, buf);
+    }
+  }
+}
+
 /* Mechanical runs, explicit and quasi-static (src/run/run.c). */
 static void mechanical_columns(column_list *c, const peri_sim *s) {
   static const char *const fixed[] = {"time", "step", "kinetic_energy", "strain_energy", "external_work",
@@ -87,6 +111,7 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
     snprintf(buf, sizeof buf, "indenter_force_%c", "xyz"[d]);
     add(c, buf);
   }
+  tool_columns(c, s);
   add_per_region_axis(c, s, "reaction");
   body_columns(c, s);
   const bool qs = peri_is_quasi_static(s);
@@ -170,6 +195,18 @@ const char *peri_history_unit(const char *column) {
       {"mass_", "kg", false}, {"kinetic_energy_", "J", false}, {"mean_velocity_", "m/s", false},
       {"damaged_mass_", "kg", false}, {"detached_mass_", "kg", false}, {"max_von_mises_", "Pa", false}, {"mean_stress_", "Pa", false},
   };
+  if (!strncmp(column, "tool_", 5)) { /* tool_NAME_WHAT: the unit of WHAT */
+    static const struct {
+      const char *suffix, *unit;
+    } tool_units[] = {{"_normal_force", "N"}, {"_tangential_force", "N"}, {"_cof", "1"}, {"_sliding_distance", "m"},
+                      {"_force_x", "N"}, {"_force_y", "N"}, {"_force_z", "N"},
+                      {"_position_x", "m"}, {"_position_y", "m"}, {"_position_z", "m"}};
+    const size_t len = strlen(column);
+    for (size_t k = 0; k < sizeof tool_units / sizeof tool_units[0]; ++k) {
+      const size_t sl = strlen(tool_units[k].suffix);
+      if (len > sl && !strcmp(column + len - sl, tool_units[k].suffix)) return tool_units[k].unit;
+    }
+  }
   for (size_t k = 0; k < sizeof units / sizeof units[0]; ++k)
     if (units[k].whole ? !strcmp(column, units[k].prefix)
                        : !strncmp(column, units[k].prefix, strlen(units[k].prefix)))

@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include "peri/bodies.h"
 #include "peri/contact.h"
+#include "peri/tools.h"
 #include "peri/checkpoint_schedule.h"
 #include "peri/clock.h"
 #include "peri/comm.h"
@@ -84,6 +85,15 @@ static int write_history(peri_sim *s, run_ctx *c) {
   for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = momentum[d];
   if (s->cond.indenter.on)
     for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = s->cond.indenter.force[d];
+  for (int j = 0; s->tools && j < s->tools->count; ++j) { /* rigid tools (docs/contact.md) */
+    const peri_tool *tl = &s->tools->tool[j];
+    for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = tl->force[d];
+    for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = tl->at[d];
+    c->log.row[k++] = tl->normal_force;
+    c->log.row[k++] = tl->tangential_force;
+    c->log.row[k++] = tl->normal_force > 0.0 ? tl->tangential_force / tl->normal_force : 0.0; /* CoF = F_t / P */
+    c->log.row[k++] = tl->sliding;
+  }
   for (int r = 1; r < s->cond.n_regions; ++r) {
     double reaction[3];
     peri_region_reaction(s, r, reaction);
