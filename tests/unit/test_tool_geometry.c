@@ -40,21 +40,23 @@ Test(tool_geometry, plane_faces_its_direction) {
   const peri_tool_geometry g = {.shape = PERI_TOOL_PLANE, .direction = {0, 0, -1}};
   const double at[3] = {5, 5, 2};
   double n[3];
-  cr_expect_float_eq(pen_at(&g, at, -40, 7, 1.75, n), 0.25, TOL); /* below the face: inside */
+  /* pressing down: the tool is the half-space above its face z = 2 */
+  cr_expect_float_eq(pen_at(&g, at, -40, 7, 2.25, n), 0.25, TOL);
   expect_normal(n, 0, 0, -1);
-  cr_expect_float_eq(pen_at(&g, at, 0, 0, 2.5, n), -0.5, TOL);
+  cr_expect_float_eq(pen_at(&g, at, 0, 0, 1.5, n), -0.5, TOL);
 }
 
 Test(tool_geometry, flat_punch_face_and_side) {
   const peri_tool_geometry g = {.shape = PERI_TOOL_FLAT_PUNCH, .radius = 1.0, .direction = {0, 0, -1}};
   const double at[3] = {0, 0, 0};
   double n[3];
-  cr_expect_float_eq(pen_at(&g, at, 0.2, 0, -0.1, n), 0.1, TOL); /* nearer the face (0.1) than the side (0.8) */
+  /* pressing down: the punch is above its face z = 0 */
+  cr_expect_float_eq(pen_at(&g, at, 0.2, 0, 0.1, n), 0.1, TOL); /* nearer the face (0.1) than the side (0.8) */
   expect_normal(n, 0, 0, -1);
-  cr_expect_float_eq(pen_at(&g, at, 0.9, 0, -0.5, n), 0.1, TOL); /* nearer the side */
+  cr_expect_float_eq(pen_at(&g, at, 0.9, 0, 0.5, n), 0.1, TOL); /* nearer the side */
   expect_normal(n, 1, 0, 0);
-  cr_expect(!(pen_at(&g, at, 1.5, 0, -0.5, n) > 0.0)); /* beside the punch */
-  cr_expect(!(pen_at(&g, at, 0, 0, 0.5, n) > 0.0));   /* in front of its face */
+  cr_expect(!(pen_at(&g, at, 1.5, 0, 0.5, n) > 0.0)); /* beside the punch */
+  cr_expect(!(pen_at(&g, at, 0, 0, -0.5, n) > 0.0));  /* in front of its face */
 }
 
 /* A 60 degree cone (half-angle 30) on a tip of radius 1 whose apex is at the origin, pressing

@@ -128,16 +128,3 @@ const peri_contribution_ops peri_contribution_tools = {
     .sets_every_node = false,
     .follows_deformation = true,
 };
-
-void peri_tools_free(peri_tools *t) {
-  if (!t) return;
-  for (int k = 0; k < t->count; ++k) {
-    peri_tool *tl = &t->tool[k];
-    free(tl->name);
-    for (int d = 0; d < 3; ++d) peri_expr_free(tl->position[d]);
-    peri_expr_free(tl->load);
-    free(tl->block_force);
-  }
-  free(t->tool);
-  free(t);
-}
