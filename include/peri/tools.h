@@ -49,6 +49,7 @@ typedef struct peri_tool {
   double tangential_force;   /* |force - (force . direction) direction| */
   double sliding;            /* path length of the position across `direction` since t = 0 */
   double last_t;             /* time of the last evaluation, for the sliding distance */
+  double start[3];           /* position at the first evaluation (t = 0): where the scratch starts */
   bool started;
   double *block_force;       /* per-block force sums (4 per block: force, normal force) */
   int64_t blocks;

@@ -39,6 +39,7 @@ static void apply_tool(peri_sim *s, peri_tool *tl, double t) {
   if (!tl->started) {
     tl->started = true;
     tl->last_t = t;
+    for (int d = 0; d < 3; ++d) tl->start[d] = at[d];
   } else if (t != tl->last_t) { /* the path across `direction` since the last time */
     double step[3], along = 0.0, len2 = 0.0;
     for (int d = 0; d < 3; ++d) step[d] = at[d] - tl->at[d], along += step[d] * dir[d];
