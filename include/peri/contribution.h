@@ -36,6 +36,7 @@ extern const peri_contribution_ops peri_contribution_external_loads;
 extern const peri_contribution_ops peri_contribution_indenter;
 extern const peri_contribution_ops peri_contribution_thermal_strain;
 extern const peri_contribution_ops peri_contribution_short_range;
+extern const peri_contribution_ops peri_contribution_tools;
 
 /* External force density at time t into p->b: b = 0, then the loads of the active
  * contributions in table order. */

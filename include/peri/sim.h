@@ -237,6 +237,8 @@ typedef struct peri_sim {
   struct peri_thermal *thermal;  /* heat conduction (docs/heat.md), NULL without */
   struct peri_coupling *coupling; /* PD-FEM coupling (docs/coupling.md), NULL without */
   struct peri_contact *contact;  /* contact (docs/contact.md), NULL without */
+  struct peri_bodies *bodies;    /* the bodies key (docs/contact.md "Bodies"), NULL without */
+  struct peri_tools *tools;      /* rigid tools (docs/contact.md "Rigid tools"), NULL without */
 } peri_sim;
 
 /* Whether the solver is one of the quasi-static ones (adr, dynamic_relaxation, nlcg, implicit). */

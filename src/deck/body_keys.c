@@ -3,7 +3,10 @@
  * its region holds), material and initial velocity (an initial_velocity condition on its
  * region); what makes it a body is that no bond joins it to another body, so the bodies
  * interact only through contact. */
+#include <math.h>
 #include <stdlib.h>
+#include <string.h>
+#include "peri/bodies.h"
 #include "peri/comm.h"
 #include "peri/error.h"
 #include "setup_parts.h"
@@ -11,11 +14,102 @@
 #define TRY(x) do { int rc_ = (x); if (rc_ != PERI_OK) return rc_; } while (0)
 
 /* Label of a node outside every body: such nodes keep their bonds among themselves. */
-#define NO_BODY (-1)
+#define NO_BODY PERI_NO_BODY
+
+/* The body of list `bodies` named by the scalar `at`, or -(error) naming the bodies. */
+static int find_body(const peri_node *bodies, const peri_node *at) {
+  if (at->kind == PERI_NODE_SCALAR)
+    for (int k = 0; k < bodies->count; ++k)
+      if (bodies->items[k]->kind == PERI_NODE_SCALAR && !strcmp(bodies->items[k]->scalar, at->scalar)) return k;
+  return -peri_deck_error(at, "body_interfaces: '%s' is not a body; the bodies are the regions listed in 'bodies'",
+                          at->kind == PERI_NODE_SCALAR ? at->scalar : peri_deck_kind_name(at));
+}
+
+/* The one material of body b's nodes, -1 when it has several. */
+static int body_material(const peri_sim *s, const int32_t *label, int b) {
+  int m = -2;
+  for (int32_t i = 0; i < s->disc.p.n; ++i)
+    if (label[i] == b) {
+      if (m == -2) m = s->disc.p.material[i];
+      else if (m != s->disc.p.material[i]) return -1;
+    }
+  return m;
+}
+
+/* Whether the interfaces list (deck.md section 9) names the materials a and b. */
+static bool interfaces_name(const peri_sim *s, const peri_node *root, int a, int b) {
+  const peri_node *list = peri_deck_get(root, "interfaces");
+  for (int k = 0; list && list->kind == PERI_NODE_SEQUENCE && k < list->count; ++k) {
+    const peri_node *pair = list->items[k]->kind == PERI_NODE_MAPPING ? peri_deck_get(list->items[k], "materials") : NULL;
+    if (!pair || pair->kind != PERI_NODE_SEQUENCE || pair->count != 2) continue;
+    const peri_node *p0 = pair->items[0], *p1 = pair->items[1];
+    if (p0->kind != PERI_NODE_SCALAR || p1->kind != PERI_NODE_SCALAR) continue;
+    const char *na = s->mat.materials[a].name, *nb = s->mat.materials[b].name;
+    if ((!strcmp(p0->scalar, na) && !strcmp(p1->scalar, nb)) || (!strcmp(p0->scalar, nb) && !strcmp(p1->scalar, na)))
+      return true;
+  }
+  return false;
+}
+
+/* body_interfaces (docs/contact.md "Bodies"): pairs of bodies that stay bonded. Bonded bodies
+ * form groups (A-B and B-C bond A, B and C), and the bonds within a group are kept: `group`
+ * is the group of each body. A critical stretch of the interface is that of bonds between
+ * the two bodies' materials (the pair table of deck.md section 9), so each body must be of
+ * one material and the two materials different. */
+static int parse_body_interfaces(peri_sim *s, const peri_node *root, const peri_node *bodies, const int32_t *label,
+                                 int *group) {
+  for (int b = 0; b < bodies->count; ++b) group[b] = b;
+  const peri_node *list = peri_deck_get(root, "body_interfaces");
+  if (!list) return PERI_OK;
+  if (list->kind != PERI_NODE_SEQUENCE)
+    return peri_deck_error(list, "key 'body_interfaces': expected a list, got %s", peri_deck_kind_name(list));
+  static const char *const keys[] = {"bodies", "critical_stretch", NULL};
+  for (int k = 0; k < list->count; ++k) {
+    const peri_node *it = list->items[k];
+    TRY(peri_deck_allow(it, "body_interfaces", keys));
+    const peri_node *pair = peri_deck_get(it, "bodies");
+    if (!pair) return peri_deck_error(it, "missing key 'bodies' in body_interfaces");
+    if (pair->kind != PERI_NODE_SEQUENCE || pair->count != 2)
+      return peri_deck_error(pair, "key 'bodies': expected two body names, e.g. [plate, backing]");
+    const int a = find_body(bodies, pair->items[0]);
+    if (a < 0) return -a;
+    const int b = find_body(bodies, pair->items[1]);
+    if (b < 0) return -b;
+    if (a == b) return peri_deck_error(pair, "body_interfaces: a body is bonded to itself; name two bodies");
+    const int from = group[b], to = group[a]; /* merge b's group into a's */
+    for (int c = 0; c < bodies->count; ++c)
+      if (group[c] == from) group[c] = to;
+    double s0 = NAN;
+    TRY(peri_deck_double(it, "critical_stretch", false, &s0));
+    if (isnan(s0)) continue; /* bonded with the materials' own critical stretch */
+    const peri_node *at = peri_deck_get(it, "critical_stretch");
+    if (!(s0 > 0.0)) return peri_deck_error(at, "key 'critical_stretch': must be positive");
+    const int ma = body_material(s, label, a), mb = body_material(s, label, b);
+    if (ma < 0 || mb < 0 || ma == mb)
+      return peri_deck_error(at, "body_interfaces: the critical stretch of bodies '%s' and '%s' is that of bonds "
+                                 "between their two materials, so each body must be of one material and the two "
+                                 "different; %s", pair->items[0]->scalar, pair->items[1]->scalar,
+                             ma < 0 || mb < 0 ? "one of them holds several materials"
+                                              : "give one body its own material (a copy under another name)");
+    if (s->mat.materials[ma].lammps_s0 || s->mat.materials[mb].lammps_s0)
+      return peri_deck_error(at, "body_interfaces: not available with the {s00, alpha} critical stretch (bonds take "
+                                 "min(s0_i, s0_j))");
+    if (interfaces_name(s, root, ma, mb))
+      return peri_deck_error(at, "body_interfaces: 'interfaces' also sets the critical stretch between materials "
+                                 "'%s' and '%s'; give it in one place", s->mat.materials[ma].name, s->mat.materials[mb].name);
+    const int nm = s->mat.n_materials;
+    s->mat.pair_s0[ma * nm + mb] = s->mat.pair_s0[mb * nm + ma] = s0;
+  }
+  return PERI_OK;
+}
 
 int peri_setup_bodies(peri_sim *s, const peri_node *root) {
   const peri_node *list = peri_deck_get(root, "bodies");
-  if (!list) return PERI_OK;
+  if (!list) {
+    if (peri_deck_get(root, "body_interfaces"))
+      return peri_deck_error(peri_deck_key_node(root, "body_interfaces"), "key 'body_interfaces': needs 'bodies'");
+    return PERI_OK;
+  }
   if (list->kind != PERI_NODE_SEQUENCE || list->count < 1)
     return peri_deck_error(list, "key 'bodies': expected a list of region names, got %s",
                            peri_deck_kind_name(list));
@@ -58,8 +152,29 @@ int peri_setup_bodies(peri_sim *s, const peri_node *root) {
       label[i] = k;
     }
   }
-  if (rc == PERI_OK) peri_bonds_keep_within(&s->disc.bonds, label);
-  free(first);
-  free(label);
-  return rc;
+  if (rc != PERI_OK) {
+    free(first);
+    free(label);
+    return rc;
+  }
+  /* the bonds are kept within a group of bonded bodies (each body its own group without
+   * body_interfaces) */
+  int *group = peri_malloc(sizeof(int) * (size_t)list->count);
+  rc = parse_body_interfaces(s, root, list, label, group);
+  if (rc != PERI_OK) {
+    free(group);
+    free(first);
+    free(label);
+    return rc;
+  }
+  int32_t *kept_with = peri_malloc(sizeof(int32_t) * (size_t)(p->n > 0 ? p->n : 1));
+  for (int32_t i = 0; i < p->n; ++i) kept_with[i] = label[i] == NO_BODY ? NO_BODY : group[label[i]];
+  peri_bonds_keep_within(&s->disc.bonds, kept_with);
+  free(kept_with);
+  free(group);
+  /* kept for the body output field and the per-body sums of history.csv */
+  peri_bodies *bodies = peri_calloc(1, sizeof *bodies);
+  *bodies = (peri_bodies){.count = list->count, .region = first, .label = label};
+  s->bodies = bodies;
+  return PERI_OK;
 }

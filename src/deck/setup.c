@@ -7,7 +7,9 @@
 #include <string.h>
 #include <unistd.h>
 #include "peri/checkpoint.h"
+#include "peri/bodies.h"
 #include "peri/contact.h"
+#include "peri/tools.h"
 #include "peri/conduction.h"
 #include "peri/coupling.h"
 #include "peri/constants.h"
@@ -811,7 +813,7 @@ static int parse_output(parse_ctx *c) {
 static const char *const top_keys[] = {"dimension", "plane", "discretization", "materials",
                                        "interfaces", "regions", "precracks", "boundary_conditions",
                                        "indenter", "solver", "output", "thermal", "coupling", "contact",
-                                       "bodies", "imperfection", NULL};
+                                       "bodies", "imperfection", "body_interfaces", "tools", NULL};
 
 /* A count derived from the ratio of two deck numbers, such as end_time / time_step. The
  * ratio is rounded up (less a rounding allowance); a count that a long cannot hold is an
@@ -879,6 +881,7 @@ static int build(parse_ctx *c) {
   TRY(peri_setup_coupling(s, root)); /* PD-FEM coupling (src/deck/coupling_keys.c) */
   TRY(peri_setup_horizon_solver(s, root)); /* horizon_keys.c */
   TRY(peri_setup_contact(s, root)); /* short-range forces (docs/contact.md) */
+  TRY(peri_setup_tools(s, root)); /* rigid tools (tool_keys.c, docs/contact.md) */
   TRY(peri_setup_plasticity_solver(s, root));
   TRY(parse_output(c));
   TRY(peri_setup_thermal(s, root)); /* heat conduction, thermal strain (docs/heat.md) */
@@ -989,6 +992,8 @@ void peri_sim_free(peri_sim *s) {
   for (int d = 0; d < 3; ++d) peri_expr_free(s->cond.indenter.center[d]);
   free(s->cond.indenter.block_force);
   peri_contact_free(s->contact);
+  peri_bodies_free(s->bodies);
+  peri_tools_free(s->tools);
   free(s->cond.prescribed);
   for (int k = 0; k < s->out.n_fields; ++k) free(s->out.fields[k]);
   free(s->out.fields);

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/bodies.h"
 #include "peri/comm.h"
 #include "peri/coupling.h"
 #include "peri/indicator.h"
@@ -17,6 +18,7 @@
 #include "peri/output.h"
 #include "peri/plastic_fields.h"
 #include "peri/film_quantities.h"
+#include "peri/bodies.h"
 #include "peri/frames.h"
 #include "peri/horizon_field.h"
 #include "peri/stress.h"
@@ -202,6 +204,7 @@ static int frame_field(peri_frames *f, peri_sim *s, const char *name, peri_field
   }
   else if (!strcmp(name, "material")) fl.idata = p->material;
   else if (!strcmp(name, "block")) fl.idata = p->block;
+  else if (!strcmp(name, "body")) fl.idata = s->bodies->label; /* 0, 1, ... in list order; -1 outside */
   else if (!strcmp(name, "node_type")) fl.idata = s->coupling->node_type;
   else if (!strcmp(name, "interface")) {
     if (!f->interface) f->interface = peri_malloc(sizeof(int32_t) * (size_t)(p->n_owned > 0 ? p->n_owned : 1));
@@ -364,7 +367,8 @@ int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
   } else if (!strcmp(name, "d2u")) {
     peri_second_derivative_indicator(s, values);
   } else {
-    const int32_t *v = !strcmp(name, "block") ? p->block : !strcmp(name, "node_type") ? s->coupling->node_type : p->material;
+    const int32_t *v = !strcmp(name, "block") ? p->block : !strcmp(name, "node_type") ? s->coupling->node_type
+                     : !strcmp(name, "body")   ? s->bodies->label : p->material;
     for (int32_t i = 0; i < p->n_owned; ++i) values[i] = v[i];
   }
   snprintf(path_out, n, "%s/%s.png", s->out.directory, name);

@@ -3,10 +3,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/bodies.h"
 #include "peri/error.h"
 #include "peri/heat_quantities.h"
 #include "peri/history.h"
 #include "peri/thermal.h"
+#include "peri/tools.h"
 
 typedef struct column_list {
   char **names;
@@ -45,6 +47,54 @@ static void heat_columns(column_list *c, const peri_sim *s) {
   }
 }
 
+/* Per body (docs/contact.md "Bodies"), named by its region: mass, momentum, kinetic energy,
+ * mean velocity, mass of the damaged nodes (phi > 0) and of the detached ones (phi = 1). */
+static void body_columns(column_list *c, const peri_sim *s) {
+  char buf[300];
+  for (int b = 0; s->bodies && b < s->bodies->count; ++b) {
+    const char *name = s->cond.regions[s->bodies->region[b]].name;
+    snprintf(buf, sizeof buf, "mass_%s", name);
+    add(c, buf);
+    for (int d = 0; d < s->disc.geom.dim; ++d) {
+      snprintf(buf, sizeof buf, "momentum_%s_%c", name, "xyz"[d]);
+      add(c, buf);
+    }
+    snprintf(buf, sizeof buf, "kinetic_energy_%s", name);
+    add(c, buf);
+    for (int d = 0; d < s->disc.geom.dim; ++d) {
+      snprintf(buf, sizeof buf, "mean_velocity_%s_%c", name, "xyz"[d]);
+      add(c, buf);
+    }
+    snprintf(buf, sizeof buf, "damaged_mass_%s", name);
+    add(c, buf);
+    snprintf(buf, sizeof buf, "detached_mass_%s", name);
+    add(c, buf);
+  }
+}
+
+/* Per rigid tool (docs/contact.md "Rigid tools"): the force of the body on it, its position,
+ * normal and tangential force, their ratio (the coefficient of friction), the distance
+ * slid across its direction and the wear depth of its scratch. */
+static void tool_columns(column_list *c, const peri_sim *s) {
+  char buf[300];
+  for (int k = 0; s->tools && k < s->tools->count; ++k) {
+    const char *name = s->tools->tool[k].name;
+    for (int d = 0; d < s->disc.geom.dim; ++d) {
+      snprintf(buf, sizeof buf, "tool_%s_force_%c", name, "xyz"[d]);
+      add(c, buf);
+    }
+    for (int d = 0; d < s->disc.geom.dim; ++d) {
+      snprintf(buf, sizeof buf, "tool_%s_position_%c", name, "xyz"[d]);
+      add(c, buf);
+    }
+    static const char *const each[] = {"normal_force", "tangential_force", "cof", "sliding_distance", "wear_depth"};
+    for (size_t j = 0; j < sizeof each / sizeof each[0]; ++j) {
+      snprintf(buf, sizeof buf, "tool_%s_%s", name, each[j]);
+      add(c, buf);
+    }
+  }
+}
+
 /* Mechanical runs, explicit and quasi-static (src/run/run.c). */
 static void mechanical_columns(column_list *c, const peri_sim *s) {
   static const char *const fixed[] = {"time", "step", "kinetic_energy", "strain_energy", "external_work",
@@ -61,7 +111,9 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
     snprintf(buf, sizeof buf, "indenter_force_%c", "xyz"[d]);
     add(c, buf);
   }
+  tool_columns(c, s);
   add_per_region_axis(c, s, "reaction");
+  body_columns(c, s);
   const bool qs = peri_is_quasi_static(s);
   if (qs) add_per_region_axis(c, s, "displacement"); /* the imposed displacements */
   if (qs && s->solver.qs.dynamic.on) { /* the switch to dynamics (docs/solvers.md section 4) */
@@ -152,10 +204,24 @@ const char *peri_history_unit(const char *column) {
       {"momentum_", "kg*m/s", false}, {"indenter_force_", "N", false}, {"reaction_", "N", false},
       {"displacement_", "m", false}, {"mean_temperature_", "K", false}, {"heat_inflow_", "W", false},
       {"net_force_", "N", false},   {"out_of_balance", "1", false},
-      {"max_von_mises_at_", "m", false}, {"max_von_mises_", "Pa", false}, {"mean_stress_", "Pa", false},
+      {"max_von_mises_at_", "m", false},
+      {"mass_", "kg", false}, {"kinetic_energy_", "J", false}, {"mean_velocity_", "m/s", false},
+      {"damaged_mass_", "kg", false}, {"detached_mass_", "kg", false}, {"max_von_mises_", "Pa", false}, {"mean_stress_", "Pa", false},
       {"strain_energy_", "J", false}, {"broken_interface_bonds", "1", true}, {"max_interface_stress", "Pa", true},
       {"wrinkle_amplitude", "m", true}, {"wrinkle_wavelength", "m", true},
   };
+  if (!strncmp(column, "tool_", 5)) { /* tool_NAME_WHAT: the unit of WHAT */
+    static const struct {
+      const char *suffix, *unit;
+    } tool_units[] = {{"_normal_force", "N"}, {"_tangential_force", "N"}, {"_cof", "1"}, {"_sliding_distance", "m"}, {"_wear_depth", "m"},
+                      {"_force_x", "N"}, {"_force_y", "N"}, {"_force_z", "N"},
+                      {"_position_x", "m"}, {"_position_y", "m"}, {"_position_z", "m"}};
+    const size_t len = strlen(column);
+    for (size_t k = 0; k < sizeof tool_units / sizeof tool_units[0]; ++k) {
+      const size_t sl = strlen(tool_units[k].suffix);
+      if (len > sl && !strcmp(column + len - sl, tool_units[k].suffix)) return tool_units[k].unit;
+    }
+  }
   for (size_t k = 0; k < sizeof units / sizeof units[0]; ++k)
     if (units[k].whole ? !strcmp(column, units[k].prefix)
                        : !strncmp(column, units[k].prefix, strlen(units[k].prefix)))

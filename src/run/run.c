@@ -7,7 +7,10 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include "peri/bodies.h"
 #include "peri/contact.h"
+#include "peri/tools.h"
+#include "peri/wear_depth.h"
 #include "peri/checkpoint_schedule.h"
 #include "peri/clock.h"
 #include "peri/comm.h"
@@ -86,10 +89,40 @@ static int write_history(peri_sim *s, run_ctx *c) {
   for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = momentum[d];
   if (s->cond.indenter.on)
     for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = s->cond.indenter.force[d];
+  double *phi = NULL; /* the damage index, for the tools' wear depth */
+  if (s->tools) {
+    phi = peri_malloc(sizeof(double) * (size_t)(s->disc.p.n_owned > 0 ? s->disc.p.n_owned : 1));
+    peri_damage_index(s, phi);
+  }
+  for (int j = 0; s->tools && j < s->tools->count; ++j) { /* rigid tools (docs/contact.md) */
+    const peri_tool *tl = &s->tools->tool[j];
+    for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = tl->force[d];
+    for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = tl->at[d];
+    c->log.row[k++] = tl->normal_force;
+    c->log.row[k++] = tl->tangential_force;
+    c->log.row[k++] = tl->normal_force > 0.0 ? tl->tangential_force / tl->normal_force : 0.0; /* CoF = F_t / P */
+    c->log.row[k++] = tl->sliding;
+    c->log.row[k++] = peri_tool_wear_depth(s, tl, phi);
+  }
+  free(phi);
   for (int r = 1; r < s->cond.n_regions; ++r) {
     double reaction[3];
     peri_region_reaction(s, r, reaction);
     for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = reaction[d];
+  }
+  if (s->bodies) { /* per body: mass, momentum, kinetic energy, mean velocity, damaged and detached mass */
+    peri_body_sums *sums = peri_malloc(sizeof *sums * (size_t)s->bodies->count);
+    peri_body_sums_now(s, sums);
+    for (int b = 0; b < s->bodies->count; ++b) {
+      const peri_body_sums *o = &sums[b];
+      c->log.row[k++] = o->mass;
+      for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = o->momentum[d];
+      c->log.row[k++] = o->kinetic_energy;
+      for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = o->mass > 0.0 ? o->momentum[d] / o->mass : 0.0;
+      c->log.row[k++] = o->damaged_mass;
+      c->log.row[k++] = o->detached_mass;
+    }
+    free(sums);
   }
   if (peri_is_quasi_static(s)) /* quasi-static: the imposed displacements */
     for (int r = 1; r < s->cond.n_regions; ++r) {

@@ -49,3 +49,41 @@ run_peri check "$TMP/empty.yaml"
 expect_status 2
 expect_stderr_contains "region 'right' contains no node"
 pass "a body without nodes: exit 2"
+
+# body_interfaces: two bars bonded as bodies. With an interface critical stretch of 1e-4 (the
+# bars' own is 1, never reached) exactly the bonds across break, 6 pairs of a 3-node horizon
+# (1 + 2 + 3) = 12 of the 108 directed bonds, and the damaged mass of the left body is its 3
+# nodes within the horizon of the interface (3 x 1000 kg/m^3 x 1e-6 m^3).
+deck=tests/cli/decks/bonded_bodies_bar.yaml
+run_peri run "$deck" --output "$TMP/bonded"
+expect_status 0
+h="$TMP/bonded/history.csv"
+frac=$(csv_column "$h" broken_bond_fraction)
+dmg=$(csv_column "$h" damaged_mass_left)
+[ -n "$frac" ] && [ -n "$dmg" ] || fail "history.csv lacks broken_bond_fraction or damaged_mass_left"
+tail -n 1 "$h" | awk -F, -v f="$frac" -v d="$dmg" '
+  function abs(v) { return v < 0 ? -v : v }
+  { exit !(abs($f - 12 / 108) <= 1e-9 && abs($d - 0.003) <= 1e-12) }' \
+  || fail "the interface should break its 12 bonds and damage 3 left nodes: $(tail -n 1 "$h")"
+pass "bonded bodies: the interface's own critical stretch breaks exactly the bonds across"
+
+sed -e 's/, critical_stretch: 1.0e-4}/}/' "$deck" > "$TMP/glued.yaml"
+run_peri run "$TMP/glued.yaml" --output "$TMP/glued"
+expect_status 0
+awk -F, -v f="$frac" -v c="$(csv_column "$TMP/glued/history.csv" reaction_right_x)" \
+  'NR > 1 && $f + 0 != 0 { bad = 1 } NR > 1 && $c + 0 != 0 { pulled = 1 } END { exit bad || !pulled }' "$TMP/glued/history.csv" \
+  || fail "bonded bodies without an interface stretch should pull on each other and keep their bonds"
+pass "bonded bodies without an interface stretch: one body"
+
+sed -e 's/material: right_steel/material: left_steel/' "$deck" > "$TMP/same.yaml"
+run_peri check "$TMP/same.yaml"
+expect_status 2
+expect_stderr_contains "same.yaml:21:"
+expect_stderr_contains "give one body its own material"
+pass "an interface stretch between bodies of one material: exit 2"
+
+sed -e 's/bodies: \[left, right\], critical/bodies: [left, rihgt], critical/' "$deck" > "$TMP/nobody.yaml"
+run_peri check "$TMP/nobody.yaml"
+expect_status 2
+expect_stderr_contains "'rihgt' is not a body"
+pass "body_interfaces naming no body: exit 2"

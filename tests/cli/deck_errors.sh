@@ -131,7 +131,7 @@ deck="$TMP/err_field.yaml"
 sed 's/^  every: 10$/  every: 10\n  fields: [damage, dammage]/' "$D/valid_small.yaml" >"$deck"
 grep -q "dammage" "$deck" || fail "could not make the output field fixture"
 check_both "$deck" "dammage" "unknown output field 'dammage'; did you mean 'damage'?"
-expect_stderr_contains "(fields: displacement, velocity, force, damage, dilatation, material, volume, strain_energy_density, block, stress, strain, von_mises, principal_stress, temperature, heat_flux, node_type, d2u, horizon, yield_index, plastic_stretch, spacing, interface)"
+expect_stderr_contains "(fields: displacement, velocity, force, damage, dilatation, material, volume, strain_energy_density, block, stress, strain, von_mises, principal_stress, temperature, heat_flux, node_type, d2u, horizon, yield_index, plastic_stretch, spacing, interface, body)"
 pass "(i) unknown output field 'dammage': did you mean 'damage', and the list of fields"
 
 # the same deck given through a relative path is named as given

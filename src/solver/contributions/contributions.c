@@ -8,6 +8,7 @@
 static const peri_contribution_ops *const contributions[] = {
     &peri_contribution_external_loads, /* body forces and tractions (external_loads.c) */
     &peri_contribution_indenter,       /* rigid spherical indenter (indenter.c) */
+    &peri_contribution_tools,          /* rigid tools, penalty and friction (tools.c) */
     &peri_contribution_thermal_strain, /* heat advanced to t, thermal strain (thermal_strain.c) */
     &peri_contribution_short_range,    /* short-range contact forces (short_range.c) */
 };

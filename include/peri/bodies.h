@@ -1,0 +1,29 @@
+/* Several bodies in one deck (docs/contact.md "Bodies"): which body each node belongs to,
+ * and the per-body sums of history.csv (src/post/body_sums.c). */
+#ifndef PERI_BODIES_H
+#define PERI_BODIES_H
+#include <stdint.h>
+
+struct peri_sim;
+
+/* Label of a node outside every body. */
+#define PERI_NO_BODY (-1)
+
+typedef struct peri_bodies {
+  int count;
+  int *region;                  /* [count] the region of each body (its name is the region's) */
+  int32_t *label;               /* [n] the body of each node, PERI_NO_BODY outside every body */
+} peri_bodies;
+
+/* Per-body sums of history.csv: mass, momentum, kinetic energy, and the mass of the
+ * damaged (damage index > 0) and of the detached (damage index 1) nodes. */
+typedef struct peri_body_sums {
+  double mass, momentum[3], kinetic_energy, damaged_mass, detached_mass;
+} peri_body_sums;
+
+/* out[b] for every body b, each summed over its nodes in node order (the same on any
+ * thread count). */
+void peri_body_sums_now(const struct peri_sim *s, peri_body_sums *out);
+void peri_bodies_free(peri_bodies *b);
+
+#endif

@@ -1,0 +1,65 @@
+/* Rigid tools (docs/contact.md "Rigid tools", MODELS.md 17.2): sphere, cone-sphere,
+ * cylinder, flat punch and plane, moved by expressions of t or, along their direction, by a
+ * load (load control); a penalty force on the nodes inside them, the LAMMPS fix indent law
+ * k pen^2 along the outward normal, and Coulomb friction. */
+#ifndef PERI_TOOLS_H
+#define PERI_TOOLS_H
+#include <stdbool.h>
+#include <stdint.h>
+#include "peri/expr.h"
+
+struct peri_sim;
+
+typedef enum {
+  PERI_TOOL_SPHERE = 0,
+  PERI_TOOL_CONE_SPHERE = 1, /* conospherical tip: a cone of half-angle alpha ending in a sphere of radius R */
+  PERI_TOOL_CYLINDER = 2,    /* infinite cylinder of radius R about `axis` */
+  PERI_TOOL_FLAT_PUNCH = 3,  /* cylinder of radius R along `direction`, flat face at the position */
+  PERI_TOOL_PLANE = 4,       /* half-space behind the plane through the position, facing -direction */
+} peri_tool_shape;
+
+/* The geometry of one tool relative to its position (the reference point that moves). */
+typedef struct peri_tool_geometry {
+  peri_tool_shape shape;
+  double radius;             /* R: sphere, tip sphere, cylinder, punch */
+  double half_angle;         /* cone-sphere: alpha (rad), measured from the axis */
+  double direction[3];       /* unit: the way the tool presses (its tip points this way) */
+  double axis[3];            /* unit: the cylinder's axis */
+} peri_tool_geometry;
+
+/* Penetration of the point y into the tool at `position` (> 0 inside, the distance to leave
+ * it by the shortest way) and the unit normal n along which the point leaves. Returns the
+ * penetration; n is set only where it is positive. */
+double peri_tool_penetration(const peri_tool_geometry *g, const double position[3], const double y[3], double n[3]);
+
+typedef struct peri_tool {
+  char *name;
+  peri_tool_geometry geom;
+  double stiffness;          /* k (N/m^5): force density k pen^2 */
+  double friction;           /* Coulomb coefficient mu */
+  peri_expr *position[3];    /* reference point at t (NULL component: 0) */
+  /* load control of the position along `direction` (NULL: the position is prescribed) */
+  peri_expr *load;           /* normal load P(t) (N) pushing the tool along `direction` */
+  double mass, damping;      /* the tool's own equation M q'' = P - P_contact - M c q' */
+  double q, q_rate;          /* offset along `direction` and its rate, integrated in the run */
+  /* state of the last evaluation */
+  double at[3], velocity[3]; /* position and velocity */
+  double force[3];           /* total force of the nodes on the tool */
+  double normal_force;       /* P_contact = -force . direction */
+  double tangential_force;   /* |force - (force . direction) direction| */
+  double sliding;            /* path length of the position across `direction` since t = 0 */
+  double last_t;             /* time of the last evaluation, for the sliding distance */
+  double start[3];           /* position at the first evaluation (t = 0): where the scratch starts */
+  bool started;
+  double *block_force;       /* per-block force sums (4 per block: force, normal force) */
+  int64_t blocks;
+} peri_tool;
+
+typedef struct peri_tools {
+  int count;
+  peri_tool *tool;
+} peri_tools;
+
+void peri_tools_free(peri_tools *t);
+
+#endif

@@ -1,0 +1,131 @@
+/* Rigid tools (include/peri/tools.h, docs/contact.md "Rigid tools"): on a node at y inside a
+ * tool, the force density k pen^2 n (LAMMPS fix indent's law, pen the penetration and n the
+ * way out) and the Coulomb friction mu k pen^2 against the node's sliding on the tool,
+ * -t/|t| with t the part of v_node - v_tool across n. The tool's force is summed per block
+ * of nodes in node order (independent of threads and ranks). Under load control the tool's
+ * offset q along its direction follows M q'' = P(t) - P_contact - M c q' (explicit runs). */
+#include <math.h>
+#include <stdlib.h>
+#include "peri/contribution.h"
+#include "peri/decompose.h"
+#include "peri/error.h"
+#include "peri/tools.h"
+
+/* Position of the tool at t (its expressions plus the load-controlled offset). */
+static void tool_position(peri_tool *tl, double t, double out[3]) {
+  for (int d = 0; d < 3; ++d) {
+    out[d] = tl->position[d] ? peri_expr_eval(tl->position[d], 0.0, 0.0, 0.0, t) : 0.0;
+    out[d] += tl->q * tl->geom.direction[d];
+  }
+}
+
+/* Velocity of the tool at t: the central difference of its expressions over half a step
+ * (exact for the linear and quadratic motions of a deck), plus the offset's rate. */
+static void tool_velocity(const peri_sim *s, peri_tool *tl, double t, double out[3]) {
+  const double h = s->solver.dt > 0.0 ? 0.25 * s->solver.dt : 1e-9;
+  for (int d = 0; d < 3; ++d) {
+    out[d] = tl->q_rate * tl->geom.direction[d];
+    if (tl->position[d] && !peri_expr_is_constant(tl->position[d]))
+      out[d] += (peri_expr_eval(tl->position[d], 0.0, 0.0, 0.0, t + h) - peri_expr_eval(tl->position[d], 0.0, 0.0, 0.0, t - h)) / (2.0 * h);
+  }
+}
+
+static void apply_tool(peri_sim *s, peri_tool *tl, double t) {
+  peri_particles *p = &s->disc.p;
+  double at[3], vt[3];
+  tool_position(tl, t, at);
+  tool_velocity(s, tl, t, vt);
+  const double *dir = tl->geom.direction;
+  if (!tl->started) {
+    tl->started = true;
+    tl->last_t = t;
+    for (int d = 0; d < 3; ++d) tl->start[d] = at[d];
+  } else if (t != tl->last_t) { /* the path across `direction` since the last time */
+    double step[3], along = 0.0, len2 = 0.0;
+    for (int d = 0; d < 3; ++d) step[d] = at[d] - tl->at[d], along += step[d] * dir[d];
+    for (int d = 0; d < 3; ++d) len2 += (step[d] - along * dir[d]) * (step[d] - along * dir[d]);
+    tl->sliding += sqrt(len2);
+    tl->last_t = t;
+  }
+  for (int d = 0; d < 3; ++d) tl->at[d] = at[d], tl->velocity[d] = vt[d];
+  const int32_t n = p->n_owned;
+  const int64_t n_blocks = peri_sum_blocks_owned(s);
+  if (tl->blocks != n_blocks) {
+    free(tl->block_force);
+    tl->block_force = peri_malloc(sizeof(double) * 3 * (size_t)(n_blocks > 0 ? n_blocks : 1));
+    tl->blocks = n_blocks;
+  }
+  const double k = tl->stiffness, mu = tl->friction;
+  const peri_tool_geometry *g = &tl->geom;
+#pragma omp parallel for schedule(static)
+  for (int64_t blk = 0; blk < n_blocks; ++blk) {
+    const int32_t i0 = (int32_t)(blk * PERI_SUM_BLOCK), i1 = i0 + PERI_SUM_BLOCK < n ? i0 + PERI_SUM_BLOCK : n;
+    double sum[3] = {0.0, 0.0, 0.0};
+    for (int32_t i = i0; i < i1; ++i) {
+      double y[3], nrm[3];
+      for (int d = 0; d < 3; ++d) y[d] = p->x[3 * (size_t)i + d] + p->u[3 * (size_t)i + d];
+      const double pen = peri_tool_penetration(g, at, y, nrm);
+      if (!(pen > 0.0)) continue;
+      const double fn = k * pen * pen;
+      double f[3];
+      for (int d = 0; d < 3; ++d) f[d] = fn * nrm[d];
+      if (mu > 0.0) { /* Coulomb: against the node's sliding on the tool */
+        double rel[3], vn = 0.0, tt = 0.0;
+        for (int d = 0; d < 3; ++d) rel[d] = p->v[3 * (size_t)i + d] - vt[d], vn += rel[d] * nrm[d];
+        for (int d = 0; d < 3; ++d) rel[d] -= vn * nrm[d], tt += rel[d] * rel[d];
+        if (tt > 0.0) {
+          const double scale = mu * fn / sqrt(tt);
+          for (int d = 0; d < 3; ++d) f[d] -= scale * rel[d];
+        }
+      }
+      for (int d = 0; d < 3; ++d) {
+        p->b[3 * (size_t)i + d] += f[d];
+        sum[d] -= f[d] * p->volume[i];
+      }
+    }
+    for (int d = 0; d < 3; ++d) tl->block_force[3 * blk + d] = sum[d];
+  }
+  peri_sum_blocks(s, tl->block_force, 3, tl->force);
+  double along = 0.0, tangential = 0.0;
+  for (int d = 0; d < 3; ++d) along += tl->force[d] * dir[d];
+  for (int d = 0; d < 3; ++d) tangential += (tl->force[d] - along * dir[d]) * (tl->force[d] - along * dir[d]);
+  tl->normal_force = -along; /* the body pushes the tool back against `direction` */
+  tl->tangential_force = sqrt(tangential);
+}
+
+static void add_tools(peri_sim *s, double t, bool sets) {
+  (void)sets; /* sets_every_node is false */
+  for (int k = 0; k < s->tools->count; ++k) apply_tool(s, &s->tools->tool[k], t);
+}
+
+/* Load control: the tool's offset by its damped equation over the step ending at t, from the
+ * contact force of the step before (semi-implicit Euler). */
+static int advance_tools(peri_sim *s, long step, double t) {
+  (void)step;
+  const double dt = s->solver.dt;
+  for (int k = 0; k < s->tools->count; ++k) {
+    peri_tool *tl = &s->tools->tool[k];
+    if (!tl->load) continue;
+    const double P = peri_expr_eval(tl->load, 0.0, 0.0, 0.0, t);
+    const double acc = (P - tl->normal_force) / tl->mass - tl->damping * tl->q_rate;
+    tl->q_rate += acc * dt;
+    tl->q += tl->q_rate * dt;
+    if (!isfinite(tl->q)) {
+      peri_error("tool '%s': its load-controlled position is no longer finite at t = %g s; a larger mass or "
+                 "damping, or a smaller time step, keeps it stable (docs/contact.md)", tl->name, t);
+      return PERI_ERR_RUN;
+    }
+  }
+  return PERI_OK;
+}
+
+static bool tools_active(const peri_sim *s) { return s->tools && s->tools->count > 0; }
+
+const peri_contribution_ops peri_contribution_tools = {
+    .name = "rigid tools",
+    .active = tools_active,
+    .before_force = advance_tools,
+    .add_load = add_tools,
+    .sets_every_node = false,
+    .follows_deformation = true,
+};

@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# Rigid tools (docs/contact.md "Rigid tools", issue 19):
+#  - Coulomb friction: a plane pressed into a block and slid at 10 m/s with mu = 0.3. Every
+#    node under it slides, each with |f_t| = mu f_n, so F_t / P = mu when the sliding
+#    directions agree and never more (the triangle inequality); the nodes' own sideways
+#    motion turns a few directions, so 0.99 mu <= CoF <= mu on every row in contact. The
+#    sliding distance and the position are the prescribed 10 m/s x t (1e-9).
+#  - load control: a flat punch under a load ramped to 200 N and held, with its own damped
+#    equation: at rest the body pushes back with P and the base holds P (equilibrium), to 1%
+#    (the body's vibration, damped at 4e4 1/s over the 300 us of hold, is below 0.5 N).
+#  - bad input (exit 2, at the key): a tool starting deeper than half a spacing in the body,
+#    load control on a position prescribed along the direction, load control in a
+#    quasi-static run.
+# Usage: bash tests/cli/tools.sh PATH_TO_PERI   (from the repository root)
+set -u
+source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
+cli_init "$@"
+
+deck=tests/cli/decks/tool_sliding_plane.yaml
+run_peri run "$deck" --output "$TMP/slide"
+expect_status 0
+h="$TMP/slide/history.csv"
+col() { csv_column "$h" "$1"; }
+for name in tool_slider_force_x tool_slider_normal_force tool_slider_tangential_force tool_slider_cof \
+            tool_slider_sliding_distance tool_slider_position_x; do
+  [ -n "$(col "$name")" ] || fail "history.csv lacks the column $name"
+done
+awk -F, -v P="$(col tool_slider_normal_force)" -v cof="$(col tool_slider_cof)" '
+  NR > 1 && $P > 0 { rows++; if ($cof > 0.3 * (1 + 1e-9) || $cof < 0.99 * 0.3) { bad = 1; print "row " NR ": CoF " $cof } }
+  END { if (rows < 3) { print "only " rows " rows in contact"; bad = 1 } exit bad }' "$h" \
+  || fail "the coefficient of friction is not 0.3 (Coulomb)"
+pass "friction: F_t / P = mu = 0.3 while sliding"
+awk -F, -v s="$(col tool_slider_sliding_distance)" -v x="$(col tool_slider_position_x)" '
+  function abs(v) { return v < 0 ? -v : v }
+  NR > 1 && (abs($s - 10 * $1) > 1e-9 * (10 * $1 + 1e-12) || abs($x - 10 * $1) > 1e-9 * (10 * $1 + 1e-12)) { bad = 1; print "row " NR ": " $s ", " $x }
+  END { exit bad }' "$h" || fail "sliding distance is not 10 m/s x t"
+pass "sliding distance and position follow the prescribed motion"
+
+deck=tests/cli/decks/tool_load_control.yaml
+run_peri run "$deck" --output "$TMP/load"
+expect_status 0
+h="$TMP/load/history.csv"
+tail -n 1 "$h" | awk -F, -v P="$(col tool_punch_normal_force)" -v R="$(col reaction_base_z)" '
+  function abs(v) { return v < 0 ? -v : v }
+  { printf "P_contact %.4g N, base reaction %.4g N\n", $P, $R; exit !(abs($P - 200) <= 2 && abs($R - 200) <= 2) }' \
+  || fail "under load control the contact force and the base reaction should both be the 200 N load"
+pass "load control: contact force and support reaction equal the load at rest"
+
+sed -e 's/position: \["10\*t", 0, "0.0036 - 2\*t"\]/position: [0, 0, 0.0028]/' tests/cli/decks/tool_sliding_plane.yaml > "$TMP/inside.yaml"
+run_peri check "$TMP/inside.yaml"
+expect_status 2
+expect_stderr_contains "inside.yaml:20:"
+expect_stderr_contains "tool 'slider' is inside the body at t = 0"
+pass "a tool inside the body at t = 0: exit 2"
+
+sed -e 's/position: \[0, 0, 0.0036\]/position: [0, 0, "0.0036 - t"]/' "$deck" > "$TMP/nofree.yaml"
+run_peri check "$TMP/nofree.yaml"
+expect_status 2
+expect_stderr_contains "load control needs its degree of freedom along direction free"
+pass "load control without a free degree of freedom: exit 2"
+
+sed -e 's/type: explicit, end_time: 4.0e-4, damping: 4.0e4,/type: adr, load_steps: 2,/' "$deck" > "$TMP/qs.yaml"
+run_peri check "$TMP/qs.yaml"
+expect_status 2
+expect_stderr_contains "load control runs with solver.type explicit"
+pass "load control in a quasi-static run: exit 2"
