@@ -403,7 +403,7 @@ static int parse_discretization(parse_ctx *c) {
   TRY(peri_deck_choice(d, "partial_volume", false, pv_rules, &pv));
   TRY(peri_deck_choice(d, "influence", false, influences, &infl));
   TRY(peri_deck_choice(d, "weighted_volume", false, wv, &wvol));
-  static const char *const corrections[] = {"none", "energy", "volume", NULL}; /* docs/models.md 4.1 */
+  static const char *const corrections[] = {"none", "energy", "volume", "position_aware", NULL}; /* docs/models.md 4.1 */
   int correction = 0;
   TRY(peri_deck_choice(d, "surface_correction", false, corrections, &correction));
   s->disc.surface_correction = correction;

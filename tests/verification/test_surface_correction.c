@@ -123,3 +123,18 @@ Test(surface_correction, plate_column_closer_to_uniform, .timeout = 600) {
   cr_expect(corrected < plain, "the correction should bring the column closer to E eps (%g, without %g)", corrected,
             plain);
 }
+
+/* position_aware (Mitchell, Silling and Littlewood 2015): every node's energy under every
+ * uniform strain is the classical one, so the bar is E A within 2% for PMB as for LPS. */
+Test(surface_correction, bar_3d_position_aware_within_2_percent_of_EA, .timeout = 600) {
+  const double pmb = bar_strain_ratio("pmb", "", "position_aware");
+  const double lps = bar_strain_ratio("lps", ", poisson_ratio: 0.3", "position_aware");
+  cr_expect(fabs(pmb - 1.0) < 0.02, "position-aware 3D PMB bar: strain %g of F/(EA)", pmb);
+  cr_expect(fabs(lps - 1.0) < 0.02, "position-aware 3D LPS bar: strain %g of F/(EA)", lps);
+}
+
+/* The free plate: uniform within 2% up to the surface node. */
+Test(surface_correction, plate_column_position_aware_within_2_percent, .timeout = 600) {
+  const double worst = plate_column("position_aware");
+  cr_expect(worst < 0.02, "position-aware plate column: largest deviation %g from E eps", worst);
+}
