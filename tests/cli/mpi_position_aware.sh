@@ -12,7 +12,7 @@ mpi_init
 
 for model in pmb lps; do
   MPI_RANKS="1 2" mpi_same_on_ranks "pa_$model" "$DECKS/plate_$model.yaml" \
-    --set discretization.surface_correction=position_aware --set solver.steps=100 --set output.picture=false
+    --set discretization.surface_correction=position_aware --set solver.steps=60 --set output.picture=false
   col=$(csv_column "$MPI_REF" broken_bond_fraction)
   final=$(tail -n 1 "$MPI_REF" | cut -d, -f"$col")
   awk -v b="$final" 'BEGIN { exit !(b > 0) }' || fail "$model: no bond broke (the comparison is weak)"
