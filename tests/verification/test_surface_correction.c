@@ -5,7 +5,11 @@
  *     F L/(E A) = 1 mm within 2% (LPS nu = 0.3; PMB);
  * (2) a free plate (2D plane stress LPS, nu = 0.3) under a uniform stretch imposed on every
  *     node, u = eps (x, -nu eps y): the PD stress sigma_xx up a column at mid-length is
- *     closer to E eps with the correction than without (it does not reach 2%: see below). */
+ *     closer to E eps with the correction than without (it does not reach 2%: see below);
+ * (3) surface_correction: position_aware (Mitchell, Silling and Littlewood 2015): the bar within
+ *     2% of E A for PMB and LPS, the plate column within 2% up to the surface node, and a
+ *     uniform stress state recovered within 0.5% at every node of a surface-to-middle line in
+ *     1D, 2D and 3D, PMB and LPS. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <string.h>
