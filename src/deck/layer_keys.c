@@ -10,7 +10,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "peri/comm.h"
 #include "peri/error.h"
 #include "setup_parts.h"
 
