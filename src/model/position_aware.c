@@ -10,7 +10,7 @@
  * functions; lambda solves the Gram system A lambda = T - sum q phi (A = sum q phi phi^T).
  * A is singular where the functions are dependent on the sphere (2D: 6 products span 5
  * functions; 3D LPS: 21 products of deviatoric modes span 15), so the system is solved by
- * a pseudo-inverse (symmetric Jacobi eigenvalues).
+ * a pseudo-inverse (symmetric Jacobi eigenvalues). No factor is negative: see fit_solve.
  *
  * PMB: W_i = 1/2 sum_j q g_i(n) s^2, q = c omega |xi| beta V_j / 2; target the bond-based
  *   isotropic tensor C_abcd = (M/3)(d_ab d_cd + d_ac d_bd + d_ad d_bc) (M the P-wave modulus).
@@ -34,8 +34,8 @@ enum { MAX_MODES = 6, MAX_PRODUCTS = 21 };
 /* The smallest factor: a bond keeps at least this share of its bulk stiffness. */
 static const double FACTOR_FLOOR = 0.0;
 /* A ridge on the Gram system, this share of its mean diagonal: it bounds the factors of a node
- * whose family cannot meet the moments (the corner of the 3D bar below: largest factor 16
- * with it, 412 without), and leaves the others' energies exact to about this share. */
+ * whose family cannot meet the moments (the corner line of the 3D bar of docs/verification.md
+ * case 17: largest factor 16 with it, 412 without), and leaves the others' energies exact to about this share. */
 static const double RIDGE = 1e-3;
 
 /* The unit strains of a dim-dimensional body: the normal ones, then the shears (eps_ab =
