@@ -46,7 +46,23 @@ typedef struct peri_bonds {
   /* surface-correction factors of the bonds (src/model/surface_correction.c), NULL without:
    * G scales the bond (PMB) or deviatoric (LPS) term, D the LPS dilatation term */
   double *surface_G, *surface_D;
+  /* position_aware LPS: the other end's own factors on the bond (src/model/position_aware.c),
+   * NULL otherwise; and the smallest factor of the correction (a check that none is negative) */
+  double *surface_G_rev, *surface_D_rev;
+  double surface_lowest;
 } peri_bonds;
+
+/* The largest surface-correction factor of bond k (its stiffness over the uncorrected one,
+ * for the stable-step and stiffness bounds): G, D, and the mean of the two ends' own. */
+static inline double peri_bond_surface_factor(const peri_bonds *b, int64_t k) {
+  double f = b->surface_G[k];
+  if (b->surface_D) f = f > b->surface_D[k] ? f : b->surface_D[k];
+  if (b->surface_G_rev) {
+    const double own = f, other = b->surface_G_rev[k] > b->surface_D_rev[k] ? b->surface_G_rev[k] : b->surface_D_rev[k];
+    f = 0.5 * (own + other);
+  }
+  return f;
+}
 
 /* Reference bond vector xi = x_j - x_i (x: reference positions, stride 3) and |xi|. */
 static inline double peri_bond_xi(const double *x, int32_t i, int32_t j, double xi[3]) {

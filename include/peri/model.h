@@ -33,6 +33,10 @@ typedef struct peri_model_ops {
    * deformed length is r, at the state of the last force() call (dilatation, thermal
    * strain). The force on i is pair * beta V_j * (y_j - y_i)/r. Used by stress recovery. */
   double (*pair_force)(const peri_sim *s, int32_t i, int64_t k, double r);
+  /* Node i's own half t_ij of it, where the two ends' halves differ by construction (the
+   * position-aware correction); NULL or a half of pair_force otherwise. Stress recovery
+   * collapses i's own force state, sum_j t_ij (y_j - y_i)/r (x) xi beta V_j. */
+  double (*own_force)(const peri_sim *s, int32_t i, int64_t k, double r);
   /* Tangent stiffness at the current displacement (intact bonds, no breaking), one add call
    * at a time (from any thread). In a single process add is called once for every row. On
    * MPI ranks (collective: every rank calls it; ghost displacements current) a model may

@@ -171,7 +171,8 @@ typedef struct peri_conditions {
 
 /* Surface corrections (docs/models.md 4.1): none, the energy-ratio factors of Madenci and
  * Oterkus, or the family-volume ratio (PMB). */
-typedef enum { PERI_SURFACE_NONE = 0, PERI_SURFACE_ENERGY = 1, PERI_SURFACE_VOLUME = 2 } peri_surface_correction;
+typedef enum { PERI_SURFACE_NONE = 0, PERI_SURFACE_ENERGY = 1, PERI_SURFACE_VOLUME = 2,
+               PERI_SURFACE_POSITION_AWARE = 3 } peri_surface_correction;
 
 /* Solver settings: which solver, the time step and the number of steps, damping, breaking,
  * and the quasi-static settings. */

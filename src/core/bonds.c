@@ -263,6 +263,8 @@ void peri_bonds_free(peri_bonds *b) {
   free(b->broken);
   free(b->surface_G);
   free(b->surface_D);
+  free(b->surface_G_rev);
+  free(b->surface_D_rev);
   memset(b, 0, sizeof *b);
 }
 

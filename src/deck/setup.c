@@ -254,7 +254,7 @@ static const char *const discretization_keys[] = {
     "spacing", "horizon", "m", "placement", "origin", "thickness", "cross_section",
     "partial_volume", "influence", "weighted_volume", "surface_correction", "fill", "remove", "node_file",
     "blocks", "volume", "max_nodes", "mesh", "mesh_format", "partial_stress",
-    "partial_stress_stabilization", NULL};
+    "partial_stress_stabilization", "fictitious_layers", NULL};
 
 static int parse_shape_list(const peri_node *list, int dim, const char *section,
                             const char *const *extra, peri_shape **shapes, int *count) {
@@ -409,7 +409,7 @@ static int parse_discretization(parse_ctx *c) {
   TRY(peri_deck_choice(d, "partial_volume", false, pv_rules, &pv));
   TRY(peri_deck_choice(d, "influence", false, influences, &infl));
   TRY(peri_deck_choice(d, "weighted_volume", false, wv, &wvol));
-  static const char *const corrections[] = {"none", "energy", "volume", NULL}; /* docs/models.md 4.1 */
+  static const char *const corrections[] = {"none", "energy", "volume", "position_aware", NULL}; /* docs/models.md 4.1 */
   int correction = 0;
   TRY(peri_deck_choice(d, "surface_correction", false, corrections, &correction));
   s->disc.surface_correction = correction;
@@ -862,6 +862,7 @@ static int build(parse_ctx *c) {
   if (!heat_only) TRY(resolve_materials(c));
   if (!heat_only) TRY(peri_setup_plasticity(s, root)); /* sublayers (plasticity_keys.c, docs/plasticity.md) */
   TRY(parse_regions(c));
+  TRY(peri_setup_fictitious_layers(s, root)); /* discretization.fictitious_layers (layer_keys.c) */
   peri_bonds_build(&s->disc.bonds, &s->disc.p, &s->disc.family);
   TRY(peri_setup_bodies(s, root)); /* no bonds across bodies (docs/contact.md) */
   if (s->disc.horizon_field) { /* the coupling region and the per-node models (horizon_keys.c) */
@@ -876,6 +877,7 @@ static int build(parse_ctx *c) {
   TRY(s->mat.model->init(s));
   TRY(parse_conditions(c));
   TRY(peri_setup_check_layers(c->s, c->root));
+  TRY(peri_setup_check_fictitious_layers(c->s, c->root));
   TRY(parse_indenter(c));
   TRY(parse_solver(c));
   TRY(peri_setup_coupling(s, root)); /* PD-FEM coupling (src/deck/coupling_keys.c) */

@@ -45,6 +45,11 @@ int peri_setup_mesh(peri_sim *s, const peri_node *d, peri_mesh *mesh);
  * absolute (mesh_keys.c). */
 void peri_setup_deck_path(const peri_sim *s, const char *path, char *full, size_t cap);
 
+/* discretization.fictitious_layers (layer_keys.c): the layer nodes, after the regions and
+ * before the bonds; and, once the conditions are parsed, the check that they prescribe them. */
+int peri_setup_fictitious_layers(peri_sim *s, const peri_node *root);
+int peri_setup_check_fictitious_layers(const peri_sim *s, const peri_node *root);
+
 /* Whether a discretization.fill item is an image ({shape: image, ...}). */
 bool peri_setup_is_image_fill(const peri_node *item);
 /* An image fill item (image_keys.c, docs/microstructures.md): the PNG `file` read and its

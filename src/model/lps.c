@@ -450,6 +450,11 @@ static double lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) 
   return omega * (L * (p->coef[i] + p->coef[j]) + e * (p->coef[n + (size_t)i] + p->coef[n + (size_t)j]));
 }
 
+static double lps_own_force(const peri_sim *s, int32_t i, int64_t k, double r) {
+  if (s->disc.bonds.surface_G_rev) return peri_position_aware_lps_own(s, i, k, r);
+  return 0.5 * lps_pair_force(s, i, k, r);
+}
+
 const peri_model_ops peri_model_lps = {
     .name = "lps",
     .description = "ordinary state-based linear peridynamic solid (any Poisson ratio)",
@@ -458,5 +463,6 @@ const peri_model_ops peri_model_lps = {
     .force = lps_force,
     .energy = lps_energy,
     .pair_force = lps_pair_force,
+    .own_force = lps_own_force,
     .tangent = peri_lps_tangent, .tangent_reach = 2, /* src/model/lps_tangent.c */
 };

@@ -412,6 +412,14 @@ static double pmb_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) 
   return c * stretch * peri_bonds_omega(b, r0);
 }
 
+/* position_aware: i's half with its own factor g_i (surface_D), the pair's being (g_i + g_j)/2 */
+static double pmb_own_force(const peri_sim *s, int32_t i, int64_t k, double r) {
+  const peri_bonds *b = &s->disc.bonds;
+  const double pair = pmb_pair_force(s, i, k, r);
+  if (b->surface_G && b->surface_D && b->surface_G[k] != 0.0) return 0.5 * pair * b->surface_D[k] / b->surface_G[k];
+  return 0.5 * pair;
+}
+
 const peri_model_ops peri_model_pmb = {
     .name = "pmb",
     .description = "bond-based PMB (Poisson ratio fixed: 1/4 in 1D, 3D and plane strain, 1/3 in plane stress)",
@@ -420,5 +428,6 @@ const peri_model_ops peri_model_pmb = {
     .force = pmb_force,
     .energy = pmb_energy,
     .pair_force = pmb_pair_force,
+    .own_force = pmb_own_force,
     .tangent = peri_pmb_tangent, .tangent_reach = 1, /* src/model/pmb_tangent.c */
 };

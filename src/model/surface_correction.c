@@ -65,6 +65,7 @@ int peri_surface_factors(peri_sim *s, bool lps) {
                "already a family-volume normalization (use energy)");
     return PERI_ERR_INPUT;
   }
+  if (s->disc.surface_correction == PERI_SURFACE_POSITION_AWARE) return peri_position_aware_factors(s, lps);
   if (lps) peri_sim_exchange(s, p->wvol, 1); /* the corrected pair force reads m_j */
   const size_t n = (size_t)p->n;
   double *g = peri_calloc(3 * n + 1, sizeof(double)), *d = peri_calloc(3 * n + 1, sizeof(double));
@@ -159,7 +160,7 @@ int peri_surface_factors(peri_sim *s, bool lps) {
 /* The break test of the corrected loops, before the force: every intact bond beyond its
  * critical stretch (the same stretch from both ends); the LAMMPS-form s0 from the minimum
  * stretch of the bonds intact at the test. */
-static long corrected_break(peri_sim *s, bool update_s0) {
+long peri_corrected_break(peri_sim *s, bool update_s0) {
   peri_particles *p = &s->disc.p;
   peri_bonds *b = &s->disc.bonds;
   const bool smin = s->mat.s0_node != NULL;
@@ -198,9 +199,10 @@ static void pmb_loop(peri_sim *s, double *W) {
       double dy[3];
       const double L = peri_bond_length(p->x, i, j), r = peri_deformed_bond(p->x, p->u, i, j, dy);
       const double stretch = (r - L) / L - peri_bond_thermal_stretch(s->state.thermal_strain, i, j);
-      const double c = 0.5 * (ci + s->mat.materials[p->material[j]].micromodulus) * b->surface_G[k];
+      const double c_bulk = 0.5 * (ci + s->mat.materials[p->material[j]].micromodulus), c = c_bulk * b->surface_G[k];
       const double bV = peri_bonds_beta(b, L) * p->volume[j], omega = peri_bonds_omega(b, L);
-      energy += 0.25 * c * omega * stretch * stretch * L * bV;
+      const double own = b->surface_D ? b->surface_D[k] : b->surface_G[k]; /* position_aware: i's own factor */
+      energy += 0.25 * c_bulk * own * omega * stretch * stretch * L * bV;
       if (r > 0.0)
         for (int d = 0; d < 3; ++d) f[d] += c * omega * stretch * bV * dy[d] / r;
     }
@@ -211,7 +213,7 @@ static void pmb_loop(peri_sim *s, double *W) {
 }
 
 long peri_corrected_pmb_force(peri_sim *s, bool update_s0) {
-  const long broken = corrected_break(s, update_s0);
+  const long broken = peri_corrected_break(s, update_s0);
   pmb_loop(s, NULL);
   return broken;
 }
@@ -266,6 +268,7 @@ static double lps_half(const peri_sim *s, int32_t i, int64_t k, double L, double
 }
 
 double peri_corrected_lps_pair(const peri_sim *s, int32_t i, int64_t k, double r) {
+  if (s->disc.bonds.surface_G_rev) return peri_position_aware_lps_pair(s, i, k, r);
   const peri_particles *p = &s->disc.p;
   const int32_t j = s->disc.bonds.neighbor[k];
   const double L = peri_bond_length(p->x, i, j);
@@ -273,7 +276,8 @@ double peri_corrected_lps_pair(const peri_sim *s, int32_t i, int64_t k, double r
 }
 
 long peri_corrected_lps_force(peri_sim *s, bool update_s0) {
-  const long broken = corrected_break(s, update_s0);
+  if (s->disc.bonds.surface_G_rev) return peri_position_aware_lps_force(s, update_s0);
+  const long broken = peri_corrected_break(s, update_s0);
   lps_dilatation_corrected(s);
   peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
@@ -296,6 +300,10 @@ long peri_corrected_lps_force(peri_sim *s, bool update_s0) {
 }
 
 void peri_corrected_lps_energy(peri_sim *s, double *W) {
+  if (s->disc.bonds.surface_G_rev) {
+    peri_position_aware_lps_energy(s, W);
+    return;
+  }
   lps_dilatation_corrected(s);
   peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;

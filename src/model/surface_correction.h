@@ -15,5 +15,15 @@ double peri_corrected_pmb_pair(const peri_sim *s, int32_t i, int64_t k, double r
 long peri_corrected_lps_force(peri_sim *s, bool update_s0);
 void peri_corrected_lps_energy(peri_sim *s, double *W);
 double peri_corrected_lps_pair(const peri_sim *s, int32_t i, int64_t k, double r);
+/* The break test of the corrected loops (before the force), shared by both corrections. */
+long peri_corrected_break(peri_sim *s, bool update_s0);
+/* position_aware (src/model/position_aware.c): the factors, and the LPS loops; the PMB
+ * takes the corrected loops above with its symmetric bond factors. `own`: node i's half
+ * t_ij of the pair force alone (stress recovery). */
+int peri_position_aware_factors(peri_sim *s, bool lps);
+long peri_position_aware_lps_force(peri_sim *s, bool update_s0);
+void peri_position_aware_lps_energy(peri_sim *s, double *W);
+double peri_position_aware_lps_pair(const peri_sim *s, int32_t i, int64_t k, double r);
+double peri_position_aware_lps_own(const peri_sim *s, int32_t i, int64_t k, double r);
 
 #endif

@@ -176,6 +176,11 @@ static void localize_bonds(peri_bonds *b, int64_t g0, int64_t g1, const int32_t 
   b->offset = offset;
   b->neighbor = neighbor;
   SLICE(b->broken, sizeof(uint8_t), from, count);
+  /* the surface-correction factors, computed on the whole body before the split */
+  SLICE(b->surface_G, sizeof(double), from, count);
+  SLICE(b->surface_D, sizeof(double), from, count);
+  SLICE(b->surface_G_rev, sizeof(double), from, count);
+  SLICE(b->surface_D_rev, sizeof(double), from, count);
   b->n_nodes = n_owned;
   b->n_bonds = count;
 }

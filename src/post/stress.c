@@ -35,8 +35,9 @@ int peri_stress(peri_sim *s, double *sigma) {
       }
       if (!(r2 > 0.0)) continue;
       const double r = sqrt(r2);
-      const double pair = s->mat.model->pair_force(s, i, k, r); /* t_ij + t_ji */
-      const double scale = 0.5 * pair * peri_bonds_beta(b, peri_bond_length(p->x, i, j)) * p->volume[j] / r;
+      const double half = s->mat.model->own_force ? s->mat.model->own_force(s, i, k, r) /* t_ij */
+                                                  : 0.5 * s->mat.model->pair_force(s, i, k, r);
+      const double scale = half * peri_bonds_beta(b, peri_bond_length(p->x, i, j)) * p->volume[j] / r;
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c) sg[3 * a + c] += scale * dy[a] * xi[c];
     }

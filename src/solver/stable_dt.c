@@ -18,12 +18,13 @@ double peri_node_stiffness_bound(const peri_sim *s, int32_t i) {
   const int32_t *restrict neighbor = b->neighbor;
   const double xi0 = x[3 * i], xi1 = x[3 * i + 1], xi2 = x[3 * i + 2];
   const int64_t k0 = b->offset[i], k1 = b->offset[i + 1];
-  if (s->mat.n_materials > 1) { /* c per pair: a scalar loop */
+  if (s->mat.n_materials > 1 || b->surface_G) { /* c per pair: a scalar loop */
     double stiffness = 0.0;
     for (int64_t k = k0; k < k1; ++k) {
       const int32_t j = neighbor[k];
       const double r0 = peri_bond_length(x, i, j);
-      const double c = 0.5 * (ci + s->mat.materials[p->material[j]].c_stable);
+      double c = 0.5 * (ci + s->mat.materials[p->material[j]].c_stable);
+      if (b->surface_G) c *= peri_bond_surface_factor(b, k); /* the corrected bond's stiffness */
       stiffness += peri_eval_beta(&fam, r0) * V[j] * c * peri_eval_omega(&fam, influence, r0) / r0;
     }
     return stiffness;
