@@ -88,5 +88,12 @@ struct peri_sim;
 void peri_plastic_commit(struct peri_sim *s);
 /* The plastic part of bond k's stretch (src/model/plastic_bonds.c). */
 double peri_plastic_bond_stretch(const struct peri_sim *s, int32_t i, int64_t k);
+/* The work density (J/m^3) the sublayers of node i's bonds have dissipated, into D[i] of the
+ * owned nodes: sum_j k_ij beta V_j sum_l W_l s_yl |s^p_l,ij|, with k_ij s^2/2 the bond's
+ * share of node i's elastic energy (PMB c omega |xi| / 2; LPS the deviatoric alpha omega
+ * |xi|^2). Exact for a bond loaded monotonically (an elastic-perfectly-plastic sublayer has
+ * dissipated s_y |s^p|), the deformation-theory work of the J-integral (docs/plasticity.md
+ * section 5); a lower bound after reversals. 0 for elastic materials. */
+void peri_plastic_dissipation(const struct peri_sim *s, double *D);
 
 #endif

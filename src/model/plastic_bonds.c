@@ -402,3 +402,29 @@ void peri_plastic_lps_energy(peri_sim *s, double *W) {
                                  : 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * deviatoric;
   }
 }
+
+void peri_plastic_dissipation(const peri_sim *s, double *D) {
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const bool lps = !strcmp(s->mat.model->name, "lps"); /* (by name: the model table calls this file) */
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    const peri_material *mi = &s->mat.materials[p->material[i]];
+    double sum = 0.0;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      const int32_t j = b->neighbor[k];
+      const peri_sublayers *sl = bond_layers(s, i, j);
+      if (!sl) continue;
+      const double *sp = s->state.plastic_stretch + k * s->state.plastic_layers;
+      double work = 0.0; /* sum_l W_l s_yl |s^p_l| */
+      for (int l = 0; l < sl->n; ++l) work += sl->weight[l] * sl->yield[l] * fabs(sp[l]);
+      if (work == 0.0) continue;
+      const double r0 = peri_bond_length(p->x, i, j);
+      /* k_ij: node i's energy holds k_ij s^2 / 2 of this bond */
+      const double stiffness = lps ? (mi->alpha_m / p->wvol[i]) * r0 * r0
+                                   : 0.25 * (mi->micromodulus + s->mat.materials[p->material[j]].micromodulus) * r0;
+      sum += stiffness * peri_bonds_omega(b, r0) * peri_bonds_beta(b, r0) * p->volume[j] * work;
+    }
+    D[i] = sum;
+  }
+}
