@@ -8,6 +8,7 @@
 #ifndef PERI_PLASTICITY_H
 #define PERI_PLASTICITY_H
 #include <stdbool.h>
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -19,7 +20,24 @@ typedef struct peri_sublayers {
   double yield[PERI_MAX_SUBLAYERS];  /* s_yk, increasing */
   /* ductile failure: the bond breaks when |sum_k W_k s^p_k| exceeds it (INFINITY: never) */
   double critical_plastic_stretch;
+  /* energy failure: the bond breaks when its work w = c omega |xi| sum_k W_k phi_k reaches it
+   * (J/m^6; INFINITY: never; docs/plasticity.md section 2, critical bond energy) */
+  double critical_bond_work;
 } peri_sublayers;
+
+/* The bond work at which a bond breaks for the fracture energy G0, when every bond crossing a
+ * unit crack area has the same work (the Silling-Askari integral with w in place of
+ * c s0^2 |xi| / 2): 3D 4 G0 / (pi delta^4), 2D 3 G0 / (2 h delta^3), 1D 2 G0 / (A delta^2),
+ * h the thickness and A the cross-section. */
+double peri_critical_bond_work(int dim, double G0, double delta, double thickness, double cross_section);
+/* The work per unit c omega |xi| that a bond's sublayers have absorbed at stretch s:
+ * sum_k W_k ((s - s^p_k)^2 / 2 + s_yk |s^p_k|), the stored energy and the dissipated work
+ * (exact for a bond loaded monotonically; after reversals the dissipation is a lower bound). */
+static inline double peri_sublayer_work(const peri_sublayers *sl, double s, const double *sp) {
+  double w = 0.0;
+  for (int k = 0; k < sl->n; ++k) w += sl->weight[k] * (0.5 * (s - sp[k]) * (s - sp[k]) + sl->yield[k] * fabs(sp[k]));
+  return w;
+}
 
 /* The weights sum to 1 within this (docs/plasticity.md: the printed weights of Ebrahimi
  * Table 5.2 have 4 digits, whose sum is 1 within 1e-4). */
