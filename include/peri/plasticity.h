@@ -8,6 +8,7 @@
 #ifndef PERI_PLASTICITY_H
 #define PERI_PLASTICITY_H
 #include <stdbool.h>
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -19,7 +20,24 @@ typedef struct peri_sublayers {
   double yield[PERI_MAX_SUBLAYERS];  /* s_yk, increasing */
   /* ductile failure: the bond breaks when |sum_k W_k s^p_k| exceeds it (INFINITY: never) */
   double critical_plastic_stretch;
+  /* energy failure: the bond breaks when its work w = c omega |xi| sum_k W_k phi_k reaches it
+   * (J/m^6; INFINITY: never; docs/plasticity.md section 2, critical bond energy) */
+  double critical_bond_work;
 } peri_sublayers;
+
+/* The bond work at which a bond breaks for the fracture energy G0, when every bond crossing a
+ * unit crack area has the same work (the Silling-Askari integral with w in place of
+ * c s0^2 |xi| / 2): 3D 4 G0 / (pi delta^4), 2D 3 G0 / (2 h delta^3), 1D 2 G0 / (A delta^2),
+ * h the thickness and A the cross-section. */
+double peri_critical_bond_work(int dim, double G0, double delta, double thickness, double cross_section);
+/* The work per unit c omega |xi| that a bond's sublayers have absorbed at stretch s:
+ * sum_k W_k ((s - s^p_k)^2 / 2 + s_yk |s^p_k|), the stored energy and the dissipated work
+ * (exact for a bond loaded monotonically; after reversals the dissipation is a lower bound). */
+static inline double peri_sublayer_work(const peri_sublayers *sl, double s, const double *sp) {
+  double w = 0.0;
+  for (int k = 0; k < sl->n; ++k) w += sl->weight[k] * (0.5 * (s - sp[k]) * (s - sp[k]) + sl->yield[k] * fabs(sp[k]));
+  return w;
+}
 
 /* The weights sum to 1 within this (docs/plasticity.md: the printed weights of Ebrahimi
  * Table 5.2 have 4 digits, whose sum is 1 within 1e-4). */
@@ -88,5 +106,12 @@ struct peri_sim;
 void peri_plastic_commit(struct peri_sim *s);
 /* The plastic part of bond k's stretch (src/model/plastic_bonds.c). */
 double peri_plastic_bond_stretch(const struct peri_sim *s, int32_t i, int64_t k);
+/* The work density (J/m^3) the sublayers of node i's bonds have dissipated, into D[i] of the
+ * owned nodes: sum_j k_ij beta V_j sum_l W_l s_yl |s^p_l,ij|, with k_ij s^2/2 the bond's
+ * share of node i's elastic energy (PMB c omega |xi| / 2; LPS the deviatoric alpha omega
+ * |xi|^2). Exact for a bond loaded monotonically (an elastic-perfectly-plastic sublayer has
+ * dissipated s_y |s^p|), the deformation-theory work of the J-integral (docs/plasticity.md
+ * section 5); a lower bound after reversals. 0 for elastic materials. */
+void peri_plastic_dissipation(const struct peri_sim *s, double *D);
 
 #endif

@@ -14,6 +14,10 @@ int peri_stress(peri_sim *s, double *sigma);
 /* Small strain eps = (F + F^T)/2 - I into eps[9n]; in plane stress eps33 from the
  * material's Poisson ratio, -nu/(1-nu)(eps11+eps22). */
 void peri_strain(const peri_sim *s, double *eps);
+/* Displacement gradient H = F - I of node i (row-major, H[3a + c] = du_a/dx_c) from the
+ * nonlocal deformation gradient over its intact bonds; false (H = 0) when the shape tensor is
+ * singular (a node with too few bonds). */
+bool peri_displacement_gradient(const peri_sim *s, int32_t i, double H[9]);
 /* Von Mises stress of a symmetric stress (row-major) in the problem's dimension and plane:
  * plane stress sqrt(s11^2 + s22^2 - s11 s22 + 3 s12^2); plane strain with
  * s33 = nu (s11 + s22); 1D |s11|. */

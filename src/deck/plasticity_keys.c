@@ -23,9 +23,32 @@ static const peri_node *item_or(const peri_node *map, const char *key, int bad) 
   return seq ? seq : map;
 }
 
-static int parse_one(const peri_node *pl, peri_material *mat) {
+/* critical_bond_energy: {fracture_energy: G0} (J/m^2) or {work: w_c} (J/m^6). */
+static int parse_bond_energy(const peri_sim *s, const peri_node *pl, const char *section, peri_sublayers *sl) {
+  const peri_node *it = peri_deck_get(pl, "critical_bond_energy");
+  sl->critical_bond_work = INFINITY;
+  if (!it) return PERI_OK;
+  static const char *const keys[] = {"fracture_energy", "work", NULL};
+  char where[300];
+  snprintf(where, sizeof where, "%s.critical_bond_energy", section);
+  if (it->kind != PERI_NODE_MAPPING)
+    return peri_deck_error(it, "%s: expected a mapping {fracture_energy: G0} or {work: w_c}", where);
+  TRY(peri_deck_allow(it, where, keys));
+  const peri_node *g = peri_deck_get(it, "fracture_energy"), *w = peri_deck_get(it, "work");
+  if (!g == !w) return peri_deck_error(it, "%s: give one of fracture_energy (J/m^2) or work (J/m^6)", where);
+  double value = 0.0;
+  TRY(peri_deck_double(it, g ? "fracture_energy" : "work", true, &value));
+  if (!(value > 0.0) || !isfinite(value))
+    return peri_deck_error(g ? g : w, "%s: %s must be positive", where, g ? "fracture_energy" : "work");
+  const peri_geometry *geo = &s->disc.geom;
+  sl->critical_bond_work =
+      g ? peri_critical_bond_work(geo->dim, value, s->disc.family.horizon, geo->thickness, geo->cross_section) : value;
+  return PERI_OK;
+}
+
+static int parse_one(const peri_sim *s, const peri_node *pl, peri_material *mat) {
   static const char *const keys[] = {"weights", "yield_stretches", "strains", "stresses", "power_law",
-                                     "critical_plastic_stretch", NULL};
+                                     "critical_plastic_stretch", "critical_bond_energy", NULL};
   char section[200];
   snprintf(section, sizeof section, "materials.%s.plasticity", mat->name);
   TRY(peri_deck_allow(pl, section, keys));
@@ -91,6 +114,7 @@ static int parse_one(const peri_node *pl, peri_material *mat) {
       return peri_deck_error(peri_deck_get(pl, "critical_plastic_stretch"),
                              "key 'critical_plastic_stretch': must be positive");
   }
+  TRY(parse_bond_energy(s, pl, section, &sl));
   mat->sublayers = peri_malloc(sizeof sl);
   *mat->sublayers = sl;
   return PERI_OK;
@@ -104,7 +128,7 @@ int peri_setup_plasticity(peri_sim *s, const peri_node *root) {
     if (pl->kind != PERI_NODE_MAPPING)
       return peri_deck_error(pl, "materials.%s.plasticity: expected a mapping, got %s", s->mat.materials[m].name,
                              peri_deck_kind_name(pl));
-    TRY(parse_one(pl, &s->mat.materials[m]));
+    TRY(parse_one(s, pl, &s->mat.materials[m]));
   }
   return PERI_OK;
 }

@@ -813,7 +813,7 @@ static int parse_output(parse_ctx *c) {
 static const char *const top_keys[] = {"dimension", "plane", "discretization", "materials",
                                        "interfaces", "regions", "precracks", "boundary_conditions",
                                        "indenter", "solver", "output", "thermal", "coupling", "contact",
-                                       "bodies", "imperfection", "body_interfaces", "tools", NULL};
+                                       "bodies", "imperfection", "body_interfaces", "tools", "j_integral", NULL};
 
 /* A count derived from the ratio of two deck numbers, such as end_time / time_step. The
  * ratio is rounded up (less a rounding allowance); a count that a long cannot hold is an
@@ -885,6 +885,7 @@ static int build(parse_ctx *c) {
   TRY(peri_setup_contact(s, root)); /* short-range forces (docs/contact.md) */
   TRY(peri_setup_tools(s, root)); /* rigid tools (tool_keys.c, docs/contact.md) */
   TRY(peri_setup_plasticity_solver(s, root));
+  TRY(peri_setup_j_integral(s, root)); /* J-integral columns (j_integral_keys.c, docs/plasticity.md) */
   TRY(parse_output(c));
   TRY(peri_setup_thermal(s, root)); /* heat conduction, thermal strain (docs/heat.md) */
   TRY(peri_plot_check(s, peri_deck_get(root, "output"))); /* the columns, thermal ones included */
@@ -1004,6 +1005,7 @@ void peri_sim_free(peri_sim *s) {
   free(s->out.picture_field);
   free(s->out.plot_x);
   free(s->out.plot_y);
+  free(s->out.j_integral);
   free(s->out.checkpoint_file);
   free(s->state.step_load);
   peri_restart_free(s->state.restart);

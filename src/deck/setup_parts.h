@@ -72,6 +72,10 @@ int peri_setup_regions(peri_sim *s, const peri_node *root, const peri_mesh *mesh
 /* Fictitious layer regions have every node's motion prescribed (after the boundary conditions). */
 int peri_setup_check_layers(const peri_sim *s, const peri_node *root);
 
+/* The j_integral section (j_integral_keys.c, docs/plasticity.md section 6): the crack tip,
+ * its direction and the contours of the J-integral columns; after the model's init. */
+int peri_setup_j_integral(peri_sim *s, const peri_node *root);
+
 /* The coupling section (coupling_keys.c, docs/coupling.md): PD and FEM nodes, the structured
  * elements, the solver settings of the coupled stiffness; after the solver section. */
 int peri_setup_coupling(peri_sim *s, const peri_node *root);

@@ -1,4 +1,4 @@
-/* The tools section of the deck (docs/deck.md section 22, docs/contact.md "Rigid tools"):
+/* The tools section of the deck (docs/deck.md section 23, docs/contact.md "Rigid tools"):
  * rigid tools of five shapes, their motion by expressions of t or by a load along their
  * direction, their penalty stiffness and friction coefficient. */
 #include <math.h>

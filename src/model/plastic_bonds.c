@@ -15,6 +15,7 @@
  * part in the volume change its node sees). */
 #include <math.h>
 #include <string.h>
+#include "peri/constants.h"
 #include "peri/error.h"
 #include "peri/plasticity.h"
 #include <stdlib.h>
@@ -83,12 +84,30 @@ typedef struct pair_layers {
   double *W, *Y;
   double *critical; /* [a n_materials + b] critical plastic stretch of the pair (INFINITY: none) */
   bool ductile;     /* some pair has one */
+  /* energy failure: [a n_materials + b] the critical bond work (INFINITY: none) and the bond
+   * micromodulus c of the work c omega |xi| sum_k W_k phi_k (the PMB one of each end, averaged) */
+  double *work, *c;
+  bool energetic;   /* some pair has a critical bond work */
 } pair_layers;
+
+/* The micromodulus of the bond work of material m: PMB's own, or for LPS that of the PMB
+ * material of the same E (its bond work is then the bond-based one, as in the calibration of
+ * peri_critical_bond_work). */
+static double bond_micromodulus(const peri_sim *s, int m) {
+  const peri_material *mat = &s->mat.materials[m];
+  return mat->micromodulus > 0.0 ? mat->micromodulus : peri_pmb_micromodulus(&s->disc.geom, mat->E, mat->K);
+}
 
 static pair_layers pair_layers_of(const peri_sim *s) {
   const int nm = s->mat.n_materials, L = s->state.plastic_layers;
-  pair_layers t = {L, nm, peri_malloc(sizeof(double) * (size_t)(nm * nm * L)),
-                   peri_malloc(sizeof(double) * (size_t)(nm * nm * L)), peri_malloc(sizeof(double) * (size_t)(nm * nm)),
+  pair_layers t = {L,
+                   nm,
+                   peri_malloc(sizeof(double) * (size_t)(nm * nm * L)),
+                   peri_malloc(sizeof(double) * (size_t)(nm * nm * L)),
+                   peri_malloc(sizeof(double) * (size_t)(nm * nm)),
+                   false,
+                   peri_malloc(sizeof(double) * (size_t)(nm * nm)),
+                   peri_malloc(sizeof(double) * (size_t)(nm * nm)),
                    false};
   const peri_particles *p = &s->disc.p;
   (void)p;
@@ -100,6 +119,10 @@ static pair_layers pair_layers_of(const peri_sim *s) {
       const double ca = A ? A->critical_plastic_stretch : INFINITY, cb = B ? B->critical_plastic_stretch : INFINITY;
       t.critical[a * nm + b] = fmin(ca, cb);
       t.ductile |= isfinite(t.critical[a * nm + b]);
+      const double wa = A ? A->critical_bond_work : INFINITY, wb = B ? B->critical_bond_work : INFINITY;
+      t.work[a * nm + b] = fmin(wa, wb);
+      t.energetic |= isfinite(t.work[a * nm + b]);
+      t.c[a * nm + b] = 0.5 * (bond_micromodulus(s, a) + bond_micromodulus(s, b));
       for (int l = 0; l < L; ++l) {
         const bool real = sl && l < sl->n;
         t.W[(a * nm + b) * L + l] = real ? sl->weight[l] : 0.0;
@@ -109,7 +132,7 @@ static pair_layers pair_layers_of(const peri_sim *s) {
   return t;
 }
 
-static void pair_layers_free(pair_layers *t) { free(t->W), free(t->Y), free(t->critical); }
+static void pair_layers_free(pair_layers *t) { free(t->W), free(t->Y), free(t->critical), free(t->work), free(t->c); }
 
 /* Node i's bonds a chunk at a time: the deformed vectors, stretches and the margin over the
  * breaking screen (a vector loop), the exact breaking test of the candidates (scalar, rare),
@@ -219,6 +242,27 @@ static inline __attribute__((always_inline)) void plastic_chunk_map(peri_sim *s,
         c->intact[a] = 0.0;
         ++*broken;
       }
+  }
+  /* energy failure: a bond whose work (stored and dissipated) reaches the critical one breaks
+   * now (the same on both ends: the work is symmetric in i and j) */
+  if (breaking && pl->energetic && !(s->disc.p.flags[i] & PERI_NODE_NO_FAIL)) {
+    const int32_t *material = s->disc.p.material;
+    const int row = material[i] * pl->nm, L = pl->layers;
+    const double *sp = s->state.plastic_stretch + k0 * L;
+    for (int a = 0; a < n; ++a) {
+      const int pair = row + material[c->j[a]];
+      if (c->intact[a] == 0.0 || !isfinite(pl->work[pair]) || (s->disc.p.flags[c->j[a]] & PERI_NODE_NO_FAIL)) continue;
+      const double *W = pl->W + pair * L, *Y = pl->Y + pair * L, st = c->s[a];
+      double phi = 0.0; /* sum_l W_l ((s - s^p_l)^2 / 2 + s_yl |s^p_l|) over the real layers */
+      for (int l = 0; l < L; ++l)
+        if (W[l] != 0.0) phi += W[l] * (0.5 * (st - sp[a * L + l]) * (st - sp[a * L + l]) + Y[l] * fabs(sp[a * L + l]));
+      const double r0 = c->r0[a];
+      if (pl->c[pair] * peri_eval_omega(&w->fam, s->disc.bonds.family.influence, r0) * r0 * phi >= pl->work[pair]) {
+        s->disc.bonds.broken[k0 + a] = 1;
+        c->intact[a] = 0.0;
+        ++*broken;
+      }
+    }
   }
 }
 
@@ -400,5 +444,31 @@ void peri_plastic_lps_energy(peri_sim *s, double *W) {
     const double deviatoric = q2 - (2.0 * theta / 3.0) * wq + (theta * theta / 9.0) * wx;
     W[i] = mat->peer_force_state ? peri_lps_peer_energy(mat, theta, mat->alpha_m / m, q2)
                                  : 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * deviatoric;
+  }
+}
+
+void peri_plastic_dissipation(const peri_sim *s, double *D) {
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const bool lps = !strcmp(s->mat.model->name, "lps"); /* (by name: the model table calls this file) */
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    const peri_material *mi = &s->mat.materials[p->material[i]];
+    double sum = 0.0;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      const int32_t j = b->neighbor[k];
+      const peri_sublayers *sl = bond_layers(s, i, j);
+      if (!sl) continue;
+      const double *sp = s->state.plastic_stretch + k * s->state.plastic_layers;
+      double work = 0.0; /* sum_l W_l s_yl |s^p_l| */
+      for (int l = 0; l < sl->n; ++l) work += sl->weight[l] * sl->yield[l] * fabs(sp[l]);
+      if (work == 0.0) continue;
+      const double r0 = peri_bond_length(p->x, i, j);
+      /* k_ij: node i's energy holds k_ij s^2 / 2 of this bond */
+      const double stiffness = lps ? (mi->alpha_m / p->wvol[i]) * r0 * r0
+                                   : 0.25 * (mi->micromodulus + s->mat.materials[p->material[j]].micromodulus) * r0;
+      sum += stiffness * peri_bonds_omega(b, r0) * peri_bonds_beta(b, r0) * p->volume[j] * work;
+    }
+    D[i] = sum;
   }
 }

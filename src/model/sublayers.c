@@ -90,3 +90,9 @@ double peri_sublayers_monotonic(const peri_sublayers *sl, double eps) {
   for (int k = 0; k < sl->n; ++k) s += sl->weight[k] * fmin(eps, sl->yield[k]);
   return s;
 }
+
+double peri_critical_bond_work(int dim, double G0, double delta, double thickness, double cross_section) {
+  if (dim == 3) return 4.0 * G0 / (M_PI * pow(delta, 4));
+  if (dim == 2) return 3.0 * G0 / (2.0 * thickness * pow(delta, 3));
+  return 2.0 * G0 / (cross_section * delta * delta);
+}

@@ -7,6 +7,7 @@
 #include "peri/error.h"
 #include "peri/heat_quantities.h"
 #include "peri/history.h"
+#include "peri/j_integral.h"
 #include "peri/thermal.h"
 #include "peri/tools.h"
 
@@ -154,6 +155,13 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
     }
     free(thermal);
   }
+  if (s->out.j_integral) { /* J over each contour and the crack extension (docs/plasticity.md) */
+    for (int k = 0; k < s->out.j_integral->n_contours; ++k) {
+      snprintf(buf, sizeof buf, "j_integral_%d", k + 1);
+      add(c, buf);
+    }
+    add(c, "crack_extension");
+  }
   if (s->coupling) { /* out-of-balance of the PD-FEM coupling (docs/coupling.md) */
     char name[64];
     for (int d = 0; d < s->disc.geom.dim; ++d) {
@@ -203,7 +211,7 @@ const char *peri_history_unit(const char *column) {
       {"total_heat", "J", true},    {"min_temperature", "K", true}, {"max_temperature", "K", true},
       {"momentum_", "kg*m/s", false}, {"indenter_force_", "N", false}, {"reaction_", "N", false},
       {"displacement_", "m", false}, {"mean_temperature_", "K", false}, {"heat_inflow_", "W", false},
-      {"net_force_", "N", false},   {"out_of_balance", "1", false},
+      {"net_force_", "N", false},   {"j_integral_", "J/m^2", false}, {"crack_extension", "m", true},   {"out_of_balance", "1", false},
       {"max_von_mises_at_", "m", false},
       {"mass_", "kg", false}, {"kinetic_energy_", "J", false}, {"mean_velocity_", "m/s", false},
       {"damaged_mass_", "kg", false}, {"detached_mass_", "kg", false}, {"max_von_mises_", "Pa", false}, {"mean_stress_", "Pa", false},

@@ -51,38 +51,49 @@ int peri_stress(peri_sim *s, double *sigma) {
   return PERI_OK;
 }
 
-void peri_strain(const peri_sim *s, double *eps) {
+bool peri_displacement_gradient(const peri_sim *s, int32_t i, double H[9]) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
+  const int dim = s->disc.geom.dim;
+  double A[9] = {0}, K[9] = {0}, Kinv[9];
+  for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+    if (b->broken[k]) continue;
+    const int32_t j = b->neighbor[k];
+    double xi[3], y[3];
+    for (int d = 0; d < 3; ++d) {
+      xi[d] = p->x[3 * j + d] - p->x[3 * i + d];
+      y[d] = xi[d] + p->u[3 * j + d] - p->u[3 * i + d];
+    }
+    const double r0 = peri_bond_length(p->x, i, j);
+    const double w = peri_bonds_omega(b, r0) * peri_bonds_beta(b, r0) * p->volume[j];
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c) {
+        A[3 * a + c] += w * y[a] * xi[c];
+        K[3 * a + c] += w * xi[a] * xi[c];
+      }
+  }
+  memset(H, 0, 9 * sizeof(double));
+  if (!peri_invert_block3(K, dim, 1e-300, Kinv)) return false;
+  for (int a = 0; a < dim; ++a)
+    for (int c = 0; c < dim; ++c) {
+      for (int m = 0; m < dim; ++m) H[3 * a + c] += A[3 * a + m] * Kinv[3 * m + c];
+      if (a == c) H[3 * a + c] -= 1.0;
+    }
+  return true;
+}
+
+void peri_strain(const peri_sim *s, double *eps) {
+  const peri_particles *p = &s->disc.p;
   const int dim = s->disc.geom.dim;
   const bool plane_stress = dim == 2 && s->disc.geom.plane == PERI_PLANE_STRESS;
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) {
-    double A[9] = {0}, K[9] = {0}, Kinv[9], F[9] = {0};
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      double xi[3], y[3];
-      for (int d = 0; d < 3; ++d) {
-        xi[d] = p->x[3 * j + d] - p->x[3 * i + d];
-        y[d] = xi[d] + p->u[3 * j + d] - p->u[3 * i + d];
-      }
-      const double r0 = peri_bond_length(p->x, i, j);
-      const double w = peri_bonds_omega(b, r0) * peri_bonds_beta(b, r0) * p->volume[j];
-      for (int a = 0; a < 3; ++a)
-        for (int c = 0; c < 3; ++c) {
-          A[3 * a + c] += w * y[a] * xi[c];
-          K[3 * a + c] += w * xi[a] * xi[c];
-        }
-    }
+    double H[9];
     double *e = &eps[9 * (size_t)i];
     memset(e, 0, 9 * sizeof(double));
-    if (!peri_invert_block3(K, dim, 1e-300, Kinv)) continue;
+    if (!peri_displacement_gradient(s, i, H)) continue;
     for (int a = 0; a < dim; ++a)
-      for (int c = 0; c < dim; ++c)
-        for (int m = 0; m < dim; ++m) F[3 * a + c] += A[3 * a + m] * Kinv[3 * m + c];
-    for (int a = 0; a < dim; ++a)
-      for (int c = 0; c < dim; ++c) e[3 * a + c] = 0.5 * (F[3 * a + c] + F[3 * c + a]) - (a == c ? 1.0 : 0.0);
+      for (int c = 0; c < dim; ++c) e[3 * a + c] = 0.5 * (H[3 * a + c] + H[3 * c + a]);
     if (plane_stress) {
       const double nu = s->mat.materials[p->material[i]].nu;
       e[8] = -nu / (1.0 - nu) * (e[0] + e[4]);

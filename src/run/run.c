@@ -27,6 +27,7 @@
 #include "peri/heat_quantities.h"
 #include "peri/history.h"
 #include "peri/history_log.h"
+#include "peri/j_integral.h"
 #include "peri/model.h"
 #include "peri/output.h"
 #include "peri/phase_stress.h"
@@ -161,6 +162,12 @@ static int write_history(peri_sim *s, run_ctx *c) {
   }
   peri_thermal_history_values(s, c->log.row + k); /* total heat, temperature range (docs/heat.md) */
   k += peri_thermal_history_count(s);
+  if (s->out.j_integral) { /* J over each contour, crack extension (docs/plasticity.md) */
+    if (peri_j_integral_values(s, s->out.j_integral, c->log.row + k, c->log.row + k + s->out.j_integral->n_contours) !=
+        PERI_OK)
+      c->failed = 1;
+    k += s->out.j_integral->n_contours + 1;
+  }
   if (s->coupling) { /* sum of K u and e_r of the PD-FEM coupling (docs/coupling.md) */
     double net[3], ratio[4];
     peri_coupling_balance(s, net, ratio);

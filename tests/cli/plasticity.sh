@@ -6,6 +6,8 @@
 #    reverse branch drops by 2 sigma_k at eps_a - 2 eps_k (Masing rule), each within 2%;
 #  - ductile failure: with critical_plastic_stretch the bar breaks between the strains where the
 #    plastic stretch sum_k W_k (eps - s_yk)+ passes it;
+#  - energy failure: with critical_bond_energy the bonds of each length break at the strain where
+#    their work (stored and dissipated) reaches the w_c of G0, and the bar's stress falls by their share;
 #  - peri check reports the sublayers and the plastic state's bytes per directed bond;
 #  - bad plasticity input: file:line:column, exit 2 (weights that do not sum to 1, yield
 #    stretches that do not increase, a curve with a negative slope, a solver with trial states);
@@ -62,6 +64,44 @@ awk -v r="$r1" 'BEGIN { s = r / 1.0e-4; exit !(s > 450e6 && s < 480e6) }' || fai
 awk -v r="$r2" -v b="$b2" 'BEGIN { exit !(r < 1 && r > -1 && b > 0.99) }' ||
   fail "ductile bar at 0.0074: reaction $r2 N, broken fraction $b2 (expected 0 and every bond)"
 pass "critical plastic stretch: the bar holds at eps = 0.0072 ($r1 N) and has broken at 0.0074"
+
+# --- energy failure: critical_bond_energy from G0 = 9e4 J/m^2. Every node of the bar follows
+# the affine field, so every bond is at the bar's strain eps; a bond of length xi breaks when
+# its work c xi sum_k W_k phi_k(eps) reaches w_c = 2 G0 / (A delta^2), with c = 2E / (A delta^2):
+# at E xi sum_k W_k phi_k(eps) = G0, eps = 0.00801 (xi = 3 dx), 0.01123 (2 dx), 0.02043 (dx).
+# The bar (30 nodes) has 54, 56 and 58 directed bonds of 3, 2 and 1 spacings; a bond of k
+# spacings carries k beta_k of the stress (beta_3 = 1/2), so after the longest break the bar
+# carries 3/4.5 of the curve's stress and after the next 1/4.5.
+sed -e 's|power_law: {yield_stress: 400e6, yield_strain: 0.002, exponent: 0.1}|&\n      critical_bond_energy: {fracture_energy: 9.0e4}|' \
+  -e 's|x\*(t<1.5 ? 0.002\*t .*)"|x*(t<0.5 ? 0 : t<1.5 ? 0.0079 : t<2.5 ? 0.0082 : t<3.5 ? 0.0111 : t<4.5 ? 0.0114 : t<5.5 ? 0.0200 : 0.0209)"|' \
+  -e 's|held: {shape: interval, min: \[-1\], max: \[0.035\]}|held: {shape: interval, min: [-1], max: [0.15]}|' \
+  -e 's|pulled: {shape: interval, min: \[0.265\], max: \[1\]}|pulled: {shape: interval, min: [0.15], max: [1]}|' \
+  -e 's|end_time: 10, load_steps: 10|end_time: 6, load_steps: 6|' "$deck" >"$TMP/energy.yaml"
+grep -q 'critical_bond_energy' "$TMP/energy.yaml" && grep -q '0.0209)' "$TMP/energy.yaml" && grep -q 'max: \[0.15\]' "$TMP/energy.yaml" ||
+  fail "could not write the energy failure deck"
+run_peri run "$TMP/energy.yaml" --quiet --output "$TMP/energy"
+expect_status 0
+hist="$TMP/energy/history.csv"
+awk -F, -v cb="$(csv_column "$hist" broken_bond_fraction)" -v cr="$(csv_column "$hist" reaction_pulled_x)" '
+  function curve(e) { # the piecewise-linear curve of Table 5.2 through the power-law breakpoints
+    if (e <= 0.0065) return 400e6 + (e - 0.002) / 0.0045 * (400e6 * 3.25 ^ 0.1 - 400e6)
+    if (e <= 0.0124) return 400e6 * 3.25 ^ 0.1 + (e - 0.0065) / 0.0059 * (400e6 * 6.2 ^ 0.1 - 400e6 * 3.25 ^ 0.1)
+    if (e <= 0.0168) return 400e6 * 6.2 ^ 0.1 + (e - 0.0124) / 0.0044 * (400e6 * 8.4 ^ 0.1 - 400e6 * 6.2 ^ 0.1)
+    return 400e6 * 8.4 ^ 0.1
+  }
+  BEGIN {
+    split("0.0079 0.0082 0.0111 0.0114 0.0200 0.0209", eps, " ")
+    split("0 54 54 110 110 168", broken, " ")
+    split("4.5 3 3 1 1 0", share, " ") # of 4.5
+  }
+  NR > 2 {
+    k = NR - 2; want_b = broken[k] / 168; want_s = curve(eps[k]) * share[k] / 4.5; got_s = $cr / 1.0e-4
+    printf "  eps %s: broken fraction %.6f (expected %.6f), stress %.6g Pa (expected %.6g)\n", eps[k], $cb, want_b, got_s, want_s
+    if ($cb - want_b > 1e-9 || want_b - $cb > 1e-9) bad = 1
+    if (want_s == 0 ? (got_s > 1 || got_s < -1) : ((got_s - want_s) / want_s > 0.02 || (want_s - got_s) / want_s > 0.02)) bad = 1
+  }
+  END { exit bad }' "$hist" || fail "energy failure: the bonds do not break at the work of G0"
+pass "critical bond energy: the bonds of 3, 2 and 1 spacings break at the strains where their work reaches w_c"
 
 # --- peri check: the sublayers and the plastic state's bytes per bond
 run_peri check "$deck"
