@@ -114,6 +114,7 @@ typedef struct peri_output {
   bool quiet;                   /* no summary and no progress line */
   bool vtu, exodus;             /* output.format: the VTU series, the Exodus II file (docs/output.md) */
   bool phase_stress;            /* output.phase_stress: per-material stress columns in history.csv (docs/microstructures.md) */
+  struct peri_dataset_output *dataset; /* output.dataset: the graph dataset (docs/datasets.md), NULL without */
   int picture_normal;           /* 3D pictures: axis normal to the picture plane (0 x, 1 y, 2 z) */
   bool picture_projection;      /* 3D pictures: every node seen along the normal (else a slice) */
   bool picture_at_given;        /* 3D slice: at picture_at (else the middle of the body) */
