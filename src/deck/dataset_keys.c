@@ -30,6 +30,9 @@ int peri_dataset_parse(peri_sim *s, const peri_node *output) {
   if (!peri_dataset_file_supported())
     return peri_deck_error(it, "key 'dataset': this peri was built without HDF5, which graph datasets need "
                                "(install libhdf5-dev, e.g. with scripts/install-deps, and rebuild)");
+  if (s->solver.kind == PERI_SOLVER_HEAT)
+    return peri_deck_error(it, "key 'dataset': a heat conduction run (solver: heat) has no bonds' mechanics to "
+                               "write; graph datasets are for mechanical runs");
   long every = 0;
   const char *file = NULL;
   if (peri_deck_int(it, "every", true, &every) != PERI_OK) return PERI_ERR_INPUT;

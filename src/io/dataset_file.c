@@ -36,9 +36,10 @@ peri_dataset_file *peri_dataset_file_open(const char *path, bool append) {
   } else {
     hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
     H5Pset_obj_track_times(fcpl, 0);
-    /* the HDF5 1.8 format: checksummed object headers, readable by any h5py */
+    /* the HDF5 1.10 format (any h5py of the last years reads it): checksummed headers, and
+     * small chunk indexes (a v1 B-tree node per dataset would add ~40 KB to every frame) */
     hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-    H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_LATEST);
+    H5Pset_libver_bounds(fapl, H5F_LIBVER_V110, H5F_LIBVER_V110);
     f->file = H5Fcreate(path, H5F_ACC_TRUNC, fcpl, fapl);
     H5Pclose(fapl);
     H5Pclose(fcpl);

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The graph dataset (output.dataset, docs/datasets.md): bad keys are refused with exit
-# status 2 at their file:line:column before any work; the file does not depend on the
+# status 2 at their file:line:column before any work (also on a heat-only run); the file does not depend on the
 # number of threads (byte for byte); a restarted run refuses to continue a dataset.
 # (The forces recomputed from the file: python.dataset; ranks: cli.dataset_mpi.)
 # Usage: bash tests/cli/dataset.sh PATH_TO_PERI   (from the repository root)
@@ -30,7 +30,10 @@ printf '  dataset: {evry: 10}\n' >>"$deck"
 run_peri run "$deck" --output "$TMP/bad"
 expect_status 2
 expect_stderr_contains "did you mean 'every'"
-pass "a list as a tag and a misspelt key are refused"
+run_peri check examples/heat_example1.yaml --set output.dataset.every=5
+expect_status 2
+expect_stderr_contains "a heat conduction run (solver: heat) has no bonds' mechanics"
+pass "a list as a tag, a misspelt key and a heat-only run are refused"
 
 sed -i '$d' "$deck"
 printf '  dataset: {every: 40, file: graph.h5, tags: {load: 3.0e6, defect: crack}}\n  checkpoint_every: 60\n' >>"$deck"
