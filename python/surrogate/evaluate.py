@@ -38,7 +38,7 @@ def one_step(model, kind, graphs, scale, baseline=False):
 def rollout_errors(model, kind, graphs, scale, steps, baseline=False):
     """MSE of u* and v* over `steps` rollout steps from the first predictable frame, and the
     mean absolute damage error at the last of them."""
-    eu, ev, ed = [], [], []
+    eu, ev, ed, su, sv = [], [], [], [], []
     for g in graphs:
         tr = g.traj
         start = engine.first_frame(kind)
@@ -46,8 +46,12 @@ def rollout_errors(model, kind, graphs, scale, steps, baseline=False):
         u, v, d = engine.rollout(model, kind, g, scale, start, k, baseline)
         eu.append(np.mean((u - tr.u[start + 1:start + 1 + k]) ** 2))
         ev.append(np.mean((v - tr.v[start + 1:start + 1 + k]) ** 2))
+        su.append(np.mean(tr.u[start + 1:start + 1 + k] ** 2))
+        sv.append(np.mean(tr.v[start + 1:start + 1 + k] ** 2))
         ed.append(np.mean(np.abs(d[-1] - tr.damage[start + k])))
-    return float(np.mean(eu)), float(np.mean(ev)), float(np.mean(ed))
+    # also relative: the MSE over the mean square of the PD trajectory
+    return float(np.mean(eu)), float(np.mean(ev)), float(np.mean(ed)), float(np.sum(eu) / np.sum(su)), \
+        float(np.sum(ev) / np.sum(sv))
 
 
 def damage_pictures(model, kind, graphs, scale, at_steps, folder):
@@ -79,8 +83,10 @@ def evaluate(data, checkpoint, split="test", steps=10, pictures=None, at=(1, 5, 
     out["one_step_u"], out["one_step_v"] = one_step(model, kind, graphs, scale)
     out["baseline_one_step_u"], out["baseline_one_step_v"] = one_step(model, kind, graphs, scale, baseline=True)
     out["rollout_steps"] = steps
-    out["rollout_u"], out["rollout_v"], out["rollout_damage"] = rollout_errors(model, kind, graphs, scale, steps)
-    out["baseline_rollout_u"], out["baseline_rollout_v"], out["baseline_rollout_damage"] = rollout_errors(
+    (out["rollout_u"], out["rollout_v"], out["rollout_damage"], out["rollout_u_relative"],
+     out["rollout_v_relative"]) = rollout_errors(model, kind, graphs, scale, steps)
+    (out["baseline_rollout_u"], out["baseline_rollout_v"], out["baseline_rollout_damage"],
+     out["baseline_rollout_u_relative"], out["baseline_rollout_v_relative"]) = rollout_errors(
         model, kind, graphs, scale, steps, baseline=True)
     if pictures:
         out["pictures"] = damage_pictures(model, kind, graphs, scale, list(at), pictures)
