@@ -53,6 +53,10 @@ int peri_checkpoint_parse(peri_sim *s, const peri_node *output);
  * message at the key. */
 int peri_checkpoint_check_names(const peri_sim *s, const peri_node *root);
 
+/* Reads output.dataset (docs/datasets.md) into s->out.dataset (NULL when absent). PERI_OK or
+ * PERI_ERR_INPUT after a positioned message (src/deck/dataset_keys.c). */
+int peri_dataset_parse(peri_sim *s, const peri_node *output);
+
 /* output.plot: {x: COLUMN, y: COLUMN}. peri_plot_parse reads the names (with the rest of
  * `output`); peri_plot_check, once the whole simulation is set up (thermal columns
  * included), checks that history.csv will have them. Both return PERI_OK or

@@ -120,6 +120,7 @@ typedef struct peri_output {
   bool interface_history, region_energy;
   int wrinkle_region;
   struct peri_j_integral *j_integral; /* the j_integral section: J and crack extension columns (docs/plasticity.md), NULL: none */
+  struct peri_dataset_output *dataset; /* output.dataset: the graph dataset (docs/datasets.md), NULL without */
   int picture_normal;           /* 3D pictures: axis normal to the picture plane (0 x, 1 y, 2 z) */
   bool picture_projection;      /* 3D pictures: every node seen along the normal (else a slice) */
   bool picture_at_given;        /* 3D slice: at picture_at (else the middle of the body) */

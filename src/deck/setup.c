@@ -12,6 +12,7 @@
 #include "peri/tools.h"
 #include "peri/conduction.h"
 #include "peri/coupling.h"
+#include "peri/dataset.h"
 #include "peri/constants.h"
 #include "peri/damage.h"
 #include "peri/deck.h"
@@ -703,7 +704,7 @@ static int parse_output(parse_ctx *c) {
   static const char *const keys[] = {"directory", "every", "frames", "fields", "compress",
                                      "history_every", "picture", "plot", "checkpoint_every",
                                      "checkpoint_file", "format", "phase_stress",
-                                     "interface_history", "region_energy", "wrinkles", NULL};
+                                     "interface_history", "region_energy", "wrinkles", "dataset", NULL};
   /* defaults */
   const char *base = strrchr(s->deck_path, '/');
   base = base ? base + 1 : s->deck_path;
@@ -766,6 +767,7 @@ static int parse_output(parse_ctx *c) {
     TRY(peri_setup_film_output(s, c->root, it)); /* interfaces, regions, wrinkles (film_keys.c) */
     TRY(peri_plot_parse(s, it)); /* output.plot (src/deck/plot_keys.c) */
     TRY(peri_checkpoint_parse(s, it)); /* output.checkpoint_* (src/deck/checkpoint_keys.c) */
+    TRY(peri_dataset_parse(s, it)); /* output.dataset (src/deck/dataset_keys.c) */
     const peri_node *pic = peri_deck_get(it, "picture");
     if (pic && pic->kind == PERI_NODE_MAPPING) {
       static const char *const pkeys[] = {"field", "width", "view", "normal", "at", NULL};
@@ -1007,6 +1009,7 @@ void peri_sim_free(peri_sim *s) {
   free(s->out.plot_y);
   free(s->out.j_integral);
   free(s->out.checkpoint_file);
+  peri_dataset_output_free(s->out.dataset);
   free(s->state.step_load);
   peri_restart_free(s->state.restart);
   free(s->deck_path);

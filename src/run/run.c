@@ -18,6 +18,7 @@
 #include "peri/checkpoint.h"
 #include "peri/damage.h"
 #include "peri/damage_index.h"
+#include "peri/dataset.h"
 #include "peri/decompose.h"
 #include "peri/energies.h"
 #include "peri/error.h"
@@ -192,6 +193,7 @@ static int step_hook(peri_sim *s, void *ctx) {
   /* only rank 0 writes history.csv: the ranks agree before the collective frame write */
   if (history) c->failed = peri_comm_max_int(c->failed);
   if (!c->failed && frame && peri_frames_write(c->frames, s) != PERI_OK) c->failed = 1;
+  if (!c->failed && peri_dataset_after_step(s) != PERI_OK) c->failed = 1; /* docs/datasets.md (collective) */
   const peri_checkpoint_progress done = {peri_frames_written(c->frames), c->log.rows};
   if (!c->failed && peri_checkpoint_after_step(s, &done) != PERI_OK) { /* docs/restart.md */
     c->failed = 1;
@@ -230,11 +232,13 @@ peri_run_session *peri_run_open(peri_sim *s, bool keep_history) {
   int rc = PERI_OK;
   if (s->state.restart) { /* continue from a checkpoint (docs/restart.md) */
     rc = peri_history_log_resume(&c.log, s, c.frames);
+    if (rc == PERI_OK) rc = peri_dataset_begin(s); /* (refuses: docs/datasets.md) */
   } else {
     if (s->coupling) peri_coupling_force(s); /* PD-FEM coupling (docs/coupling.md) */
     else s->mat.model->force(s);
     rc = peri_frames_write(c.frames, s);
     if (rc == PERI_OK) rc = write_history(s, &c);
+    if (rc == PERI_OK) rc = peri_dataset_begin(s); /* the graph dataset's file and frame 0 (docs/datasets.md) */
     /* (writing reads the forces and leaves them: the explicit solver starts from them) */
     s->state.forces_current = !peri_is_quasi_static(s);
   }
