@@ -85,11 +85,11 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root) {
   double radius = 2.0; /* MODELS.md 14.5: scheme 2 by default */
   TRY(peri_deck_double(cp, "switch_radius", false, &radius));
   if (peri_deck_get(cp, "switch_radius") && !s->solver.breaking)
-    return peri_deck_error(peri_deck_key_node(cp, "switch_radius"), "key 'switch_radius': only with solver.breaking: "
-                                                               "true (nodes switch to PD as bonds break)");
+    return peri_deck_error(peri_deck_key_node(cp, "switch_radius"),
+                           "key 'switch_radius': only with solver.breaking: true (nodes switch to PD as bonds break)");
   if (!(radius >= 0.0) || !isfinite(radius))
-    return peri_deck_error(peri_deck_key_node(cp, "switch_radius"), "key 'switch_radius': expected a number of horizons "
-                                                               ">= 0, got %g", radius);
+    return peri_deck_error(peri_deck_key_node(cp, "switch_radius"),
+                           "key 'switch_radius': expected a number of horizons >= 0, got %g", radius);
   if (s->solver.breaking) TRY(check_fracture(s, root, cp, state_based, rule == 1));
   /* the coupled stiffness is not symmetric: LU by default, GMRES on request, never CG */
   if (!peri_deck_get(solver, "linear_solver")) {
