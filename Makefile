@@ -11,7 +11,7 @@ PORTABLE ?=
 CMAKE_OPTIONS := $(if $(PREFIX),-DCMAKE_INSTALL_PREFIX=$(PREFIX)) \
                  $(if $(PORTABLE),-DPERI_NATIVE=$(if $(filter 1 yes on ON true,$(PORTABLE)),OFF,ON))
 
-.PHONY: all deps configure build run test install bench bench-plate clean
+.PHONY: all deps configure build run test install bench bench-plate bench-coupling clean
 
 all: build
 
@@ -43,6 +43,10 @@ bench: build
 # quasi-static solvers on the plate with a hole at ~10^6 unknowns (over an hour; not in `make test`)
 bench-plate: build
 	@PERI=$(BUILD)/peri bench/plate_solvers
+
+# coupled (PD-FEM, adaptive switching) against all-PD three-point bending: unknowns, time, memory
+bench-coupling: build
+	@PERI=$(BUILD)/peri bench/coupling_3pb
 
 clean:
 	rm -rf $(BUILD) output

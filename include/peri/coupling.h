@@ -33,7 +33,8 @@ typedef struct peri_coupling {
   /* exact partial volumes (partial_volume: exact): the family of a PD node is every lattice
    * node whose cell meets its horizon disk (interval in 1D), with beta = the part of the cell
    * inside; the same for every node of the lattice, so kept per lattice offset */
-  struct peri_lattice *lattice; /* NULL: the bonds and the family's partial-volume rule */
+  struct peri_lattice *lattice; /* the node lattice (elements, exact volumes, switching) */
+  bool exact_volumes;      /* false: the bonds and the family's partial-volume rule */
   int32_t n_offsets;
   int32_t *offset;         /* [3 n_offsets] lattice offsets of the family */
   double *offset_beta;     /* [n_offsets] */
@@ -42,6 +43,11 @@ typedef struct peri_coupling {
   int32_t *tangent_count;  /* [n] columns of row i (0 for FEM nodes) */
   int32_t **tangent_cols;
   double **tangent_blocks;
+  /* adaptive switching (002_b20c318388227af9.txt §2.7, src/fem/switching.c): FEM nodes within
+   * switch_radius * delta of a PD node that lost a bond become PD nodes; 0: no switching */
+  double switch_radius;
+  int32_t n_switch_offsets;
+  int32_t *switch_offset;  /* [3 n_switch_offsets] lattice offsets within switch_radius * delta */
 } peri_coupling;
 
 /* Area of the disk of radius r centred at the origin inside the rectangle [x0, x1] x [y0, y1],
@@ -66,6 +72,16 @@ double peri_coupling_micromodulus(int dim, peri_plane plane, double E, double al
  * naming the node into why (size n) and returns PERI_ERR_INPUT. */
 int peri_coupling_build(peri_sim *s, const int32_t *pd_nodes, int32_t n_pd_nodes, double alpha, double gamma,
                         bool exact_volumes, char *why, size_t n);
+/* Sets the switching radius r (in horizons; 0: none) and applies it to the bonds broken so far
+ * (pre-cracks): every node with a broken bond becomes a PD node, and every node within r delta
+ * of one (the initial PD patch around notches). Bond-based PD side with the bonds' partial
+ * volumes only. */
+void peri_coupling_set_switching(peri_sim *s, double radius);
+/* Quasi-static fracture of the coupled model (MODELS.md 12.4, 14.5): breaks every intact bond
+ * with a PD end whose linearised stretch xi.(u_j - u_i)/|xi|^2 reaches its critical stretch
+ * (both directions; no-fail nodes never), then switches the FEM nodes within r delta of the PD
+ * nodes that lost a bond to PD, and refreshes f = K u. Returns the directed bonds broken. */
+long peri_coupling_break(peri_sim *s);
 void peri_coupling_free(peri_coupling *c);
 
 /* Rows of the coupled stiffness in the convention of the model tangents (model.h): blocks

@@ -1,5 +1,6 @@
 /* The coupling section of the deck (docs/coupling.md, docs/deck.md): which nodes are PD, the
  * micromodulus family of the PD side, and the solver settings the coupled stiffness needs. */
+#include <math.h>
 #include <stdbool.h>
 #include <string.h>
 #include "peri/coupling.h"
@@ -13,15 +14,48 @@
     if (rc_ != PERI_OK) return rc_; \
   } while (0)
 
+/* What the crack growth of the coupled model (src/fem/switching.c) does not do: switch a node
+ * of a state-based PD side (its tangent row is kept from the start), break the lattice
+ * families of the exact partial volumes, the {s00, alpha} critical stretch, the explicit
+ * phases of dynamic_switch, and restart (the node types are not in the checkpoint). */
+static int check_fracture(const peri_sim *s, const peri_node *root, const peri_node *cp, bool state_based,
+                          bool exact) {
+  const peri_node *solver = peri_deck_get(root, "solver"), *breaking = peri_deck_get(solver, "breaking");
+  if (state_based)
+    return peri_deck_error(breaking, "key 'breaking': crack growth with switching needs the bond-based PD side "
+                                     "(model pmb); model %s keeps its linearised rows", s->mat.model->name);
+  if (exact)
+    return peri_deck_error(peri_deck_get(cp, "partial_volume"), "key 'partial_volume': exact families are not "
+                                                                "bonds and cannot break; use discretization with "
+                                                                "solver.breaking");
+  for (int m = 0; m < s->mat.n_materials; ++m)
+    if (s->mat.materials[m].lammps_s0)
+      return peri_deck_error(breaking, "key 'breaking': the coupled model takes a fixed critical stretch (fracture "
+                                       "energy or critical_stretch), not the {s00, alpha} form of material %s",
+                             s->mat.materials[m].name);
+  if (peri_deck_get(solver, "dynamic_switch"))
+    return peri_deck_error(peri_deck_get(solver, "dynamic_switch"), "key 'dynamic_switch': the coupled model "
+                                                                     "has no explicit dynamics");
+  const peri_node *every = peri_deck_get(peri_deck_get(root, "output"), "checkpoint_every");
+  if (every)
+    return peri_deck_error(every, "key 'checkpoint_every': a coupled run with switching cannot restart (the node "
+                                  "types are not checkpointed)");
+  return PERI_OK;
+}
+
 int peri_setup_coupling(peri_sim *s, const peri_node *root) {
   const peri_node *cp = peri_deck_get(root, "coupling");
   if (!cp) return PERI_OK;
-  static const char *const keys[] = {"pd_region", "micromodulus_exponent", "gamma", "partial_volume", NULL};
+  static const char *const keys[] = {"pd_region", "micromodulus_exponent", "gamma", "partial_volume",
+                                     "switch_radius", NULL};
   TRY(peri_deck_allow(cp, "coupling", keys));
   const char *name = NULL;
-  TRY(peri_deck_string(cp, "pd_region", true, &name));
-  const int r = peri_setup_find_region(s, peri_deck_get(root, "regions"), peri_deck_get(cp, "pd_region"), name);
-  if (r < 0) return -r;
+  TRY(peri_deck_string(cp, "pd_region", false, &name));
+  int r = -1; /* no pd_region: every node starts FEM (the PD patch grows from pre-cracks) */
+  if (name) {
+    r = peri_setup_find_region(s, peri_deck_get(root, "regions"), peri_deck_get(cp, "pd_region"), name);
+    if (r < 0) return -r;
+  }
   double alpha = s->disc.geom.dim == 1 ? 1.0 : 3.0, gamma = 1.0;
   TRY(peri_deck_double(cp, "micromodulus_exponent", false, &alpha));
   TRY(peri_deck_double(cp, "gamma", false, &gamma));
@@ -48,9 +82,15 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root) {
                                                  "assembled and solved by PETSc)");
   if (s->solver.breaking && !peri_deck_get(solver, "breaking"))
     s->solver.breaking = false; /* the coupled model is linear elastic: nothing breaks */
-  if (s->solver.breaking)
-    return peri_deck_error(peri_deck_get(solver, "breaking"), "key 'breaking': the coupled model is linear elastic; "
-                                                              "bonds do not break in it (set breaking: false)");
+  double radius = 2.0; /* MODELS.md 14.5: scheme 2 by default */
+  TRY(peri_deck_double(cp, "switch_radius", false, &radius));
+  if (peri_deck_get(cp, "switch_radius") && !s->solver.breaking)
+    return peri_deck_error(peri_deck_key_node(cp, "switch_radius"),
+                           "key 'switch_radius': only with solver.breaking: true (nodes switch to PD as bonds break)");
+  if (!(radius >= 0.0) || !isfinite(radius))
+    return peri_deck_error(peri_deck_key_node(cp, "switch_radius"),
+                           "key 'switch_radius': expected a number of horizons >= 0, got %g", radius);
+  if (s->solver.breaking) TRY(check_fracture(s, root, cp, state_based, rule == 1));
   /* the coupled stiffness is not symmetric: LU by default, GMRES on request, never CG */
   if (!peri_deck_get(solver, "linear_solver")) {
     s->solver.qs.linear_solver = PERI_LINEAR_DIRECT;
@@ -59,9 +99,11 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root) {
     return peri_deck_error(peri_deck_get(solver, "linear_solver"), "key 'linear_solver': the coupled stiffness is "
                                                                    "not symmetric: use direct or gmres");
   }
-  const peri_region *pd = &s->cond.regions[r];
+  const peri_region *pd = r >= 0 ? &s->cond.regions[r] : NULL;
   char why[512];
-  if (peri_coupling_build(s, pd->nodes, pd->count, alpha, gamma, rule == 1, why, sizeof why) != PERI_OK)
+  if (peri_coupling_build(s, pd ? pd->nodes : NULL, pd ? pd->count : 0, alpha, gamma, rule == 1, why, sizeof why) !=
+      PERI_OK)
     return peri_deck_error(cp, "coupling: %s", why);
+  if (s->solver.breaking) peri_coupling_set_switching(s, radius); /* src/fem/switching.c */
   return PERI_OK;
 }

@@ -38,6 +38,7 @@ void peri_coupling_free(peri_coupling *c) {
   free(c->lattice);
   free(c->offset);
   free(c->offset_beta);
+  free(c->switch_offset);
   if (c->tangent_cols)
     for (int32_t i = 0; c->tangent_count && i < c->n_nodes; ++i) free(c->tangent_cols[i]), free(c->tangent_blocks[i]);
   free(c->tangent_count);
@@ -150,11 +151,7 @@ int peri_coupling_build(peri_sim *s, const int32_t *pd_nodes, int32_t n_pd_nodes
     rc = PERI_ERR_INPUT;
   }
   if (rc == PERI_OK && exact_volumes) exact_offsets(c, g->dim, g->spacing, g->horizon);
-  if (rc == PERI_OK && !exact_volumes) { /* the bonds give the families */
-    peri_lattice_free(c->lattice);
-    free(c->lattice);
-    c->lattice = NULL;
-  }
+  c->exact_volumes = exact_volumes; /* else the bonds give the families */
   if (rc != PERI_OK) {
     peri_coupling_free(c), free(c);
     return rc;
@@ -210,7 +207,7 @@ static int32_t pd_row(const peri_sim *s, int32_t i, int32_t *cols, double *block
     memcpy(blocks, c->tangent_blocks[i], sizeof(double) * 9 * (size_t)c->tangent_count[i]);
     return c->tangent_count[i];
   }
-  if (c->lattice) { /* exact partial volumes: every lattice node whose cell meets the disk */
+  if (c->exact_volumes) { /* exact partial volumes: every lattice node whose cell meets the disk */
     for (int32_t q = 0; q < c->n_offsets; ++q) {
       int64_t k[3];
       for (int d = 0; d < 3; ++d) k[d] = c->lattice->cell[3 * (size_t)i + d] + c->offset[3 * (size_t)q + d];

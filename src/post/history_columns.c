@@ -173,6 +173,7 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
       add(c, name);
     }
     add(c, "out_of_balance");
+    add(c, "pd_nodes"); /* grows with FEM->PD switching */
   }
 }
 
@@ -211,7 +212,7 @@ const char *peri_history_unit(const char *column) {
       {"total_heat", "J", true},    {"min_temperature", "K", true}, {"max_temperature", "K", true},
       {"momentum_", "kg*m/s", false}, {"indenter_force_", "N", false}, {"reaction_", "N", false},
       {"displacement_", "m", false}, {"mean_temperature_", "K", false}, {"heat_inflow_", "W", false},
-      {"net_force_", "N", false},   {"j_integral_", "J/m^2", false}, {"crack_extension", "m", true},   {"out_of_balance", "1", false},
+      {"net_force_", "N", false},   {"j_integral_", "J/m^2", false}, {"crack_extension", "m", true},   {"out_of_balance", "1", false}, {"pd_nodes", "1", true},
       {"max_von_mises_at_", "m", false},
       {"mass_", "kg", false}, {"kinetic_energy_", "J", false}, {"mean_velocity_", "m/s", false},
       {"damaged_mass_", "kg", false}, {"detached_mass_", "kg", false}, {"max_von_mises_", "Pa", false}, {"mean_stress_", "Pa", false},

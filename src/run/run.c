@@ -175,6 +175,7 @@ static int write_history(peri_sim *s, run_ctx *c) {
     for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = net[d];
     for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = ratio[d];
     c->log.row[k++] = ratio[3];
+    c->log.row[k++] = (double)s->coupling->n_pd;
   }
   return peri_history_log_record(&c->log);
 }

@@ -75,7 +75,10 @@ void peri_print_discretization(const peri_sim *s, FILE *out, const char *model, 
     static const char *const element[] = {"", "bar", "Q4", "Hex8"};
     fprintf(out, "  coupling     %d PD nodes, %d FEM nodes, %d %s elements%s\n", (int)s->coupling->n_pd,
             (int)(s->disc.p.n - s->coupling->n_pd), (int)s->coupling->n_elements, element[s->disc.geom.dim],
-            s->coupling->lattice ? ", exact partial volumes" : "");
+            s->coupling->exact_volumes ? ", exact partial volumes" : "");
+    if (s->solver.breaking)
+      fprintf(out, "  switching    FEM nodes within %g horizons of a PD node with a broken bond become PD\n",
+              s->coupling->switch_radius);
   }
   fprintf(out, "  bonds        %lld directed (%.1f per node), %ld %s\n", (long long)s->disc.bonds.n_bonds,
           s->disc.p.n ? (double)s->disc.bonds.n_bonds / s->disc.p.n : 0.0, peri_broken_count(&s->disc.bonds), broken);

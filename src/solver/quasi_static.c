@@ -7,6 +7,7 @@
 #include <string.h>
 #include "peri/comm.h"
 #include "peri/contribution.h"
+#include "peri/coupling.h"
 #include "peri/damage.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
@@ -51,7 +52,8 @@ static long break_bonds(peri_sim *s) {
   if (!s->solver.breaking) return 0;
   if (peri_loads_follow_deformation(s)) peri_apply_loads(s, s->state.time);
   peri_exchange_state(s); /* ghost displacements (MPI ranks) */
-  long nb = s->mat.model->force(s);
+  /* PD-FEM coupling: bonds with a PD end, then FEM->PD switching (docs/coupling.md) */
+  long nb = s->coupling ? peri_coupling_break(s) : s->mat.model->force(s);
   s->solver.qs.force_evaluations++;
   if (s->par.dd) nb = peri_comm_sum_long(nb); /* every rank takes the same branch */
   s->solver.qs.broken_in_run += nb;

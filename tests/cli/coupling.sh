@@ -93,9 +93,24 @@ d=$(deck lps -e 's/model: pmb, density: 1,/model: lps, poisson_ratio: 0.3, densi
 fails_at "$d" "gamma" "key 'gamma': only for the bond-based PD side"
 pass "gamma with a state-based material is a positioned error"
 
-d=$(deck breaking -e 's/solver: {type: implicit, load_steps: 1}/solver: {type: implicit, load_steps: 1, breaking: true}/')
-fails_at "$d" "true}" "key 'breaking': the coupled model is linear elastic"
-pass "breaking bonds is a positioned error"
+d=$(deck radius -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, switch_radius: 1}/')
+fails_at "$d" "switch_radius" "key 'switch_radius': only with solver.breaking: true"
+pass "switch_radius without breaking is a positioned error"
+
+d=$(deck negative -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, switch_radius: -1}/' \
+      -e 's/solver: {type: implicit, load_steps: 1}/solver: {type: implicit, load_steps: 1, breaking: true}/')
+fails_at "$d" "switch_radius" "key 'switch_radius': expected a number of horizons >= 0, got -1"
+pass "a negative switch_radius is a positioned error"
+
+d=$(deck lps_breaking -e 's/model: pmb, density: 1,/model: lps, poisson_ratio: 0.3, density: 1,/' \
+      -e 's/solver: {type: implicit, load_steps: 1}/solver: {type: implicit, load_steps: 1, breaking: true}/')
+fails_at "$d" "true}" "key 'breaking': crack growth with switching needs the bond-based PD side"
+pass "crack growth with a state-based PD side is a positioned error"
+
+d=$(deck exact_breaking -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, partial_volume: exact}/' \
+      -e 's/solver: {type: implicit, load_steps: 1}/solver: {type: implicit, load_steps: 1, breaking: true}/')
+fails_at "$d" "exact}" "key 'partial_volume': exact families are not bonds and cannot break"
+pass "crack growth with exact partial volumes is a positioned error"
 
 # a node off the lattice of the elements (a node file whose 9th node is 0.3 dx off)
 for x in 0 1 2 3 4 5 6 7 8.3 9 10 11 12; do echo "$x 1 1"; done >"$TMP/off.txt"

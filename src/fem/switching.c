@@ -1,0 +1,109 @@
+/* Quasi-static crack growth in the coupled model with adaptive FEM->PD switching
+ * (002_b20c318388227af9.txt §2.7, MODELS.md 12.4 and 14.5). Only bonds with a PD end break
+ * (FEM rows hold no bonds); after each breakage every FEM node within r delta of a PD node
+ * that lost a bond becomes a PD node: r = 1 is the seed's "switching scheme 1", r = 2 its
+ * "scheme 2". Switching is one-way. The rows of the coupled stiffness are computed from the
+ * node types and the intact bonds whenever they are assembled (coupling.c), and a switch
+ * changes only the rows of the switched nodes: the elements stay, and an element whose
+ * corners are all PD enters no row. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/coupling.h"
+#include "peri/error.h"
+#include "peri/sim.h"
+#include "lattice_mesh.h"
+
+/* The lattice offsets o != 0 with |o| dx <= r delta. */
+static void switch_offsets(peri_coupling *c, int dim, double dx, double reach) {
+  const int R = (int)floor(reach / dx + 1e-9);
+  const int side = 2 * R + 1;
+  const int total = dim == 1 ? side : dim == 2 ? side * side : side * side * side;
+  c->switch_offset = peri_malloc(sizeof(int32_t) * 3 * (size_t)total);
+  c->n_switch_offsets = 0;
+  const double limit = (reach / dx) * (reach / dx) * (1.0 + 1e-9); /* nodes at exactly r delta switch */
+  for (int k = dim < 3 ? 0 : -R; k <= (dim < 3 ? 0 : R); ++k)
+    for (int b = dim < 2 ? 0 : -R; b <= (dim < 2 ? 0 : R); ++b)
+      for (int a = -R; a <= R; ++a) {
+        if ((a == 0 && b == 0 && k == 0) || (double)(a * a + b * b + k * k) > limit) continue;
+        int32_t *o = &c->switch_offset[3 * (size_t)c->n_switch_offsets++];
+        o[0] = a, o[1] = b, o[2] = k;
+      }
+}
+
+/* Makes PD every FEM node within r delta of a node with lost[i] set; returns how many. */
+static int32_t switch_around(peri_sim *s, const uint8_t *lost) {
+  peri_coupling *c = s->coupling;
+  const peri_lattice *l = c->lattice;
+  int32_t switched = 0;
+  for (int32_t i = 0; i < c->n_nodes; ++i) {
+    if (!lost[i]) continue;
+    for (int32_t q = 0; q < c->n_switch_offsets; ++q) {
+      int64_t k[3];
+      for (int d = 0; d < 3; ++d) k[d] = l->cell[3 * (size_t)i + d] + c->switch_offset[3 * (size_t)q + d];
+      const int32_t j = peri_lattice_node(l, k);
+      if (j >= 0 && !c->node_type[j]) c->node_type[j] = 1, ++switched;
+    }
+  }
+  c->n_pd += switched;
+  return switched;
+}
+
+void peri_coupling_set_switching(peri_sim *s, double radius) {
+  peri_coupling *c = s->coupling;
+  const peri_bonds *b = &s->disc.bonds;
+  c->switch_radius = radius;
+  if (radius > 0.0) switch_offsets(c, s->disc.geom.dim, s->disc.geom.spacing, radius * s->disc.geom.horizon);
+  /* the initial PD patch: the nodes that a pre-crack cut, and every node within r delta of them */
+  uint8_t *cut = peri_calloc((size_t)(c->n_nodes > 0 ? c->n_nodes : 1), 1);
+  int32_t made_pd = 0;
+  for (int32_t i = 0; i < c->n_nodes; ++i)
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1] && !cut[i]; ++k)
+      if (b->broken[k]) {
+        cut[i] = 1;
+        if (!c->node_type[i]) c->node_type[i] = 1, ++made_pd;
+      }
+  c->n_pd += made_pd;
+  switch_around(s, cut);
+  free(cut);
+}
+
+long peri_coupling_break(peri_sim *s) {
+  peri_coupling *c = s->coupling;
+  const peri_particles *p = &s->disc.p;
+  peri_bonds *b = &s->disc.bonds;
+  const int dim = s->disc.geom.dim, nm = s->mat.n_materials;
+  const int32_t *type = c->node_type;
+  uint8_t *lost = peri_calloc((size_t)(c->n_nodes > 0 ? c->n_nodes : 1), 1);
+  long broken = 0;
+  /* The linearised stretch is the same double from both ends (xi and u_j - u_i change sign
+   * exactly), so each node decides its own bonds and both directions of a bond break
+   * together: no write outside node i's bonds, the same result on any number of threads. */
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : broken)
+  for (int32_t i = 0; i < c->n_nodes; ++i) {
+    if (p->flags[i] & PERI_NODE_NO_FAIL) continue;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      const int32_t j = b->neighbor[k];
+      if (b->broken[k] || !(type[i] || type[j]) || (p->flags[j] & PERI_NODE_NO_FAIL)) continue;
+      double xi[3], stretch = 0.0;
+      const double L = peri_bond_xi(p->x, i, j, xi);
+      for (int d = 0; d < dim; ++d) stretch += xi[d] * (p->u[3 * (size_t)j + d] - p->u[3 * (size_t)i + d]);
+      stretch /= L * L;
+      if (stretch >= s->mat.pair_s0[p->material[i] * nm + p->material[j]]) {
+        b->broken[k] = 1;
+        lost[i] = 1;
+        ++broken;
+      }
+    }
+  }
+  if (broken) {
+    ++b->broken_edits;
+    /* the PD nodes that lost a bond (an FEM end lies within delta of its PD end, so it
+     * switches with the rest) */
+    for (int32_t i = 0; i < c->n_nodes; ++i) lost[i] = lost[i] && type[i];
+    if (c->switch_radius > 0.0) switch_around(s, lost);
+  }
+  free(lost);
+  peri_coupling_force(s);
+  return broken;
+}

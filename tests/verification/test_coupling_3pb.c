@@ -1,0 +1,174 @@
+/* Quasi-static crack growth in the PD-FEM coupled model with adaptive FEM->PD switching: the
+ * three-point bending test of Ongaro 2022 §2.7.1 (examples/coupling_three_point_bending.yaml,
+ * docs/coupling.md) on a coarse grid, dx = 0.25 m, m = 3 (2,560 nodes), 21 load steps to 8.4 mm:
+ * switching scheme 1 (r = 1), scheme 2 (r = 2), and all PD (pd_region all: every row a bond
+ * row, the same bonds, critical stretch and solver) up to the coupled peak. Checked:
+ *  - the crack grows through the specimen: in every row of nodes from the notch tip to 3/4 of
+ *    the height a node next to the midline has lost at least 30% of its family (a node dx/2 from
+ *    a straight crack loses 39% of it at m = 3);
+ *  - the switching rule holds at the end: every node within r delta of a node with a broken
+ *    bond is a PD node (brute force over all pairs), the PD zone grew from the notch patch, and
+ *    most nodes are still FEM nodes;
+ *  - the reaction-displacement curve of both coupled runs agrees with the all-PD one within 5%
+ *    (the issue's bound) at every load step up to the coupled peak, crack initiation included;
+ *  - the all-PD model is in balance (e_r at round-off) and the coupled ones are not (e_r > 1e-6:
+ *    a beam in bending has a cubic displacement across the interface, eq. 2.70). */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/coupling.h"
+#include "peri/damage_index.h"
+#include "peri/energies.h"
+#include "peri/quasistatic.h"
+#include "peri/setup.h"
+
+enum { MAX_STEPS = 64, STEPS = 21 };
+
+typedef struct run {
+  int load;
+  int steps, stop_after; /* stop_after > 0: stop after that many load steps */
+  double reaction[MAX_STEPS], e_r[MAX_STEPS];
+  long broken[MAX_STEPS];
+} run;
+
+static int record(peri_sim *s, void *ctx) {
+  run *r = ctx;
+  double f[3], net[3], ratio[4];
+  peri_region_reaction(s, r->load, f);
+  peri_coupling_balance(s, net, ratio);
+  if (r->steps < MAX_STEPS) {
+    r->reaction[r->steps] = -f[1]; /* the load pushes down */
+    r->e_r[r->steps] = ratio[1];
+    r->broken[r->steps] = s->solver.qs.broken_in_run;
+    r->steps++;
+  }
+  return r->stop_after > 0 && r->steps >= r->stop_after;
+}
+
+/* The example coarsened: the supports and the load keep one and two nodes. */
+static const char *const coarse[] = {"discretization.spacing=0.25",
+                                     "regions.left_support.max=[0.25, 0.25]",
+                                     "regions.right_support.min=[19.75, 0]",
+                                     "regions.right_support.max=[20, 0.25]",
+                                     "regions.load.min=[9.74, 7.75]",
+                                     "regions.load.max=[10.26, 8.1]",
+                                     "solver.load_steps=21",
+                                     "boundary_conditions.2.y=-8.4e-3*t"};
+enum { N_COARSE = sizeof coarse / sizeof *coarse };
+
+static void load_3pb(peri_sim *s, const char *extra) {
+  const char *sets[N_COARSE + 1];
+  for (int k = 0; k < N_COARSE; ++k) sets[k] = coarse[k];
+  sets[N_COARSE] = extra;
+  cr_assert_eq(peri_sim_from_deck_with(s, "examples/coupling_three_point_bending.yaml", N_COARSE + 1, sets), 0);
+  s->out.quiet = true;
+}
+
+static void run_3pb(peri_sim *s, run *r, const char *extra, int stop_after) {
+  load_3pb(s, extra);
+  memset(r, 0, sizeof *r);
+  r->load = -1;
+  r->stop_after = stop_after;
+  for (int k = 1; k < s->cond.n_regions; ++k)
+    if (!strcmp(s->cond.regions[k].name, "load")) r->load = k;
+  cr_assert(r->load > 0 && s->cond.regions[r->load].count == 2, "load: the two top nodes next to the midline");
+  peri_apply_initial_conditions(s);
+  cr_assert_eq(peri_solve_quasi_static(s, record, r), 0, "the run (%s) did not finish", extra);
+  cr_assert_eq(r->steps, stop_after > 0 ? stop_after : STEPS);
+}
+
+/* The crack crosses the rows from the notch tip (y = 1) to 3/4 of the height (y = 6). */
+static void check_crack(const peri_sim *s, const char *what) {
+  const peri_particles *p = &s->disc.p;
+  double *phi = malloc(sizeof(double) * (size_t)p->n);
+  peri_damage_index(s, phi);
+  const double dx = s->disc.geom.spacing;
+  for (double y = 1.0 + 0.5 * dx; y < 6.0; y += dx) {
+    double most = 0.0;
+    for (int32_t i = 0; i < p->n; ++i)
+      if (fabs(p->x[3 * i + 1] - y) < 0.25 * dx && fabs(p->x[3 * i] - 10.0) < dx) most = fmax(most, phi[i]);
+    cr_expect_geq(most, 0.3, "%s: the crack does not reach y = %g (damage %g next to the midline)", what, y, most);
+  }
+  free(phi);
+}
+
+/* Every node within r delta of a node that lost a bond is a PD node. */
+static void check_switching(const peri_sim *s, double r, int32_t pd_at_start) {
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const int32_t *type = s->coupling->node_type;
+  const double reach = r * s->disc.geom.horizon * (1.0 + 1e-9);
+  int32_t pd = 0;
+  for (int32_t i = 0; i < p->n; ++i) {
+    pd += type[i];
+    bool lost = false;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) lost |= b->broken[k] != 0;
+    if (!lost) continue;
+    cr_assert_eq(type[i], 1, "node %d has a broken bond and is not a PD node", (int)i);
+    for (int32_t j = 0; j < p->n; ++j) {
+      const double dxj = p->x[3 * j] - p->x[3 * i], dyj = p->x[3 * j + 1] - p->x[3 * i + 1];
+      if (dxj * dxj + dyj * dyj <= reach * reach)
+        cr_assert_eq(type[j], 1, "node %d lies within %g delta of node %d, which lost a bond, and is FEM", (int)j, r,
+                     (int)i);
+    }
+  }
+  cr_assert_eq(pd, s->coupling->n_pd);
+  cr_expect_gt(pd, pd_at_start + 100, "the PD zone did not follow the crack: %d PD nodes, %d at the start", pd,
+               pd_at_start);
+  cr_expect_lt(pd, p->n / 3, "%d of %d nodes are PD nodes: the switching spread too far", pd, p->n);
+}
+
+/* The last load step before the reaction falls below 90% of the largest so far. */
+static int peak_step(const run *r) {
+  int peak = 0;
+  for (int n = 1; n < r->steps && r->reaction[n] >= 0.9 * r->reaction[peak]; ++n)
+    if (r->reaction[n] > r->reaction[peak]) peak = n;
+  return peak;
+}
+
+Test(coupling_3pb, switching_crack_and_all_pd_curve) {
+  static peri_sim s1, s2, sp;
+  static run r1, r2, rp;
+  run_3pb(&s1, &r1, "coupling.switch_radius=1", 0);
+  run_3pb(&s2, &r2, "coupling.switch_radius=2", 0);
+  check_crack(&s1, "scheme 1");
+  check_crack(&s2, "scheme 2");
+
+  /* the notch patches: nodes cut by the pre-crack and those within r delta of them */
+  peri_sim fresh;
+  load_3pb(&fresh, "coupling.switch_radius=1");
+  const int32_t patch1 = fresh.coupling->n_pd;
+  peri_sim_free(&fresh);
+  load_3pb(&fresh, "coupling.switch_radius=2");
+  const int32_t patch2 = fresh.coupling->n_pd;
+  peri_sim_free(&fresh);
+  cr_assert(patch1 > 0 && patch2 > patch1, "notch patches of %d and %d nodes", patch1, patch2);
+  check_switching(&s1, 1.0, patch1);
+  check_switching(&s2, 2.0, patch2);
+
+  /* the curves up to the coupled peak: the all-PD run (the expensive one) stops there */
+  const int peak1 = peak_step(&r1), peak2 = peak_step(&r2);
+  const int last = peak1 > peak2 ? peak1 : peak2;
+  cr_assert(peak1 > 2 && last < STEPS - 1, "coupled peaks at steps %d and %d of %d: not inside the run", peak1 + 1,
+            peak2 + 1, STEPS);
+  cr_assert_gt(r1.broken[peak1], r1.broken[0], "no bond broke up to the scheme-1 peak: the crack did not start");
+  run_3pb(&sp, &rp, "coupling.pd_region=all", last + 1);
+  for (int n = 0; n <= last; ++n) {
+    if (n <= peak2)
+      cr_expect_leq(fabs(r2.reaction[n] - rp.reaction[n]), 0.05 * rp.reaction[n],
+                    "step %d: scheme 2 reaction %g against all-PD %g", n + 1, r2.reaction[n], rp.reaction[n]);
+    if (n <= peak1)
+      cr_expect_leq(fabs(r1.reaction[n] - rp.reaction[n]), 0.05 * rp.reaction[n],
+                    "step %d: scheme 1 reaction %g against all-PD %g", n + 1, r1.reaction[n], rp.reaction[n]);
+  }
+  /* balance: all PD at round-off; the coupled interfaces in the beam's cubic field are not */
+  for (int n = 0; n <= last; ++n) {
+    cr_expect_lt(rp.e_r[n], 1e-10, "step %d: all-PD e_r %g", n + 1, rp.e_r[n]);
+    if (n <= peak1) cr_expect_gt(r1.e_r[n], 1e-6, "step %d: scheme-1 e_r %g", n + 1, r1.e_r[n]);
+    if (n <= peak2) cr_expect_gt(r2.e_r[n], 1e-6, "step %d: scheme-2 e_r %g", n + 1, r2.e_r[n]);
+  }
+  peri_sim_free(&s1);
+  peri_sim_free(&s2);
+  peri_sim_free(&sp);
+}
