@@ -44,7 +44,7 @@ class Surrogate(unittest.TestCase):
         from surrogate import evaluate, train
         torch.set_num_threads(2)
         ckpt = os.path.join(self.dir, "forward.pt")
-        # two epochs (320 steps of one graph, about 15 s on two idle cores): a fixed amount of
+        # two epochs (320 samples; 60-70 s on two cores shared with other work): a fixed amount of
         # training, so the figures do not depend on the machine's speed
         train.train(self.dir, "forward", SMALL, epochs=2, lr=3e-3, noise=0.05, batch=2, out=ckpt, device="cpu")
         r = evaluate.evaluate(self.dir, ckpt, "test", steps=10, pictures=os.path.join(self.dir, "pictures"),
