@@ -376,24 +376,6 @@ long peri_position_aware_lps_force(peri_sim *s, bool update_s0) {
   return broken;
 }
 
-void peri_position_aware_lps_energy(peri_sim *s, double *W) {
-  pals_lps_sums(s);
-  peri_particles *p = &s->disc.p;
-  const peri_bonds *b = &s->disc.bonds;
-  const double *eth = s->state.thermal_strain;
-#pragma omp parallel for schedule(dynamic, 256)
-  for (int32_t i = 0; i < p->n_owned; ++i) {
-    const peri_material *mat = &s->mat.materials[p->material[i]];
-    const double theta = p->theta[i];
-    double dev = 0.0;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      double dy[3];
-      const double L = peri_bond_length(p->x, i, j), r = peri_deformed_bond(p->x, p->u, i, j, dy);
-      const double ed = r - L - (eth ? eth[i] : 0.0) * L - theta * L / 3.0;
-      dev += b->surface_G[k] * peri_bonds_omega(b, L) * ed * ed * peri_bonds_beta(b, L) * p->volume[j];
-    }
-    W[i] = 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / p->wvol[i]) * dev;
-  }
-}
+/* The energy's dilatation and P_i: the deviatoric sum is the corrected LPS energy's
+ * (surface_correction.c) with this correction's factors. */
+void peri_position_aware_lps_dilatation(peri_sim *s) { pals_lps_sums(s); }

@@ -272,11 +272,8 @@ long peri_corrected_lps_force(peri_sim *s, bool update_s0) {
 }
 
 void peri_corrected_lps_energy(peri_sim *s, double *W) {
-  if (s->disc.bonds.surface_G_rev) {
-    peri_position_aware_lps_energy(s, W);
-    return;
-  }
-  lps_dilatation_corrected(s);
+  if (s->disc.bonds.surface_G_rev) peri_position_aware_lps_dilatation(s); /* position_aware.c */
+  else lps_dilatation_corrected(s);
   peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const double *eth = s->state.thermal_strain;

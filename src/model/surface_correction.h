@@ -22,7 +22,7 @@ long peri_corrected_break(peri_sim *s, bool update_s0);
  * t_ij of the pair force alone (stress recovery). */
 int peri_position_aware_factors(peri_sim *s, bool lps);
 long peri_position_aware_lps_force(peri_sim *s, bool update_s0);
-void peri_position_aware_lps_energy(peri_sim *s, double *W);
+void peri_position_aware_lps_dilatation(peri_sim *s);
 double peri_position_aware_lps_pair(const peri_sim *s, int32_t i, int64_t k, double r);
 double peri_position_aware_lps_own(const peri_sim *s, int32_t i, int64_t k, double r);
 
