@@ -51,7 +51,10 @@ bool peri_shape_contains(const peri_shape *s, int dim, const double x[3], double
     double r2 = 0;
     for (int d = 0; d < 3; d++)
       if (d != a) r2 += (x[d] - s->center[d]) * (x[d] - s->center[d]);
-    double ro = s->radius + tol;
+    /* The outer radius varies linearly from radius at the base to top_radius at the far
+     * end: a cylinder when they are equal, a truncated cone otherwise. */
+    double along = t < 0 ? 0 : (t > s->length ? s->length : t);
+    double ro = s->radius + (s->top_radius - s->radius) * (along / s->length) + tol;
     if (r2 > ro * ro) return false;
     if (s->inner_radius > 0) {
       double ri = s->inner_radius - tol;
@@ -86,8 +89,9 @@ bool peri_shape_bounds(const peri_shape *s, int dim, double lo[3], double hi[3])
         lo[d] = s->center[d];
         hi[d] = s->center[d] + s->length;
       } else {
-        lo[d] = s->center[d] - s->radius;
-        hi[d] = s->center[d] + s->radius;
+        double r = fmax(s->radius, s->top_radius);
+        lo[d] = s->center[d] - r;
+        hi[d] = s->center[d] + r;
       }
     }
     return true;

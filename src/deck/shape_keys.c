@@ -17,12 +17,12 @@ static const peri_shape_kind shape_kinds[] = {
 /* Keys each kind reads (besides "shape"). */
 static const char *const box_keys[] = {"min", "max", NULL};
 static const char *const sphere_keys[] = {"center", "radius", NULL};
-static const char *const cylinder_keys[] = {"center",       "axis",   "radius",
-                                            "inner_radius", "length", NULL};
+static const char *const cylinder_keys[] = {"center", "axis",       "radius",
+                                            "inner_radius", "length", "top_radius", NULL};
 static const char *const polygon_keys[] = {"vertices", NULL};
 static const char *const all_keys[] = {NULL};
-static const char *const any_keys[] = {"min",    "max",          "center",   "axis", "radius",
-                                       "length", "inner_radius", "vertices", NULL};
+static const char *const any_keys[] = {"min",    "max",          "center",   "axis",       "radius",
+                                       "length", "inner_radius", "vertices", "top_radius", NULL};
 
 static const char *const *kind_keys(peri_shape_kind k) {
   switch (k) {
@@ -147,11 +147,19 @@ static int parse_kind(const peri_node *map, int dim, const char *section, peri_s
     if ((rc = positive(map, "radius", out->radius, section))) return rc;
     if ((rc = peri_deck_double(map, "length", true, &out->length))) return rc;
     if ((rc = positive(map, "length", out->length, section))) return rc;
+    out->top_radius = out->radius;
+    if ((rc = peri_deck_double(map, "top_radius", false, &out->top_radius))) return rc;
+    if (!(out->top_radius >= 0 && isfinite(out->top_radius)))
+      return peri_deck_error(peri_deck_get(map, "top_radius"),
+                             "'top_radius' in %s must be a number >= 0, got %g", section,
+                             out->top_radius);
     if ((rc = peri_deck_double(map, "inner_radius", false, &out->inner_radius))) return rc;
-    if (!(out->inner_radius >= 0 && out->inner_radius < out->radius))
+    double outer_min = fmin(out->radius, out->top_radius);
+    if (!(out->inner_radius >= 0 && (out->inner_radius == 0 || out->inner_radius < outer_min)))
       return peri_deck_error(peri_deck_get(map, "inner_radius"),
-                             "'inner_radius' in %s must be in [0, radius), got %g", section,
-                             out->inner_radius);
+                             "'inner_radius' in %s must be in [0, min(radius, top_radius)), "
+                             "got %g",
+                             section, out->inner_radius);
     return PERI_OK;
   }
   case PERI_SHAPE_POLYGON:

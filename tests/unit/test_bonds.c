@@ -87,6 +87,7 @@ Test(bonds, lammps_cylinder) {
   fill.shape.axis = 1;
   fill.shape.center[1] = -0.005;
   fill.shape.radius = 0.005;
+  fill.shape.top_radius = 0.005;
   fill.shape.length = 0.005;
   peri_grid_params g = {.dim = 3,
                         .spacing = 0.5e-3,

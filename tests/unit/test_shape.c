@@ -105,6 +105,18 @@ Test(shape, cylinder) {
   cr_assert_eq(s.inner_radius, 0.0);
   cr_assert(peri_shape_contains(&s, 3, PT(0.003, 0, 0.004), 1e-12));
   cr_assert(peri_shape_contains(&s, 3, PT(0, -0.005, 0), 0));
+  /* A truncated cone: radius 2 at the base z = 1, 1 at the top z = 3, so 1.5 half-way. */
+  cr_assert_eq(parse("s: {shape: cylinder, center: [0, 0, 1], axis: z, radius: 2, "
+                     "top_radius: 1, length: 2}",
+                     3, NULL, &s),
+               0, "%s", msg);
+  cr_assert(peri_shape_contains(&s, 3, PT(1.49, 0, 2), 0));
+  cr_assert(!peri_shape_contains(&s, 3, PT(1.51, 0, 2), 0));
+  cr_assert(peri_shape_contains(&s, 3, PT(0, 1.99, 1), 0));
+  cr_assert(!peri_shape_contains(&s, 3, PT(0, 1.01, 3), 0));
+  cr_assert(peri_shape_bounds(&s, 3, lo, hi));
+  cr_assert_eq(lo[0], -2.0);
+  cr_assert_eq(hi[1], 2.0);
 }
 
 Test(shape, polygon) {
@@ -174,6 +186,12 @@ Test(shape, errors) {
   expect_error("s: {shape: cylinder, center: [0,0,0], axis: x, radius: 1, length: 1, "
                "inner_radius: 2}",
                3, "inner_radius", NULL);
+  expect_error("s: {shape: cylinder, center: [0,0,0], axis: x, radius: 2, length: 1, "
+               "top_radius: 1, inner_radius: 1.5}",
+               3, "inner_radius", "min(radius, top_radius)");
+  expect_error("s: {shape: cylinder, center: [0,0,0], axis: x, radius: 2, length: 1, "
+               "top_radius: -1}",
+               3, "top_radius", ">= 0");
   expect_error("s: {shape: cylinder, center: [0,0], axis: x, radius: 1, length: 1}", 2,
                "needs a 3D model", NULL);
   expect_error("s: {shape: polygon, vertices: [[0,0], [1,0]]}", 2, "at least 3", NULL);
