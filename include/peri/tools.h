@@ -1,7 +1,8 @@
 /* Rigid tools (docs/contact.md "Rigid tools", MODELS.md 17.2): sphere, cone-sphere,
  * cylinder, flat punch and plane, moved by expressions of t or, along their direction, by a
  * load (load control); a penalty force on the nodes inside them, the LAMMPS fix indent law
- * k pen^2 along the outward normal, and Coulomb friction. */
+ * k pen^2 along the outward normal, or the kinematic contact of Madenci and Oterkus (the
+ * momentum that puts a node back on the surface in one step), and Coulomb friction. */
 #ifndef PERI_TOOLS_H
 #define PERI_TOOLS_H
 #include <stdbool.h>
@@ -35,7 +36,8 @@ double peri_tool_penetration(const peri_tool_geometry *g, const double position[
 typedef struct peri_tool {
   char *name;
   peri_tool_geometry geom;
-  double stiffness;          /* k (N/m^5): force density k pen^2 */
+  double stiffness;          /* k (N/m^5): force density k pen^2 (penalty contact) */
+  bool kinematic;            /* kinematic contact: force density rho pen / dt^2 instead */
   double friction;           /* Coulomb coefficient mu */
   peri_expr *position[3];    /* reference point at t (NULL component: 0) */
   /* load control of the position along `direction` (NULL: the position is prescribed) */

@@ -30,11 +30,15 @@ static int unit_vector(const peri_node *map, const char *key, int dim, double ou
 static int parse_load(peri_sim *s, const peri_node *it, peri_tool *tl) {
   const peri_node *load = peri_deck_get(it, "load");
   if (!load) return PERI_OK;
-  static const char *const keys[] = {"value", "mass", "damping", NULL};
+  static const char *const keys[] = {"value", "mass", "damping", "velocity", NULL};
   TRY(peri_deck_allow(load, "tools.load", keys));
   TRY(peri_deck_expr(load, "value", true, &tl->load));
   TRY(peri_deck_double(load, "mass", true, &tl->mass));
   TRY(peri_deck_double(load, "damping", false, &tl->damping));
+  /* the rate of the offset at t = 0: a free rigid impactor is {value: 0, mass, velocity} */
+  TRY(peri_deck_double(load, "velocity", false, &tl->q_rate));
+  if (!isfinite(tl->q_rate))
+    return peri_deck_error(peri_deck_get(load, "velocity"), "key 'velocity': must be a finite speed (m/s)");
   if (!(tl->mass > 0.0) || !isfinite(tl->mass))
     return peri_deck_error(peri_deck_get(load, "mass"), "key 'mass': the tool's mass must be positive (kg)");
   if (!(tl->damping >= 0.0) || !isfinite(tl->damping))
@@ -56,7 +60,7 @@ static int parse_load(peri_sim *s, const peri_node *it, peri_tool *tl) {
 
 static int parse_tool(peri_sim *s, const peri_node *it, peri_tool *tl) {
   static const char *const keys[] = {"name", "shape", "radius", "half_angle", "direction", "axis",
-                                     "position", "stiffness", "friction", "load", NULL};
+                                     "position", "stiffness", "friction", "load", "contact", NULL};
   TRY(peri_deck_allow(it, "tools", keys));
   const char *name = NULL;
   TRY(peri_deck_string(it, "name", true, &name));
@@ -91,9 +95,23 @@ static int parse_tool(peri_sim *s, const peri_node *it, peri_tool *tl) {
   if (pos->kind != PERI_NODE_SEQUENCE || pos->count != dim)
     return peri_deck_error(pos, "key 'position': expected a list of %d numbers or expressions of t", dim);
   for (int d = 0; d < dim; ++d) TRY(peri_deck_node_expr(pos->items[d], "position", &tl->position[d]));
-  TRY(peri_deck_double(it, "stiffness", true, &tl->stiffness));
-  if (!(tl->stiffness > 0.0) || !isfinite(tl->stiffness))
-    return peri_deck_error(peri_deck_get(it, "stiffness"), "key 'stiffness': must be positive (N/m^5)");
+  static const char *const contact_laws[] = {"penalty", "kinematic", NULL};
+  int law = 0;
+  TRY(peri_deck_choice(it, "contact", false, contact_laws, &law));
+  tl->kinematic = law == 1;
+  if (tl->kinematic) {
+    if (peri_deck_get(it, "stiffness"))
+      return peri_deck_error(peri_deck_key_node(it, "stiffness"), "key 'stiffness': only for contact: penalty (kinematic "
+                                                                  "contact takes its stiffness from the density and the time step)");
+    if (s->solver.kind != PERI_SOLVER_EXPLICIT)
+      return peri_deck_error(peri_deck_get(it, "contact"), "tool '%s': kinematic contact runs with solver.type explicit "
+                                                           "(it is the momentum of one time step); use contact: penalty",
+                             tl->name);
+  } else {
+    TRY(peri_deck_double(it, "stiffness", true, &tl->stiffness));
+    if (!(tl->stiffness > 0.0) || !isfinite(tl->stiffness))
+      return peri_deck_error(peri_deck_get(it, "stiffness"), "key 'stiffness': must be positive (N/m^5)");
+  }
   TRY(peri_deck_double(it, "friction", false, &tl->friction));
   if (!(tl->friction >= 0.0) || !isfinite(tl->friction))
     return peri_deck_error(peri_deck_get(it, "friction"), "key 'friction': the Coulomb coefficient must be zero or positive");

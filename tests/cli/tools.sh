@@ -8,6 +8,8 @@
 #  - load control: a flat punch under a load ramped to 200 N and held, with its own damped
 #    equation: at rest the body pushes back with P and the base holds P (equilibrium), to 1%
 #    (the body's vibration, damped at 4e4 1/s over the 300 us of hold, is below 0.5 N).
+#  - a free rigid impactor (load 0, its own mass and initial speed) with kinematic contact:
+#    the momentum it loses is the free block's, to round-off, once they have parted.
 #  - bad input (exit 2, at the key): a tool starting deeper than half a spacing in the body,
 #    load control on a position prescribed along the direction, load control in a
 #    quasi-static run.
@@ -46,6 +48,30 @@ tail -n 1 "$h" | awk -F, -v P="$(col tool_punch_normal_force)" -v R="$(col react
   || fail "under load control the contact force and the base reaction should both be the 200 N load"
 pass "load control: contact force and support reaction equal the load at rest"
 
+deck=tests/cli/decks/tool_free_impactor.yaml
+run_peri run "$deck" --output "$TMP/free"
+expect_status 0
+h="$TMP/free/history.csv"
+# After the parting (no contact force on the last rows) the tool flies at a constant speed,
+# which the last two rows' positions give exactly; M v0 = 1.2e-4 kg x 5 m/s downwards.
+# The rows from 30 us on (contact ends near 15 us) give the speed; the CSV's 10 digits of the
+# position and momentum put its error near 1e-9 of M v0 (measured 5e-9); a lost half kick of
+# the contact would be 1e-2. Tolerance 1e-7.
+awk -F, -v z="$(col tool_hammer_position_z)" -v P="$(col tool_hammer_normal_force)" -v pz="$(col momentum_z)" '
+  function abs(v) { return v < 0 ? -v : v }
+  NR > 1 && $1 >= 3e-5 { if (!n++) { t0 = $1; z0 = $z } if ($P != 0) contact = 1; t = $1; zl = $z; p = $pz }
+  END { vt = (zl - z0) / (t - t0); total = p + 1.2e-4 * vt
+        printf "tool %.6g m/s, block momentum %.6g, total %.10g kg m/s (M v0 = -6e-4)\n", vt, p, total
+        exit !(n >= 2 && !contact && abs(total + 6e-4) <= 1e-7 * 6e-4 && p < -1e-4) }' "$h" \
+  || fail "the free impactor's lost momentum should be the block's (M v0 = M v_tool + sum m v)"
+pass "kinematic contact of a free rigid impactor: momentum conserved"
+
+sed -e 's/contact: kinematic/contact: kinematic\n    stiffness: 1.0e20/' "$deck" > "$TMP/kstiff.yaml"
+run_peri check "$TMP/kstiff.yaml"
+expect_status 2
+expect_stderr_contains "only for contact: penalty"
+pass "kinematic contact with a penalty stiffness: exit 2"
+
 sed -e 's/position: \["10\*t", 0, "0.0036 - 2\*t"\]/position: [0, 0, 0.0028]/' tests/cli/decks/tool_sliding_plane.yaml > "$TMP/inside.yaml"
 run_peri check "$TMP/inside.yaml"
 expect_status 2
@@ -53,6 +79,7 @@ expect_stderr_contains "inside.yaml:20:"
 expect_stderr_contains "tool 'slider' is inside the body at t = 0"
 pass "a tool inside the body at t = 0: exit 2"
 
+deck=tests/cli/decks/tool_load_control.yaml
 sed -e 's/position: \[0, 0, 0.0036\]/position: [0, 0, "0.0036 - t"]/' "$deck" > "$TMP/nofree.yaml"
 run_peri check "$TMP/nofree.yaml"
 expect_status 2

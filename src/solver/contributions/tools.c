@@ -56,6 +56,11 @@ static void apply_tool(peri_sim *s, peri_tool *tl, double t) {
     tl->blocks = n_blocks;
   }
   const double k = tl->stiffness, mu = tl->friction;
+  /* kinematic contact (MODELS.md 17.2, after Madenci & Oterkus): the force density rho pen / dt^2 is the
+   * momentum change rho (v_bar - v) / dt that, over the step, puts the node back on the
+   * surface (v_bar - v = pen / dt), so the tool's force is -sum rho (v_bar - v) V / dt */
+  const double inv_dt2 = tl->kinematic ? 1.0 / (s->solver.dt * s->solver.dt) : 0.0;
+  const peri_material *mats = s->mat.materials;
   const peri_tool_geometry *g = &tl->geom;
 #pragma omp parallel for schedule(static)
   for (int64_t blk = 0; blk < n_blocks; ++blk) {
@@ -66,7 +71,7 @@ static void apply_tool(peri_sim *s, peri_tool *tl, double t) {
       for (int d = 0; d < 3; ++d) y[d] = p->x[3 * (size_t)i + d] + p->u[3 * (size_t)i + d];
       const double pen = peri_tool_penetration(g, at, y, nrm);
       if (!(pen > 0.0)) continue;
-      const double fn = k * pen * pen;
+      const double fn = tl->kinematic ? mats[p->material[i]].density * inv_dt2 * pen : k * pen * pen;
       double f[3];
       for (int d = 0; d < 3; ++d) f[d] = fn * nrm[d];
       if (mu > 0.0) { /* Coulomb: against the node's sliding on the tool */
