@@ -52,6 +52,8 @@ typedef struct peri_tool {
   double sliding;            /* path length of the position across `direction` since t = 0 */
   double last_t;             /* time of the last evaluation, for the sliding distance */
   double start[3];           /* position at the first evaluation (t = 0): where the scratch starts */
+  double contact_at[3];      /* position at the first evaluation with a contact force */
+  bool touched;              /* whether the tool has touched the body yet */
   bool started;
   double *block_force;       /* per-block force sums (4 per block: force, normal force) */
   int64_t blocks;

@@ -88,7 +88,8 @@ static void tool_columns(column_list *c, const peri_sim *s) {
       snprintf(buf, sizeof buf, "tool_%s_position_%c", name, "xyz"[d]);
       add(c, buf);
     }
-    static const char *const each[] = {"normal_force", "tangential_force", "cof", "sliding_distance", "wear_depth"};
+    static const char *const each[] = {"normal_force", "tangential_force", "cof", "sliding_distance", "wear_depth",
+                                       "speed", "penetration"};
     for (size_t j = 0; j < sizeof each / sizeof each[0]; ++j) {
       snprintf(buf, sizeof buf, "tool_%s_%s", name, each[j]);
       add(c, buf);
@@ -223,6 +224,7 @@ const char *peri_history_unit(const char *column) {
     static const struct {
       const char *suffix, *unit;
     } tool_units[] = {{"_normal_force", "N"}, {"_tangential_force", "N"}, {"_cof", "1"}, {"_sliding_distance", "m"}, {"_wear_depth", "m"},
+                      {"_speed", "m/s"}, {"_penetration", "m"},
                       {"_force_x", "N"}, {"_force_y", "N"}, {"_force_z", "N"},
                       {"_position_x", "m"}, {"_position_y", "m"}, {"_position_z", "m"}};
     const size_t len = strlen(column);

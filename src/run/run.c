@@ -105,6 +105,13 @@ static int write_history(peri_sim *s, run_ctx *c) {
     c->log.row[k++] = tl->normal_force > 0.0 ? tl->tangential_force / tl->normal_force : 0.0; /* CoF = F_t / P */
     c->log.row[k++] = tl->sliding;
     c->log.row[k++] = peri_tool_wear_depth(s, tl, phi);
+    double speed = 0.0, depth = 0.0; /* along `direction`; the depth since the first contact */
+    for (int d = 0; d < 3; ++d) {
+      speed += tl->velocity[d] * tl->geom.direction[d];
+      if (tl->touched) depth += (tl->at[d] - tl->contact_at[d]) * tl->geom.direction[d];
+    }
+    c->log.row[k++] = speed;
+    c->log.row[k++] = depth;
   }
   free(phi);
   for (int r = 1; r < s->cond.n_regions; ++r) {

@@ -95,6 +95,10 @@ static void apply_tool(peri_sim *s, peri_tool *tl, double t) {
   for (int d = 0; d < 3; ++d) along += tl->force[d] * dir[d];
   for (int d = 0; d < 3; ++d) tangential += (tl->force[d] - along * dir[d]) * (tl->force[d] - along * dir[d]);
   tl->normal_force = -along; /* the body pushes the tool back against `direction` */
+  if (!tl->touched && tl->normal_force > 0.0) { /* where the penetration depth counts from */
+    tl->touched = true;
+    for (int d = 0; d < 3; ++d) tl->contact_at[d] = at[d];
+  }
   tl->tangential_force = sqrt(tangential);
 }
 
