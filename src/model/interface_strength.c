@@ -16,7 +16,11 @@ typedef struct columns {
 static columns lattice_columns(const peri_sim *s) {
   const peri_particles *p = &s->disc.p;
   const int across = s->disc.geom.dim == 3 ? 2 : 1; /* the axes along the interface: x (and y in 3D) */
-  columns c = {.dx = s->disc.family.spacing, .n = {1, 1}};
+  columns c = {.dx = s->disc.family.spacing, .n = {1, 1}, .count = 1};
+  if (!(c.dx > 0.0)) { /* no lattice spacing: one column (a 1D bar across its interface) */
+    c.dx = 1.0;
+    return c;
+  }
   for (int d = 0; d < across; ++d) {
     double lo = INFINITY, hi = -INFINITY;
     for (int32_t i = 0; i < p->n_owned; ++i) lo = fmin(lo, p->x[3 * i + d]), hi = fmax(hi, p->x[3 * i + d]);
