@@ -212,7 +212,7 @@ static int parse_interfaces(parse_ctx *c) {
   if (!list) return PERI_OK;
   if (list->kind != PERI_NODE_SEQUENCE)
     return peri_deck_error(list, "key 'interfaces': expected a list, got %s", peri_deck_kind_name(list));
-  static const char *const keys[] = {"materials", "critical_stretch", "fracture_energy", NULL};
+  static const char *const keys[] = {"materials", "critical_stretch", "fracture_energy", "normal_strength", NULL};
   for (int m = 0; m < s->mat.n_materials; ++m)
     if (s->mat.materials[m].lammps_s0 && list->count > 0)
       return peri_deck_error(list, "key 'interfaces': not available with the {s00, alpha} critical "
@@ -229,11 +229,25 @@ static int parse_interfaces(parse_ctx *c) {
     if (a < 0) return -a;
     int b = peri_setup_find_material(s, pair->items[1], pair->items[1]->scalar);
     if (b < 0) return -b;
-    double s0 = NAN, G0 = NAN;
+    double s0 = NAN, G0 = NAN, strength = NAN;
     TRY(peri_deck_double(it, "critical_stretch", false, &s0));
     TRY(peri_deck_double(it, "fracture_energy", false, &G0));
+    TRY(peri_deck_double(it, "normal_strength", false, &strength));
+    int nm = s->mat.n_materials;
+    if (!isnan(strength)) { /* the traction criterion of docs/thin_films.md section 6 */
+      const peri_node *at = peri_deck_get(it, "normal_strength");
+      if (!(strength > 0.0) || !isfinite(strength))
+        return peri_deck_error(at, "interfaces: normal_strength must be a positive number of Pa");
+      if (a == b)
+        return peri_deck_error(at, "interfaces: normal_strength needs two different materials (it acts across "
+                                   "the interface between them)");
+      if (!s->mat.pair_strength) s->mat.pair_strength = peri_calloc((size_t)nm * (size_t)nm, sizeof(double));
+      s->mat.pair_strength[a * nm + b] = s->mat.pair_strength[b * nm + a] = strength;
+      if (isnan(s0) && isnan(G0)) continue; /* the bonds keep min(s0_a, s0_b) */
+    }
     if (isnan(s0) == isnan(G0))
-      return peri_deck_error(it, "interfaces: give exactly one of critical_stretch, fracture_energy");
+      return peri_deck_error(it, "interfaces: give exactly one of critical_stretch, fracture_energy%s",
+                             isnan(strength) ? " (or normal_strength)" : " (besides normal_strength)");
     if (!((isnan(s0) ? G0 : s0) > 0.0))
       return peri_deck_error(it, "interfaces: the critical stretch or fracture energy must be positive");
     if (!isnan(G0)) {
@@ -243,7 +257,6 @@ static int parse_interfaces(parse_ctx *c) {
       s0 = s->mat.model == peri_model_find("lps") ? peri_critical_stretch_lps(&s->disc.geom, G0, soft->E)
                                              : peri_critical_stretch_pmb(&s->disc.geom, G0, soft->E, soft->K);
     }
-    int nm = s->mat.n_materials;
     s->mat.pair_s0[a * nm + b] = s->mat.pair_s0[b * nm + a] = s0;
   }
   return PERI_OK;
@@ -882,6 +895,9 @@ static int build(parse_ctx *c) {
   TRY(peri_setup_check_fictitious_layers(c->s, c->root));
   TRY(parse_indenter(c));
   TRY(parse_solver(c));
+  if (s->mat.pair_strength && !peri_is_quasi_static(s)) /* the criterion runs between load steps */
+    return peri_deck_error(peri_deck_get(root, "interfaces"), "interfaces: normal_strength needs a quasi-static "
+                           "solver (solver.type nlcg, adr, dynamic_relaxation or implicit)");
   TRY(peri_setup_coupling(s, root)); /* PD-FEM coupling (src/deck/coupling_keys.c) */
   TRY(peri_setup_horizon_solver(s, root)); /* horizon_keys.c */
   TRY(peri_setup_contact(s, root)); /* short-range forces (docs/contact.md) */
@@ -981,6 +997,7 @@ void peri_sim_free(peri_sim *s) {
   for (int m = 0; m < s->mat.n_materials; ++m) free(s->mat.materials[m].name), free(s->mat.materials[m].sublayers);
   free(s->mat.materials);
   free(s->mat.pair_s0);
+  free(s->mat.pair_strength);
   free(s->mat.s0_node);
   peri_thermal_free(s->thermal);
   peri_coupling_free(s->coupling);

@@ -141,6 +141,7 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
   if (s->out.interface_history) { /* interfaces between materials (docs/thin_films.md) */
     add(c, "broken_interface_bonds");
     add(c, "max_interface_stress");
+    add(c, "max_interface_traction");
   }
   if (s->out.wrinkle_region > 0) { /* the film's deflection profile (docs/thin_films.md) */
     add(c, "wrinkle_amplitude");
@@ -218,6 +219,7 @@ const char *peri_history_unit(const char *column) {
       {"mass_", "kg", false}, {"kinetic_energy_", "J", false}, {"mean_velocity_", "m/s", false},
       {"damaged_mass_", "kg", false}, {"detached_mass_", "kg", false}, {"max_von_mises_", "Pa", false}, {"mean_stress_", "Pa", false},
       {"strain_energy_", "J", false}, {"broken_interface_bonds", "1", true}, {"max_interface_stress", "Pa", true},
+      {"max_interface_traction", "Pa", true},
       {"wrinkle_amplitude", "m", true}, {"wrinkle_wavelength", "m", true},
   };
   if (!strncmp(column, "tool_", 5)) { /* tool_NAME_WHAT: the unit of WHAT */

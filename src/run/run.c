@@ -28,6 +28,7 @@
 #include "peri/heat_quantities.h"
 #include "peri/history.h"
 #include "peri/history_log.h"
+#include "peri/interface_strength.h"
 #include "peri/j_integral.h"
 #include "peri/model.h"
 #include "peri/output.h"
@@ -162,6 +163,7 @@ static int write_history(peri_sim *s, run_ctx *c) {
     peri_interface_history(s, &broken, &stress);
     c->log.row[k++] = (double)broken;
     c->log.row[k++] = stress;
+    c->log.row[k++] = peri_interface_max_traction(s); /* the normal traction of Mei's Eq. 4.6 */
   }
   if (s->out.wrinkle_region > 0) { /* amplitude and wavelength of the film's deflection */
     peri_wrinkle_profile(s, s->out.wrinkle_region, &c->log.row[k], &c->log.row[k + 1]);

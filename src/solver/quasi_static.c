@@ -11,6 +11,7 @@
 #include "peri/damage.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
+#include "peri/interface_strength.h"
 #include "peri/model.h"
 #include "peri/plasticity.h"
 #include "peri/quasistatic.h"
@@ -56,6 +57,9 @@ static long break_bonds(peri_sim *s) {
   long nb = s->coupling ? peri_coupling_break(s) : s->mat.model->force(s);
   s->solver.qs.force_evaluations++;
   if (s->par.dd) nb = peri_comm_sum_long(nb); /* every rank takes the same branch */
+  /* interfaces with a normal strength (docs/thin_films.md section 6): the columns whose
+   * traction reaches it, at the forces just evaluated; the re-solve follows as for any break */
+  nb += peri_break_interfaces_by_traction(s);
   s->solver.qs.broken_in_run += nb;
   return nb;
 }
