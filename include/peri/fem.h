@@ -18,6 +18,11 @@ int peri_fem_bar2_stiffness(const double x[2], double E, double A, double K[4]);
  * or corners in clockwise order). */
 int peri_fem_quad4_stiffness(const double xy[8], double E, double nu, peri_plane plane, double h, double K[64]);
 
+/* The same quadrilateral with the incompatible modes of QM6 (Taylor, Beresford & Wilson 1976):
+ * exact in pure bending on a rectangle, and the patch test on any shape. Same returns. */
+int peri_fem_quad4_incompatible_stiffness(const double xy[8], double E, double nu, peri_plane plane, double h,
+                                          double K[64]);
+
 /* Triangle with corner coordinates xy[2a], xy[2a+1] (a = 0..2, counter-clockwise), thickness
  * h: the constant-strain element, K = B^T D B A h (6x6). Returns 0, or PERI_ERR_INPUT when the
  * area is not positive (clockwise or collinear corners). */

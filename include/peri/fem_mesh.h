@@ -13,6 +13,8 @@ typedef struct peri_fem_mesh {
   int32_t n_elements;
   int64_t *offset;      /* [n_elements + 1]: the corners of element e are nodes[offset[e] .. offset[e + 1]) */
   int32_t *nodes;
+  uint8_t *coarse;      /* [n_elements] 1: an element larger than a lattice cell (its Q4s take the
+                         * incompatible modes, fem.h) */
   int32_t n_nodes;      /* the nodes of the discretization the mesh was made for */
   uint8_t *fem_only;    /* [n_nodes] 1: the node may not become a PD node (a coarse node, or one whose
                          * horizon reaches a coarse node or a lattice point the mesh left out) */
@@ -26,7 +28,8 @@ void peri_fem_mesh_permute(peri_fem_mesh *m, const int32_t *perm);
 
 /* The graded structured mesh of a 2D body on the node lattice of spacing dx
  * (src/fem/graded_mesh.c): a balanced quadtree of square cells of sides 2^l dx (l = 0 ..
- * levels), level 0 (the lattice's own cells) in the cells whose centre lies in `fine`, and
+ * levels), level 0 (the lattice's own cells) in the cells whose centre lies in one of the
+ * n_fine_shapes shapes `fine`, and
  * coarser away from it: a cell at Chebyshev distance d cells from the fine zone may belong to
  * an element of level l when layers (2^l - 2) < d, so that each level is about `layers`
  * elements deep; neighbouring elements differ by one level at most, and a coarse cell with a
@@ -37,7 +40,7 @@ void peri_fem_mesh_permute(peri_fem_mesh *m, const int32_t *perm);
  * thickness h; the others keep theirs. fem_only marks the coarse nodes and every node within
  * `reach` of a coarse node or a removed point. Returns PERI_ERR_INPUT with a message in why
  * when the nodes are not on the lattice or the fine zone holds no cell. */
-int peri_graded_mesh_build(peri_particles *p, double dx, double reach, double h, const peri_shape *fine, int levels,
-                           int layers, peri_fem_mesh *m, char *why, size_t n);
+int peri_graded_mesh_build(peri_particles *p, double dx, double reach, double h, const peri_shape *fine, int n_fine_shapes,
+                           int levels, int layers, peri_fem_mesh *m, char *why, size_t n);
 
 #endif

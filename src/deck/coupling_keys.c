@@ -2,6 +2,7 @@
  * micromodulus family of the PD side, and the solver settings the coupled stiffness needs. */
 #include <math.h>
 #include <stdbool.h>
+#include <stdlib.h>
 #include <string.h>
 #include "peri/coupling.h"
 #include "peri/error.h"
@@ -71,19 +72,27 @@ int peri_setup_graded_mesh(peri_sim *s, const peri_node *root, peri_fem_mesh *m)
   if (layers < 1 || layers > 1000)
     return peri_deck_error(peri_deck_get(gm, "layers"), "key 'layers': expected 1 to 1000, got %ld", layers);
   const peri_node *fine = peri_deck_get(gm, "fine");
-  if (!fine) return peri_deck_error(gm, "coupling.graded_mesh: missing key 'fine' (the shape kept at the spacing)");
-  peri_shape shape;
-  TRY(peri_shape_parse(fine, 2, "coupling.graded_mesh.fine", NULL, &shape));
+  if (!fine) return peri_deck_error(gm, "coupling.graded_mesh: missing key 'fine' (the shapes kept at the spacing)");
+  const bool list = fine->kind == PERI_NODE_SEQUENCE;
+  const int n_shapes = list ? fine->count : 1;
+  if (n_shapes < 1) return peri_deck_error(fine, "key 'fine': expected a shape or a list of shapes");
+  peri_shape *shapes = peri_calloc((size_t)n_shapes, sizeof *shapes);
+  int rc = PERI_OK, parsed = 0;
+  for (; parsed < n_shapes && rc == PERI_OK; ++parsed)
+    rc = peri_shape_parse(list ? fine->items[parsed] : fine, 2, "coupling.graded_mesh.fine", NULL, &shapes[parsed]);
   const peri_geometry *g = &s->disc.geom;
   /* a PD row reaches its bonds (one horizon, two for a state-based tangent) plus half a cell of
    * partial volume: no coarse node or left-out point may lie within it */
   const double reach = (s->mat.model && s->mat.model->tangent_reach == 2 ? 2.0 : 1.0) * g->horizon + g->spacing;
   char why[512];
-  const int rc = peri_graded_mesh_build(&s->disc.p, g->spacing, reach, g->thickness, &shape, (int)levels,
-                                        (int)layers, m, why, sizeof why);
-  peri_shape_free(&shape);
-  if (rc != PERI_OK) return peri_deck_error(at, "coupling.graded_mesh: %s", why);
-  return PERI_OK;
+  if (rc == PERI_OK) {
+    rc = peri_graded_mesh_build(&s->disc.p, g->spacing, reach, g->thickness, shapes, n_shapes, (int)levels,
+                                (int)layers, m, why, sizeof why);
+    if (rc != PERI_OK) peri_deck_error(at, "coupling.graded_mesh: %s", why);
+  }
+  for (int k = 0; k < parsed; ++k) peri_shape_free(&shapes[k]);
+  free(shapes);
+  return rc;
 }
 
 int peri_setup_coupling(peri_sim *s, const peri_node *root, const peri_fem_mesh *mesh) {

@@ -82,9 +82,10 @@ static int element_stiffness(const peri_sim *s, peri_coupling *c, char *why, siz
   return PERI_OK;
 }
 
-/* The stiffness of each element of a mesh from its corners' positions: Q4 or triangle (2D),
- * bar (1D), Hex8 (3D), of the material of its first corner. */
-static int mesh_stiffness(const peri_sim *s, peri_coupling *c, char *why, size_t n) {
+/* The stiffness of each element of a mesh from its corners' positions: Q4 (with incompatible
+ * modes where the mesh marks the element coarse) or triangle (2D), bar (1D), Hex8 (3D), of the
+ * material of its first corner. */
+static int mesh_stiffness(const peri_sim *s, const peri_fem_mesh *mesh, peri_coupling *c, char *why, size_t n) {
   const peri_geometry *g = &s->disc.geom;
   const peri_particles *p = &s->disc.p;
   const int dim = g->dim;
@@ -106,6 +107,8 @@ static int mesh_stiffness(const peri_sim *s, peri_coupling *c, char *why, size_t
     int rc = PERI_ERR_INPUT;
     if (dim == 1 && corners == 2) rc = peri_fem_bar2_stiffness(x, mat->E, g->cross_section, K);
     else if (dim == 2 && corners == 3) rc = peri_fem_tri3_stiffness(x, mat->E, mat->nu, g->plane, g->thickness, K);
+    else if (dim == 2 && corners == 4 && mesh->coarse[e])
+      rc = peri_fem_quad4_incompatible_stiffness(x, mat->E, mat->nu, g->plane, g->thickness, K);
     else if (dim == 2 && corners == 4) rc = peri_fem_quad4_stiffness(x, mat->E, mat->nu, g->plane, g->thickness, K);
     else if (dim == 3 && corners == 8) rc = peri_fem_hex8_stiffness(x, mat->E, mat->nu, K);
     if (rc != PERI_OK) {
@@ -236,7 +239,7 @@ int peri_coupling_build_on_mesh(peri_sim *s, const peri_fem_mesh *mesh, const in
     for (int64_t a = c->element_offset[e]; a < c->element_offset[e + 1]; ++a) c->node_element[fill[c->element_nodes[a]]++] = e;
   free(fill);
   if (mesh) {
-    rc = mesh_stiffness(s, c, why, n);
+    rc = mesh_stiffness(s, mesh, c, why, n);
   } else {
     rc = element_stiffness(s, c, why, n);
     const int64_t w = (int64_t)g->dim * c->corners;

@@ -3,9 +3,10 @@
  * (level 0) fill the fine zone, where the nodes coincide with the PD grid, so that FEM nodes
  * there can switch to PD; away from it the cells double in size every `layers` elements. A
  * coarse cell that has a node in the middle of a side (a finer neighbour: the quadtree is
- * balanced, so only the middle) is split into triangles about its centre, which keeps the
- * mesh conforming without constraints: every element is a plain Q4 or constant-strain
- * triangle and a linear field is reproduced exactly (the patch test). */
+ * balanced, so only the middle) is split about its centre, into two quadrilaterals and a
+ * triangle (one such side) or a triangle per boundary segment (more), which keeps the mesh
+ * conforming without constraints: every element is a Q4 or a constant-strain triangle and a
+ * linear field is reproduced exactly (the patch test). */
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -21,6 +22,7 @@ void peri_fem_mesh_free(peri_fem_mesh *m) {
   if (!m) return;
   free(m->offset);
   free(m->nodes);
+  free(m->coarse);
   free(m->fem_only);
   memset(m, 0, sizeof *m);
 }
@@ -159,6 +161,17 @@ static void make_elements(const quadtree *t, const uint8_t *present, uint8_t *no
         }
         const int64_t centre = (j0 + h) * px + i0 + h;
         node[centre] = 1;
+        if (n == 5) { /* one middle node, after corner k: two quadrilaterals and a triangle */
+          int k = 0;
+          while (!node[mid[k]]) ++k;
+          const int64_t qa[4] = {c[k], mid[k], centre, c[(k + 3) % 4]};
+          const int64_t qb[4] = {mid[k], c[(k + 1) % 4], c[(k + 2) % 4], centre};
+          const int64_t tri[3] = {centre, c[(k + 2) % 4], c[(k + 3) % 4]};
+          add_element(e, qa, 4, l);
+          add_element(e, qb, 4, l);
+          add_element(e, tri, 3, l);
+          continue;
+        }
         for (int a = 0; a < n; ++a) {
           const int64_t tri[3] = {centre, ring[a], ring[(a + 1) % n]};
           add_element(e, tri, 3, l);
@@ -177,8 +190,8 @@ static double corner_area(const element_list *e, int32_t k, int64_t px) {
   return 0.5 * area;
 }
 
-int peri_graded_mesh_build(peri_particles *p, double dx, double reach, double h, const peri_shape *fine, int levels,
-                           int layers, peri_fem_mesh *m, char *why, size_t n) {
+int peri_graded_mesh_build(peri_particles *p, double dx, double reach, double h, const peri_shape *fine, int n_fine_shapes,
+                           int levels, int layers, peri_fem_mesh *m, char *why, size_t n) {
   memset(m, 0, sizeof *m);
   peri_lattice l;
   int rc = peri_lattice_build(p, 2, dx, &l, why, n);
@@ -199,7 +212,9 @@ int peri_graded_mesh_build(peri_particles *p, double dx, double reach, double h,
   for (int64_t j = 0; j < t.cy; ++j)
     for (int64_t i = 0; i < t.cx; ++i) {
       const double centre[3] = {lo[0] + ((double)i + 0.5) * dx, lo[1] + ((double)j + 0.5) * dx, 0.0};
-      n_fine += fine_cell[j * t.cx + i] = peri_shape_contains(fine, 2, centre, 1e-9 * dx);
+      for (int k = 0; k < n_fine_shapes && !fine_cell[j * t.cx + i]; ++k)
+        fine_cell[j * t.cx + i] = peri_shape_contains(&fine[k], 2, centre, 1e-9 * dx);
+      n_fine += fine_cell[j * t.cx + i];
     }
   if (n_fine == 0) {
     snprintf(why, n, "the fine zone holds no lattice cell (no cell centre of spacing %g lies in it)", dx);
@@ -264,6 +279,8 @@ int peri_graded_mesh_build(peri_particles *p, double dx, double reach, double h,
   m->n_elements = e.count;
   m->offset = e.offset ? e.offset : peri_calloc(1, sizeof(int64_t));
   m->nodes = peri_malloc(sizeof(int32_t) * (size_t)(e.n_corners > 0 ? e.n_corners : 1));
+  m->coarse = peri_malloc((size_t)(e.count > 0 ? e.count : 1));
+  for (int32_t k = 0; k < e.count; ++k) m->coarse[k] = e.level[k] > 0;
   for (int64_t a = 0; a < e.n_corners; ++a) m->nodes[a] = new_of_old[l.at[e.corner[a]]];
   peri_particles_permute(p, perm);
   p->n = p->n_owned = n_kept;
