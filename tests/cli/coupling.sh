@@ -7,7 +7,9 @@
 #  - bad input exits 2 before any work, naming the deck position and what is wrong: an
 #    unknown pd_region, an FEM node that belongs to no element, linear_solver cg, a solver
 #    other than implicit, a bond-based key with a state-based material, bonds that may break,
-#    a node off the lattice of the elements.
+#    a node off the lattice of the elements; a graded mesh (coupling.graded_mesh) whose coarse
+#    part lies within a horizon of a PD node (naming the node), whose fine zone holds no cell,
+#    or in 1D.
 # In a build without PETSc the coupling needs the implicit solver, itself a positioned error.
 # Usage: bash tests/cli/coupling.sh PATH_TO_PERI   (from the repository root)
 set -u
@@ -124,3 +126,17 @@ solver: {type: implicit, load_steps: 1}
 DECK
 fails_at "$TMP/off.yaml" "{pd_region" "coupling: node 8 at (8.3, 0, 0) is not on the lattice of spacing 1"
 pass "a node off the lattice of the elements is a positioned error"
+
+d=$(deck graded_tight -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, graded_mesh: {fine: {shape: rectangle, min: [-6, -6], max: [6, 6]}}}/')
+fails_at "$d" "{pd_region" "coupling: PD node"
+expect_stderr_contains "lies within a horizon of the graded mesh's coarse part"
+pass "a PD node next to the coarse part of a graded mesh is a positioned error naming the node"
+
+d=$(deck graded_empty -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, graded_mesh: {fine: {shape: rectangle, min: [40, 40], max: [50, 50]}}}/')
+fails_at "$d" "graded_mesh" "coupling.graded_mesh: the fine zone holds no lattice cell"
+pass "a graded mesh whose fine zone holds no cell is a positioned error"
+
+sed -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, graded_mesh: {fine: {shape: interval, min: [0], max: [5]}}}/' \
+  "$TMP/off.yaml" >"$TMP/graded_1d.yaml"
+fails_at "$TMP/graded_1d.yaml" "graded_mesh" "key 'graded_mesh': 2D only"
+pass "a graded mesh in 1D is a positioned error"
