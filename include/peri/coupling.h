@@ -5,7 +5,8 @@
  * neighbour, FEM or PD. The global stiffness is therefore not symmetric. The PD side is the
  * linear bond-based model with the micromodulus family lambda(|xi|) = gamma c / |xi|^alpha,
  * or a state-based model (lps) linearised: its tangent at u = 0.
- * The FEM mesh is the structured one of the PD lattice: bars (1D), Q4 (2D), Hex8 (3D). */
+ * The FEM mesh is the structured one of the PD lattice: bars (1D), Q4 (2D), Hex8 (3D), or a
+ * graded mesh of it (include/peri/fem_mesh.h). */
 #ifndef PERI_COUPLING_H
 #define PERI_COUPLING_H
 #include <stdbool.h>
