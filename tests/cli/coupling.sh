@@ -9,7 +9,10 @@
 #    other than implicit, a bond-based key with a state-based material, bonds that may break,
 #    a node off the lattice of the elements; a graded mesh (coupling.graded_mesh) whose coarse
 #    part lies within a horizon of a PD node (naming the node), whose fine zone holds no cell,
-#    or in 1D.
+#    or in 1D;
+#  - a crack run on a graded mesh whose fine zone stops below the crack's path: the switching
+#    reaches the coarse part, the run stops with exit 1 naming the node, and keeps the
+#    history.csv of the load steps before.
 # In a build without PETSc the coupling needs the implicit solver, itself a positioned error.
 # Usage: bash tests/cli/coupling.sh PATH_TO_PERI   (from the repository root)
 set -u
@@ -140,3 +143,18 @@ sed -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, graded_mesh: {fine
   "$TMP/off.yaml" >"$TMP/graded_1d.yaml"
 fails_at "$TMP/graded_1d.yaml" "graded_mesh" "key 'graded_mesh': 2D only"
 pass "a graded mesh in 1D is a positioned error"
+
+beam=examples/coupling_three_point_bending.yaml
+run_peri_in "$TMP" run "$(pwd)/$beam" -q --set discretization.spacing=0.25 \
+  --set "regions.left_support.max=[0.25, 0.25]" --set "regions.right_support.min=[19.75, 0]" \
+  --set "regions.right_support.max=[20, 0.25]" --set "regions.load.min=[9.74, 7.75]" \
+  --set "regions.load.max=[10.26, 8.1]" --set solver.load_steps=21 --set "boundary_conditions.2.y=-8.4e-3*t" \
+  --set output.frames=2 --set output.picture=false \
+  --set "coupling.graded_mesh={levels: 3, fine: [{shape: rectangle, min: [6, -1], max: [14, 5]},
+    {shape: rectangle, min: [-1, -1], max: [1.5, 1.5]}, {shape: rectangle, min: [18.5, -1], max: [21, 1.5]}]}"
+expect_status 1
+expect_stderr_contains "should become a PD node, but its horizon reaches the coarse part of the graded mesh"
+hist="$TMP/output/coupling_three_point_bending/history.csv"
+expect_nonempty_file "$hist"
+(( $(wc -l <"$hist") > 3 )) || fail "the run that stopped kept no load step in $hist"
+pass "a crack that reaches the coarse part of a graded mesh stops the run, naming the node, and keeps its output"
