@@ -238,9 +238,16 @@ int peri_coupling_build_on_mesh(peri_sim *s, const peri_fem_mesh *mesh, const in
   for (int32_t e = 0; e < c->n_elements; ++e)
     for (int64_t a = c->element_offset[e]; a < c->element_offset[e + 1]; ++a) c->node_element[fill[c->element_nodes[a]]++] = e;
   free(fill);
-  if (mesh) {
+  for (int32_t i = 0; mesh && i < p->n_owned && rc == PERI_OK; ++i)
+    if (!c->node_type[i] && c->node_offset[i + 1] == c->node_offset[i]) {
+      snprintf(why, n, "FEM node %d at (%g, %g, %g) belongs to no element of the graded mesh (make it a PD node, "
+               "or fill the grid around it)", (int)i, p->x[3 * (size_t)i], p->x[3 * (size_t)i + 1],
+               p->x[3 * (size_t)i + 2]);
+      rc = PERI_ERR_INPUT;
+    }
+  if (rc == PERI_OK && mesh) {
     rc = mesh_stiffness(s, mesh, c, why, n);
-  } else {
+  } else if (rc == PERI_OK) {
     rc = element_stiffness(s, c, why, n);
     const int64_t w = (int64_t)g->dim * c->corners;
     c->element_K_offset = peri_malloc(sizeof(int64_t) * (size_t)(c->n_elements > 0 ? c->n_elements : 1));

@@ -8,8 +8,8 @@
 #    unknown pd_region, an FEM node that belongs to no element, linear_solver cg, a solver
 #    other than implicit, a bond-based key with a state-based material, bonds that may break,
 #    a node off the lattice of the elements; a graded mesh (coupling.graded_mesh) whose coarse
-#    part lies within a horizon of a PD node (naming the node), whose fine zone holds no cell,
-#    or in 1D;
+#    part lies within a horizon of a PD node (naming the node), with an FEM node in no element,
+#    whose fine zone holds no cell, or in 1D;
 #  - a crack run on a graded mesh whose fine zone stops below the crack's path: the switching
 #    reaches the coarse part, the run stops with exit 1 naming the node, and keeps the
 #    history.csv of the load steps before.
@@ -138,6 +138,12 @@ pass "a PD node next to the coarse part of a graded mesh is a positioned error n
 d=$(deck graded_empty -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, graded_mesh: {fine: {shape: rectangle, min: [40, 40], max: [50, 50]}}}/')
 fails_at "$d" "graded_mesh" "coupling.graded_mesh: the fine zone holds no lattice cell"
 pass "a graded mesh whose fine zone holds no cell is a positioned error"
+
+d=$(deck graded_lonely -e 's/fill: \[{shape: rectangle, min: \[-12.5, -17.5\], max: \[12.5, 17.5\]}\]/fill: [{shape: rectangle, min: [-12.5, -17.5], max: [12.5, 17.5]}, {shape: rectangle, min: [13.5, 20.5], max: [14.5, 21.5]}]/' \
+      -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, graded_mesh: {fine: {shape: rectangle, min: [-12.5, -17.5], max: [12.5, 17.5]}}}/')
+fails_at "$d" "{pd_region" "coupling: FEM node"
+expect_stderr_contains "belongs to no element of the graded mesh"
+pass "an FEM node outside every element of a graded mesh is a positioned error"
 
 sed -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, graded_mesh: {fine: {shape: interval, min: [0], max: [5]}}}/' \
   "$TMP/off.yaml" >"$TMP/graded_1d.yaml"
