@@ -5,7 +5,8 @@
  * neighbour, FEM or PD. The global stiffness is therefore not symmetric. The PD side is the
  * linear bond-based model with the micromodulus family lambda(|xi|) = gamma c / |xi|^alpha,
  * or a state-based model (lps) linearised: its tangent at u = 0.
- * The FEM mesh is the structured one of the PD lattice: bars (1D), Q4 (2D), Hex8 (3D). */
+ * The FEM mesh is the structured one of the PD lattice: bars (1D), Q4 (2D), Hex8 (3D), or a
+ * graded mesh of it (include/peri/fem_mesh.h). */
 #ifndef PERI_COUPLING_H
 #define PERI_COUPLING_H
 #include <stdbool.h>
@@ -23,11 +24,17 @@ typedef struct peri_coupling {
   double alpha;            /* micromodulus exponent */
   double gamma;            /* correction factor of the micromodulus (App. A eq. 2.39) */
   double *c;               /* [n_materials] micromodulus constant c of lambda = c / |xi|^alpha */
-  int corners;             /* nodes per element: 2, 4, 8 */
+  int corners;             /* nodes per element of the lattice's own mesh: 2, 4, 8 */
   int32_t n_elements;
-  int32_t *element_nodes;  /* [n_elements * corners] */
+  int64_t *element_offset; /* [n_elements + 1]: the corners of e are element_nodes[element_offset[e] ..] */
+  int32_t *element_nodes;
   int32_t *element_material;
-  double *element_K;       /* [n_materials * (dim corners)^2]: the stiffness of an element of each material */
+  double *element_K;       /* the element stiffness matrices: one per material on the lattice's own
+                            * mesh (all its cells are alike), one per element on a graded mesh */
+  int64_t *element_K_offset; /* [n_elements] where element e's (dim corners)^2 entries start */
+  uint8_t *fem_only;       /* [n] 1: a node of a graded mesh that may not become PD (fem_mesh.h); NULL without */
+  int32_t coarse_nodes;    /* graded mesh: nodes of coarse elements, lattice nodes left out */
+  int32_t removed_nodes;
   int64_t *node_offset;    /* [n + 1] elements of node i: node_element[node_offset[i] ...] */
   int32_t *node_element;
   /* exact partial volumes (partial_volume: exact): the family of a PD node is every lattice
@@ -75,12 +82,22 @@ int peri_coupling_build(peri_sim *s, const int32_t *pd_nodes, int32_t n_pd_nodes
 /* Sets the switching radius r (in horizons; 0: none) and applies it to the bonds broken so far
  * (pre-cracks): every node with a broken bond becomes a PD node, and every node within r delta
  * of one (the initial PD patch around notches). Bond-based PD side with the bonds' partial
- * volumes only. */
-void peri_coupling_set_switching(peri_sim *s, double radius);
+ * volumes only. Returns PERI_ERR_INPUT with a message in why (size n) when a node of the patch
+ * may not become PD (graded meshes: too near the coarse part). */
+int peri_coupling_set_switching(peri_sim *s, double radius, char *why, size_t n);
+/* peri_coupling_build with the FEM part's elements from mesh (a graded mesh of the lattice,
+ * include/peri/fem_mesh.h) instead of the lattice's own cells: the element stiffness is that of
+ * each element's corners; a PD node the mesh marks fem_only is an error naming the node. */
+struct peri_fem_mesh;
+int peri_coupling_build_on_mesh(peri_sim *s, const struct peri_fem_mesh *mesh, const int32_t *pd_nodes,
+                                int32_t n_pd_nodes, double alpha, double gamma, bool exact_volumes, char *why,
+                                size_t n);
 /* Quasi-static fracture of the coupled model (MODELS.md 12.4, 14.5): breaks every intact bond
  * with a PD end whose linearised stretch xi.(u_j - u_i)/|xi|^2 reaches its critical stretch
  * (both directions; no-fail nodes never), then switches the FEM nodes within r delta of the PD
- * nodes that lost a bond to PD, and refreshes f = K u. Returns the directed bonds broken. */
+ * nodes that lost a bond to PD, and refreshes f = K u. Returns the directed bonds broken, or -1
+ * after a message when a node to switch may not become PD (it reaches the coarse part of a
+ * graded mesh: the run stops there). */
 long peri_coupling_break(peri_sim *s);
 void peri_coupling_free(peri_coupling *c);
 

@@ -2,10 +2,13 @@
  * micromodulus family of the PD side, and the solver settings the coupled stiffness needs. */
 #include <math.h>
 #include <stdbool.h>
+#include <stdlib.h>
 #include <string.h>
 #include "peri/coupling.h"
 #include "peri/error.h"
+#include "peri/fem_mesh.h"
 #include "peri/implicit.h"
+#include "peri/setup.h"
 #include "setup_parts.h"
 
 #define TRY(expr)                   \
@@ -43,11 +46,60 @@ static int check_fracture(const peri_sim *s, const peri_node *root, const peri_n
   return PERI_OK;
 }
 
-int peri_setup_coupling(peri_sim *s, const peri_node *root) {
+int peri_setup_graded_mesh(peri_sim *s, const peri_node *root, peri_fem_mesh *m) {
+  const peri_node *cp = peri_deck_get(root, "coupling"), *gm = peri_deck_get(cp, "graded_mesh");
+  if (!gm) return PERI_OK;
+  const peri_node *at = peri_deck_key_node(cp, "graded_mesh"), *d = peri_deck_get(root, "discretization");
+  static const char *const keys[] = {"fine", "levels", "layers", NULL};
+  TRY(peri_deck_allow(gm, "coupling.graded_mesh", keys));
+  if (s->disc.geom.dim != 2)
+    return peri_deck_error(at, "key 'graded_mesh': 2D only (a graded mesh of Q4 elements and triangles)");
+  const peri_node *fill = peri_deck_get(d, "fill");
+  bool zones = false;
+  for (int k = 0; fill && fill->kind == PERI_NODE_SEQUENCE && k < fill->count; ++k)
+    zones = zones || peri_deck_get(fill->items[k], "spacing") != NULL;
+  if (!fill || zones || peri_setup_horizon_is_field(d) || !(s->disc.geom.horizon > 0.0))
+    return peri_deck_error(at, "key 'graded_mesh': needs a uniform grid (discretization.fill with one spacing "
+                               "and one horizon): the mesh is made on its lattice");
+  if (peri_deck_get(d, "volume"))
+    return peri_deck_error(peri_deck_key_node(d, "volume"), "key 'volume': not with coupling.graded_mesh (a coarse "
+                                                             "node's volume is its share of its elements)");
+  long levels = 3, layers = 2;
+  TRY(peri_deck_int(gm, "levels", false, &levels));
+  TRY(peri_deck_int(gm, "layers", false, &layers));
+  if (levels < 1 || levels > 10)
+    return peri_deck_error(peri_deck_get(gm, "levels"), "key 'levels': expected 1 to 10, got %ld", levels);
+  if (layers < 1 || layers > 1000)
+    return peri_deck_error(peri_deck_get(gm, "layers"), "key 'layers': expected 1 to 1000, got %ld", layers);
+  const peri_node *fine = peri_deck_get(gm, "fine");
+  if (!fine) return peri_deck_error(gm, "coupling.graded_mesh: missing key 'fine' (the shapes kept at the spacing)");
+  const bool list = fine->kind == PERI_NODE_SEQUENCE;
+  const int n_shapes = list ? fine->count : 1;
+  if (n_shapes < 1) return peri_deck_error(fine, "key 'fine': expected a shape or a list of shapes");
+  peri_shape *shapes = peri_calloc((size_t)n_shapes, sizeof *shapes);
+  int rc = PERI_OK, parsed = 0;
+  for (; parsed < n_shapes && rc == PERI_OK; ++parsed)
+    rc = peri_shape_parse(list ? fine->items[parsed] : fine, 2, "coupling.graded_mesh.fine", NULL, &shapes[parsed]);
+  const peri_geometry *g = &s->disc.geom;
+  /* a PD row reaches its bonds (one horizon, two for a state-based tangent) plus half a cell of
+   * partial volume: no coarse node or left-out point may lie within it */
+  const double reach = (s->mat.model && s->mat.model->tangent_reach == 2 ? 2.0 : 1.0) * g->horizon + g->spacing;
+  char why[512];
+  if (rc == PERI_OK) {
+    rc = peri_graded_mesh_build(&s->disc.p, g->spacing, reach, g->thickness, shapes, n_shapes, (int)levels,
+                                (int)layers, m, why, sizeof why);
+    if (rc != PERI_OK) peri_deck_error(at, "coupling.graded_mesh: %s", why);
+  }
+  for (int k = 0; k < parsed; ++k) peri_shape_free(&shapes[k]);
+  free(shapes);
+  return rc;
+}
+
+int peri_setup_coupling(peri_sim *s, const peri_node *root, const peri_fem_mesh *mesh) {
   const peri_node *cp = peri_deck_get(root, "coupling");
   if (!cp) return PERI_OK;
   static const char *const keys[] = {"pd_region", "micromodulus_exponent", "gamma", "partial_volume",
-                                     "switch_radius", NULL};
+                                     "switch_radius", "graded_mesh", NULL};
   TRY(peri_deck_allow(cp, "coupling", keys));
   const char *name = NULL;
   TRY(peri_deck_string(cp, "pd_region", false, &name));
@@ -101,9 +153,13 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root) {
   }
   const peri_region *pd = r >= 0 ? &s->cond.regions[r] : NULL;
   char why[512];
-  if (peri_coupling_build(s, pd ? pd->nodes : NULL, pd ? pd->count : 0, alpha, gamma, rule == 1, why, sizeof why) !=
-      PERI_OK)
+  if (rule == 1 && mesh->nodes)
+    return peri_deck_error(peri_deck_key_node(cp, "graded_mesh"), "key 'graded_mesh': not with partial_volume exact "
+                                                                   "(its families are whole lattice cells)");
+  if (peri_coupling_build_on_mesh(s, mesh->nodes ? mesh : NULL, pd ? pd->nodes : NULL, pd ? pd->count : 0, alpha,
+                                  gamma, rule == 1, why, sizeof why) != PERI_OK)
     return peri_deck_error(cp, "coupling: %s", why);
-  if (s->solver.breaking) peri_coupling_set_switching(s, radius); /* src/fem/switching.c */
+  if (s->solver.breaking && peri_coupling_set_switching(s, radius, why, sizeof why) != PERI_OK) /* switching.c */
+    return peri_deck_error(cp, "coupling: the PD patch around the pre-cracks: %s", why);
   return PERI_OK;
 }

@@ -19,6 +19,7 @@
 #include "peri/decompose.h"
 #include "peri/discretize.h"
 #include "peri/error.h"
+#include "peri/fem_mesh.h"
 #include "peri/frames.h"
 #include "peri/nodefile.h"
 #include "peri/setup.h"
@@ -50,6 +51,7 @@ typedef struct parse_ctx {
   material_failure *failure;
   peri_mesh mesh;          /* the discretization's mesh file (its sets and point ids), or empty */
   int32_t *node_of_point;  /* node index of each mesh point, after the node ordering */
+  peri_fem_mesh fem_mesh;  /* coupling.graded_mesh, or empty (coupling_keys.c) */
 } parse_ctx;
 
 /* ---------------------------------------------------------------- materials */
@@ -524,6 +526,7 @@ static int parse_discretization(parse_ctx *c) {
     s->disc.family.horizon = g->horizon;
   }
   s->disc.family.spacing = g->spacing;
+  TRY(peri_setup_graded_mesh(s, c->root, &c->fem_mesh)); /* coupling.graded_mesh (coupling_keys.c) */
 
   /* order along a space-filling curve so that neighbours are near in memory */
   int32_t *perm = peri_malloc(sizeof(int32_t) * p->n);
@@ -533,6 +536,7 @@ static int parse_discretization(parse_ctx *c) {
     c->node_of_point = peri_malloc(sizeof(int32_t) * (size_t)p->n);
     for (int32_t k = 0; k < p->n; ++k) c->node_of_point[perm[k]] = k;
   }
+  peri_fem_mesh_permute(&c->fem_mesh, perm);
   free(perm);
   if (horizon_field) {
     if (peri_setup_heat_only(c->root))
@@ -898,7 +902,7 @@ static int build(parse_ctx *c) {
   if (s->mat.pair_strength && !peri_is_quasi_static(s)) /* the criterion runs between load steps */
     return peri_deck_error(peri_deck_get(root, "interfaces"), "interfaces: normal_strength needs a quasi-static "
                            "solver (solver.type nlcg, adr, dynamic_relaxation or implicit)");
-  TRY(peri_setup_coupling(s, root)); /* PD-FEM coupling (src/deck/coupling_keys.c) */
+  TRY(peri_setup_coupling(s, root, &c->fem_mesh)); /* PD-FEM coupling (src/deck/coupling_keys.c) */
   TRY(peri_setup_horizon_solver(s, root)); /* horizon_keys.c */
   TRY(peri_setup_contact(s, root)); /* short-range forces (docs/contact.md) */
   TRY(peri_setup_tools(s, root)); /* rigid tools (tool_keys.c, docs/contact.md) */
@@ -983,6 +987,7 @@ static int from_tree(peri_sim *s, peri_node *root, int n_sets, const char *const
   free(c.failure);
   peri_mesh_free(&c.mesh);
   free(c.node_of_point);
+  peri_fem_mesh_free(&c.fem_mesh);
   peri_deck_free(root);
   peri_overrides_free(keep, n_sets);
   return rc;

@@ -78,7 +78,12 @@ int peri_setup_j_integral(peri_sim *s, const peri_node *root);
 
 /* The coupling section (coupling_keys.c, docs/coupling.md): PD and FEM nodes, the structured
  * elements, the solver settings of the coupled stiffness; after the solver section. */
-int peri_setup_coupling(peri_sim *s, const peri_node *root);
+struct peri_fem_mesh;
+int peri_setup_coupling(peri_sim *s, const peri_node *root, const struct peri_fem_mesh *mesh);
+/* coupling.graded_mesh (coupling_keys.c, docs/coupling.md "Graded meshes"): on the grid of the
+ * fill, before the nodes are ordered, leaves out the lattice nodes inside the coarse elements
+ * and makes the mesh into m (left empty without the key). */
+int peri_setup_graded_mesh(peri_sim *s, const peri_node *root, struct peri_fem_mesh *m);
 /* discretization.horizon given as an expression of x, y, z (horizon_keys.c): whether it is
  * one (a plain number is not); the field at every node, after the nodes are ordered (an
  * error names the first node where it is not positive and finite); and, once the bonds

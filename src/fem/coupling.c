@@ -12,6 +12,7 @@
 #include "peri/coupling.h"
 #include "peri/error.h"
 #include "peri/fem.h"
+#include "peri/fem_mesh.h"
 #include "peri/sim.h"
 #include "lattice_mesh.h"
 
@@ -29,9 +30,12 @@ void peri_coupling_free(peri_coupling *c) {
   if (!c) return;
   free(c->node_type);
   free(c->c);
+  free(c->element_offset);
   free(c->element_nodes);
   free(c->element_material);
   free(c->element_K);
+  free(c->element_K_offset);
+  free(c->fem_only);
   free(c->node_offset);
   free(c->node_element);
   if (c->lattice) peri_lattice_free(c->lattice);
@@ -73,6 +77,44 @@ static int element_stiffness(const peri_sim *s, peri_coupling *c, char *why, siz
     if (rc != PERI_OK) {
       snprintf(why, n, "material %s: no element stiffness (spacing %g)", mat->name, dx);
       return rc;
+    }
+  }
+  return PERI_OK;
+}
+
+/* The stiffness of each element of a mesh from its corners' positions: Q4 (with incompatible
+ * modes where the mesh marks the element coarse) or triangle (2D), bar (1D), Hex8 (3D), of the
+ * material of its first corner. */
+static int mesh_stiffness(const peri_sim *s, const peri_fem_mesh *mesh, peri_coupling *c, char *why, size_t n) {
+  const peri_geometry *g = &s->disc.geom;
+  const peri_particles *p = &s->disc.p;
+  const int dim = g->dim;
+  c->element_K_offset = peri_malloc(sizeof(int64_t) * (size_t)(c->n_elements > 0 ? c->n_elements : 1));
+  int64_t total = 0;
+  for (int32_t e = 0; e < c->n_elements; ++e) {
+    const int64_t w = dim * (c->element_offset[e + 1] - c->element_offset[e]);
+    c->element_K_offset[e] = total;
+    total += w * w;
+  }
+  c->element_K = peri_malloc(sizeof(double) * (size_t)(total > 0 ? total : 1));
+  for (int32_t e = 0; e < c->n_elements; ++e) {
+    const int32_t *en = &c->element_nodes[c->element_offset[e]];
+    const int corners = (int)(c->element_offset[e + 1] - c->element_offset[e]);
+    const peri_material *mat = &s->mat.materials[c->element_material[e]];
+    double *K = &c->element_K[c->element_K_offset[e]], x[24];
+    for (int a = 0; a < corners; ++a)
+      for (int d = 0; d < dim; ++d) x[dim * a + d] = p->x[3 * (size_t)en[a] + d];
+    int rc = PERI_ERR_INPUT;
+    if (dim == 1 && corners == 2) rc = peri_fem_bar2_stiffness(x, mat->E, g->cross_section, K);
+    else if (dim == 2 && corners == 3) rc = peri_fem_tri3_stiffness(x, mat->E, mat->nu, g->plane, g->thickness, K);
+    else if (dim == 2 && corners == 4 && mesh->coarse[e])
+      rc = peri_fem_quad4_incompatible_stiffness(x, mat->E, mat->nu, g->plane, g->thickness, K);
+    else if (dim == 2 && corners == 4) rc = peri_fem_quad4_stiffness(x, mat->E, mat->nu, g->plane, g->thickness, K);
+    else if (dim == 3 && corners == 8) rc = peri_fem_hex8_stiffness(x, mat->E, mat->nu, K);
+    if (rc != PERI_OK) {
+      snprintf(why, n, "element %d (corners at nodes %d at (%g, %g, %g) ...) is inverted or degenerate", (int)e,
+               (int)en[0], p->x[3 * (size_t)en[0]], p->x[3 * (size_t)en[0] + 1], p->x[3 * (size_t)en[0] + 2]);
+      return PERI_ERR_INPUT;
     }
   }
   return PERI_OK;
@@ -121,6 +163,11 @@ static void keep_pd_row(void *ctx, int32_t i, int32_t count, const int32_t *cols
 
 int peri_coupling_build(peri_sim *s, const int32_t *pd_nodes, int32_t n_pd_nodes, double alpha, double gamma,
                         bool exact_volumes, char *why, size_t n) {
+  return peri_coupling_build_on_mesh(s, NULL, pd_nodes, n_pd_nodes, alpha, gamma, exact_volumes, why, n);
+}
+
+int peri_coupling_build_on_mesh(peri_sim *s, const peri_fem_mesh *mesh, const int32_t *pd_nodes, int32_t n_pd_nodes,
+                                double alpha, double gamma, bool exact_volumes, char *why, size_t n) {
   const peri_geometry *g = &s->disc.geom;
   const peri_particles *p = &s->disc.p;
   peri_coupling *c = peri_calloc(1, sizeof *c);
@@ -143,9 +190,30 @@ int peri_coupling_build(peri_sim *s, const int32_t *pd_nodes, int32_t n_pd_nodes
   c->corners = 1 << g->dim;
   c->lattice = peri_calloc(1, sizeof *c->lattice);
   int rc = peri_lattice_build(p, g->dim, g->spacing, c->lattice, why, n);
-  if (rc == PERI_OK)
-    rc = peri_lattice_elements(c->lattice, p, c->node_type, &c->element_nodes, &c->n_elements, why, n);
-  if (rc == PERI_OK) rc = element_stiffness(s, c, why, n);
+  if (rc == PERI_OK && mesh) { /* a graded mesh: its elements, each with its own stiffness */
+    c->n_elements = mesh->n_elements;
+    c->element_offset = peri_malloc(sizeof(int64_t) * ((size_t)mesh->n_elements + 1));
+    memcpy(c->element_offset, mesh->offset, sizeof(int64_t) * ((size_t)mesh->n_elements + 1));
+    const int64_t corners = mesh->offset[mesh->n_elements];
+    c->element_nodes = peri_malloc(sizeof(int32_t) * (size_t)(corners > 0 ? corners : 1));
+    memcpy(c->element_nodes, mesh->nodes, sizeof(int32_t) * (size_t)corners);
+    c->fem_only = peri_malloc((size_t)(p->n > 0 ? p->n : 1));
+    memcpy(c->fem_only, mesh->fem_only, (size_t)p->n_owned);
+    c->coarse_nodes = mesh->coarse_nodes, c->removed_nodes = mesh->removed;
+    for (int32_t k = 0; k < n_pd_nodes && rc == PERI_OK; ++k)
+      if (c->fem_only[pd_nodes[k]]) {
+        const double *x = &p->x[3 * (size_t)pd_nodes[k]];
+        snprintf(why, n, "PD node %d at (%g, %g, %g) lies within a horizon of the graded mesh's coarse part: "
+                 "widen graded_mesh.fine around the PD zone", (int)pd_nodes[k], x[0], x[1], x[2]);
+        rc = PERI_ERR_INPUT;
+      }
+  } else if (rc == PERI_OK) { /* the lattice's own cells, all alike */
+    int32_t *nodes = NULL;
+    rc = peri_lattice_elements(c->lattice, p, c->node_type, &nodes, &c->n_elements, why, n);
+    c->element_nodes = nodes;
+    c->element_offset = peri_malloc(sizeof(int64_t) * ((size_t)c->n_elements + 1));
+    for (int32_t e = 0; e <= c->n_elements; ++e) c->element_offset[e] = (int64_t)e * c->corners;
+  }
   if (rc == PERI_OK && exact_volumes && g->dim == 3) {
     snprintf(why, n, "partial_volume exact: in 1D and 2D only (Ongaro 2022 gives no 3D rule)");
     rc = PERI_ERR_INPUT;
@@ -160,16 +228,35 @@ int peri_coupling_build(peri_sim *s, const int32_t *pd_nodes, int32_t n_pd_nodes
   c->element_material = peri_malloc(sizeof(int32_t) * (size_t)(c->n_elements > 0 ? c->n_elements : 1));
   c->node_offset = peri_calloc((size_t)p->n_owned + 1, sizeof(int64_t));
   for (int32_t e = 0; e < c->n_elements; ++e) {
-    c->element_material[e] = p->material[c->element_nodes[(size_t)e * c->corners]];
-    for (int a = 0; a < c->corners; ++a) c->node_offset[c->element_nodes[(size_t)e * c->corners + a] + 1]++;
+    c->element_material[e] = p->material[c->element_nodes[c->element_offset[e]]];
+    for (int64_t a = c->element_offset[e]; a < c->element_offset[e + 1]; ++a) c->node_offset[c->element_nodes[a] + 1]++;
   }
   for (int32_t i = 0; i < p->n_owned; ++i) c->node_offset[i + 1] += c->node_offset[i];
   c->node_element = peri_malloc(sizeof(int32_t) * (size_t)(c->node_offset[p->n_owned] + 1));
   int64_t *fill = peri_malloc(sizeof(int64_t) * ((size_t)p->n_owned + 1));
   memcpy(fill, c->node_offset, sizeof(int64_t) * ((size_t)p->n_owned + 1));
   for (int32_t e = 0; e < c->n_elements; ++e)
-    for (int a = 0; a < c->corners; ++a) c->node_element[fill[c->element_nodes[(size_t)e * c->corners + a]]++] = e;
+    for (int64_t a = c->element_offset[e]; a < c->element_offset[e + 1]; ++a) c->node_element[fill[c->element_nodes[a]]++] = e;
   free(fill);
+  for (int32_t i = 0; mesh && i < p->n_owned && rc == PERI_OK; ++i)
+    if (!c->node_type[i] && c->node_offset[i + 1] == c->node_offset[i]) {
+      snprintf(why, n, "FEM node %d at (%g, %g, %g) belongs to no element of the graded mesh (make it a PD node, "
+               "or fill the grid around it)", (int)i, p->x[3 * (size_t)i], p->x[3 * (size_t)i + 1],
+               p->x[3 * (size_t)i + 2]);
+      rc = PERI_ERR_INPUT;
+    }
+  if (rc == PERI_OK && mesh) {
+    rc = mesh_stiffness(s, mesh, c, why, n);
+  } else if (rc == PERI_OK) {
+    rc = element_stiffness(s, c, why, n);
+    const int64_t w = (int64_t)g->dim * c->corners;
+    c->element_K_offset = peri_malloc(sizeof(int64_t) * (size_t)(c->n_elements > 0 ? c->n_elements : 1));
+    for (int32_t e = 0; e < c->n_elements; ++e) c->element_K_offset[e] = c->element_material[e] * w * w;
+  }
+  if (rc != PERI_OK) {
+    peri_coupling_free(c), free(c);
+    return rc;
+  }
   if (s->mat.model->tangent_reach == 2) { /* state-based: the linearised model's rows, kept */
     c->tangent_count = peri_calloc((size_t)(p->n > 0 ? p->n : 1), sizeof(int32_t));
     c->tangent_cols = peri_calloc((size_t)(p->n > 0 ? p->n : 1), sizeof(int32_t *));
@@ -236,13 +323,14 @@ static int32_t pd_row(const peri_sim *s, int32_t i, int32_t *cols, double *block
 /* Row of FEM node i: -K^e / V_i of the elements that contain it, one block per distinct column. */
 static int32_t fem_row(const peri_sim *s, int32_t i, int32_t *cols, double *blocks) {
   const peri_coupling *c = s->coupling;
-  const int dim = s->disc.geom.dim, corners = c->corners, w = dim * corners;
+  const int dim = s->disc.geom.dim;
   const double scale = -1.0 / s->disc.p.volume[i];
   int32_t count = 0;
   for (int64_t q = c->node_offset[i]; q < c->node_offset[i + 1]; ++q) {
     const int32_t e = c->node_element[q];
-    const int32_t *en = &c->element_nodes[(size_t)e * corners];
-    const double *K = &c->element_K[(size_t)c->element_material[e] * (size_t)(w * w)];
+    const int32_t *en = &c->element_nodes[c->element_offset[e]];
+    const int corners = (int)(c->element_offset[e + 1] - c->element_offset[e]), w = dim * corners;
+    const double *K = &c->element_K[c->element_K_offset[e]];
     int a = 0;
     while (en[a] != i) ++a;
     for (int bn = 0; bn < corners; ++bn) {
@@ -261,7 +349,14 @@ static int32_t fem_row(const peri_sim *s, int32_t i, int32_t *cols, double *bloc
 
 static int64_t longest_row(const peri_sim *s) {
   const peri_bonds *b = &s->disc.bonds;
-  int64_t longest = 27 + 1; /* the corners of the elements of a node, at most 3^dim */
+  int64_t longest = 27 + 1; /* the corners of the elements of a node, at most 3^dim on the lattice */
+  for (int32_t i = 0; s->coupling->fem_only && i < s->disc.p.n_owned; ++i) { /* a graded mesh: their sum */
+    int64_t corners = 1;
+    for (int64_t q = s->coupling->node_offset[i]; q < s->coupling->node_offset[i + 1]; ++q)
+      corners += s->coupling->element_offset[s->coupling->node_element[q] + 1] -
+                 s->coupling->element_offset[s->coupling->node_element[q]];
+    if (corners > longest) longest = corners;
+  }
   if (s->coupling->n_offsets + 1 > longest) longest = s->coupling->n_offsets + 1;
   for (int32_t i = 0; s->coupling->tangent_count && i < s->disc.p.n_owned; ++i)
     if (s->coupling->tangent_count[i] > longest) longest = s->coupling->tangent_count[i];

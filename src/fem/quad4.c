@@ -7,7 +7,7 @@
 #include "peri/error.h"
 #include "peri/fem.h"
 
-static void plane_elasticity(double E, double nu, peri_plane plane, double D[3][3]) {
+void peri_fem_plane_elasticity(double E, double nu, peri_plane plane, double D[3][3]) {
   memset(D, 0, 9 * sizeof(double));
   if (plane == PERI_PLANE_STRAIN) {
     const double f = E / ((1.0 + nu) * (1.0 - 2.0 * nu));
@@ -26,7 +26,7 @@ int peri_fem_quad4_stiffness(const double xy[8], double E, double nu, peri_plane
   static const double xi_a[4] = {-1, 1, 1, -1}, eta_a[4] = {-1, -1, 1, 1};
   const double g = 1.0 / sqrt(3.0); /* Gauss points +-1/sqrt(3), weights 1 */
   double D[3][3];
-  plane_elasticity(E, nu, plane, D);
+  peri_fem_plane_elasticity(E, nu, plane, D);
   memset(K, 0, 64 * sizeof(double));
   for (int q = 0; q < 4; ++q) {
     const double xi = xi_a[q] * g, eta = eta_a[q] * g;

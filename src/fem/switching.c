@@ -7,6 +7,7 @@
  * changes only the rows of the switched nodes: the elements stay, and an element whose
  * corners are all PD enters no row. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "peri/coupling.h"
@@ -31,41 +32,53 @@ static void switch_offsets(peri_coupling *c, int dim, double dx, double reach) {
       }
 }
 
-/* Makes PD every FEM node within r delta of a node with lost[i] set; returns how many. */
-static int32_t switch_around(peri_sim *s, const uint8_t *lost) {
+/* The message for a node that may not switch: it lies near the coarse part of a graded mesh. */
+static void cannot_switch(const peri_sim *s, int32_t j, char *why, size_t n) {
+  const double *x = &s->disc.p.x[3 * (size_t)j];
+  snprintf(why, n, "node %d at (%g, %g, %g) should become a PD node, but its horizon reaches the coarse part of "
+           "the graded mesh: widen coupling.graded_mesh.fine along the crack's path", (int)j, x[0], x[1], x[2]);
+}
+
+/* Makes PD every FEM node within r delta of a node with lost[i] set (a node with lost[i] set
+ * included); returns how many, or -1 with a message in why when one of them may not be PD
+ * (graded meshes). */
+static int32_t switch_around(peri_sim *s, const uint8_t *lost, char *why, size_t n) {
   peri_coupling *c = s->coupling;
   const peri_lattice *l = c->lattice;
   int32_t switched = 0;
   for (int32_t i = 0; i < c->n_nodes; ++i) {
     if (!lost[i]) continue;
-    for (int32_t q = 0; q < c->n_switch_offsets; ++q) {
-      int64_t k[3];
-      for (int d = 0; d < 3; ++d) k[d] = l->cell[3 * (size_t)i + d] + c->switch_offset[3 * (size_t)q + d];
-      const int32_t j = peri_lattice_node(l, k);
-      if (j >= 0 && !c->node_type[j]) c->node_type[j] = 1, ++switched;
+    for (int32_t q = -1; q < c->n_switch_offsets; ++q) {
+      int32_t j = i;
+      if (q >= 0) {
+        int64_t k[3];
+        for (int d = 0; d < 3; ++d) k[d] = l->cell[3 * (size_t)i + d] + c->switch_offset[3 * (size_t)q + d];
+        j = peri_lattice_node(l, k);
+      }
+      if (j < 0 || c->node_type[j]) continue;
+      if (c->fem_only && c->fem_only[j]) {
+        cannot_switch(s, j, why, n);
+        return -1;
+      }
+      c->node_type[j] = 1, ++switched;
     }
   }
   c->n_pd += switched;
   return switched;
 }
 
-void peri_coupling_set_switching(peri_sim *s, double radius) {
+int peri_coupling_set_switching(peri_sim *s, double radius, char *why, size_t n) {
   peri_coupling *c = s->coupling;
   const peri_bonds *b = &s->disc.bonds;
   c->switch_radius = radius;
   if (radius > 0.0) switch_offsets(c, s->disc.geom.dim, s->disc.geom.spacing, radius * s->disc.geom.horizon);
   /* the initial PD patch: the nodes that a pre-crack cut, and every node within r delta of them */
   uint8_t *cut = peri_calloc((size_t)(c->n_nodes > 0 ? c->n_nodes : 1), 1);
-  int32_t made_pd = 0;
   for (int32_t i = 0; i < c->n_nodes; ++i)
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1] && !cut[i]; ++k)
-      if (b->broken[k]) {
-        cut[i] = 1;
-        if (!c->node_type[i]) c->node_type[i] = 1, ++made_pd;
-      }
-  c->n_pd += made_pd;
-  switch_around(s, cut);
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1] && !cut[i]; ++k) cut[i] = b->broken[k] != 0;
+  const int32_t switched = switch_around(s, cut, why, n);
   free(cut);
+  return switched < 0 ? PERI_ERR_INPUT : PERI_OK;
 }
 
 long peri_coupling_break(peri_sim *s) {
@@ -101,7 +114,11 @@ long peri_coupling_break(peri_sim *s) {
     /* the PD nodes that lost a bond (an FEM end lies within delta of its PD end, so it
      * switches with the rest) */
     for (int32_t i = 0; i < c->n_nodes; ++i) lost[i] = lost[i] && type[i];
-    if (c->switch_radius > 0.0) switch_around(s, lost);
+    char why[512];
+    if (c->switch_radius > 0.0 && switch_around(s, lost, why, sizeof why) < 0) {
+      peri_error("coupling: %s", why);
+      broken = -1;
+    }
   }
   free(lost);
   peri_coupling_force(s);

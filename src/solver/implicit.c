@@ -291,16 +291,27 @@ static PetscErrorCode update_linear_tolerance(SNES snes, PetscInt step) {
   PetscFunctionReturn(0);
 }
 
-/* Block nonzeros of each row: the node, its intact bonds, and for reach 2 their intact bonds. */
+/* Block nonzeros of each row: the node, its intact bonds, and for reach 2 their intact bonds;
+ * with a coupling, an FEM node's row holds the corners of its elements instead. */
 static PetscInt *count_blocks(const peri_sim *s, int reach) {
   const peri_bonds *b = &s->disc.bonds;
   const int32_t n = s->disc.p.n_owned;
   PetscInt *count = peri_calloc((size_t)(n > 0 ? n : 1), sizeof(PetscInt));
   int32_t *mark = peri_malloc(sizeof(int32_t) * (size_t)(s->disc.p.n > 0 ? s->disc.p.n : 1));
   for (int32_t i = 0; i < s->disc.p.n; ++i) mark[i] = -1;
+  const peri_coupling *cp = s->coupling;
   for (int32_t i = 0; i < n; ++i) {
     PetscInt c = 1;
     mark[i] = i;
+    if (cp && !cp->node_type[i]) { /* an FEM row: the corners of its elements (docs/coupling.md) */
+      for (int64_t q = cp->node_offset[i]; q < cp->node_offset[i + 1]; ++q) {
+        const int32_t e = cp->node_element[q];
+        for (int64_t a = cp->element_offset[e]; a < cp->element_offset[e + 1]; ++a)
+          if (mark[cp->element_nodes[a]] != i) mark[cp->element_nodes[a]] = i, ++c;
+      }
+      count[i] = c;
+      continue;
+    }
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       if (b->broken[k]) continue;
       const int32_t j = b->neighbor[k];
@@ -317,7 +328,9 @@ static PetscInt *count_blocks(const peri_sim *s, int reach) {
   return count;
 }
 
-/* Prescribed components, and every component of a node with no intact bond. */
+/* Prescribed components, and every component of a node with no intact bond (with a coupling:
+ * of a PD node with none, or an FEM node in no element; the coarse nodes of a graded mesh have
+ * no bond, as their neighbours lie beyond the horizon). */
 static void find_held(implicit_ctx *c) {
   const peri_sim *s = c->s;
   const peri_bonds *b = &s->disc.bonds;
@@ -325,7 +338,8 @@ static void find_held(implicit_ctx *c) {
   c->held_rows = peri_malloc(sizeof(PetscInt) * ((size_t)c->n_eq + 1));
   c->n_held = 0;
   for (int32_t i = 0; i < s->disc.p.n_owned; ++i) {
-    bool bonded = false;
+    const peri_coupling *cp = s->coupling;
+    bool bonded = cp && !cp->node_type[i] && cp->node_offset[i + 1] > cp->node_offset[i];
     for (int64_t k = b->offset[i]; k < b->offset[i + 1] && !bonded; ++k) bonded = !b->broken[k];
     for (int d = 0; d < c->dim; ++d) {
       const PetscInt e = (PetscInt)c->dim * i + d;
@@ -353,8 +367,8 @@ static PetscErrorCode create_matrix(implicit_ctx *c, Mat *A) {
     PetscInt *blocks = count_blocks(s, s->mat.model->tangent_reach);
     PetscCall(MatXAIJSetPreallocation(*A, c->dim, blocks, NULL, NULL, NULL));
     free(blocks);
-    /* coupled rows: an element's corners lie within the bond families unless the horizon is
-     * below the cell diagonal; those few blocks are allowed (slower) rather than an error */
+    /* coupled rows: a node switched to PD since the count gets its bonds' blocks (slower)
+     * rather than an error */
     if (s->coupling) PetscCall(MatSetOption(*A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
     PetscFunctionReturn(0);
   }

@@ -143,6 +143,10 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
       long broken = 0, rounds = 0, since_dynamic = 0;
       for (;;) {
         long nb = break_bonds(s);
+        if (nb < 0) { /* the coupled model could not switch a node (message given) */
+          rc = PERI_ERR_RUN;
+          break;
+        }
         broken += nb;
         since_dynamic += nb;
         if (nb == 0) break;

@@ -7,7 +7,12 @@
 #  - bad input exits 2 before any work, naming the deck position and what is wrong: an
 #    unknown pd_region, an FEM node that belongs to no element, linear_solver cg, a solver
 #    other than implicit, a bond-based key with a state-based material, bonds that may break,
-#    a node off the lattice of the elements.
+#    a node off the lattice of the elements; a graded mesh (coupling.graded_mesh) whose coarse
+#    part lies within a horizon of a PD node (naming the node), with an FEM node in no element,
+#    whose fine zone holds no cell, or in 1D;
+#  - a crack run on a graded mesh whose fine zone stops below the crack's path: the switching
+#    reaches the coarse part, the run stops with exit 1 naming the node, and keeps the
+#    history.csv of the load steps before.
 # In a build without PETSc the coupling needs the implicit solver, itself a positioned error.
 # Usage: bash tests/cli/coupling.sh PATH_TO_PERI   (from the repository root)
 set -u
@@ -124,3 +129,38 @@ solver: {type: implicit, load_steps: 1}
 DECK
 fails_at "$TMP/off.yaml" "{pd_region" "coupling: node 8 at (8.3, 0, 0) is not on the lattice of spacing 1"
 pass "a node off the lattice of the elements is a positioned error"
+
+d=$(deck graded_tight -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, graded_mesh: {fine: {shape: rectangle, min: [-6, -6], max: [6, 6]}}}/')
+fails_at "$d" "{pd_region" "coupling: PD node"
+expect_stderr_contains "lies within a horizon of the graded mesh's coarse part"
+pass "a PD node next to the coarse part of a graded mesh is a positioned error naming the node"
+
+d=$(deck graded_empty -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, graded_mesh: {fine: {shape: rectangle, min: [40, 40], max: [50, 50]}}}/')
+fails_at "$d" "graded_mesh" "coupling.graded_mesh: the fine zone holds no lattice cell"
+pass "a graded mesh whose fine zone holds no cell is a positioned error"
+
+d=$(deck graded_lonely -e 's/fill: \[{shape: rectangle, min: \[-12.5, -17.5\], max: \[12.5, 17.5\]}\]/fill: [{shape: rectangle, min: [-12.5, -17.5], max: [12.5, 17.5]}, {shape: rectangle, min: [13.5, 20.5], max: [14.5, 21.5]}]/' \
+      -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, graded_mesh: {fine: {shape: rectangle, min: [-12.5, -17.5], max: [12.5, 17.5]}}}/')
+fails_at "$d" "{pd_region" "coupling: FEM node"
+expect_stderr_contains "belongs to no element of the graded mesh"
+pass "an FEM node outside every element of a graded mesh is a positioned error"
+
+sed -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, graded_mesh: {fine: {shape: interval, min: [0], max: [5]}}}/' \
+  "$TMP/off.yaml" >"$TMP/graded_1d.yaml"
+fails_at "$TMP/graded_1d.yaml" "graded_mesh" "key 'graded_mesh': 2D only"
+pass "a graded mesh in 1D is a positioned error"
+
+beam=examples/coupling_three_point_bending.yaml
+run_peri_in "$TMP" run "$(pwd)/$beam" -q --set discretization.spacing=0.25 \
+  --set "regions.left_support.max=[0.25, 0.25]" --set "regions.right_support.min=[19.75, 0]" \
+  --set "regions.right_support.max=[20, 0.25]" --set "regions.load.min=[9.74, 7.75]" \
+  --set "regions.load.max=[10.26, 8.1]" --set solver.load_steps=21 --set "boundary_conditions.2.y=-8.4e-3*t" \
+  --set output.frames=2 --set output.picture=false \
+  --set "coupling.graded_mesh={levels: 3, fine: [{shape: rectangle, min: [6, -1], max: [14, 5]},
+    {shape: rectangle, min: [-1, -1], max: [1.5, 1.5]}, {shape: rectangle, min: [18.5, -1], max: [21, 1.5]}]}"
+expect_status 1
+expect_stderr_contains "should become a PD node, but its horizon reaches the coarse part of the graded mesh"
+hist="$TMP/output/coupling_three_point_bending/history.csv"
+expect_nonempty_file "$hist"
+(( $(wc -l <"$hist") > 3 )) || fail "the run that stopped kept no load step in $hist"
+pass "a crack that reaches the coarse part of a graded mesh stops the run, naming the node, and keeps its output"

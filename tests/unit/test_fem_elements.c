@@ -1,10 +1,15 @@
-/* Element stiffness matrices (src/fem/bar2.c, quad4.c, hex8.c, docs/coupling.md):
+/* Element stiffness matrices (src/fem/bar2.c, quad4.c, quad4_incompatible.c, tri3.c, hex8.c,
+ * docs/coupling.md):
  * closed-form entries of the square and the cube (2x2 / 2x2x2 Gauss points integrate a
  * parallelogram exactly, so the entries agree to round-off, 1e-12 relative), symmetry, the
  * rigid-body modes in the null space, and the patch test: on a patch of distorted elements
  * whose boundary nodes follow u = a + H x, the assembled force on the interior node vanishes
  * (a complete linear field is represented exactly; 1e-12 of the largest nodal force), and
- * inverted elements are rejected. */
+ * inverted elements are rejected. The constant-strain triangle: its closed-form entry, rigid
+ * modes, and the nodal forces of a constant stress (the patch test of one element). The Q4
+ * with incompatible modes (QM6): the energy of pure bending on a square equals the exact
+ * (2/3) E kappa^2 h to round-off where the plain Q4's exceeds it by its shear locking, and the
+ * patch test on the distorted patch. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <string.h>
@@ -114,6 +119,83 @@ Test(fem_quad4, inverted_element_rejected) {
   double K[64];
   cr_expect_eq(peri_fem_quad4_stiffness(clockwise, 1.0, 0.3, PERI_PLANE_STRESS, 1.0, K), PERI_ERR_INPUT);
   cr_expect_eq(peri_fem_quad4_stiffness(bowtie, 1.0, 0.3, PERI_PLANE_STRESS, 1.0, K), PERI_ERR_INPUT);
+}
+
+Test(fem_tri3, entry_rigid_modes_constant_stress) {
+  /* the right triangle (0,0), (1,0), (0,1), plane stress, E = 2, nu = 0.3, h = 0.5:
+   * b1 = c1 = -1 over 2A = 1, so K11 = A h (D11 b1^2 + D33 c1^2) = h/2 E/(1-nu^2) (1 + (1-nu)/2) */
+  const double xy[6] = {0, 0, 1, 0, 0, 1}, E = 2.0, nu = 0.3, h = 0.5;
+  double K[36], f[6];
+  cr_assert_eq(peri_fem_tri3_stiffness(xy, E, nu, PERI_PLANE_STRESS, h, K), PERI_OK);
+  const double D11 = E / (1.0 - nu * nu);
+  cr_expect(fabs(K[0] - 0.5 * h * D11 * (1.0 + 0.5 * (1.0 - nu))) <= RTOL * D11, "K11 %.17g", K[0]);
+  const double scale = max_abs(36, K);
+  double modes[3][6];
+  for (int a = 0; a < 3; ++a) {
+    modes[0][2 * a] = 1, modes[0][2 * a + 1] = 0;
+    modes[1][2 * a] = 0, modes[1][2 * a + 1] = 1;
+    modes[2][2 * a] = -xy[2 * a + 1], modes[2][2 * a + 1] = xy[2 * a];
+  }
+  for (int m = 0; m < 3; ++m) {
+    multiply(6, K, modes[m], f);
+    cr_expect(max_abs(6, f) <= RTOL * scale, "rigid mode %d: force %g", m, max_abs(6, f));
+  }
+  /* u = x e_x: sigma_xx = D11, sigma_yy = nu D11; each edge (length L, normal n) gives
+   * h L/2 sigma n to each of its ends: node 2 gets h/2 (D11, nu D11) from the edge x + y = 1 and
+   * h/2 (0, -nu D11) from the edge y = 0, so (h D11/2, 0) */
+  double u[6];
+  for (int a = 0; a < 3; ++a) u[2 * a] = xy[2 * a], u[2 * a + 1] = 0.0;
+  multiply(6, K, u, f);
+  cr_expect(fabs(f[2] - 0.5 * h * D11) <= RTOL * D11 && fabs(f[3]) <= RTOL * D11,
+            "node 2 force (%g, %g)", f[2], f[3]);
+  const double clockwise[6] = {0, 0, 0, 1, 1, 0};
+  cr_expect_eq(peri_fem_tri3_stiffness(clockwise, E, nu, PERI_PLANE_STRESS, h, K), PERI_ERR_INPUT);
+}
+
+Test(fem_quad4_incompatible, pure_bending_and_patch_test) {
+  /* the square [-1, 1]^2, plane stress: u = kappa x y, v = -kappa (x^2 + nu y^2)/2 is pure
+   * bending, sigma_xx = E kappa y, energy (1/2) int E kappa^2 y^2 h dA = (2/3) E kappa^2 h; its
+   * nodal values are the bilinear part (v equal at the corners: a translation) */
+  const double xy[8] = {-1, -1, 1, -1, 1, 1, -1, 1}, E = 3.0, nu = 0.25, h = 0.5, kappa = 0.01;
+  double u[8], K[64], f[8];
+  for (int a = 0; a < 4; ++a) {
+    const double x = xy[2 * a], y = xy[2 * a + 1];
+    u[2 * a] = kappa * x * y, u[2 * a + 1] = -0.5 * kappa * (x * x + nu * y * y);
+  }
+  const double exact = 2.0 / 3.0 * E * kappa * kappa * h;
+  double energy[2];
+  for (int k = 0; k < 2; ++k) {
+    cr_assert_eq((k ? peri_fem_quad4_stiffness : peri_fem_quad4_incompatible_stiffness)(xy, E, nu, PERI_PLANE_STRESS,
+                                                                                       h, K), PERI_OK);
+    multiply(8, K, u, f);
+    energy[k] = 0.0;
+    for (int r = 0; r < 8; ++r) energy[k] += 0.5 * u[r] * f[r];
+  }
+  cr_expect(fabs(energy[0] - exact) <= RTOL * exact, "QM6 bending energy %.17g, exact %.17g", energy[0], exact);
+  cr_expect_gt(energy[1], 1.1 * exact, "the plain Q4 locks: energy %g against %g", energy[1], exact);
+  /* the patch test on the distorted 2 x 2 patch of fem_quad4 */
+  double X[9][2];
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) X[3 * j + i][0] = i, X[3 * j + i][1] = j;
+  X[4][0] = 1.17, X[4][1] = 0.86;
+  const double a0[2] = {0.3, -0.1}, H[2][2] = {{0.02, -0.013}, {0.007, -0.031}};
+  double U[18], F[18] = {0};
+  for (int n = 0; n < 9; ++n)
+    for (int d = 0; d < 2; ++d) U[2 * n + d] = a0[d] + H[d][0] * X[n][0] + H[d][1] * X[n][1];
+  for (int ej = 0; ej < 2; ++ej)
+    for (int ei = 0; ei < 2; ++ei) {
+      const int nodes[4] = {3 * ej + ei, 3 * ej + ei + 1, 3 * (ej + 1) + ei + 1, 3 * (ej + 1) + ei};
+      double exy[8], ue[8], fe[8];
+      for (int k = 0; k < 4; ++k)
+        for (int d = 0; d < 2; ++d) exy[2 * k + d] = X[nodes[k]][d], ue[2 * k + d] = U[2 * nodes[k] + d];
+      cr_assert_eq(peri_fem_quad4_incompatible_stiffness(exy, 1.0, 1.0 / 3.0, PERI_PLANE_STRESS, 1.0, K), PERI_OK);
+      multiply(8, K, ue, fe);
+      for (int k = 0; k < 4; ++k)
+        for (int d = 0; d < 2; ++d) F[2 * nodes[k] + d] += fe[2 * k + d];
+    }
+  const double scale = max_abs(18, F);
+  cr_expect(fabs(F[8]) <= RTOL * scale && fabs(F[9]) <= RTOL * scale, "interior node force %g %g (scale %g)", F[8],
+            F[9], scale);
 }
 
 static void cube(double x0, double y0, double z0, double L, double xyz[24]) {
