@@ -11,7 +11,7 @@ PORTABLE ?=
 CMAKE_OPTIONS := $(if $(PREFIX),-DCMAKE_INSTALL_PREFIX=$(PREFIX)) \
                  $(if $(PORTABLE),-DPERI_NATIVE=$(if $(filter 1 yes on ON true,$(PORTABLE)),OFF,ON))
 
-.PHONY: all deps configure build run test install bench bench-plate bench-coupling clean
+.PHONY: all deps configure build run test install bench bench-plate bench-coupling bench-notch clean
 
 all: build
 
@@ -39,6 +39,7 @@ bench: build
 	@scripts/install-deps --bench
 	@bench/run
 	@PERI=$(BUILD)/peri bench/dayone
+	@PERI=$(BUILD)/peri bench/refined_notch
 
 # quasi-static solvers on the plate with a hole at ~10^6 unknowns (over an hour; not in `make test`)
 bench-plate: build
@@ -47,6 +48,10 @@ bench-plate: build
 # coupled (PD-FEM, adaptive switching) against all-PD three-point bending: unknowns, time, memory
 bench-coupling: build
 	@PERI=$(BUILD)/peri bench/coupling_3pb
+
+# the refined notch on its graded grid against the uniformly fine beam (docs/variable_horizon.md)
+bench-notch: build
+	@PERI=$(BUILD)/peri bench/refined_notch
 
 clean:
 	rm -rf $(BUILD) output

@@ -38,6 +38,7 @@ typedef struct peri_horizon_field {
   double *bond_length;    /* [n_bonds] |xi| of directed bond k */
   double *bond_state;     /* [n_bonds] t_i<xi_ij> / e: c_i omega beta_i / (2 |xi|) */
   double *bond_pair;      /* [n_bonds] (t_ij + t_ji) V_j / e of bond k */
+  double *bond_critical;  /* [n_bonds] the critical elongation s0 |xi| of bond k (INFINITY: never breaks) */
   double *partial_stress; /* [9 n] nu0_i = sum_j T_i<xi_ij> (x) xi_ij V_j, row-major */
   /* the least-squares gradient stencil of each coupled node (src/model/partial_stress.c) */
   int64_t *stencil_offset;/* [n + 1] */

@@ -94,6 +94,7 @@ void peri_horizon_field_free(peri_horizon_field *h) {
   free(h->bond_length);
   free(h->bond_state);
   free(h->bond_pair);
+  free(h->bond_critical);
   free(h->partial_stress);
   free(h->stencil_offset);
   free(h->stencil_node);

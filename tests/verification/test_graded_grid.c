@@ -145,3 +145,46 @@ static void check_patch(const char *model) {
 
 Test(graded_grid, patch_pmb_1d) { check_patch("pmb"); }
 Test(graded_grid, patch_lps_1d) { check_patch("lps"); }
+
+/* Breaking on the graded 1D bar (full PD, the one-pass PMB loop): a critical stretch from a
+ * fracture energy scales as delta^-1/2 (docs/variable_horizon.md, "Bonds and per-node
+ * constants"), so a bond's is that of its larger horizon, s0_c at the coarse 6 mm and
+ * sqrt(2) s0_c between two fine 3 mm nodes. Under u = H x every bond has the stretch H: with
+ * s0_c < H = 1.2 s0_c < sqrt(2) s0_c exactly the bonds with a coarse end break, in both
+ * directions, and none between two fine nodes. */
+Test(graded_grid, breaking_follows_the_horizon) {
+  char deck[2048];
+  snprintf(deck, sizeof deck,
+           "dimension: 1\n"
+           "materials:\n  mat: {model: pmb, density: 2700, youngs_modulus: %.17g, fracture_energy: 100.0}\n"
+           "discretization:\n  spacing: %.17g\n  m: %g\n  partial_stress: none\n  cross_section: 1.0e-4\n"
+           "  fill:\n"
+           "    - {shape: box, min: [-0.05], max: [-0.01], spacing: 2.0e-3}\n"
+           "    - {shape: box, min: [-0.01], max: [0.01]}\n"
+           "    - {shape: box, min: [0.01], max: [0.05], spacing: 2.0e-3}\n"
+           "solver: {type: explicit, steps: 1}\n"
+           "output: {picture: false}\n",
+           E_MOD, FINE, M_RATIO);
+  peri_sim s;
+  cr_assert_eq(sim_from_string(&s, deck), 0, "deck:\n%s", deck);
+  const peri_horizon_field *h = s.disc.horizon_field;
+  const double s0_coarse = s.mat.pair_s0[0] * sqrt(h->max / (M_RATIO * COARSE)); /* the table is at max */
+  for (int32_t i = 0; i < s.disc.p.n; ++i) s.disc.p.u[3 * i] = 1.2 * s0_coarse * s.disc.p.x[3 * i];
+  const long broken = s.mat.model->force(&s);
+  const peri_bonds *b = &s.disc.bonds;
+  long expected = 0, wrong = 0;
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i)
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      const int32_t j = b->neighbor[k];
+      const bool coarse_end = h->delta[i] > 1.5 * M_RATIO * FINE || h->delta[j] > 1.5 * M_RATIO * FINE;
+      expected += coarse_end;
+      wrong += (b->broken[k] != 0) != coarse_end;
+    }
+  cr_log_info("graded 1D bar at 1.2 s0_c: %ld of %ld directed bonds broken, %ld expected", broken,
+              (long)b->n_bonds, expected);
+  cr_assert_gt(expected, 0);
+  cr_assert_lt(expected, b->n_bonds, "no fine-fine bond: the test would be vacuous");
+  cr_expect_eq(wrong, 0, "%ld directed bonds broken against the delta^-1/2 scaling", wrong);
+  cr_expect_eq(broken, expected);
+  peri_sim_free(&s);
+}
