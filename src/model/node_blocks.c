@@ -179,8 +179,9 @@ static void build(peri_node_blocks *nb, const peri_sim *s) {
   nb->generic = s->disc.generic_bond_loops;
 }
 
-/* a template entry: the neighbour (int32) and two lane masks */
-#define TEMPLATE_ENTRY_BYTES (sizeof(int32_t) + 2)
+/* a template entry: the neighbour (int32), two lane masks and the eight lanes' reference
+ * lengths (tpl_r0, which the PMB and LPS loops build) */
+#define TEMPLATE_ENTRY_BYTES (sizeof(int32_t) + 2 + sizeof(double) * PERI_BLOCK)
 
 double peri_node_blocks_share(const peri_sim *s, double *template_bytes_per_bond) {
   const peri_node_blocks *nb = s->disc.node_blocks;
