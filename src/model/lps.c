@@ -76,21 +76,19 @@ static inline lps_centre lps_centre_of(const peri_bond_view *w, int32_t i, bool 
 /* Pass 1, bond i-j: the weight w = omega |xi| beta V_j of the sums sum w (e - eth_i |xi|) and
  * sum w |xi| (returned in *q and *r0_out), the mechanical stretch when `smin` (else 0) and,
  * in *excess_out, a number positive when the stretch passes the screening bound. Both loops
- * below evaluate every bond through this one function (the block loop with the reference
- * length from the template, `r0_tabled`: the same expression, computed once). No division
- * unless the stretch itself is asked for (the LAMMPS-form critical stretch). */
+ * below evaluate every bond through this one function. No division unless the stretch
+ * itself is asked for (the LAMMPS-form critical stretch). */
 static inline __attribute__((always_inline)) double lps_bond_sums(const lps_centre ci_value,
                                                                   const peri_family_eval *fam, double xj0,
                                                                   double xj1, double xj2, double uj0, double uj1,
                                                                   double uj2, double eth_j, double bound_j,
-                                                                  double V_j, double r0_tabled, bool tabled,
-                                                                  bool thermal, peri_influence influence,
+                                                                  double V_j, bool thermal, peri_influence influence,
                                                                   bool uniform, bool smin, double *q, double *r0_out,
                                                                   double *stretch_out, double *excess_out) {
   const lps_centre *ci = &ci_value;
   const double x0 = xj0 - ci->x0, x1 = xj1 - ci->x1, x2 = xj2 - ci->x2;
   const double y0 = x0 + (uj0 - ci->u0), y1 = x1 + (uj1 - ci->u1), y2 = x2 + (uj2 - ci->u2);
-  const double r0 = tabled ? r0_tabled : peri_length3(x0, x1, x2);
+  const double r0 = peri_length3(x0, x1, x2);
   const double e_total = peri_length3(y0, y1, y2) - r0;
   /* the mechanical extension: the stretch times r0 */
   double e_mech = e_total;
@@ -105,19 +103,18 @@ static inline __attribute__((always_inline)) double lps_bond_sums(const lps_cent
 }
 
 /* Pass 2, bond i-j: the factor g of the force density g (y_j - y_i) on i, with t_ij + t_ji =
- * omega (|xi| (D_i + D_j) + e (B_i + B_j)); `r0_tabled` as in pass 1. */
+ * omega (|xi| (D_i + D_j) + e (B_i + B_j)). */
 static inline __attribute__((always_inline)) double lps_bond_force(const lps_centre ci_value,
                                                                    const peri_family_eval *fam, double xj0,
                                                                    double xj1, double xj2, double uj0, double uj1,
                                                                    double uj2, double D_j, double B_j, double V_j,
-                                                                   double r0_tabled, bool tabled,
                                                                    peri_influence influence, bool uniform, double *y0,
                                                                    double *y1, double *y2) {
   const lps_centre *ci = &ci_value;
   const double x0 = xj0 - ci->x0, x1 = xj1 - ci->x1, x2 = xj2 - ci->x2;
   const double d0 = x0 + (uj0 - ci->u0), d1 = x1 + (uj1 - ci->u1), d2 = x2 + (uj2 - ci->u2);
   *y0 = d0, *y1 = d1, *y2 = d2;
-  const double r0 = tabled ? r0_tabled : peri_length3(x0, x1, x2);
+  const double r0 = peri_length3(x0, x1, x2);
   const double r = peri_length3(d0, d1, d2);
   const double t = fma(r0, ci->D + D_j, (r - r0) * (ci->B + B_j));
   const double bv = peri_eval_beta(fam, r0) * (uniform ? ci->V : V_j);
@@ -160,7 +157,7 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
       for (int a = 0; a < n; ++a) {
         const int32_t j = nbr[a];
         g[a] = lps_bond_force(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], D[j], B[j],
-                              uniform ? 0.0 : V[j], 0.0, false, influence, uniform, &v0[a], &v1[a], &v2[a]);
+                              uniform ? 0.0 : V[j], influence, uniform, &v0[a], &v1[a], &v2[a]);
       }
       for (int a = 0; a < n; ++a) {
         s0 = fma(g[a], v0[a], s0);
@@ -173,7 +170,7 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
         const int32_t j = nbr[a];
         double s, e;
         g[a] = lps_bond_sums(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], thermal ? eth[j] : 0.0,
-                             energy ? 0.0 : s0_bound[j], uniform ? 0.0 : V[j], 0.0, false, thermal, influence, uniform,
+                             energy ? 0.0 : s0_bound[j], uniform ? 0.0 : V[j], thermal, influence, uniform,
                              track_smin, &v0[a], &v1[a], &s, &e);
         if (energy) v2[a] = v0[a] * v0[a] / v1[a];
         if (track_smin) smin = peri_min(smin, s);
@@ -195,8 +192,7 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
  * is contiguous. Same sums as lps_node. */
 static inline __attribute__((always_inline)) void lps_block(const peri_bond_view *w, int32_t i0,
                                                             const int32_t *restrict tj,
-                                                            const uint8_t *restrict lanes,
-                                                            const double *restrict r0_entries, int64_t count,
+                                                            const uint8_t *restrict lanes, int64_t count,
                                                             bool force, bool thermal, peri_influence influence,
                                                             bool uniform, bool track_smin, bool energy,
                                                             lps_sums out[PERI_BLOCK]) {
@@ -232,8 +228,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
         const lps_centre c = {c0[l], c1[l], c2[l], cu0[l], cu1[l], cu2[l], 0.0, 0.0, cV[l], cD[l], cB[l]};
         double y0, y1, y2;
         const double g = lps_bond_force(c, &fam, A0[l], A1[l], A2[l], E0[l], E1[l], E2[l], Dj[l], Bj[l],
-                                        uniform ? 0.0 : Vj[l], r0_entries[PERI_BLOCK * a + l], true, influence,
-                                        uniform, &y0, &y1, &y2);
+                                        uniform ? 0.0 : Vj[l], influence, uniform, &y0, &y1, &y2);
         /* (a lane without the bond adds exactly 0, the sums starting at +0: an unconditional
          * update keeps the sums in registers, where a conditional one would store them to
          * memory at every entry and stall on the reload at the next) */
@@ -249,8 +244,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
         const lps_centre c = {c0[l], c1[l], c2[l], cu0[l], cu1[l], cu2[l], ceth[l], cbound[l], cV[l], 0.0, 0.0};
         double q, r0, s, e;
         const double wt = lps_bond_sums(c, &fam, A0[l], A1[l], A2[l], E0[l], E1[l], E2[l], thermal ? Ej[l] : 0.0,
-                                        energy ? 0.0 : Sj[l], uniform ? 0.0 : Vj[l], r0_entries[PERI_BLOCK * a + l],
-                                        true, thermal, influence, uniform,
+                                        energy ? 0.0 : Sj[l], uniform ? 0.0 : Vj[l], thermal, influence, uniform,
                                         track_smin, &q, &r0, &s, &e);
         /* unconditional updates, as in the force pass */
         const bool on = on_lanes[l] != 0.0;
@@ -278,16 +272,15 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
  * vector loops. */
 typedef struct lps_loops {
   lps_sums (*node)(const peri_bond_view *, int32_t);
-  void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, const double *, int64_t,
-                lps_sums *);
+  void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, lps_sums *);
 } lps_loops;
 #define LPS_VARIANT(NAME, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY)                                \
   static lps_sums NAME##_node(const peri_bond_view *w, int32_t i) {                                       \
     return lps_node(w, i, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY);                               \
   }                                                                                                        \
   static void NAME##_block(const peri_bond_view *w, int32_t i0, const int32_t *tj, const uint8_t *lanes,   \
-                           const double *r0, int64_t count, lps_sums *out) {                               \
-    lps_block(w, i0, tj, lanes, r0, count, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, out);         \
+                           int64_t count, lps_sums *out) {                                                 \
+    lps_block(w, i0, tj, lanes, count, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, out);             \
   }                                                                                                        \
   static const lps_loops NAME = {NAME##_node, NAME##_block};
 /* Pass 1 by influence function (constant on a grid, constant, inverse, Gaussian), without
@@ -332,7 +325,6 @@ static const lps_loops *lps_pass1_loops(const peri_sim *s, const peri_node_block
  * stay in its core's cache (small chunks dealt out in turn made each core reload the rows the
  * other had just read). */
 #define LPS_FOR_EACH_NODE(items, loops, w, breaking, ...)                                                \
-  const double *tpl_r0 = peri_node_blocks_lengths(items, true);                                           \
   _Pragma("omp parallel reduction(+ : n_broken)")                                                         \
   PERI_FOR_EACH_ITEM(items, item) {                                                                       \
     const int32_t i0 = (items)->first[item], i1 = (items)->first[item + 1];                               \
@@ -340,15 +332,14 @@ static const lps_loops *lps_pass1_loops(const peri_sim *s, const peri_node_block
     const bool block = peri_item_is_block(items, item);                                                    \
     const int64_t t0 = (items)->tpl[item], entries = (items)->tpl[item + 1] - t0;                         \
     if (block) {                                                                                           \
-      (loops)->block(&(w), i0, (items)->tpl_node + t0, (items)->tpl_lanes + t0, tpl_r0 + PERI_BLOCK * t0,  \
-                     entries, sums);           \
+      (loops)->block(&(w), i0, (items)->tpl_node + t0, (items)->tpl_lanes + t0, entries, sums);           \
     } else {                                                                                               \
       for (int32_t i = i0; i < i1; ++i) sums[i - i0] = (loops)->node(&(w), i);                            \
     }                                                                                                      \
     if (breaking)                                                                                          \
       PERI_BREAK_AND_RECOMPUTE(s, items, item, i0, i1, sums, block, n_broken,                              \
                                (loops)->block(&(w), i0, (items)->tpl_node + t0, (items)->tpl_lanes + t0,   \
-                                              tpl_r0 + PERI_BLOCK * t0, entries, sums),                                              \
+                                              entries, sums),                                              \
                                sums[i - i0] = (loops)->node(&(w), i));                                     \
     for (int32_t i = i0; i < i1; ++i) {                                                                   \
       lps_sums *r = &sums[i - i0];                                                                         \

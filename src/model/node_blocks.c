@@ -122,8 +122,6 @@ static void sync_broken(peri_node_blocks *nb, const peri_bonds *b) {
 static void build(peri_node_blocks *nb, const peri_sim *s) {
   const peri_bonds *b = &s->disc.bonds;
   const int32_t n_owned = s->disc.p.n_owned, n = s->disc.p.n;
-  free(nb->tpl_r0);
-  nb->tpl_r0 = NULL;
   free(nb->first);
   free(nb->tpl);
   free(nb->tpl_node);
@@ -179,9 +177,8 @@ static void build(peri_node_blocks *nb, const peri_sim *s) {
   nb->generic = s->disc.generic_bond_loops;
 }
 
-/* a template entry: the neighbour (int32), two lane masks and the eight lanes' reference
- * lengths (tpl_r0, which the PMB and LPS loops build) */
-#define TEMPLATE_ENTRY_BYTES (sizeof(int32_t) + 2 + sizeof(double) * PERI_BLOCK)
+/* a template entry: the neighbour (int32) and two lane masks */
+#define TEMPLATE_ENTRY_BYTES (sizeof(int32_t) + 2)
 
 double peri_node_blocks_share(const peri_sim *s, double *template_bytes_per_bond) {
   const peri_node_blocks *nb = s->disc.node_blocks;
@@ -219,29 +216,8 @@ peri_node_blocks *peri_node_blocks_refresh(peri_sim *s) {
   return nb;
 }
 
-const double *peri_node_blocks_lengths(peri_node_blocks *nb, bool fused) {
-  if (nb->tpl_r0 && nb->tpl_r0_fused == fused) return nb->tpl_r0;
-  if (!nb->tpl_r0) nb->tpl_r0 = peri_malloc(sizeof(double) * PERI_BLOCK * (size_t)(nb->tpl_entries > 0 ? nb->tpl_entries : 1));
-  nb->tpl_r0_fused = fused;
-  const size_t n = (size_t)nb->n;
-  const double *X0 = nb->soa, *X1 = nb->soa + n, *X2 = nb->soa + 2 * n;
-  double *r0 = nb->tpl_r0;
-#pragma omp parallel for schedule(dynamic, 64)
-  for (int32_t item = 0; item < nb->n_items; ++item) {
-    const int32_t i0 = nb->first[item];
-    for (int64_t a = nb->tpl[item]; a < nb->tpl[item + 1]; ++a)
-      for (int l = 0; l < PERI_BLOCK; ++l) {
-        const int64_t i = i0 + l, j = (int64_t)nb->tpl_node[a] + l;
-        const double x0 = X0[j] - X0[i], x1 = X1[j] - X1[i], x2 = X2[j] - X2[i];
-        r0[PERI_BLOCK * a + l] = fused ? peri_length3(x0, x1, x2) : sqrt(x0 * x0 + x1 * x1 + x2 * x2);
-      }
-  }
-  return r0;
-}
-
 void peri_node_blocks_free(struct peri_node_blocks *nb) {
   if (!nb) return;
-  free(nb->tpl_r0);
   free(nb->first);
   free(nb->tpl);
   free(nb->tpl_node);

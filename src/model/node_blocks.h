@@ -39,12 +39,6 @@ typedef struct peri_node_blocks {
   bool generic;
   /* structure-of-arrays copies the loops read: x0 x1 x2 u0 u1 u2, n each */
   double *soa;
-  /* template entries: the reference bond lengths |x_{j+l} - x_{i0+l}| of the eight lanes
-   * (PERI_BLOCK per entry; peri_node_blocks_lengths), so that the block loops take one
-   * square root per bond instead of two: on processors whose divider is slow (Intel's
-   * 512-bit sqrt and division) the square roots and divisions bound the loops */
-  double *tpl_r0;
-  bool tpl_r0_fused; /* which expression tpl_r0 holds (peri_length3 or the plain sum) */
 } peri_node_blocks;
 
 /* The work items of s (built on first use, and again when the bonds change), with the
@@ -53,12 +47,6 @@ typedef struct peri_node_blocks {
  * loops, peri_bonds.broken_edits). With s->disc.generic_bond_loops set every item is a single
  * node (tests compare the two paths). */
 peri_node_blocks *peri_node_blocks_refresh(peri_sim *s);
-
-/* The reference bond lengths of the template entries (tpl_r0), built on first use after the
- * items: sqrt(fma(x2, x2, fma(x1, x1, x0 * x0))) when `fused` (peri_length3, the LPS loops),
- * else sqrt(x0 * x0 + x1 * x1 + x2 * x2) (the PMB loops), x = x_j - x_i, so that the block
- * loops read bit for bit the length the node loops compute. */
-const double *peri_node_blocks_lengths(peri_node_blocks *nb, bool fused);
 
 /* Breaks, in node i's family (node i of item `item`), every intact bond beyond its critical
  * stretch (exact test, symmetric in i and j) and clears the broken bonds from the item's lane

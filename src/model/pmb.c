@@ -39,13 +39,11 @@ static inline pmb_centre pmb_centre_of(const peri_bond_view *w, int32_t i, bool 
 /* Bond i-j: the factor g of the pair force density g (y_j - y_i) on i, with (y0, y1, y2) =
  * y_j - y_i, the mechanical stretch, and its margin above the screening bound. Both loops
  * below evaluate every bond through this one function, so a node's bonds give the same
- * numbers whichever loop runs them; the block loop passes the reference length from the
- * template (`r0_tabled`, peri_node_blocks_lengths: the same expression, computed once). */
+ * numbers whichever loop runs them. */
 static inline __attribute__((always_inline)) double pmb_bond(const pmb_centre ci_value, const peri_family_eval *fam,
                                                              double xj0, double xj1, double xj2, double uj0,
                                                              double uj1, double uj2, double cj, double eth_j,
-                                                             double bound_j, double V_j, double r0_tabled,
-                                                             bool tabled, bool multi, bool thermal,
+                                                             double bound_j, double V_j, bool multi, bool thermal,
                                                              peri_influence influence, bool uniform, double *y0,
                                                              double *y1, double *y2, double *stretch_out,
                                                              double *excess_out) {
@@ -53,7 +51,7 @@ static inline __attribute__((always_inline)) double pmb_bond(const pmb_centre ci
   const double x0 = xj0 - ci->x0, x1 = xj1 - ci->x1, x2 = xj2 - ci->x2;
   const double d0 = x0 + (uj0 - ci->u0), d1 = x1 + (uj1 - ci->u1), d2 = x2 + (uj2 - ci->u2);
   *y0 = d0, *y1 = d1, *y2 = d2;
-  const double r0 = tabled ? r0_tabled : sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+  const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
   const double r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
   const double inv_r0_r = 1.0 / (r0 * r); /* the loop's one division */
   double stretch = (r - r0) * r * inv_r0_r;
@@ -96,8 +94,8 @@ static inline __attribute__((always_inline)) pmb_sums pmb_node(const peri_bond_v
       const int32_t j = nbr[a];
       double s, e;
       g[a] = pmb_bond(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], multi ? c_node[j] : 0.0,
-                      thermal ? eth[j] : 0.0, s0_bound[j], uniform ? 0.0 : V[j], 0.0, false, multi, thermal, influence,
-                      uniform, &y0[a], &y1[a], &y2[a], &s, &e);
+                      thermal ? eth[j] : 0.0, s0_bound[j], uniform ? 0.0 : V[j], multi, thermal, influence, uniform,
+                      &y0[a], &y1[a], &y2[a], &s, &e);
       if (track_smin) smin = peri_min(smin, s);
       excess = peri_max(excess, e);
     }
@@ -116,8 +114,7 @@ static inline __attribute__((always_inline)) pmb_sums pmb_node(const peri_bond_v
  * contiguous. Same sums as pmb_node. */
 static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view *w, int32_t i0,
                                                             const int32_t *restrict tj,
-                                                            const uint8_t *restrict lanes,
-                                                            const double *restrict r0_entries, int64_t count,
+                                                            const uint8_t *restrict lanes, int64_t count,
                                                             bool multi, bool thermal, peri_influence influence,
                                                             bool uniform, bool track_smin,
                                                             pmb_sums out[PERI_BLOCK]) {
@@ -128,8 +125,7 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
   /* the eight centres as arrays (one vector each), fx .. beyond the lanes' running sums */
   double c0[PERI_BLOCK], c1[PERI_BLOCK], c2[PERI_BLOCK], cu0[PERI_BLOCK], cu1[PERI_BLOCK], cu2[PERI_BLOCK],
       cc[PERI_BLOCK], ceth[PERI_BLOCK], cbound[PERI_BLOCK], cV[PERI_BLOCK];
-  double fx[PERI_BLOCK], fy[PERI_BLOCK], fz[PERI_BLOCK], smin[PERI_BLOCK], beyond[PERI_BLOCK],
-      stretch_on[PERI_BLOCK];
+  double fx[PERI_BLOCK], fy[PERI_BLOCK], fz[PERI_BLOCK], smin[PERI_BLOCK], beyond[PERI_BLOCK];
   for (int l = 0; l < PERI_BLOCK; ++l) {
     const pmb_centre c = pmb_centre_of(w, i0 + l, thermal);
     c0[l] = c.x0, c1[l] = c.x1, c2[l] = c.x2, cu0[l] = c.u0, cu1[l] = c.u1, cu2[l] = c.u2;
@@ -151,23 +147,24 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
       const pmb_centre c = {c0[l], c1[l], c2[l], cu0[l], cu1[l], cu2[l], cc[l], ceth[l], cbound[l], cV[l]};
       double y0, y1, y2, s, e;
       const double g = pmb_bond(c, &fam, A0[l], A1[l], A2[l], B0[l], B1[l], B2[l], multi ? Cj[l] : 0.0,
-                                thermal ? Ej[l] : 0.0, Sj[l], uniform ? 0.0 : Vj[l], r0_entries[PERI_BLOCK * a + l],
-                                true, multi, thermal, influence, uniform, &y0, &y1, &y2, &s, &e);
+                                thermal ? Ej[l] : 0.0, Sj[l], uniform ? 0.0 : Vj[l], multi, thermal, influence,
+                                uniform, &y0, &y1, &y2, &s, &e);
       const bool on = on_lanes[l] != 0.0;
-      /* a lane without the bond adds exactly 0 (the sums start at +0, so are never -0):
-       * unconditional updates keep the sums in registers, where conditional ones are masked
-       * stores to memory, reloaded at the next template entry (a masked store does not
-       * forward to the load on Intel processors: a stall per entry) */
-      const double g_on = on ? g : 0.0;
-      fx[l] = fma(g_on, y0, fx[l]);
-      fy[l] = fma(g_on, y1, fy[l]);
-      fz[l] = fma(g_on, y2, fz[l]);
-      stretch_on[l] = on ? s : INFINITY;
+      if (track_smin) { /* (GCC stores a conditional minimum to memory whatever its form) */
+        fx[l] = on ? fma(g, y0, fx[l]) : fx[l];
+        fy[l] = on ? fma(g, y1, fy[l]) : fy[l];
+        fz[l] = on ? fma(g, y2, fz[l]) : fz[l];
+        smin[l] = on ? peri_min(smin[l], s) : smin[l];
+      } else {
+        /* a lane without the bond adds exactly 0 (the sums start at +0, so are never -0):
+         * unconditional updates keep the sums in registers, where conditional ones would
+         * be stored to memory and reloaded at every template entry */
+        const double g_on = on ? g : 0.0;
+        fx[l] = fma(g_on, y0, fx[l]);
+        fy[l] = fma(g_on, y1, fy[l]);
+        fz[l] = fma(g_on, y2, fz[l]);
+      }
       beyond[l] += on && e > 0.0 ? 1.0 : 0.0; /* the bonds beyond the screening bound */
-    }
-    if (track_smin) { /* (in a loop of its own, the minimum too stays in a register) */
-#pragma omp simd
-      for (int l = 0; l < PERI_BLOCK; ++l) smin[l] = peri_min(smin[l], stretch_on[l]);
     }
   }
   for (int l = 0; l < PERI_BLOCK; ++l) {
@@ -181,16 +178,15 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
  * vector loops. */
 typedef struct pmb_loops {
   pmb_sums (*node)(const peri_bond_view *, int32_t);
-  void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, const double *, int64_t,
-                pmb_sums *);
+  void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, pmb_sums *);
 } pmb_loops;
 #define PMB_VARIANT(NAME, MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN)                                        \
   static pmb_sums NAME##_node(const peri_bond_view *w, int32_t i) {                                       \
     return pmb_node(w, i, w->offset[i], w->offset[i + 1], MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN);       \
   }                                                                                                        \
   static void NAME##_block(const peri_bond_view *w, int32_t i0, const int32_t *tj, const uint8_t *lanes,   \
-                           const double *r0, int64_t count, pmb_sums *out) {                               \
-    pmb_block(w, i0, tj, lanes, r0, count, MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN, out);                 \
+                           int64_t count, pmb_sums *out) {                                                 \
+    pmb_block(w, i0, tj, lanes, count, MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN, out);                     \
   }                                                                                                        \
   static const pmb_loops NAME = {NAME##_node, NAME##_block};
 /* The specializations, without and with the minimum stretch (the LAMMPS-form critical
@@ -235,7 +231,6 @@ static long pmb_force_pass(peri_sim *s, bool update_s0) {
   const bool track_smin = s->mat.s0_node != NULL, breaking = s->solver.breaking;
   const pmb_loops *loops = pmb_loops_for(track_smin ? pmb_set_smin : pmb_set, multi, thermal, uniform, s->disc.family.influence);
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
-  const double *tpl_r0 = peri_node_blocks_lengths(items, false);
   long n_broken = 0;
 #pragma omp parallel reduction(+ : n_broken)
   PERI_FOR_EACH_ITEM(items, item) {
@@ -244,13 +239,13 @@ static long pmb_force_pass(peri_sim *s, bool update_s0) {
     const bool block = peri_item_is_block(items, item);
     const int64_t t0 = items->tpl[item], entries = items->tpl[item + 1] - t0;
     if (block) {
-      loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, tpl_r0 + PERI_BLOCK * t0, entries, sums);
+      loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums);
     } else {
       for (int32_t i = i0; i < i1; ++i) sums[i - i0] = loops->node(&w, i);
     }
     if (breaking)
       PERI_BREAK_AND_RECOMPUTE(s, items, item, i0, i1, sums, block, n_broken,
-                               loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, tpl_r0 + PERI_BLOCK * t0, entries, sums),
+                               loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums),
                                sums[i - i0] = loops->node(&w, i));
     for (int32_t i = i0; i < i1; ++i) {
       pmb_sums *r = &sums[i - i0];
