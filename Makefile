@@ -11,7 +11,7 @@ PORTABLE ?=
 CMAKE_OPTIONS := $(if $(PREFIX),-DCMAKE_INSTALL_PREFIX=$(PREFIX)) \
                  $(if $(PORTABLE),-DPERI_NATIVE=$(if $(filter 1 yes on ON true,$(PORTABLE)),OFF,ON))
 
-.PHONY: all deps configure build run test install bench bench-plate bench-coupling bench-notch clean
+.PHONY: all deps configure build run test install bench bench-peers bench-plate bench-coupling bench-notch clean
 
 all: build
 
@@ -40,6 +40,11 @@ bench: build
 	@bench/run
 	@PERI=$(BUILD)/peri bench/dayone
 	@PERI=$(BUILD)/peri bench/refined_notch
+
+# Peridigm (built from ../shared/peers, Debian's Trilinos) and peri on the fragmenting cylinder
+bench-peers: build
+	@scripts/install-deps --peers
+	@PERI=$(BUILD)/peri BUILD=$(BUILD) bench/peers/cylinder_side_by_side
 
 # quasi-static solvers on the plate with a hole at ~10^6 unknowns (over an hour; not in `make test`)
 bench-plate: build
