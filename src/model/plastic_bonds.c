@@ -118,6 +118,9 @@ peri_plastic_pass peri_plastic_pass_begin(peri_sim *s) {
                          peri_malloc(sizeof(double) * (size_t)(nm * nm)),
                          peri_malloc(sizeof(double) * (size_t)(nm * nm)),
                          false,
+                         peri_calloc((size_t)(nm * nm), sizeof(double)),
+                         peri_calloc((size_t)(nm * nm), sizeof(double)),
+                         false,
                          NULL};
   const peri_particles *p = &s->disc.p;
   for (int a = 0; a < nm; ++a)
@@ -132,6 +135,10 @@ peri_plastic_pass peri_plastic_pass_begin(peri_sim *s) {
       t.work[a * nm + b] = fmin(wa, wb);
       t.energetic |= isfinite(t.work[a * nm + b]);
       t.c[a * nm + b] = 0.5 * (bond_micromodulus(s, a) + bond_micromodulus(s, b));
+      if (sl && sl->rate_d > 0.0) {
+        t.rate_d[a * nm + b] = sl->rate_d, t.rate_inv_p[a * nm + b] = 1.0 / sl->rate_p;
+        t.rate = true;
+      }
       for (int l = 0; l < L; ++l) {
         const bool real = sl && l < sl->n;
         t.W[(a * nm + b) * L + l] = real ? sl->weight[l] : 0.0;
@@ -155,11 +162,15 @@ peri_plastic_pass peri_plastic_pass_begin(peri_sim *s) {
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n; ++i) t.screen[i] = fmin(p->s0_bound[i], yield_screen[p->material[i]]);
   free(yield_screen);
+  /* the stretch rates read the ghosts' velocities (the explicit solver updates the owned
+   * nodes' only) */
+  if (t.rate) peri_sim_exchange(s, s->disc.p.v, 3);
   return t;
 }
 
 void peri_plastic_pass_end(peri_plastic_pass *t) {
   free(t->W), free(t->Y), free(t->critical), free(t->work), free(t->c), free(t->screen);
+  free(t->rate_d), free(t->rate_inv_p);
 }
 
 /* Node i's bonds a chunk at a time: the deformed vectors, stretches and the margin over the
@@ -174,6 +185,7 @@ struct peri_plastic_chunk {
   int32_t j[PLASTIC_CHUNK];
   double y0[PLASTIC_CHUNK], y1[PLASTIC_CHUNK], y2[PLASTIC_CHUNK], r[PLASTIC_CHUNK], r0[PLASTIC_CHUNK],
       s[PLASTIC_CHUNK], se[PLASTIC_CHUNK], intact[PLASTIC_CHUNK];
+  double scale[PLASTIC_CHUNK]; /* of the yield stretches (Cowper-Symonds; else 1) */
 };
 typedef struct peri_plastic_chunk plastic_chunk;
 
@@ -191,7 +203,7 @@ static inline __attribute__((always_inline)) bool plastic_return_chunk(peri_sim 
   double *restrict out = s->state.plastic_stretch + k0 * L;
   const bool committed = s->state.plastic_committed != NULL;
   const double *base = committed ? s->state.plastic_committed + k0 * L : out;
-  const double *restrict cs = c->s, *restrict on = c->intact;
+  const double *restrict cs = c->s, *restrict on = c->intact, *restrict ys = c->scale;
   const int32_t *restrict cj = c->j;
   double *restrict se = c->se;
   bool yielded = false;
@@ -203,7 +215,8 @@ static inline __attribute__((always_inline)) bool plastic_return_chunk(peri_sim 
     for (int l = 0; l < L; ++l) {
       const double b = base[a * L + l];
       /* clamp to [s - s_y, s + s_y]: the return mapping of an elastic-perfectly-plastic layer */
-      const double v = on[a] != 0.0 ? peri_min(peri_max(b, st - Y[l]), st + Y[l]) : b;
+      const double y = Y[l] * ys[a];
+      const double v = on[a] != 0.0 ? peri_min(peri_max(b, st - y), st + y) : b;
       /* stored only when it changes (mapping in place, most bonds are elastic in a step: no
        * write traffic) or when mapping from the committed state */
       if (v != b || committed) out[a * L + l] = v;
@@ -258,6 +271,25 @@ static inline __attribute__((always_inline)) void plastic_chunk_map(peri_sim *s,
         c->intact[a] = 0.0;
         ++*broken;
       }
+  /* Cowper-Symonds: the yield stretches of a bond scale by 1 + (|ds/dt| / d)^(1/p), with
+   * ds/dt = (y_j - y_i).(v_j - v_i) / (|y_j - y_i| |xi|), the rate of the stretch at the
+   * step's velocities (in the explicit solver's force evaluation the mid-step ones: the
+   * stretch's change over the step divided by the time step, to first order) */
+  if (pl->rate) {
+    const double *v = s->disc.p.v;
+    const int32_t *material = s->disc.p.material;
+    const double *d = pl->rate_d + material[i] * pl->nm, *inv_p = pl->rate_inv_p + material[i] * pl->nm;
+    for (int a = 0; a < n; ++a) {
+      const int32_t j = c->j[a];
+      const double rate = (c->y0[a] * (v[3 * j] - v[3 * i]) + c->y1[a] * (v[3 * j + 1] - v[3 * i + 1]) +
+                           c->y2[a] * (v[3 * j + 2] - v[3 * i + 2])) /
+                          (c->r[a] * c->r0[a]);
+      const double dm = d[material[j]];
+      c->scale[a] = dm > 0.0 && c->r[a] > 0.0 ? 1.0 + pow(fabs(rate) / dm, inv_p[material[j]]) : 1.0;
+    }
+  } else {
+    for (int a = 0; a < n; ++a) c->scale[a] = 1.0;
+  }
   /* a constant layer count for the common ones, so the layers of a bond are one short vector */
   bool yielded;
   switch (pl->layers) {

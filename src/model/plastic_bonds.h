@@ -27,6 +27,9 @@ typedef struct peri_plastic_pass {
    * micromodulus c of the work c omega |xi| sum_k W_k phi_k (the PMB one of each end, averaged) */
   double *work, *c;
   bool energetic; /* some pair has a critical bond work */
+  /* Cowper-Symonds: [a n_materials + b] d and 1/p of the pair's sublayers (d = 0: none) */
+  double *rate_d, *rate_inv_p;
+  bool rate; /* some pair has it */
   double *screen; /* [n] min(s0 bound, first yield stretch, elastic stretch of the bond work) */
 } peri_plastic_pass;
 /* After peri_update_s0_bound (the screen takes the critical stretch's bound). */

@@ -10,7 +10,8 @@
 #    their work (stored and dissipated) reaches the w_c of G0, and the bar's stress falls by their share;
 #  - peri check reports the sublayers and the plastic state's bytes per directed bond;
 #  - bad plasticity input: file:line:column, exit 2 (weights that do not sum to 1, yield
-#    stretches that do not increase, a curve with a negative slope, a solver with trial states);
+#    stretches that do not increase, a curve with a negative slope, a solver with trial states,
+#    Cowper-Symonds constants that are not positive or with a quasi-static solver);
 #  - the thread count does not change a plastic fracture run (history and frames bitwise).
 # Usage: bash tests/cli/plasticity.sh PATH_TO_PERI   (from the repository root)
 set -u
@@ -139,6 +140,14 @@ d=$(bad_deck line "strains: [0.002, 0.004]" "stresses: [300e6, 450e6]")
 run_peri check "$d"
 expect_status 2
 expect_stderr_contains "$d:9:18: error: materials.steel.plasticity: the first point (0.002, 3e+08) must lie on the elastic line"
+d=$(bad_deck rate "weights: [1]" "yield_stretches: [0.002]" "cowper_symonds: {d: 0, p: 5}")
+run_peri check "$d"
+expect_status 2
+expect_stderr_contains "$d:10:27: error: materials.steel.plasticity.cowper_symonds: d must be a positive rate (1/s)"
+d=$(bad_deck rate_qs "weights: [1]" "yield_stretches: [0.002]" "cowper_symonds: {d: 40.4, p: 5}")
+run_peri check "$d" --set 'solver={type: adr, load_steps: 10}'
+expect_status 2
+expect_stderr_contains "$d:10:23: error: materials.steel.plasticity.cowper_symonds: rate dependence needs solver type explicit"
 run_peri check "$deck" --set solver.type=nlcg
 expect_status 2
 expect_stderr_contains "plasticity needs solver type explicit, adr or dynamic_relaxation"
