@@ -23,6 +23,9 @@ typedef struct peri_sublayers {
   /* energy failure: the bond breaks when its work w = c omega |xi| sum_k W_k phi_k reaches it
    * (J/m^6; INFINITY: never; docs/plasticity.md section 2, critical bond energy) */
   double critical_bond_work;
+  /* Cowper-Symonds rate dependence (model reference 16.3): the yield stretches scale by
+   * 1 + (|ds/dt| / rate_d)^(1 / rate_p) with the bond's stretch rate; rate_d = 0: none */
+  double rate_d, rate_p;
 } peri_sublayers;
 
 /* The bond work at which a bond breaks for the fracture energy G0, when every bond crossing a

@@ -212,6 +212,11 @@ typedef struct peri_state {
    * every iteration maps (so the iterations' path leaves no plastic trace); NULL in dynamics,
    * whose steps map from the previous step in place */
   double *plastic_committed;
+  /* [n] 1 for a node some bond of which has a nonzero plastic stretch (or had one: never
+   * cleared), and the longest bond: the plastic loops' screen (src/model/plastic_bonds.c),
+   * built from the state when NULL; whoever sets the state from outside the loops frees it */
+  uint8_t *plastic_nodes;
+  double plastic_reach;
   struct peri_restart *restart; /* checkpoint to continue from (--restart), NULL otherwise */
 } peri_state;
 

@@ -46,9 +46,27 @@ static int parse_bond_energy(const peri_sim *s, const peri_node *pl, const char 
   return PERI_OK;
 }
 
+/* cowper_symonds: {d: D (1/s), p: q}, both positive. */
+static int parse_cowper_symonds(const peri_node *pl, const char *section, peri_sublayers *sl) {
+  const peri_node *it = peri_deck_get(pl, "cowper_symonds");
+  if (!it) return PERI_OK;
+  static const char *const keys[] = {"d", "p", NULL};
+  char where[300];
+  snprintf(where, sizeof where, "%s.cowper_symonds", section);
+  if (it->kind != PERI_NODE_MAPPING) return peri_deck_error(it, "%s: expected a mapping {d: D, p: q}", where);
+  TRY(peri_deck_allow(it, where, keys));
+  TRY(peri_deck_double(it, "d", true, &sl->rate_d));
+  TRY(peri_deck_double(it, "p", true, &sl->rate_p));
+  if (!(sl->rate_d > 0.0) || !isfinite(sl->rate_d))
+    return peri_deck_error(peri_deck_get(it, "d"), "%s: d must be a positive rate (1/s)", where);
+  if (!(sl->rate_p > 0.0) || !isfinite(sl->rate_p))
+    return peri_deck_error(peri_deck_get(it, "p"), "%s: p must be positive", where);
+  return PERI_OK;
+}
+
 static int parse_one(const peri_sim *s, const peri_node *pl, peri_material *mat) {
   static const char *const keys[] = {"weights", "yield_stretches", "strains", "stresses", "power_law",
-                                     "critical_plastic_stretch", "critical_bond_energy", NULL};
+                                     "critical_plastic_stretch", "critical_bond_energy", "cowper_symonds", NULL};
   char section[200];
   snprintf(section, sizeof section, "materials.%s.plasticity", mat->name);
   TRY(peri_deck_allow(pl, section, keys));
@@ -115,6 +133,7 @@ static int parse_one(const peri_sim *s, const peri_node *pl, peri_material *mat)
                              "key 'critical_plastic_stretch': must be positive");
   }
   TRY(parse_bond_energy(s, pl, section, &sl));
+  TRY(parse_cowper_symonds(pl, section, &sl));
   mat->sublayers = peri_malloc(sizeof sl);
   *mat->sublayers = sl;
   return PERI_OK;
@@ -141,6 +160,16 @@ int peri_setup_plasticity_solver(peri_sim *s, const peri_node *root) {
                            "discretization.surface_correction: not available with plastic materials");
   }
   if (s->solver.kind == PERI_SOLVER_EXPLICIT) return PERI_OK;
+  /* the stretch rate is the bonds' rate in time (src/model/plastic_bonds.c) */
+  const peri_node *mats = peri_deck_get(root, "materials");
+  for (int m = 0; m < s->mat.n_materials; ++m)
+    if (s->mat.materials[m].sublayers && s->mat.materials[m].sublayers->rate_d > 0.0) {
+      const peri_node *pl = mats ? peri_deck_get(mats->items[m], "plasticity") : NULL;
+      return peri_deck_error(pl ? peri_deck_get(pl, "cowper_symonds") : root,
+                             "materials.%s.plasticity.cowper_symonds: rate dependence needs solver type explicit "
+                             "(a quasi-static solver has no time)",
+                             s->mat.materials[m].name);
+    }
   if (s->solver.kind == PERI_SOLVER_ADR || s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION) {
     /* load steps map from the accepted state (src/model/plastic_bonds.c) */
     const size_t n = (size_t)s->state.plastic_layers * (size_t)s->disc.bonds.n_bonds;

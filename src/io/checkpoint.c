@@ -194,6 +194,7 @@ void peri_restart_apply(peri_sim *s) {
     if (s->state.plastic_committed) /* a checkpoint is written at an accepted load step */
       memcpy(s->state.plastic_committed, s->state.plastic_stretch,
              sizeof(double) * layers * (size_t)s->disc.bonds.n_bonds);
+    free(s->state.plastic_nodes), s->state.plastic_nodes = NULL; /* (rebuilt from the state) */
   }
   memcpy(s->cond.indenter.force, r->indenter_force, sizeof r->indenter_force);
   peri_quasi_static *q = &s->solver.qs;

@@ -76,20 +76,6 @@ void peri_plastic_commit(peri_sim *s) {
            sizeof(double) * (size_t)s->state.plastic_layers * (size_t)s->disc.bonds.n_bonds);
 }
 
-/* The sublayers of every pair of materials, padded to the run's layer count with layers of
- * weight 0 that never yield, so every bond maps the same number of layers branch-free:
- * W and Y [(a n_materials + b) layers + l]; an elastic pair has only padding. */
-typedef struct pair_layers {
-  int layers, nm;
-  double *W, *Y;
-  double *critical; /* [a n_materials + b] critical plastic stretch of the pair (INFINITY: none) */
-  bool ductile;     /* some pair has one */
-  /* energy failure: [a n_materials + b] the critical bond work (INFINITY: none) and the bond
-   * micromodulus c of the work c omega |xi| sum_k W_k phi_k (the PMB one of each end, averaged) */
-  double *work, *c;
-  bool energetic;   /* some pair has a critical bond work */
-} pair_layers;
-
 /* The micromodulus of the bond work of material m: PMB's own, or for LPS that of the PMB
  * material of the same E (its bond work is then the bond-based one, as in the calibration of
  * peri_critical_bond_work). */
@@ -98,19 +84,45 @@ static double bond_micromodulus(const peri_sim *s, int m) {
   return mat->micromodulus > 0.0 ? mat->micromodulus : peri_pmb_micromodulus(&s->disc.geom, mat->E, mat->K);
 }
 
-static pair_layers pair_layers_of(const peri_sim *s) {
-  const int nm = s->mat.n_materials, L = s->state.plastic_layers;
-  pair_layers t = {L,
-                   nm,
-                   peri_malloc(sizeof(double) * (size_t)(nm * nm * L)),
-                   peri_malloc(sizeof(double) * (size_t)(nm * nm * L)),
-                   peri_malloc(sizeof(double) * (size_t)(nm * nm)),
-                   false,
-                   peri_malloc(sizeof(double) * (size_t)(nm * nm)),
-                   peri_malloc(sizeof(double) * (size_t)(nm * nm)),
-                   false};
+/* The yielded flags (s->state.plastic_nodes) from the plastic state, after the state was set
+ * from outside the loops (start, a checkpoint, a decomposition), and the longest bond. */
+static void flag_yielded_nodes(peri_sim *s) {
   const peri_particles *p = &s->disc.p;
-  (void)p;
+  const peri_bonds *b = &s->disc.bonds;
+  const int L = s->state.plastic_layers;
+  uint8_t *flags = peri_calloc((size_t)(p->n > 0 ? p->n : 1), 1);
+  double reach = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : reach)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    bool yielded = false;
+    for (int64_t k = b->offset[i] * L; k < b->offset[i + 1] * L; ++k)
+      yielded |= s->state.plastic_stretch[k] != 0.0 ||
+                 (s->state.plastic_committed && s->state.plastic_committed[k] != 0.0);
+    flags[i] = yielded;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
+      reach = fmax(reach, peri_bond_length(p->x, i, b->neighbor[k]));
+  }
+  s->state.plastic_nodes = flags;
+  s->state.plastic_reach = reach;
+}
+
+peri_plastic_pass peri_plastic_pass_begin(peri_sim *s) {
+  if (!s->state.plastic_nodes) flag_yielded_nodes(s);
+  const int nm = s->mat.n_materials, L = s->state.plastic_layers;
+  peri_plastic_pass t = {L,
+                         nm,
+                         peri_malloc(sizeof(double) * (size_t)(nm * nm * L)),
+                         peri_malloc(sizeof(double) * (size_t)(nm * nm * L)),
+                         peri_malloc(sizeof(double) * (size_t)(nm * nm)),
+                         false,
+                         peri_malloc(sizeof(double) * (size_t)(nm * nm)),
+                         peri_malloc(sizeof(double) * (size_t)(nm * nm)),
+                         false,
+                         peri_calloc((size_t)(nm * nm), sizeof(double)),
+                         peri_calloc((size_t)(nm * nm), sizeof(double)),
+                         false,
+                         NULL};
+  const peri_particles *p = &s->disc.p;
   for (int a = 0; a < nm; ++a)
     for (int b = 0; b < nm; ++b) {
       const peri_sublayers *A = s->mat.materials[a].sublayers, *B = s->mat.materials[b].sublayers;
@@ -123,16 +135,43 @@ static pair_layers pair_layers_of(const peri_sim *s) {
       t.work[a * nm + b] = fmin(wa, wb);
       t.energetic |= isfinite(t.work[a * nm + b]);
       t.c[a * nm + b] = 0.5 * (bond_micromodulus(s, a) + bond_micromodulus(s, b));
+      if (sl && sl->rate_d > 0.0) {
+        t.rate_d[a * nm + b] = sl->rate_d, t.rate_inv_p[a * nm + b] = 1.0 / sl->rate_p;
+        t.rate = true;
+      }
       for (int l = 0; l < L; ++l) {
         const bool real = sl && l < sl->n;
         t.W[(a * nm + b) * L + l] = real ? sl->weight[l] : 0.0;
         t.Y[(a * nm + b) * L + l] = real ? sl->yield[l] : INFINITY;
       }
     }
+  /* the screen of each material: the smallest first yield stretch of its pairs, and for a
+   * critical bond work the smallest stretch at which an elastic bond reaches it, s^2 =
+   * 2 w_c / (c omega |xi|), with omega |xi| at most the longest bond (1 for omega = 1/|xi|) */
+  const double omega_xi = s->disc.family.influence == PERI_INFLUENCE_INVERSE ? 1.0 : s->state.plastic_reach;
+  double *yield_screen = peri_malloc(sizeof(double) * (size_t)nm);
+  for (int a = 0; a < nm; ++a) {
+    double screen = INFINITY;
+    for (int b = 0; b < nm; ++b) {
+      screen = fmin(screen, t.Y[(a * nm + b) * L]);
+      if (isfinite(t.work[a * nm + b])) screen = fmin(screen, sqrt(2.0 * t.work[a * nm + b] / (t.c[a * nm + b] * omega_xi)));
+    }
+    yield_screen[a] = screen;
+  }
+  t.screen = peri_malloc(sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n; ++i) t.screen[i] = fmin(p->s0_bound[i], yield_screen[p->material[i]]);
+  free(yield_screen);
+  /* the stretch rates read the ghosts' velocities (the explicit solver updates the owned
+   * nodes' only) */
+  if (t.rate) peri_sim_exchange(s, s->disc.p.v, 3);
   return t;
 }
 
-static void pair_layers_free(pair_layers *t) { free(t->W), free(t->Y), free(t->critical), free(t->work), free(t->c); }
+void peri_plastic_pass_end(peri_plastic_pass *t) {
+  free(t->W), free(t->Y), free(t->critical), free(t->work), free(t->c), free(t->screen);
+  free(t->rate_d), free(t->rate_inv_p);
+}
 
 /* Node i's bonds a chunk at a time: the deformed vectors, stretches and the margin over the
  * breaking screen (a vector loop), the exact breaking test of the candidates (scalar, rare),
@@ -140,17 +179,22 @@ static void pair_layers_free(pair_layers *t) { free(t->W), free(t->Y), free(t->c
  * stretch of each layer to [s - s_y, s + s_y]), and `use` with each bond's elastic stretch.
  * Fills the chunk arrays of the caller. */
 #define PLASTIC_CHUNK 256
-typedef struct plastic_chunk {
+struct peri_plastic_chunk {
   int n;
   int64_t k0;
   int32_t j[PLASTIC_CHUNK];
   double y0[PLASTIC_CHUNK], y1[PLASTIC_CHUNK], y2[PLASTIC_CHUNK], r[PLASTIC_CHUNK], r0[PLASTIC_CHUNK],
       s[PLASTIC_CHUNK], se[PLASTIC_CHUNK], intact[PLASTIC_CHUNK];
-} plastic_chunk;
+  double scale[PLASTIC_CHUNK]; /* of the yield stretches (Cowper-Symonds; else 1) */
+};
+typedef struct peri_plastic_chunk plastic_chunk;
+
+plastic_chunk *peri_plastic_chunk_new(void) { return peri_malloc(sizeof(plastic_chunk)); }
 
 /* The return mapping of the chunk's bonds (L layers each, from the committed state or in
- * place) and their elastic stretches s - sum_l W_l s^p_l into c->se. */
-static inline __attribute__((always_inline)) void plastic_return_chunk(peri_sim *s, const pair_layers *pl, int32_t i,
+ * place) and their elastic stretches s - sum_l W_l s^p_l into c->se. Returns whether a
+ * plastic stretch of the chunk (or a committed one) is nonzero. */
+static inline __attribute__((always_inline)) bool plastic_return_chunk(peri_sim *s, const peri_plastic_pass *pl, int32_t i,
                                                                        int64_t k0, int n, plastic_chunk *c,
                                                                        const int L) {
   const int nm = pl->nm;
@@ -159,9 +203,10 @@ static inline __attribute__((always_inline)) void plastic_return_chunk(peri_sim 
   double *restrict out = s->state.plastic_stretch + k0 * L;
   const bool committed = s->state.plastic_committed != NULL;
   const double *base = committed ? s->state.plastic_committed + k0 * L : out;
-  const double *restrict cs = c->s, *restrict on = c->intact;
+  const double *restrict cs = c->s, *restrict on = c->intact, *restrict ys = c->scale;
   const int32_t *restrict cj = c->j;
   double *restrict se = c->se;
+  bool yielded = false;
   for (int a = 0; a < n; ++a) {
     const int pair = (row + material[cj[a]]) * L;
     const double *restrict W = pl->W + pair, *restrict Y = pl->Y + pair;
@@ -170,20 +215,24 @@ static inline __attribute__((always_inline)) void plastic_return_chunk(peri_sim 
     for (int l = 0; l < L; ++l) {
       const double b = base[a * L + l];
       /* clamp to [s - s_y, s + s_y]: the return mapping of an elastic-perfectly-plastic layer */
-      const double v = on[a] != 0.0 ? peri_min(peri_max(b, st - Y[l]), st + Y[l]) : b;
+      const double y = Y[l] * ys[a];
+      const double v = on[a] != 0.0 ? peri_min(peri_max(b, st - y), st + y) : b;
       /* stored only when it changes (mapping in place, most bonds are elastic in a step: no
        * write traffic) or when mapping from the committed state */
       if (v != b || committed) out[a * L + l] = v;
+      yielded |= v != 0.0 || (committed && b != 0.0);
       plastic += W[l] * v;
     }
     se[a] = st - plastic;
   }
+  return yielded;
 }
 
 static inline __attribute__((always_inline)) void plastic_chunk_map(peri_sim *s, const peri_bond_view *w,
-                                                                    const pair_layers *pl, int32_t i, int64_t k0,
+                                                                    const peri_plastic_pass *pl, int32_t i, int64_t k0,
                                                                     int n, bool breaking, bool thermal,
-                                                                    plastic_chunk *c, long *broken, double *smin) {
+                                                                    plastic_chunk *c, long *broken, double *smin,
+                                                                    bool *any_yielded) {
   const int32_t *restrict nbr = w->neighbor + k0;
   const uint8_t *restrict flag = w->broken + k0;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
@@ -222,14 +271,35 @@ static inline __attribute__((always_inline)) void plastic_chunk_map(peri_sim *s,
         c->intact[a] = 0.0;
         ++*broken;
       }
-  /* a constant layer count for the common ones, so the layers of a bond are one short vector */
-  switch (pl->layers) {
-  case 1: plastic_return_chunk(s, pl, i, k0, n, c, 1); break;
-  case 2: plastic_return_chunk(s, pl, i, k0, n, c, 2); break;
-  case 3: plastic_return_chunk(s, pl, i, k0, n, c, 3); break;
-  case 4: plastic_return_chunk(s, pl, i, k0, n, c, 4); break;
-  default: plastic_return_chunk(s, pl, i, k0, n, c, pl->layers); break;
+  /* Cowper-Symonds: the yield stretches of a bond scale by 1 + (|ds/dt| / d)^(1/p), with
+   * ds/dt = (y_j - y_i).(v_j - v_i) / (|y_j - y_i| |xi|), the rate of the stretch at the
+   * step's velocities (in the explicit solver's force evaluation the mid-step ones: the
+   * stretch's change over the step divided by the time step, to first order) */
+  if (pl->rate) {
+    const double *v = s->disc.p.v;
+    const int32_t *material = s->disc.p.material;
+    const double *d = pl->rate_d + material[i] * pl->nm, *inv_p = pl->rate_inv_p + material[i] * pl->nm;
+    for (int a = 0; a < n; ++a) {
+      const int32_t j = c->j[a];
+      const double rate = (c->y0[a] * (v[3 * j] - v[3 * i]) + c->y1[a] * (v[3 * j + 1] - v[3 * i + 1]) +
+                           c->y2[a] * (v[3 * j + 2] - v[3 * i + 2])) /
+                          (c->r[a] * c->r0[a]);
+      const double dm = d[material[j]];
+      c->scale[a] = dm > 0.0 && c->r[a] > 0.0 ? 1.0 + pow(fabs(rate) / dm, inv_p[material[j]]) : 1.0;
+    }
+  } else {
+    for (int a = 0; a < n; ++a) c->scale[a] = 1.0;
   }
+  /* a constant layer count for the common ones, so the layers of a bond are one short vector */
+  bool yielded;
+  switch (pl->layers) {
+  case 1: yielded = plastic_return_chunk(s, pl, i, k0, n, c, 1); break;
+  case 2: yielded = plastic_return_chunk(s, pl, i, k0, n, c, 2); break;
+  case 3: yielded = plastic_return_chunk(s, pl, i, k0, n, c, 3); break;
+  case 4: yielded = plastic_return_chunk(s, pl, i, k0, n, c, 4); break;
+  default: yielded = plastic_return_chunk(s, pl, i, k0, n, c, pl->layers); break;
+  }
+  *any_yielded |= yielded;
   /* ductile failure: a bond whose plastic stretch passes the critical one breaks now (both
    * ends see the same plastic stretch; no-fail nodes never break) */
   if (breaking && pl->ductile && !(s->disc.p.flags[i] & PERI_NODE_NO_FAIL)) {
@@ -266,53 +336,37 @@ static inline __attribute__((always_inline)) void plastic_chunk_map(peri_sim *s,
   }
 }
 
-long peri_plastic_pmb_force(peri_sim *s, bool update_s0) {
-  peri_particles *p = &s->disc.p;
-  peri_bonds *b = &s->disc.bonds;
-  const bool breaking = s->solver.breaking, track_smin = s->mat.s0_node != NULL;
-  const bool thermal = s->state.thermal_strain != NULL;
-#pragma omp parallel for schedule(static)
-  for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->mat.materials[p->material[i]].micromodulus;
-  peri_update_s0_bound(s);
-  const peri_node_blocks *items = peri_node_blocks_refresh(s);
-  const peri_bond_view w = peri_bond_view_of(s, items->soa);
-  pair_layers pl = pair_layers_of(s);
+long peri_plastic_pmb_node(peri_sim *s, const peri_bond_view *w, const peri_plastic_pass *pl, int32_t i,
+                           plastic_chunk *c, double f[3], double *smin_out) {
+  const peri_bonds *b = &s->disc.bonds;
+  const bool breaking = s->solver.breaking, thermal = s->state.thermal_strain != NULL;
   const peri_influence influence = b->family.influence;
+  const double ci = w->coef[i];
+  double f0 = 0.0, f1 = 0.0, f2 = 0.0, smin = INFINITY;
   long n_broken = 0;
-#pragma omp parallel reduction(+ : n_broken)
-  {
-    plastic_chunk *c = peri_malloc(sizeof *c);
-#pragma omp for schedule(static)
-    for (int32_t i = 0; i < p->n_owned; ++i) {
-      const double ci = w.coef[i];
-      double f0 = 0.0, f1 = 0.0, f2 = 0.0, smin = INFINITY;
-      for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PLASTIC_CHUNK) {
-        const int n = (int)(b->offset[i + 1] - k0 < PLASTIC_CHUNK ? b->offset[i + 1] - k0 : PLASTIC_CHUNK);
-        if (thermal) plastic_chunk_map(s, &w, &pl, i, k0, n, breaking, true, c, &n_broken, &smin);
-        else plastic_chunk_map(s, &w, &pl, i, k0, n, breaking, false, c, &n_broken, &smin);
-        double g[PLASTIC_CHUNK];
+  bool yielded = false;
+  for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PLASTIC_CHUNK) {
+    const int n = (int)(b->offset[i + 1] - k0 < PLASTIC_CHUNK ? b->offset[i + 1] - k0 : PLASTIC_CHUNK);
+    if (thermal) plastic_chunk_map(s, w, pl, i, k0, n, breaking, true, c, &n_broken, &smin, &yielded);
+    else plastic_chunk_map(s, w, pl, i, k0, n, breaking, false, c, &n_broken, &smin, &yielded);
+    double g[PLASTIC_CHUNK];
 #pragma omp simd
-        for (int a = 0; a < n; ++a) {
-          const int32_t j = c->j[a];
-          const double r0 = c->r0[a];
-          const double scale = 0.5 * (ci + w.coef[j]) * c->se[a] * peri_eval_omega(&w.fam, influence, r0) *
-                               peri_eval_beta(&w.fam, r0) * w.V[j] / c->r[a];
-          g[a] = c->intact[a] != 0.0 && c->r[a] > 0.0 ? scale : 0.0;
-        }
-        for (int a = 0; a < n; ++a) { /* in family order */
-          f0 = fma(g[a], c->y0[a], f0);
-          f1 = fma(g[a], c->y1[a], f1);
-          f2 = fma(g[a], c->y2[a], f2);
-        }
-      }
-      p->f[3 * (size_t)i] = f0, p->f[3 * (size_t)i + 1] = f1, p->f[3 * (size_t)i + 2] = f2;
-      if (track_smin) p->smin[i] = smin;
+    for (int a = 0; a < n; ++a) {
+      const int32_t j = c->j[a];
+      const double r0 = c->r0[a];
+      const double scale = 0.5 * (ci + w->coef[j]) * c->se[a] * peri_eval_omega(&w->fam, influence, r0) *
+                           peri_eval_beta(&w->fam, r0) * w->V[j] / c->r[a];
+      g[a] = c->intact[a] != 0.0 && c->r[a] > 0.0 ? scale : 0.0;
     }
-    free(c);
+    for (int a = 0; a < n; ++a) { /* in family order */
+      f0 = fma(g[a], c->y0[a], f0);
+      f1 = fma(g[a], c->y1[a], f1);
+      f2 = fma(g[a], c->y2[a], f2);
+    }
   }
-  pair_layers_free(&pl);
-  if (n_broken > 0) ++b->broken_edits; /* the elastic loops' copies of the flags follow */
-  if (track_smin && update_s0) peri_update_lammps_s0(s);
+  f[0] = f0, f[1] = f1, f[2] = f2;
+  *smin_out = smin;
+  s->state.plastic_nodes[i] = yielded; /* (the node's own flag, written by its thread) */
   return n_broken;
 }
 
@@ -350,7 +404,7 @@ static long lps_plastic_dilatation(peri_sim *s) {
   peri_update_s0_bound(s);
   const peri_node_blocks *items = peri_node_blocks_refresh(s);
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
-  pair_layers pl = pair_layers_of(s);
+  peri_plastic_pass pl = peri_plastic_pass_begin(s);
   const peri_influence influence = b->family.influence;
   long n_broken = 0;
 #pragma omp parallel reduction(+ : n_broken)
@@ -360,10 +414,11 @@ static long lps_plastic_dilatation(peri_sim *s) {
     for (int32_t i = 0; i < p->n_owned; ++i) {
       const double eth_i = thermal ? eth[i] : 0.0;
       double we_x = 0.0, w_xx = 0.0, smin = INFINITY;
+      bool yielded = false;
       for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PLASTIC_CHUNK) {
         const int nk = (int)(b->offset[i + 1] - k0 < PLASTIC_CHUNK ? b->offset[i + 1] - k0 : PLASTIC_CHUNK);
-        if (thermal) plastic_chunk_map(s, &w, &pl, i, k0, nk, breaking, true, c, &n_broken, &smin);
-        else plastic_chunk_map(s, &w, &pl, i, k0, nk, breaking, false, c, &n_broken, &smin);
+        if (thermal) plastic_chunk_map(s, &w, &pl, i, k0, nk, breaking, true, c, &n_broken, &smin, &yielded);
+        else plastic_chunk_map(s, &w, &pl, i, k0, nk, breaking, false, c, &n_broken, &smin, &yielded);
         double q[PLASTIC_CHUNK], x[PLASTIC_CHUNK];
 #pragma omp simd
         for (int a = 0; a < nk; ++a) {
@@ -388,10 +443,11 @@ static long lps_plastic_dilatation(peri_sim *s) {
       p->coef[i] = mat->n_theta * (mat->K_theta * theta - alpha * P / 3.0) / m - alpha * (eth_i + theta / 3.0);
       p->coef[n + (size_t)i] = alpha;
       if (track_smin) p->smin[i] = smin;
+      s->state.plastic_nodes[i] = yielded;
     }
     free(c);
   }
-  pair_layers_free(&pl);
+  peri_plastic_pass_end(&pl);
   if (n_broken > 0) ++b->broken_edits;
   return n_broken;
 }

@@ -9,9 +9,44 @@
 /* Allocates the plastic state when a material has sublayers (nothing otherwise). Returns
  * PERI_OK or PERI_ERR_INPUT with a message (a combination plasticity does not take). */
 int peri_plastic_init(peri_sim *s);
-/* Force passes (as peri_force_pass): the return mapping of every intact bond of the owned
- * nodes at the current stretch, then the force at the elastic stretch. */
-long peri_plastic_pmb_force(peri_sim *s, bool update_s0);
+#include "bond_kernel.h"
+
+/* What a plastic force pass needs: the sublayers of every pair of materials, padded to the
+ * run's layer count with layers of weight 0 that never yield, so every bond maps the same
+ * number of layers branch-free (W and Y [(a n_materials + b) layers + l]; an elastic pair has
+ * only padding); the failure laws of each pair; and the screen of every node (owned and
+ * ghost): a stretch below which none of its bonds yields or breaks, so that a node whose
+ * bonds all stay within it and that has never yielded (s->state.plastic_nodes) has the
+ * elastic force (docs/plasticity.md section 5). */
+typedef struct peri_plastic_pass {
+  int layers, nm;
+  double *W, *Y;
+  double *critical; /* [a n_materials + b] critical plastic stretch of the pair (INFINITY: none) */
+  bool ductile;     /* some pair has one */
+  /* energy failure: [a n_materials + b] the critical bond work (INFINITY: none) and the bond
+   * micromodulus c of the work c omega |xi| sum_k W_k phi_k (the PMB one of each end, averaged) */
+  double *work, *c;
+  bool energetic; /* some pair has a critical bond work */
+  /* Cowper-Symonds: [a n_materials + b] d and 1/p of the pair's sublayers (d = 0: none) */
+  double *rate_d, *rate_inv_p;
+  bool rate; /* some pair has it */
+  double *screen; /* [n] min(s0 bound, first yield stretch, elastic stretch of the bond work) */
+} peri_plastic_pass;
+/* After peri_update_s0_bound (the screen takes the critical stretch's bound). */
+peri_plastic_pass peri_plastic_pass_begin(peri_sim *s);
+void peri_plastic_pass_end(peri_plastic_pass *pass);
+
+/* A thread's scratch for the plastic node loops (free with free()). */
+typedef struct peri_plastic_chunk peri_plastic_chunk;
+peri_plastic_chunk *peri_plastic_chunk_new(void);
+/* PMB node i (owned) through the plastic path: breaking (exact test, the ductile and energy
+ * laws), the return mapping of its intact bonds, and the force density at their elastic
+ * stretches into f, with the minimum stretch of its intact bonds in *smin. Returns the
+ * number of bonds it broke; the caller counts a broken-flag edit. */
+long peri_plastic_pmb_node(peri_sim *s, const peri_bond_view *w, const peri_plastic_pass *pass, int32_t i,
+                           peri_plastic_chunk *scratch, double f[3], double *smin);
+/* The LPS force pass (as peri_force_pass): the return mapping of every intact bond of the
+ * owned nodes at the current stretch, then the force at the elastic stretch. */
 long peri_plastic_lps_force(peri_sim *s, bool update_s0);
 /* Elastic strain energy densities at the current plastic state. */
 void peri_plastic_pmb_energy(peri_sim *s, double *W);

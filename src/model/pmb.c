@@ -2,6 +2,7 @@
  * pair force f = c omega s M, with the micromodulus c of each end (half-bond rule,
  * c_ij = (c_i + c_j)/2, docs/model_reference.md 8). */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 #include "peri/constants.h"
 #include "peri/error.h"
@@ -44,9 +45,9 @@ static inline __attribute__((always_inline)) double pmb_bond(const pmb_centre ci
                                                              double xj0, double xj1, double xj2, double uj0,
                                                              double uj1, double uj2, double cj, double eth_j,
                                                              double bound_j, double V_j, bool multi, bool thermal,
-                                                             peri_influence influence, bool uniform, double *y0,
-                                                             double *y1, double *y2, double *stretch_out,
-                                                             double *excess_out) {
+                                                             peri_influence influence, bool uniform, bool two_sided,
+                                                             double *y0, double *y1, double *y2,
+                                                             double *stretch_out, double *excess_out) {
   const pmb_centre *ci = &ci_value;
   const double x0 = xj0 - ci->x0, x1 = xj1 - ci->x1, x2 = xj2 - ci->x2;
   const double d0 = x0 + (uj0 - ci->u0), d1 = x1 + (uj1 - ci->u1), d2 = x2 + (uj2 - ci->u2);
@@ -56,7 +57,8 @@ static inline __attribute__((always_inline)) double pmb_bond(const pmb_centre ci
   const double inv_r0_r = 1.0 / (r0 * r); /* the loop's one division */
   double stretch = (r - r0) * r * inv_r0_r;
   if (thermal) stretch -= 0.5 * (ci->eth + eth_j);
-  *excess_out = stretch - (peri_min(ci->bound, bound_j) - PERI_S0_SCREEN_MARGIN);
+  /* two-sided: |s| against the bound (the plastic screen: sublayers yield in compression too) */
+  *excess_out = (two_sided ? fabs(stretch) : stretch) - (peri_min(ci->bound, bound_j) - PERI_S0_SCREEN_MARGIN);
   *stretch_out = stretch;
   const double c = multi ? 0.5 * (ci->c + cj) : ci->c;
   const double scale = c * stretch * peri_eval_omega(fam, influence, r0) * peri_eval_beta(fam, r0) *
@@ -76,7 +78,7 @@ typedef struct pmb_sums {
 static inline __attribute__((always_inline)) pmb_sums pmb_node(const peri_bond_view *w, int32_t i, int64_t k0,
                                                                int64_t k1, bool multi, bool thermal,
                                                                peri_influence influence, bool uniform,
-                                                               bool track_smin) {
+                                                               bool track_smin, bool two_sided) {
   const pmb_centre ci = pmb_centre_of(w, i, thermal);
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict c_node = w->coef,
@@ -95,7 +97,7 @@ static inline __attribute__((always_inline)) pmb_sums pmb_node(const peri_bond_v
       double s, e;
       g[a] = pmb_bond(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], multi ? c_node[j] : 0.0,
                       thermal ? eth[j] : 0.0, s0_bound[j], uniform ? 0.0 : V[j], multi, thermal, influence, uniform,
-                      &y0[a], &y1[a], &y2[a], &s, &e);
+                      two_sided, &y0[a], &y1[a], &y2[a], &s, &e);
       if (track_smin) smin = peri_min(smin, s);
       excess = peri_max(excess, e);
     }
@@ -116,7 +118,7 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
                                                             const int32_t *restrict tj,
                                                             const uint8_t *restrict lanes, int64_t count,
                                                             bool multi, bool thermal, peri_influence influence,
-                                                            bool uniform, bool track_smin,
+                                                            bool uniform, bool track_smin, bool two_sided,
                                                             pmb_sums out[PERI_BLOCK]) {
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict c_node = w->coef,
@@ -148,7 +150,7 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
       double y0, y1, y2, s, e;
       const double g = pmb_bond(c, &fam, A0[l], A1[l], A2[l], B0[l], B1[l], B2[l], multi ? Cj[l] : 0.0,
                                 thermal ? Ej[l] : 0.0, Sj[l], uniform ? 0.0 : Vj[l], multi, thermal, influence,
-                                uniform, &y0, &y1, &y2, &s, &e);
+                                uniform, two_sided, &y0, &y1, &y2, &s, &e);
       const bool on = on_lanes[l] != 0.0;
       if (track_smin) { /* (GCC stores a conditional minimum to memory whatever its form) */
         fx[l] = on ? fma(g, y0, fx[l]) : fx[l];
@@ -180,34 +182,37 @@ typedef struct pmb_loops {
   pmb_sums (*node)(const peri_bond_view *, int32_t);
   void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, pmb_sums *);
 } pmb_loops;
-#define PMB_VARIANT(NAME, MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN)                                        \
+#define PMB_VARIANT(NAME, MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN, TWO)                                   \
   static pmb_sums NAME##_node(const peri_bond_view *w, int32_t i) {                                       \
-    return pmb_node(w, i, w->offset[i], w->offset[i + 1], MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN);       \
+    return pmb_node(w, i, w->offset[i], w->offset[i + 1], MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN, TWO);  \
   }                                                                                                        \
   static void NAME##_block(const peri_bond_view *w, int32_t i0, const int32_t *tj, const uint8_t *lanes,   \
                            int64_t count, pmb_sums *out) {                                                 \
-    pmb_block(w, i0, tj, lanes, count, MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN, out);                     \
+    pmb_block(w, i0, tj, lanes, count, MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN, TWO, out);                \
   }                                                                                                        \
   static const pmb_loops NAME = {NAME##_node, NAME##_block};
 /* The specializations, without and with the minimum stretch (the LAMMPS-form critical
  * stretch), in the order of pmb_loops_for; "uniform": every node has the same volume (a
  * grid), so the loop does not gather it */
-#define PMB_VARIANTS(SUFFIX, SMIN)                                                                         \
-  PMB_VARIANT(pmb_uniform##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, true, SMIN)                      \
-  PMB_VARIANT(pmb_plain##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, false, SMIN)                       \
-  PMB_VARIANT(pmb_multi##SUFFIX, true, false, PERI_INFLUENCE_CONSTANT, false, SMIN)                        \
-  PMB_VARIANT(pmb_thermal##SUFFIX, false, true, PERI_INFLUENCE_CONSTANT, false, SMIN)                      \
-  PMB_VARIANT(pmb_multi_thermal##SUFFIX, true, true, PERI_INFLUENCE_CONSTANT, false, SMIN)                  \
-  PMB_VARIANT(pmb_inverse##SUFFIX, true, false, PERI_INFLUENCE_INVERSE, false, SMIN)                       \
-  PMB_VARIANT(pmb_inverse_thermal##SUFFIX, true, true, PERI_INFLUENCE_INVERSE, false, SMIN)                 \
-  PMB_VARIANT(pmb_gaussian##SUFFIX, true, false, PERI_INFLUENCE_GAUSSIAN, false, SMIN)                     \
-  PMB_VARIANT(pmb_gaussian_thermal##SUFFIX, true, true, PERI_INFLUENCE_GAUSSIAN, false, SMIN)              \
+#define PMB_VARIANTS(SUFFIX, SMIN, TWO)                                                                       \
+  PMB_VARIANT(pmb_uniform##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, true, SMIN, TWO)                 \
+  PMB_VARIANT(pmb_plain##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, false, SMIN, TWO)                  \
+  PMB_VARIANT(pmb_multi##SUFFIX, true, false, PERI_INFLUENCE_CONSTANT, false, SMIN, TWO)                   \
+  PMB_VARIANT(pmb_thermal##SUFFIX, false, true, PERI_INFLUENCE_CONSTANT, false, SMIN, TWO)                 \
+  PMB_VARIANT(pmb_multi_thermal##SUFFIX, true, true, PERI_INFLUENCE_CONSTANT, false, SMIN, TWO)             \
+  PMB_VARIANT(pmb_inverse##SUFFIX, true, false, PERI_INFLUENCE_INVERSE, false, SMIN, TWO)                  \
+  PMB_VARIANT(pmb_inverse_thermal##SUFFIX, true, true, PERI_INFLUENCE_INVERSE, false, SMIN, TWO)            \
+  PMB_VARIANT(pmb_gaussian##SUFFIX, true, false, PERI_INFLUENCE_GAUSSIAN, false, SMIN, TWO)                \
+  PMB_VARIANT(pmb_gaussian_thermal##SUFFIX, true, true, PERI_INFLUENCE_GAUSSIAN, false, SMIN, TWO)         \
   static const pmb_loops *const pmb_set##SUFFIX[9] = {                                                    \
       &pmb_uniform##SUFFIX,  &pmb_plain##SUFFIX,         &pmb_multi##SUFFIX,                               \
       &pmb_thermal##SUFFIX,  &pmb_multi_thermal##SUFFIX, &pmb_inverse##SUFFIX,                             \
       &pmb_inverse_thermal##SUFFIX, &pmb_gaussian##SUFFIX, &pmb_gaussian_thermal##SUFFIX};
-PMB_VARIANTS(, false)
-PMB_VARIANTS(_smin, true)
+PMB_VARIANTS(, false, false)
+PMB_VARIANTS(_smin, true, false)
+/* the plastic screen (pmb_plastic_force_pass): |s| against the sublayers' first yield */
+PMB_VARIANTS(_plastic, false, true)
+PMB_VARIANTS(_plastic_smin, true, true)
 
 /* The loops of a problem from a set of PMB_VARIANTS. */
 static const pmb_loops *pmb_loops_for(const pmb_loops *const set[9], bool multi, bool thermal, bool uniform,
@@ -257,8 +262,57 @@ static long pmb_force_pass(peri_sim *s, bool update_s0) {
   return n_broken;
 }
 
+/* Sublayer plasticity (docs/plasticity.md section 5): the elastic loops screen every node
+ * with |s| against its plastic screen (the first yield stretch, the critical stretch's bound,
+ * the elastic stretch of a critical bond work); a node with no bond beyond it that has never
+ * yielded keeps the elastic force, exactly what the plastic path would give it (its plastic
+ * stretches are 0 and stay 0), and every other node takes the plastic path. The
+ * choice depends on the node's state only, not on threads or ranks. */
+static long pmb_plastic_force_pass(peri_sim *s, bool update_s0) {
+  peri_particles *p = &s->disc.p;
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n; ++i) p->coef[i] = s->mat.materials[p->material[i]].micromodulus;
+  peri_update_s0_bound(s);
+  peri_plastic_pass pass = peri_plastic_pass_begin(s);
+  peri_node_blocks *items = peri_node_blocks_refresh(s);
+  const bool multi = s->mat.n_materials > 1, thermal = s->state.thermal_strain != NULL;
+  const bool track_smin = s->mat.s0_node != NULL;
+  const pmb_loops *loops = pmb_loops_for(track_smin ? pmb_set_plastic_smin : pmb_set_plastic, multi, thermal,
+                                         items->uniform_volume, s->disc.family.influence);
+  const peri_bond_view w = peri_bond_view_of(s, items->soa);
+  peri_bond_view screened = w;
+  screened.s0_bound = pass.screen;
+  const uint8_t *yielded = s->state.plastic_nodes;
+  long n_broken = 0;
+#pragma omp parallel reduction(+ : n_broken)
+  {
+    peri_plastic_chunk *scratch = peri_plastic_chunk_new();
+    PERI_FOR_EACH_ITEM(items, item) {
+      const int32_t i0 = items->first[item], i1 = items->first[item + 1];
+      pmb_sums sums[PERI_BLOCK];
+      if (peri_item_is_block(items, item)) {
+        const int64_t t0 = items->tpl[item];
+        loops->block(&screened, i0, items->tpl_node + t0, items->tpl_lanes + t0, items->tpl[item + 1] - t0, sums);
+      } else {
+        for (int32_t i = i0; i < i1; ++i) sums[i - i0] = loops->node(&screened, i);
+      }
+      for (int32_t i = i0; i < i1; ++i) {
+        pmb_sums *r = &sums[i - i0];
+        if (r->candidate || yielded[i]) n_broken += peri_plastic_pmb_node(s, &w, &pass, i, scratch, r->f, &r->smin);
+        for (int d = 0; d < 3; ++d) p->f[3 * i + d] = r->f[d];
+        if (track_smin) p->smin[i] = r->smin;
+      }
+    }
+    free(scratch);
+  }
+  peri_plastic_pass_end(&pass);
+  if (n_broken > 0) ++s->disc.bonds.broken_edits; /* the lane masks follow at the next refresh */
+  if (track_smin && update_s0) peri_update_lammps_s0(s);
+  return n_broken;
+}
+
 static long pmb_force(peri_sim *s) {
-  if (s->state.plastic_stretch) return peri_force_in_breaking_order(s, peri_plastic_pmb_force);
+  if (s->state.plastic_stretch) return peri_force_in_breaking_order(s, pmb_plastic_force_pass);
   return peri_force_in_breaking_order(s, s->disc.bonds.surface_G ? peri_corrected_pmb_force : pmb_force_pass);
 }
 

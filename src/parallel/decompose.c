@@ -283,6 +283,7 @@ int peri_decompose(peri_sim *s) {
   /* the plastic state of the owned families (docs/plasticity.md) */
   SLICE(s->state.plastic_stretch, sizeof(double) * (size_t)s->state.plastic_layers, bond_from, bond_count);
   SLICE(s->state.plastic_committed, sizeof(double) * (size_t)s->state.plastic_layers, bond_from, bond_count);
+  free(s->state.plastic_nodes), s->state.plastic_nodes = NULL; /* (rebuilt from the state) */
   if (s->thermal) {
     const bool shared_cut = !s->thermal->own_cut;
     localize_bonds(b, g0, g1, local_of);

@@ -10,8 +10,10 @@
 #    their work (stored and dissipated) reaches the w_c of G0, and the bar's stress falls by their share;
 #  - peri check reports the sublayers and the plastic state's bytes per directed bond;
 #  - bad plasticity input: file:line:column, exit 2 (weights that do not sum to 1, yield
-#    stretches that do not increase, a curve with a negative slope, a solver with trial states);
-#  - the thread count does not change a plastic fracture run (history and frames bitwise).
+#    stretches that do not increase, a curve with a negative slope, a solver with trial states,
+#    Cowper-Symonds constants that are not positive or with a quasi-static solver);
+#  - the thread count does not change a plastic fracture run (history and frames bitwise);
+#  - a plastic material that never reaches its first yield moves bitwise as the elastic one.
 # Usage: bash tests/cli/plasticity.sh PATH_TO_PERI   (from the repository root)
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
@@ -139,6 +141,14 @@ d=$(bad_deck line "strains: [0.002, 0.004]" "stresses: [300e6, 450e6]")
 run_peri check "$d"
 expect_status 2
 expect_stderr_contains "$d:9:18: error: materials.steel.plasticity: the first point (0.002, 3e+08) must lie on the elastic line"
+d=$(bad_deck rate "weights: [1]" "yield_stretches: [0.002]" "cowper_symonds: {d: 0, p: 5}")
+run_peri check "$d"
+expect_status 2
+expect_stderr_contains "$d:10:27: error: materials.steel.plasticity.cowper_symonds: d must be a positive rate (1/s)"
+d=$(bad_deck rate_qs "weights: [1]" "yield_stretches: [0.002]" "cowper_symonds: {d: 40.4, p: 5}")
+run_peri check "$d" --set 'solver={type: adr, load_steps: 10}'
+expect_status 2
+expect_stderr_contains "$d:10:23: error: materials.steel.plasticity.cowper_symonds: rate dependence needs solver type explicit"
 run_peri check "$deck" --set solver.type=nlcg
 expect_status 2
 expect_stderr_contains "plasticity needs solver type explicit, adr or dynamic_relaxation"
@@ -163,5 +173,24 @@ done
 psi=$(tail -n 1 "$TMP/plate1/history.csv" | cut -d, -f"$(csv_column "$TMP/plate1/history.csv" mean_yield_index)")
 awk -v p="$psi" 'BEGIN { exit !(p > 0.1 && p < 1) }' || fail "the plate barely yields (mean yield index $psi): the comparison tests little"
 pass "threads 1 and 3: history.csv and frames bitwise equal (mean yield index $psi)"
+
+# --- a plastic material below its first yield is the elastic one: the plastic force pass
+# keeps the elastic loops' force for every node that has not yielded (docs/plasticity.md
+# section 5), so the displacements are bitwise those of the elastic material
+glass='materials.glass={model: pmb, density: 2440, youngs_modulus: 72.0e9'
+for kind in elastic plastic; do
+  layers=""
+  [ "$kind" = plastic ] && layers=', plasticity: {weights: [0.9, 0.1], yield_stretches: [1.0e-2, 2.0e-2]}'
+  run_peri run "$plate" --quiet --threads 2 --output "$TMP/below_$kind" --set "$glass$layers}" \
+    --set 'output.fields=[displacement]'
+  expect_status 0
+done
+n_frames=0
+for f in "$TMP"/below_elastic/*.vtu; do
+  cmp -s "$f" "$TMP/below_plastic/$(basename "$f")" || fail "$(basename "$f"): a plastic material that never yields differs from the elastic one"
+  n_frames=$((n_frames + 1))
+done
+[ "$n_frames" -gt 1 ] || fail "no frames to compare"
+pass "below its first yield the plastic material moves bitwise as the elastic one ($n_frames frames)"
 
 echo "PASS: $CLI_NAME"
