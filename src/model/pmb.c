@@ -66,6 +66,47 @@ static inline __attribute__((always_inline)) double pmb_bond(const pmb_centre ci
   return r > 0.0 ? scale : 0.0;
 }
 
+#ifdef PERI_BOND_V8
+/* pmb_bond for eight bonds (bond_kernel.h): the same quantities, lengths from reciprocal
+ * square roots, no division. The node and block loops both use it (Gaussian influence,
+ * which needs exp, keeps the scalar function on both). */
+typedef struct pmb_centre_v8 {
+  __m512d x0, x1, x2, u0, u1, u2, c, eth, bound, V;
+} pmb_centre_v8;
+
+static inline __attribute__((always_inline)) __m512d pmb_bond_v8(const pmb_centre_v8 *ci, const peri_family_eval *fam,
+                                                                 __m512d xj0, __m512d xj1, __m512d xj2, __m512d uj0,
+                                                                 __m512d uj1, __m512d uj2, __m512d cj, __m512d eth_j,
+                                                                 __m512d bound_j, __m512d V_j, bool multi,
+                                                                 bool thermal, peri_influence influence, bool uniform,
+                                                                 bool two_sided, __m512d *y0, __m512d *y1,
+                                                                 __m512d *y2, __m512d *stretch_out,
+                                                                 __m512d *excess_out) {
+  const __m512d x0 = _mm512_sub_pd(xj0, ci->x0), x1 = _mm512_sub_pd(xj1, ci->x1), x2 = _mm512_sub_pd(xj2, ci->x2);
+  *y0 = _mm512_add_pd(x0, _mm512_sub_pd(uj0, ci->u0));
+  *y1 = _mm512_add_pd(x1, _mm512_sub_pd(uj1, ci->u1));
+  *y2 = _mm512_add_pd(x2, _mm512_sub_pd(uj2, ci->u2));
+  const __m512d r0_sq = peri_norm2_v8(x0, x1, x2), r_sq = peri_norm2_v8(*y0, *y1, *y2);
+  /* the same function for both lengths, so an undeformed bond has r == r0: zero stretch */
+  const __m512d inv_r0 = peri_rsqrt_v8(r0_sq), inv_r = peri_rsqrt_v8(r_sq);
+  const __m512d r0 = _mm512_mul_pd(r0_sq, inv_r0), r = _mm512_mul_pd(r_sq, inv_r);
+  const __m512d half = _mm512_set1_pd(0.5);
+  __m512d stretch = _mm512_mul_pd(_mm512_sub_pd(r, r0), inv_r0);
+  if (thermal) stretch = _mm512_sub_pd(stretch, _mm512_mul_pd(half, _mm512_add_pd(ci->eth, eth_j)));
+  const __m512d bound = _mm512_sub_pd(_mm512_min_pd(ci->bound, bound_j), _mm512_set1_pd(PERI_S0_SCREEN_MARGIN));
+  *excess_out = _mm512_sub_pd(two_sided ? _mm512_abs_pd(stretch) : stretch, bound);
+  *stretch_out = stretch;
+  const __m512d c = multi ? _mm512_mul_pd(half, _mm512_add_pd(ci->c, cj)) : ci->c;
+  __m512d scale = _mm512_mul_pd(c, stretch);
+  if (influence == PERI_INFLUENCE_INVERSE) scale = _mm512_mul_pd(scale, inv_r0); /* omega = 1/|xi| */
+  scale = _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(scale, peri_beta_v8(fam, r0)), uniform ? ci->V : V_j), inv_r);
+  return _mm512_maskz_mov_pd(_mm512_cmp_pd_mask(r_sq, _mm512_setzero_pd(), _CMP_GT_OQ), scale);
+}
+
+/* Whether a specialization runs on pmb_bond_v8. */
+#define PMB_V8(influence) ((influence) != PERI_INFLUENCE_GAUSSIAN)
+#endif
+
 /* What the force loops return per node: the force density, the minimum mechanical stretch
  * and whether a stretch passes the screening bound (a candidate for breaking). */
 typedef struct pmb_sums {
@@ -88,6 +129,44 @@ static inline __attribute__((always_inline)) pmb_sums pmb_node(const peri_bond_v
   double fx = 0.0, fy = 0.0, fz = 0.0, smin = INFINITY, excess = -INFINITY;
   int32_t intact[PERI_INTACT_CHUNK];
   double g[PERI_INTACT_CHUNK], y0[PERI_INTACT_CHUNK], y1[PERI_INTACT_CHUNK], y2[PERI_INTACT_CHUNK];
+#ifdef PERI_BOND_V8
+  if (PMB_V8(influence)) {
+    const __m512d zero = _mm512_setzero_pd();
+    const pmb_centre_v8 cv = {_mm512_set1_pd(ci.x0), _mm512_set1_pd(ci.x1), _mm512_set1_pd(ci.x2),
+                              _mm512_set1_pd(ci.u0), _mm512_set1_pd(ci.u1), _mm512_set1_pd(ci.u2),
+                              _mm512_set1_pd(ci.c),  _mm512_set1_pd(ci.eth), _mm512_set1_pd(ci.bound),
+                              _mm512_set1_pd(ci.V)};
+    __m512d smin_v = _mm512_set1_pd(INFINITY), excess_v = _mm512_set1_pd(-INFINITY);
+    for (int64_t k = k0; k < k1;) {
+      int n;
+      const int32_t *restrict nbr = peri_next_chunk(w, damaged, &k, k1, intact, &n);
+      for (int a = 0; a < n; a += 8) {
+        const __mmask8 m = peri_first_lanes(n - a);
+        const __m256i j = _mm256_maskz_loadu_epi32(m, nbr + a);
+#define PMB_GATHER(P) _mm512_mask_i32gather_pd(zero, m, j, (P), 8)
+        __m512d gv, yv0, yv1, yv2, s, e;
+        gv = pmb_bond_v8(&cv, &fam, PMB_GATHER(X0), PMB_GATHER(X1), PMB_GATHER(X2), PMB_GATHER(U0), PMB_GATHER(U1),
+                         PMB_GATHER(U2), multi ? PMB_GATHER(c_node) : zero, thermal ? PMB_GATHER(eth) : zero,
+                         PMB_GATHER(s0_bound), uniform ? zero : PMB_GATHER(V), multi, thermal, influence, uniform,
+                         two_sided, &yv0, &yv1, &yv2, &s, &e);
+#undef PMB_GATHER
+        _mm512_mask_storeu_pd(g + a, m, gv);
+        _mm512_mask_storeu_pd(y0 + a, m, yv0);
+        _mm512_mask_storeu_pd(y1 + a, m, yv1);
+        _mm512_mask_storeu_pd(y2 + a, m, yv2);
+        if (track_smin) smin_v = _mm512_mask_min_pd(smin_v, m, smin_v, s);
+        excess_v = _mm512_mask_max_pd(excess_v, m, excess_v, e);
+      }
+      for (int a = 0; a < n; ++a) {
+        fx = fma(g[a], y0[a], fx);
+        fy = fma(g[a], y1[a], fy);
+        fz = fma(g[a], y2[a], fz);
+      }
+    }
+    const pmb_sums r = {{fx, fy, fz}, _mm512_reduce_min_pd(smin_v), _mm512_reduce_max_pd(excess_v) > 0.0};
+    return r;
+  }
+#endif
   for (int64_t k = k0; k < k1;) {
     int n;
     const int32_t *restrict nbr = peri_next_chunk(w, damaged, &k, k1, intact, &n);
@@ -124,6 +203,42 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict c_node = w->coef,
                          *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
   const peri_family_eval fam = w->fam;
+#ifdef PERI_BOND_V8
+  if (PMB_V8(influence)) {
+    const __m512d zero = _mm512_setzero_pd();
+    const pmb_centre_v8 cv = {_mm512_loadu_pd(X0 + i0), _mm512_loadu_pd(X1 + i0), _mm512_loadu_pd(X2 + i0),
+                              _mm512_loadu_pd(U0 + i0), _mm512_loadu_pd(U1 + i0), _mm512_loadu_pd(U2 + i0),
+                              _mm512_loadu_pd(c_node + i0), thermal ? _mm512_loadu_pd(eth + i0) : zero,
+                              _mm512_loadu_pd(s0_bound + i0), _mm512_loadu_pd(V + i0)};
+    __m512d fx = zero, fy = zero, fz = zero, smin = _mm512_set1_pd(INFINITY);
+    __mmask8 beyond = 0;
+    for (int64_t a = 0; a < count; ++a) {
+      const int64_t j = tj[a];
+      const __mmask8 on = lanes[a];
+      peri_prefetch_next_blocks(w, j);
+      __m512d y0, y1, y2, s, e;
+      const __m512d g =
+          pmb_bond_v8(&cv, &fam, _mm512_loadu_pd(X0 + j), _mm512_loadu_pd(X1 + j), _mm512_loadu_pd(X2 + j),
+                      _mm512_loadu_pd(U0 + j), _mm512_loadu_pd(U1 + j), _mm512_loadu_pd(U2 + j),
+                      multi ? _mm512_loadu_pd(c_node + j) : zero, thermal ? _mm512_loadu_pd(eth + j) : zero,
+                      _mm512_loadu_pd(s0_bound + j), uniform ? zero : _mm512_loadu_pd(V + j), multi, thermal, influence,
+                      uniform, two_sided, &y0, &y1, &y2, &s, &e);
+      /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
+      fx = _mm512_mask3_fmadd_pd(g, y0, fx, on);
+      fy = _mm512_mask3_fmadd_pd(g, y1, fy, on);
+      fz = _mm512_mask3_fmadd_pd(g, y2, fz, on);
+      if (track_smin) smin = _mm512_mask_min_pd(smin, on, smin, s);
+      beyond |= _mm512_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ); /* bonds beyond the screening bound */
+    }
+    double sx[PERI_BLOCK], sy[PERI_BLOCK], sz[PERI_BLOCK], sm[PERI_BLOCK];
+    _mm512_storeu_pd(sx, fx), _mm512_storeu_pd(sy, fy), _mm512_storeu_pd(sz, fz), _mm512_storeu_pd(sm, smin);
+    for (int l = 0; l < PERI_BLOCK; ++l) {
+      const pmb_sums r = {{sx[l], sy[l], sz[l]}, sm[l], (beyond >> l) & 1u};
+      out[l] = r;
+    }
+    return;
+  }
+#endif
   /* the eight centres as arrays (one vector each), fx .. beyond the lanes' running sums */
   double c0[PERI_BLOCK], c1[PERI_BLOCK], c2[PERI_BLOCK], cu0[PERI_BLOCK], cu1[PERI_BLOCK], cu2[PERI_BLOCK],
       cc[PERI_BLOCK], ceth[PERI_BLOCK], cbound[PERI_BLOCK], cV[PERI_BLOCK];
