@@ -60,7 +60,7 @@ int peri_sublayers_from_curve(double E, int n, const double *strain, const doubl
 void peri_power_law_stresses(double sigma0, double eps0, double exponent, int n, const double *strain,
                              double *stress);
 /* Sublayers fitted to a 2D or 3D family under uniaxial stress (src/model/sublayer_family_fit.c,
- * docs/plasticity.md section 1): bonds at direction cosine c stretch eps (c^2 - nu (1 - c^2)),
+ * docs/plasticity.md section 4): bonds at direction cosine c stretch eps (c^2 - nu (1 - c^2)),
  * nu the bar's Poisson ratio; the weights of up to PERI_MAX_SUBLAYERS sublayers on a fixed
  * ladder of yield stretches are the non-negative least-squares fit of the direction-averaged
  * response to the piecewise-linear curve (breakpoints and samples along it), sum W = 1. */

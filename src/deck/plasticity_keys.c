@@ -66,7 +66,7 @@ static int parse_cowper_symonds(const peri_node *pl, const char *section, peri_s
 
 /* calibration: bond (the construction of model reference 16.1, exact for a bond and a 1D bar)
  * or family (a 2D or 3D family fitted to the curve under uniaxial stress, docs/plasticity.md
- * section 1). The curve is checked by the bond construction either way. */
+ * section 4). The curve is checked by the bond construction either way. */
 static int calibrate_to_family(const peri_sim *s, const peri_node *pl, const char *section, const peri_material *mat,
                                int n, const double *strain, const double *stress, peri_sublayers *sl) {
   static const char *const choices[] = {"bond", "family", NULL};

@@ -1,5 +1,5 @@
-/* Sublayers fitted to a 2D or 3D family (docs/plasticity.md section 1, "Sublayers for a 2D or
- * 3D bar"): under uniaxial stress a bond at direction cosine c to the axis has the stretch
+/* Sublayers fitted to a 2D or 3D family (docs/plasticity.md section 4, "3D bars and the
+ * family calibration"): under uniaxial stress a bond at direction cosine c to the axis has the stretch
  * s = eps (c^2 - nu (1 - c^2)), so the bonds of a family yield one direction after the other
  * and the bar's curve is an average of the bond curve over directions, not the bond curve.
  * The fit chooses the weights of sublayers on a fixed ladder of yield stretches so that this

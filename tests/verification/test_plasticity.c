@@ -217,7 +217,7 @@ static void check_bar_3d(const char *model) {
 }
 
 /* 3D with the sublayers fitted to the family (calibration: family, docs/plasticity.md section
- * 1). The fit's model is the continuum family under uniaxial stress; its least-squares best
+ * 4). The fit's model is the continuum family under uniaxial stress; its least-squares best
  * misses the curve by -9.3% at the first breakpoint and +4.2% at the second (no bond curve
  * with its tangent in [0, E] comes closer than -8.6% and +3.8% there: a direction average
  * cannot knee sharply), so the discrete block (m = 3) is asserted within 12% of the Table 5.2
