@@ -7,7 +7,6 @@
  * the breakpoints and along the piecewise-linear curve, sum W = 1. */
 #include <math.h>
 #include <stdio.h>
-#include <string.h>
 #include "peri/plasticity.h"
 
 /* Gauss-Legendre points on [0, 1] for the direction average (the integrands are piecewise
