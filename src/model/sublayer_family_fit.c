@@ -6,7 +6,6 @@
  * average follows the uniaxial curve: a non-negative least-squares fit (Lawson-Hanson) at
  * the breakpoints and along the piecewise-linear curve, sum W = 1. */
 #include <math.h>
-#include <stdio.h>
 #include "peri/plasticity.h"
 
 /* Gauss-Legendre points on [0, 1] for the direction average (the integrands are piecewise
