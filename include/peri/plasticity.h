@@ -59,6 +59,16 @@ int peri_sublayers_from_curve(double E, int n, const double *strain, const doubl
  * given strains. */
 void peri_power_law_stresses(double sigma0, double eps0, double exponent, int n, const double *strain,
                              double *stress);
+/* Sublayers fitted to a 2D or 3D family under uniaxial stress (src/model/sublayer_family_fit.c,
+ * docs/plasticity.md section 4): bonds at direction cosine c stretch eps (c^2 - nu (1 - c^2)),
+ * nu the bar's Poisson ratio; the weights of up to PERI_MAX_SUBLAYERS sublayers on a fixed
+ * ladder of yield stretches are the non-negative least-squares fit of the direction-averaged
+ * response to the piecewise-linear curve (breakpoints and samples along it), sum W = 1. */
+void peri_sublayers_fit_family(int dim, double nu, double E, int n, const double *strain, const double *stress,
+                               peri_sublayers *out);
+/* The uniaxial stress over E of a continuum 2D or 3D family of these sublayers loaded
+ * monotonically from the virgin state to the bar strain eps (the fit's model). */
+double peri_sublayers_family_stress(int dim, double nu, const peri_sublayers *sl, double eps);
 /* Checks given sublayers: weights positive and summing to 1 within
  * PERI_SUBLAYER_WEIGHT_TOLERANCE, yield stretches positive and increasing. Returns 0, or -1
  * with the offending index in *bad (-1 for the sum) and a message. */

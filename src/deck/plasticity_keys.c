@@ -64,9 +64,29 @@ static int parse_cowper_symonds(const peri_node *pl, const char *section, peri_s
   return PERI_OK;
 }
 
+/* calibration: bond (the construction of model reference 16.1, exact for a bond and a 1D bar)
+ * or family (a 2D or 3D family fitted to the curve under uniaxial stress, docs/plasticity.md
+ * section 4). The curve is checked by the bond construction either way. */
+static int calibrate_to_family(const peri_sim *s, const peri_node *pl, const char *section, const peri_material *mat,
+                               int n, const double *strain, const double *stress, peri_sublayers *sl) {
+  static const char *const choices[] = {"bond", "family", NULL};
+  int which = 0;
+  TRY(peri_deck_choice(pl, "calibration", false, choices, &which));
+  if (which == 0) return PERI_OK;
+  const peri_geometry *geo = &s->disc.geom;
+  if (geo->dim == 1)
+    return peri_deck_error(peri_deck_get(pl, "calibration"), "%s.calibration: family is for dimension 2 or 3 (a 1D "
+                           "bar follows the bond construction exactly)", section);
+  /* the bar's lateral contraction in the plane of the family: plane strain nu / (1 - nu) */
+  const double nu = geo->dim == 2 && geo->plane == PERI_PLANE_STRAIN ? mat->nu / (1.0 - mat->nu) : mat->nu;
+  peri_sublayers_fit_family(geo->dim, nu, mat->E, n, strain, stress, sl);
+  return PERI_OK;
+}
+
 static int parse_one(const peri_sim *s, const peri_node *pl, peri_material *mat) {
   static const char *const keys[] = {"weights", "yield_stretches", "strains", "stresses", "power_law",
-                                     "critical_plastic_stretch", "critical_bond_energy", "cowper_symonds", NULL};
+                                     "critical_plastic_stretch", "critical_bond_energy", "cowper_symonds", "calibration",
+                                     NULL};
   char section[200];
   snprintf(section, sizeof section, "materials.%s.plasticity", mat->name);
   TRY(peri_deck_allow(pl, section, keys));
@@ -79,6 +99,9 @@ static int parse_one(const peri_sim *s, const peri_node *pl, peri_material *mat)
     return peri_deck_error(pl, "%s: give either weights and yield_stretches, or strains with stresses or power_law",
                            section);
   if (given) {
+    if (peri_deck_get(pl, "calibration"))
+      return peri_deck_error(peri_deck_key_node(pl, "calibration"), "%s.calibration: only with a curve (strains with "
+                             "stresses or power_law)", section);
     int nw = 0, ny = 0;
     TRY(peri_deck_vector_range(pl, "weights", true, 1, PERI_MAX_SUBLAYERS, sl.weight, &nw));
     TRY(peri_deck_vector_range(pl, "yield_stretches", true, 1, PERI_MAX_SUBLAYERS, sl.yield, &ny));
@@ -122,6 +145,7 @@ static int parse_one(const peri_sim *s, const peri_node *pl, peri_material *mat)
     }
     if (peri_sublayers_from_curve(mat->E, n, strain, stress, &sl, &bad, why, sizeof why) != 0)
       return peri_deck_error(item_or(pl, law ? "strains" : "stresses", bad), "%s: %s", section, why);
+    TRY(calibrate_to_family(s, pl, section, mat, n, strain, stress, &sl));
     if (peri_sublayers_check(&sl, &bad, why, sizeof why) != 0) /* (the weights of a curve sum to 1 exactly) */
       return peri_deck_error(pl, "%s: %s", section, why);
   }

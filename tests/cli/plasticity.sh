@@ -9,7 +9,7 @@
 #  - energy failure: with critical_bond_energy the bonds of each length break at the strain where
 #    their work (stored and dissipated) reaches the w_c of G0, and the bar's stress falls by their share;
 #  - peri check reports the sublayers and the plastic state's bytes per directed bond;
-#  - bad plasticity input: file:line:column, exit 2 (weights that do not sum to 1, yield
+#  - bad plasticity input: file:line:column, exit 2 (calibration: family with given weights or in 1D; weights that do not sum to 1, yield
 #    stretches that do not increase, a curve with a negative slope, a solver with trial states,
 #    Cowper-Symonds constants that are not positive or with a quasi-static solver);
 #  - the thread count does not change a plastic fracture run (history and frames bitwise);
@@ -149,6 +149,14 @@ d=$(bad_deck rate_qs "weights: [1]" "yield_stretches: [0.002]" "cowper_symonds: 
 run_peri check "$d" --set 'solver={type: adr, load_steps: 10}'
 expect_status 2
 expect_stderr_contains "$d:10:23: error: materials.steel.plasticity.cowper_symonds: rate dependence needs solver type explicit"
+d=$(bad_deck fit_given "weights: [1]" "yield_stretches: [0.002]" "calibration: family")
+run_peri check "$d"
+expect_status 2
+expect_stderr_contains "$d:10:7: error: materials.steel.plasticity.calibration: only with a curve"
+d=$(bad_deck fit_1d "strains: [0.002, 0.004]" "stresses: [400e6, 450e6]" "calibration: family")
+run_peri check "$d"
+expect_status 2
+expect_stderr_contains "$d:10:20: error: materials.steel.plasticity.calibration: family is for dimension 2 or 3"
 run_peri check "$deck" --set solver.type=nlcg
 expect_status 2
 expect_stderr_contains "plasticity needs solver type explicit, adr or dynamic_relaxation"
