@@ -61,8 +61,7 @@ def main():
         dY = np.sqrt(np.einsum("ij,ij->i", Y, Y))
         return Y, dY, dY - zeta
 
-    def force():
-        Y, dY, e = bonds()
+    def force(Y, dY, e):
         on = intact
         theta = 3.0 / m * np.bincount(I[on], (zeta * e * vol[J])[on], n)
         t = np.where(on, theta[I] * (3.0 * a.K / m[I] - alpha[I] / 3.0) * zeta + alpha[I] * e, 0.0)
@@ -72,8 +71,7 @@ def main():
             f[:, c] = np.bincount(I, g * vol[J] * Y[:, c], n) - np.bincount(J, g * vol[I] * Y[:, c], n)
         return f, theta
 
-    def row(step, theta):
-        _, _, e = bonds()
+    def row(step, theta, e):
         on = intact
         phi = 1.0 - np.bincount(I[on], vol[J][on], n) / vol_all
         ke = 0.5 * np.sum(a.density * vol * np.einsum("ij,ij->i", v, v))
@@ -81,17 +79,18 @@ def main():
         W = 0.5 * a.K * theta ** 2 + 0.5 * alpha * np.bincount(I[on], (ed * ed * vol[J])[on], n)
         return "%d %.17g %.17g %.17g %.17g" % (step, phi.mean(), phi.mean(), ke, np.sum(vol * W))
 
-    f, theta = force()
-    print(row(0, theta), flush=True)
+    Y, dY, e = bonds()
+    f, theta = force(Y, dY, e)
+    print(row(0, theta, e), flush=True)
     for step in range(1, a.steps + 1):
         v += 0.5 * a.dt * f / a.density
         u += a.dt * v
-        _, _, e = bonds()
+        Y, dY, e = bonds()  # once a step: the damage model and the force see the same positions
         intact &= ~(e / zeta > a.critical_stretch)  # the damage model, before the force
-        f, theta = force()
+        f, theta = force(Y, dY, e)
         v += 0.5 * a.dt * f / a.density
         if step % a.every == 0 or step == a.steps:
-            print(row(step, theta), flush=True)
+            print(row(step, theta, e), flush=True)
 
 
 if __name__ == "__main__":
