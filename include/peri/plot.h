@@ -17,6 +17,13 @@ int peri_plot_write_marked(const char *path, const double *x, const double *y, s
                            size_t n_marks, const char *const *mark_labels, const char *xlabel, const char *ylabel,
                            const char *title, int width, int height);
 
+/* The same with a reference curve yr(xr) of nr points (e.g. a theory) drawn dashed in red
+ * over the same axes (nr = 0: none). */
+int peri_plot_write_reference(const char *path, const double *x, const double *y, size_t n, const double *xr,
+                              const double *yr, size_t nr, const size_t *marks, size_t n_marks,
+                              const char *const *mark_labels, const char *xlabel, const char *ylabel,
+                              const char *title, int width, int height);
+
 /* A tick step of 1, 2 or 5 times a power of ten giving about `want` intervals of span. */
 double peri_plot_nice_step(double span, int want);
 

@@ -66,6 +66,10 @@ double peri_qs_dot(const peri_sim *s, const double *a, const double *b, int ncom
  * (docs/model_reference.md 12.2), into lambda[n]. */
 void peri_qs_density(const peri_sim *s, double fs, double *lambda);
 /* Sets prescribed displacement components at pseudo-time t (velocity zero) and the loads. */
+/* solve(s), and with tools under load control (docs/contact.md "Load control") the search
+ * for their offsets at which the contact forces equal the loads at s->state.time, each point
+ * an equilibrium by solve (src/solver/tool_load_static.c). */
+peri_qs_status peri_tools_load_equilibrium(peri_sim *s, peri_qs_status (*solve)(peri_sim *));
 void peri_qs_apply_loading(peri_sim *s, double t);
 /* Internal forces at the current u (no breaking; loads re-evaluated with an indenter). */
 void peri_qs_forces(peri_sim *s);

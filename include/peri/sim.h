@@ -109,6 +109,7 @@ typedef struct peri_output {
   char *picture_field;
   int picture_width;
   char *plot_x, *plot_y;         /* history columns of the end-of-run line plot (NULL: none) */
+  peri_expr *plot_reference;     /* output.plot.reference: a curve of x drawn with it (NULL: none) */
   long checkpoint_every;        /* steps between checkpoints (0: none; docs/restart.md) */
   char *checkpoint_file;        /* checkpoint path, "{step}" = step number (NULL: <basename>.h5) */
   bool quiet;                   /* no summary and no progress line */

@@ -9,11 +9,12 @@
 int peri_plot_parse(peri_sim *s, const peri_node *output) {
   const peri_node *plot = peri_deck_get(output, "plot");
   if (!plot) return PERI_OK;
-  static const char *const keys[] = {"x", "y", NULL};
+  static const char *const keys[] = {"x", "y", "reference", NULL};
   int rc = peri_deck_allow(plot, "output.plot", keys);
   const char *x = NULL, *y = NULL;
   if (rc == PERI_OK) rc = peri_deck_string(plot, "x", true, &x);
   if (rc == PERI_OK) rc = peri_deck_string(plot, "y", true, &y);
+  if (rc == PERI_OK) rc = peri_deck_expr(plot, "reference", false, &s->out.plot_reference);
   if (rc != PERI_OK) return rc;
   s->out.plot_x = peri_strdup(x);
   s->out.plot_y = peri_strdup(y);

@@ -1030,6 +1030,7 @@ void peri_sim_free(peri_sim *s) {
   free(s->out.picture_field);
   free(s->out.plot_x);
   free(s->out.plot_y);
+  peri_expr_free(s->out.plot_reference);
   free(s->out.j_integral);
   free(s->out.checkpoint_file);
   peri_dataset_output_free(s->out.dataset);

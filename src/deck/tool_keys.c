@@ -43,10 +43,14 @@ static int parse_load(peri_sim *s, const peri_node *it, peri_tool *tl) {
     return peri_deck_error(peri_deck_get(load, "mass"), "key 'mass': the tool's mass must be positive (kg)");
   if (!(tl->damping >= 0.0) || !isfinite(tl->damping))
     return peri_deck_error(peri_deck_get(load, "damping"), "key 'damping': must be zero or positive (1/s)");
-  if (s->solver.kind != PERI_SOLVER_EXPLICIT)
-    return peri_deck_error(load, "tool '%s': load control runs with solver.type explicit (the tool's own damped "
-                                 "equation advances with the time step); prescribe the position for a quasi-static run",
+  if (s->solver.kind != PERI_SOLVER_EXPLICIT && s->solver.kind != PERI_SOLVER_ADR &&
+      s->solver.kind != PERI_SOLVER_DYNAMIC_RELAXATION && s->solver.kind != PERI_SOLVER_NLCG)
+    return peri_deck_error(load, "tool '%s': load control runs with solver.type explicit, adr, dynamic_relaxation or "
+                                 "nlcg; prescribe the position for another solver",
                            tl->name);
+  if (s->solver.kind != PERI_SOLVER_EXPLICIT && tl->q_rate != 0.0)
+    return peri_deck_error(peri_deck_get(load, "velocity"), "tool '%s': key 'velocity': a quasi-static run has no "
+                                                            "speed; only with solver.type explicit", tl->name);
   /* the degree of freedom under load must be free: no prescribed motion along `direction` */
   const peri_node *pos = peri_deck_get(it, "position");
   for (int d = 0; d < s->disc.geom.dim; ++d)

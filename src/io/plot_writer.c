@@ -38,6 +38,23 @@ int peri_plot_write(const char *path, const double *x, const double *y, size_t n
 int peri_plot_write_marked(const char *path, const double *x, const double *y, size_t n, const size_t *marks,
                            size_t n_marks, const char *const *mark_labels, const char *xlabel, const char *ylabel,
                            const char *title, int width, int height) {
+  return peri_plot_write_reference(path, x, y, n, NULL, NULL, 0, marks, n_marks, mark_labels, xlabel, ylabel, title,
+                                   width, height);
+}
+
+/* The range of two series together (the reference curve must fit in the frame too). */
+static void range2(const double *a, size_t na, const double *b, size_t nb, double *lo, double *hi) {
+  double *all = peri_malloc(sizeof(double) * (na + nb + 1));
+  for (size_t k = 0; k < na; ++k) all[k] = a[k];
+  for (size_t k = 0; k < nb; ++k) all[na + k] = b[k];
+  range(all, na + nb, lo, hi);
+  free(all);
+}
+
+int peri_plot_write_reference(const char *path, const double *x, const double *y, size_t n, const double *xr,
+                              const double *yr, size_t nr, const size_t *marks, size_t n_marks,
+                              const char *const *mark_labels, const char *xlabel, const char *ylabel,
+                              const char *title, int width, int height) {
   cairo_surface_t *surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
   if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) {
     peri_error("cannot draw %s: %s", path, cairo_status_to_string(cairo_surface_status(surface)));
@@ -52,8 +69,8 @@ int peri_plot_write_marked(const char *path, const double *x, const double *y, s
   cairo_set_font_size(cr, fs);
   const double left = 7.5 * fs, right = width - 2.0 * fs, top = 3.0 * fs, bottom = height - 4.0 * fs;
   double x0, x1, y0, y1;
-  range(x, n, &x0, &x1);
-  range(y, n, &y0, &y1);
+  range2(x, n, xr, nr, &x0, &x1);
+  range2(y, n, yr, nr, &y0, &y1);
 #define PX(v) (left + ((v) - x0) / (x1 - x0) * (right - left))
 #define PY(v) (bottom - ((v) - y0) / (y1 - y0) * (bottom - top))
   cairo_text_extents_t ext;
@@ -118,6 +135,26 @@ int peri_plot_write_marked(const char *path, const double *x, const double *y, s
     pen = true;
   }
   cairo_stroke(cr);
+  /* the reference curve: dashed red, under the markers */
+  if (nr > 1) {
+    const double dash[] = {0.6 * fs, 0.4 * fs};
+    cairo_save(cr);
+    cairo_set_source_rgb(cr, 0.85, 0.10, 0.10);
+    cairo_set_dash(cr, dash, 2, 0.0);
+    pen = false;
+    for (size_t k = 0; k < nr; ++k) {
+      if (!isfinite(xr[k]) || !isfinite(yr[k])) {
+        pen = false;
+        continue;
+      }
+      if (pen) cairo_line_to(cr, PX(xr[k]), PY(yr[k]));
+      else cairo_move_to(cr, PX(xr[k]), PY(yr[k]));
+      pen = true;
+    }
+    cairo_stroke(cr);
+    cairo_restore(cr);
+    cairo_set_source_rgb(cr, 0.12, 0.35, 0.70);
+  }
   if (n <= 200)
     for (size_t k = 0; k < n; ++k) {
       if (!isfinite(x[k]) || !isfinite(y[k])) continue;

@@ -38,8 +38,20 @@ int peri_plot_series_write(const peri_plot_series *p, const peri_sim *s, char *p
   const char *xu = peri_history_unit(s->out.plot_x), *yu = peri_history_unit(s->out.plot_y);
   snprintf(xlabel, sizeof xlabel, "%s [%s]", s->out.plot_x, xu ? xu : "1");
   snprintf(ylabel, sizeof ylabel, "%s [%s]", s->out.plot_y, yu ? yu : "1");
-  if (peri_plot_write(path, p->xs, p->ys, p->n, xlabel, ylabel, s->out.basename, 1200, 800) ==
-      PERI_OK)
+  /* output.plot.reference: the expression of x over the range of the x column, 201 points */
+  enum { REFERENCE_POINTS = 201 };
+  double xr[REFERENCE_POINTS], yr[REFERENCE_POINTS];
+  size_t nr = 0;
+  if (s->out.plot_reference) {
+    double lo = p->xs[0], hi = p->xs[0];
+    for (size_t k = 1; k < p->n; ++k) lo = p->xs[k] < lo ? p->xs[k] : lo, hi = p->xs[k] > hi ? p->xs[k] : hi;
+    for (nr = 0; nr < REFERENCE_POINTS; ++nr) {
+      xr[nr] = lo + (hi - lo) * (double)nr / (REFERENCE_POINTS - 1);
+      yr[nr] = peri_expr_eval(s->out.plot_reference, xr[nr], 0.0, 0.0, 0.0);
+    }
+  }
+  if (peri_plot_write_reference(path, p->xs, p->ys, p->n, xr, yr, nr, NULL, 0, NULL, xlabel, ylabel,
+                                s->out.basename, 1200, 800) == PERI_OK)
     return PERI_OK;
   path[0] = '\0';
   return PERI_ERR_RUN;

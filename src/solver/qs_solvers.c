@@ -25,7 +25,8 @@ const peri_qs_solver_ops *peri_qs_solver(peri_solver_kind kind) {
 
 peri_qs_status peri_solve_equilibrium(peri_sim *s) {
   const peri_qs_solver_ops *solver = peri_qs_solver(s->solver.kind);
-  return solver ? solver->solve(s) : PERI_QS_DIVERGED;
+  /* with load-controlled tools, the solver's solve inside the search for their offsets */
+  return solver ? peri_tools_load_equilibrium(s, solver->solve) : PERI_QS_DIVERGED;
 }
 
 int peri_solver_check_ranks(const peri_sim *s, int ranks) {

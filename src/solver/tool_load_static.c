@@ -1,0 +1,80 @@
+/* Load control of rigid tools in the quasi-static solvers (docs/contact.md "Load control"):
+ * at each load step the offset q of every load-controlled tool along its direction is found
+ * such that the body pushes back with the load, P_contact(q) = P(t), each P_contact taken
+ * at equilibrium of the nodes with the tool held at q (the solver's own solve, warm-started
+ * from the previous one). Secant steps inside a bracket, bisection where the secant leaves
+ * it; before the first contact the tool advances a tenth of a spacing per solve (a solve
+ * without contact converges at once). */
+#include <math.h>
+#include "peri/error.h"
+#include "peri/quasistatic.h"
+#include "peri/tools.h"
+
+/* |P_contact - P| <= this fraction of |P| ends the search: 1e-3, well below the 10% of the
+ * comparisons it serves (Hertz, friction) and above what a solve at tolerance 1e-6 resolves. */
+#define LOAD_TOLERANCE 1.0e-3
+#define MAX_LOAD_SOLVES 100
+
+typedef struct {
+  double lo, p_lo, hi, p_hi; /* bracket: offsets with P_contact below and above the load */
+  bool has_lo, has_hi;
+  double q_prev, p_prev;     /* the previous point, for the secant */
+  bool has_prev;
+} load_search;
+
+static bool load_controlled(const peri_sim *s) {
+  if (!s->tools) return false;
+  for (int k = 0; k < s->tools->count; ++k)
+    if (s->tools->tool[k].load) return true;
+  return false;
+}
+
+/* The next offset of one tool from its present point (q, P_contact) and the load P. */
+static double next_offset(load_search *ls, double q, double pc, double P, double step_free) {
+  if (pc < P) {
+    if (!ls->has_lo || q > ls->lo) ls->lo = q, ls->p_lo = pc, ls->has_lo = true;
+  } else if (!ls->has_hi || q < ls->hi) {
+    ls->hi = q, ls->p_hi = pc, ls->has_hi = true;
+  }
+  double next;
+  if (!(pc > 0.0)) next = q + step_free; /* no contact yet: move towards the body */
+  else if (ls->has_prev && pc != ls->p_prev) next = q + (P - pc) * (q - ls->q_prev) / (pc - ls->p_prev);
+  else next = q + (pc < P ? step_free : -step_free);
+  if (ls->has_lo && ls->has_hi && !(next > ls->lo && next < ls->hi)) next = 0.5 * (ls->lo + ls->hi);
+  else if (ls->has_lo && !(next > ls->lo)) next = ls->lo + step_free;
+  else if (ls->has_hi && !(next < ls->hi)) next = ls->hi - step_free;
+  ls->q_prev = q, ls->p_prev = pc, ls->has_prev = true;
+  return next;
+}
+
+peri_qs_status peri_tools_load_equilibrium(peri_sim *s, peri_qs_status (*solve)(peri_sim *)) {
+  peri_qs_status st = solve(s);
+  if (st != PERI_QS_CONVERGED || !load_controlled(s)) return st;
+  peri_tools *tools = s->tools;
+  load_search search[tools->count];
+  for (int k = 0; k < tools->count; ++k) search[k] = (load_search){0};
+  const double step_free = 0.1 * s->disc.geom.spacing;
+  for (int solves = 1;; ++solves) {
+    bool done = true;
+    for (int k = 0; k < tools->count; ++k) {
+      const peri_tool *tl = &tools->tool[k];
+      if (!tl->load) continue;
+      const double P = peri_expr_eval(tl->load, 0.0, 0.0, 0.0, s->state.time);
+      if (fabs(tl->normal_force - P) > LOAD_TOLERANCE * fabs(P)) done = false;
+    }
+    if (done) return PERI_QS_CONVERGED;
+    if (solves >= MAX_LOAD_SOLVES) {
+      peri_error("load control: the tools' contact forces do not reach their loads after %d solves at t = %g",
+                 MAX_LOAD_SOLVES, s->state.time);
+      return PERI_QS_NOT_CONVERGED;
+    }
+    for (int k = 0; k < tools->count; ++k) {
+      peri_tool *tl = &tools->tool[k];
+      if (!tl->load) continue;
+      const double P = peri_expr_eval(tl->load, 0.0, 0.0, 0.0, s->state.time);
+      tl->q = next_offset(&search[k], tl->q, tl->normal_force, P, step_free);
+    }
+    st = solve(s);
+    if (st != PERI_QS_CONVERGED) return st;
+  }
+}
