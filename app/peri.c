@@ -54,7 +54,7 @@ static void usage(FILE *out) {
           "  --set KEY=VALUE     override a deck value before it is read, e.g.\n"
           "                      --set discretization.horizon=1e-3 (repeatable; KEY is a dotted\n"
           "                      path, list items by 0-based index; VALUE is YAML)\n"
-          "  --set-list KEY=V1,V2,...  sweep values of one key (commas inside [ ] or { } do not split)\n"
+          "  --set-list KEY=V1,V2,...  sweep values of one key (commas inside [ ], { } or ( ) do not split)\n"
           "  --quantity NAME     what a sweep tabulates (repeatable): max_von_mises,\n"
           "                      max_displacement, strain_energy, nodes, iterations,\n"
           "                      reaction_REGION_x (total reaction on a region, also _y, _z),\n"
@@ -137,8 +137,8 @@ static int split_list(const char *arg, sweep_list *l) {
   for (;;) {
     const char *comma = NULL; /* the next comma outside brackets: values may be lists */
     for (int depth = 0, i = 0; p[i]; ++i) {
-      if (p[i] == '[' || p[i] == '{') ++depth;
-      else if (p[i] == ']' || p[i] == '}') --depth;
+      if (p[i] == '[' || p[i] == '{' || p[i] == '(') ++depth; /* ( ): expressions' arguments */
+      else if (p[i] == ']' || p[i] == '}' || p[i] == ')') --depth;
       else if (p[i] == ',' && depth == 0) {
         comma = p + i;
         break;
