@@ -11,7 +11,8 @@
 #   within 1e-4 (nlcg: 1e-3), and strain_energy = F U/2 (Clapeyron) within the same;
 # - the same bar with the mean rule at the interface (no youngs_modulus) is 10% stiffer, so a
 #   code that ignored the key fails by 100x the tolerance, and its run matches that solution;
-# - bad keys exit 2 at the key: a negative modulus, the same material twice, the LPS model.
+# - bad keys exit 2 at the key: a negative modulus, the same material twice, the LPS model;
+#   peri sweep's film quantities on a deck without output.wrinkles exit 2 before any run.
 # Usage: bash tests/cli/thin_film_interface_modulus.sh PATH_TO_PERI   (from the repository root)
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
@@ -108,3 +109,10 @@ run_peri check "$bar" --set "materials.a={model: lps, density: 7850, youngs_modu
 expect_status 2
 expect_stderr_contains "youngs_modulus is for the bond-based model pmb"
 pass "bad youngs_modulus keys: exit 2 at the key"
+
+# peri sweep's film quantities need a film region (output.wrinkles): exit 2 before any run
+run_peri sweep "$bar" --set-list "interfaces.0.youngs_modulus=1e9,2e9" --quantity film_regime
+expect_status 2
+expect_stderr_contains "need a quasi-static solver and output.wrinkles"
+[[ ! -s "$RUN_STDOUT" ]] || fail "the sweep printed rows before the error: $(cat "$RUN_STDOUT")"
+pass "peri sweep --quantity film_regime without output.wrinkles: exit 2 before any run"
