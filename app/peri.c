@@ -6,7 +6,10 @@
 #include <time.h>
 #include "peri/clock.h"
 #include "peri/comm.h"
+#include "peri/energies.h"
 #include "peri/error.h"
+#include "peri/film_quantities.h"
+#include "peri/film_series.h"
 #include "peri/history_log.h"
 #include "peri/implicit.h"
 #include "peri/probe.h"
@@ -51,7 +54,7 @@ static void usage(FILE *out) {
           "  --set KEY=VALUE     override a deck value before it is read, e.g.\n"
           "                      --set discretization.horizon=1e-3 (repeatable; KEY is a dotted\n"
           "                      path, list items by 0-based index; VALUE is YAML)\n"
-          "  --set-list KEY=V1,V2,...  sweep values of one key (commas inside [ ] or { } do not split)\n"
+          "  --set-list KEY=V1,V2,...  sweep values of one key (commas inside [ ], { } or ( ) do not split)\n"
           "  --quantity NAME     what a sweep tabulates (repeatable): max_von_mises,\n"
           "                      max_displacement, strain_energy, nodes, iterations,\n"
           "                      reaction_REGION_x (total reaction on a region, also _y, _z),\n"
@@ -59,6 +62,10 @@ static void usage(FILE *out) {
           "                      the grid column nearest to x = X), max:FIELD@x=X (its largest\n"
           "                      value); FIELD is von_mises,\n"
           "                      stress_xx, stress_xy, ..., strain_xx, ..., displacement_x, ...\n"
+          "                      films (output.wrinkles, quasi-static): wrinkling_onset,\n"
+          "                      delamination_onset (pseudo-time, nan: none),\n"
+          "                      wrinkle_wavelength_at_onset, film_regime (0 neither, 1 wrinkling\n"
+          "                      only, 2 wrinkling then delamination, 3 delamination first)\n"
           "\n"
           "mpirun -np N peri run DECK   runs an explicit or heat deck on N MPI ranks (%s;\n"
           "                             docs/parallel.md)\n"
@@ -73,11 +80,37 @@ static void usage(FILE *out) {
   );
 }
 
-/* Runs the solver of a built simulation without output. */
-static int solve_quietly(peri_sim *s) {
+/* A sweep's film quantities (docs/thin_films.md section 8): the onsets that `peri run` writes
+ * to wrinkling.csv, found in the film's rows that the sweep records after every load step. */
+static const char *const film_quantities[] = {"wrinkling_onset", "delamination_onset", "wrinkle_wavelength_at_onset",
+                                              "film_regime", NULL};
+
+static int film_quantity(const char *name) {
+  for (int q = 0; film_quantities[q]; ++q)
+    if (!strcmp(name, film_quantities[q])) return q;
+  return -1;
+}
+
+/* The film's row of a load step: its strain energy, wrinkles and broken interface bonds. */
+static int record_film_row(peri_sim *s, void *ctx) {
+  if (s->solver.qs.phase == PERI_QS_PHASE_DYNAMIC) return 0; /* rows of the load steps only */
+  peri_strain_energy(s); /* the densities the film's energy sums */
+  double amplitude = 0.0, wavelength = 0.0;
+  peri_wrinkle_profile(s, s->out.wrinkle_region, &amplitude, &wavelength);
+  peri_film_series_add(ctx, s, amplitude, wavelength);
+  return 0;
+}
+
+/* Runs the solver of a built simulation without output; with `film`, records the film's
+ * rows (the initial state and every load step) as `peri run` does for output.wrinkles. */
+static int solve_quietly(peri_sim *s, peri_film_series *film) {
   peri_apply_initial_conditions(s);
   peri_apply_loads(s, s->state.time);
   s->mat.model->force(s);
+  if (peri_is_quasi_static(s) && film) {
+    record_film_row(s, film);
+    return peri_solve_quasi_static(s, record_film_row, film);
+  }
   if (peri_is_quasi_static(s)) return peri_solve_quasi_static(s, NULL, NULL);
   if (s->solver.kind == PERI_SOLVER_EXPLICIT) return peri_solve_explicit(s, NULL, NULL);
   peri_error("sweep: solver type heat is not supported (use explicit or a quasi-static solver)");
@@ -104,8 +137,8 @@ static int split_list(const char *arg, sweep_list *l) {
   for (;;) {
     const char *comma = NULL; /* the next comma outside brackets: values may be lists */
     for (int depth = 0, i = 0; p[i]; ++i) {
-      if (p[i] == '[' || p[i] == '{') ++depth;
-      else if (p[i] == ']' || p[i] == '}') --depth;
+      if (p[i] == '[' || p[i] == '{' || p[i] == '(') ++depth; /* ( ): expressions' arguments */
+      else if (p[i] == ']' || p[i] == '}' || p[i] == ')') --depth;
       else if (p[i] == ',' && depth == 0) {
         comma = p + i;
         break;
@@ -139,8 +172,13 @@ static int sweep(const char *deck, int n_sets, const char **sets, int n_lists, s
                  lists[0].key, lists[0].count, lists[l].key, lists[l].count);
       return PERI_ERR_INPUT;
     }
+  bool film = false;
   for (int q = 0; q < n_q; ++q) {
     char why[512];
+    if (film_quantity(quantities[q]) >= 0) {
+      film = true;
+      continue;
+    }
     if (peri_probe_check(quantities[q], why, sizeof why) != PERI_OK) {
       peri_error("option --quantity: %s", why);
       return PERI_ERR_INPUT;
@@ -173,15 +211,26 @@ static int sweep(const char *deck, int n_sets, const char **sets, int n_lists, s
       peri_sim s;
       double t0 = peri_seconds();
       rc = peri_sim_from_deck_with(&s, deck, n_all, all);
+      if (rc == PERI_OK && film && (s.out.wrinkle_region <= 0 || !peri_is_quasi_static(&s))) {
+        peri_error("sweep: the quantities %s and %s need a quasi-static solver and output.wrinkles (the film "
+                   "region, docs/thin_films.md)", film_quantities[0], film_quantities[3]);
+        rc = PERI_ERR_INPUT;
+      }
       if (rc == PERI_OK && pass == 1) {
         s.out.quiet = true;
-        rc = solve_quietly(&s);
+        peri_film_series rows = {0};
+        rc = solve_quietly(&s, film ? &rows : NULL);
         double t1 = peri_seconds();
+        double onsets[4];
+        peri_film_series_onsets(&rows, onsets);
+        peri_film_series_free(&rows);
         printf("|");
         for (int l = 0; l < n_lists; ++l) printf(" %s |", lists[l].values[v]);
         for (int q = 0; q < n_q && rc == PERI_OK; ++q) {
           double value = 0.0;
-          rc = peri_probe(&s, quantities[q], &value);
+          const int f = film_quantity(quantities[q]);
+          if (f >= 0) value = onsets[f];
+          else rc = peri_probe(&s, quantities[q], &value);
           printf(" %.6g |", value);
         }
         printf(" %.2f |\n", t1 - t0);

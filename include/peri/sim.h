@@ -157,6 +157,8 @@ typedef struct peri_materials {
   peri_material *materials;
   double *pair_s0;              /* [n_materials^2] critical stretch of a bond by end materials */
   double *pair_strength;        /* [n_materials^2] interface normal strength (Pa, 0: none); NULL: no pair has one */
+  struct peri_interface_moduli *interface_moduli; /* PMB bonds between two materials with their own modulus
+                                                   (include/peri/interface_moduli.h); NULL: none */
   double *s0_node;              /* LAMMPS form: s0 of each node for this step (else NULL) */
 } peri_materials;
 

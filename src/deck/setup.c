@@ -27,6 +27,7 @@
 #include "peri/solver.h"
 #include "peri/history.h"
 #include "peri/horizon_field.h"
+#include "peri/interface_moduli.h"
 #include "peri/quasistatic.h"
 #include "peri/overrides.h"
 #include "peri/thermal.h"
@@ -208,13 +209,33 @@ static int resolve_materials(parse_ctx *c) {
   return PERI_OK;
 }
 
+/* interfaces[].youngs_modulus: a positive modulus between two different materials of the
+ * bond-based model, whose bonds have a constant of their own (docs/deck.md section 9). */
+static int check_interface_modulus(const peri_sim *s, const peri_node *at, double E, int a, int b) {
+  if (!(E > 0.0) || !isfinite(E)) return peri_deck_error(at, "interfaces: youngs_modulus must be a positive number of Pa");
+  if (a == b)
+    return peri_deck_error(at, "interfaces: youngs_modulus needs two different materials (a material's own bonds "
+                               "take its youngs_modulus)");
+  if (s->mat.model != peri_model_find("pmb"))
+    return peri_deck_error(at, "interfaces: youngs_modulus is for the bond-based model pmb; with %s each node's "
+                               "force state follows from its own material's moduli and no bond has a constant "
+                               "of its own (docs/thin_films.md section 7)", s->mat.model->name);
+  if (s->disc.surface_correction != PERI_SURFACE_NONE || s->disc.horizon_field)
+    return peri_deck_error(at, "interfaces: youngs_modulus is not available with discretization.surface_correction "
+                               "or a variable horizon");
+  if (s->mat.materials[a].sublayers || s->mat.materials[b].sublayers)
+    return peri_deck_error(at, "interfaces: youngs_modulus is not available with plastic sublayers");
+  return PERI_OK;
+}
+
 static int parse_interfaces(parse_ctx *c) {
   peri_sim *s = c->s;
   const peri_node *list = peri_deck_get(c->root, "interfaces");
   if (!list) return PERI_OK;
   if (list->kind != PERI_NODE_SEQUENCE)
     return peri_deck_error(list, "key 'interfaces': expected a list, got %s", peri_deck_kind_name(list));
-  static const char *const keys[] = {"materials", "critical_stretch", "fracture_energy", "normal_strength", NULL};
+  static const char *const keys[] = {"materials", "critical_stretch", "fracture_energy", "normal_strength",
+                                     "youngs_modulus", NULL};
   for (int m = 0; m < s->mat.n_materials; ++m)
     if (s->mat.materials[m].lammps_s0 && list->count > 0)
       return peri_deck_error(list, "key 'interfaces': not available with the {s00, alpha} critical "
@@ -231,11 +252,16 @@ static int parse_interfaces(parse_ctx *c) {
     if (a < 0) return -a;
     int b = peri_setup_find_material(s, pair->items[1], pair->items[1]->scalar);
     if (b < 0) return -b;
-    double s0 = NAN, G0 = NAN, strength = NAN;
+    double s0 = NAN, G0 = NAN, strength = NAN, modulus = NAN;
     TRY(peri_deck_double(it, "critical_stretch", false, &s0));
     TRY(peri_deck_double(it, "fracture_energy", false, &G0));
     TRY(peri_deck_double(it, "normal_strength", false, &strength));
+    TRY(peri_deck_double(it, "youngs_modulus", false, &modulus));
     int nm = s->mat.n_materials;
+    if (!isnan(modulus)) { /* the interface bonds' own constant (include/peri/interface_moduli.h) */
+      TRY(check_interface_modulus(s, peri_deck_get(it, "youngs_modulus"), modulus, a, b));
+      peri_interface_modulus_set(s, a, b, modulus);
+    }
     if (!isnan(strength)) { /* the traction criterion of docs/thin_films.md section 6 */
       const peri_node *at = peri_deck_get(it, "normal_strength");
       if (!(strength > 0.0) || !isfinite(strength))
@@ -245,11 +271,12 @@ static int parse_interfaces(parse_ctx *c) {
                                    "the interface between them)");
       if (!s->mat.pair_strength) s->mat.pair_strength = peri_calloc((size_t)nm * (size_t)nm, sizeof(double));
       s->mat.pair_strength[a * nm + b] = s->mat.pair_strength[b * nm + a] = strength;
-      if (isnan(s0) && isnan(G0)) continue; /* the bonds keep min(s0_a, s0_b) */
     }
+    if (isnan(s0) && isnan(G0) && !(isnan(strength) && isnan(modulus))) continue; /* min(s0_a, s0_b) */
     if (isnan(s0) == isnan(G0))
       return peri_deck_error(it, "interfaces: give exactly one of critical_stretch, fracture_energy%s",
-                             isnan(strength) ? " (or normal_strength)" : " (besides normal_strength)");
+                             isnan(strength) && isnan(modulus) ? " (or normal_strength, youngs_modulus)"
+                                                               : " (besides normal_strength, youngs_modulus)");
     if (!((isnan(s0) ? G0 : s0) > 0.0))
       return peri_deck_error(it, "interfaces: the critical stretch or fracture energy must be positive");
     if (!isnan(G0)) {
@@ -1003,6 +1030,7 @@ void peri_sim_free(peri_sim *s) {
   free(s->mat.materials);
   free(s->mat.pair_s0);
   free(s->mat.pair_strength);
+  peri_interface_moduli_free(s);
   free(s->mat.s0_node);
   peri_thermal_free(s->thermal);
   peri_coupling_free(s->coupling);

@@ -6,6 +6,7 @@
 #include <string.h>
 #include "peri/constants.h"
 #include "peri/error.h"
+#include "peri/interface_moduli.h"
 #include "peri/model.h"
 #include "bond_kernel.h"
 #include "node_blocks.h"
@@ -20,6 +21,7 @@ static int pmb_init(peri_sim *s) {
       mat->micromodulus = peri_pmb_micromodulus(&s->disc.geom, mat->E, mat->K) * calibration;
     mat->c_stable = mat->micromodulus;
   }
+  peri_interface_moduli_init(s); /* interfaces[].youngs_modulus (none: nothing) */
   peri_particles *p = &s->disc.p;
   p->coef = peri_malloc(sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
   if (peri_plastic_init(s) != PERI_OK) return PERI_ERR_INPUT; /* sublayer plasticity (docs/plasticity.md) */
@@ -426,8 +428,17 @@ static long pmb_plastic_force_pass(peri_sim *s, bool update_s0) {
   return n_broken;
 }
 
+/* The bond loops, then the interface bonds' micromodulus difference (interface_moduli.h):
+ * one pass, so that the breaking order treats both alike. */
+static long pmb_interface_force_pass(peri_sim *s, bool update_s0) {
+  const long n_broken = pmb_force_pass(s, update_s0);
+  peri_interface_moduli_force(s);
+  return n_broken;
+}
+
 static long pmb_force(peri_sim *s) {
   if (s->state.plastic_stretch) return peri_force_in_breaking_order(s, pmb_plastic_force_pass);
+  if (s->mat.interface_moduli) return peri_force_in_breaking_order(s, pmb_interface_force_pass);
   return peri_force_in_breaking_order(s, s->disc.bonds.surface_G ? peri_corrected_pmb_force : pmb_force_pass);
 }
 
@@ -566,7 +577,7 @@ static void pmb_energy(peri_sim *s, double *W) {
     } else {
       for (int32_t i = i0; i < i1; ++i) W[i] = 0.5 * loops->node(&w, i);
     }
-  }
+  }  peri_interface_moduli_energy(s, W);
 }
 
 static double pmb_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
@@ -577,7 +588,7 @@ static double pmb_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) 
   const double r0 = peri_bond_length(p->x, i, j);
   const double stretch = (r - r0) / r0 - peri_bond_thermal_stretch(s->state.thermal_strain, i, j) -
                          peri_plastic_bond_stretch(s, i, k);
-  const double c = 0.5 * (s->mat.materials[p->material[i]].micromodulus + s->mat.materials[p->material[j]].micromodulus);
+  const double c = peri_pmb_bond_micromodulus(s, p->material[i], p->material[j]);
   return c * stretch * peri_bonds_omega(b, r0);
 }
 

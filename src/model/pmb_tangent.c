@@ -1,19 +1,20 @@
 /* Tangent stiffness of the PMB model, analytic, in the current configuration.
  * The pair force of bond i-j on i is g(y) = a s(r) y/r with y = y_j - y_i, r = |y|,
- * s = (r - L)/L - s_thermal and a = c_ij omega beta V_j (src/model/pmb.c). Its derivative,
+ * s = (r - L)/L - s_thermal and a = c_ij omega beta V_j (src/model/pmb.c; c_ij that of an
+ * interface modulus where the pair has one, include/peri/interface_moduli.h). Its derivative,
  *   dg/dy = a [ (1/L) n n^T + (s/r) (I - n n^T) ],  n = y/r,
  * is the block K_ij = d f_i / d u_j, and K_ii = -sum_j K_ij. The second (geometric) term
  * keeps Newton quadratic under large rotations and stretches; it vanishes at s = 0. */
 #include <math.h>
 #include <stdlib.h>
 #include "peri/error.h"
+#include "peri/interface_moduli.h"
 #include "peri/sim.h"
 #include "bond_kernel.h"
 
 void peri_pmb_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
-  const peri_material *mats = s->mat.materials;
   const double *eth = s->state.thermal_strain;
   int64_t longest = 0;
   for (int32_t i = 0; i < p->n_owned; ++i)
@@ -30,7 +31,6 @@ void peri_pmb_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
       for (int e = 0; e < 9; ++e) diag[e] = 0.0;
       cols[0] = i;
       int32_t count = 1;
-      const double ci = mats[p->material[i]].micromodulus;
       for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
         if (b->broken[k]) continue;
         const int32_t j = b->neighbor[k];
@@ -39,7 +39,7 @@ void peri_pmb_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
         if (r <= 0.0) continue; /* the force skips it too */
         const double L = peri_bond_length(p->x, i, j);
         const double stretch = (r - L) / L - peri_bond_thermal_stretch(eth, i, j);
-        const double c = 0.5 * (ci + mats[p->material[j]].micromodulus);
+        const double c = peri_pmb_bond_micromodulus(s, p->material[i], p->material[j]);
         const double a = c * peri_bonds_omega(b, L) * peri_bonds_beta(b, L) * p->volume[j];
         const double axial = a / L, geometric = a * stretch / r;
         double *K = &blocks[9 * (size_t)count];

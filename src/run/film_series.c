@@ -1,4 +1,5 @@
 /* The film's series and its onsets (include/peri/film_series.h, docs/thin_films.md). */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include "peri/comm.h"
@@ -96,6 +97,15 @@ int peri_film_series_write(const peri_film_series *c, const peri_sim *s, char *p
   free(t);
   free(u);
   return rc;
+}
+
+void peri_film_series_onsets(const peri_film_series *c, double out[4]) {
+  int at[2];
+  film_onsets(c, &at[0], &at[1]);
+  out[0] = at[0] >= 0 ? c->rows[FILM_ROW * at[0]] : NAN;
+  out[1] = at[1] >= 0 ? c->rows[FILM_ROW * at[1]] : NAN;
+  out[2] = at[0] >= 0 && at[0] + 1 < c->n ? c->rows[FILM_ROW * (at[0] + 1) + 3] : NAN;
+  out[3] = at[1] < 0 ? (at[0] < 0 ? 0.0 : 1.0) : (at[0] >= 0 && at[0] < at[1] ? 2.0 : 3.0);
 }
 
 void peri_film_series_free(peri_film_series *f) {

@@ -10,30 +10,18 @@
 #   (computed here by a scan of kh from the moduli; the seed prints its closed form, Eq. 4.5,
 #   with the exponent +2/3 where Eq. 4.3 gives -2/3: docs/thin_films.md §5);
 # - the wrinkle wavelength one load step past it lies within 10% of Mei's lambda* (Eq. 4.4);
-# - wrinkling_energy.png is written and the summary names the onset.
+# - wrinkling_energy.png is written and the summary names the onset;
+# nu_s = 0 by `peri run` (wrinkling.csv and history.csv), nu_s = 0.45 by `peri sweep` and its
+# film quantities (wrinkling_onset, wrinkle_wavelength_at_onset, and film_regime = 1:
+# wrinkling only, as the deck does not break bonds; docs/thin_films.md §8).
 # Usage: bash tests/cli/thin_film_wrinkling.sh PATH_TO_PERI   (from the repository root)
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
 cli_init "$@"
 
-for nu in 0 0.45; do
-  eps="(0.020*min(t,1)+0.001*max(t-1,0))"
-  y="$eps*$nu/(1-$nu)*(y+0.02)"
-  run_peri run examples/thin_film_wrinkling.yaml --threads 2 --output "$TMP/film_$nu" \
-    --set materials.substrate.poisson_ratio="$nu" \
-    --set "boundary_conditions.0.x=-$eps*x" --set "boundary_conditions.1.x=-$eps*x" \
-    --set "boundary_conditions.2.x=-$eps*x" --set "boundary_conditions.0.y=$y" \
-    --set "boundary_conditions.1.y=$y" --set "boundary_conditions.2.y=$y" \
-    --set solver.end_time=12 --set solver.load_steps=12 --set output.frames=0 --set output.picture=false
-  expect_status 0
-  expect_stdout_contains "onset        wrinkling at t = "
-  expect_nonempty_file "$TMP/film_$nu/wrinkling_energy.png"
-  expect_nonempty_file "$TMP/film_$nu/wrinkling.csv"
-  read -r t step <<<"$(awk -F, '$1 == "wrinkling" { print $2, $3 }' "$TMP/film_$nu/wrinkling.csv")"
-  [[ -n "${step:-}" ]] || fail "nu_s = $nu: no wrinkling onset in wrinkling.csv: $(cat "$TMP/film_$nu/wrinkling.csv")"
-  col=$(csv_column "$TMP/film_$nu/history.csv" wrinkle_wavelength)
-  # history.csv row of load step k is line k + 2 (header, step 0)
-  wavelength=$(sed -n "$((step + 3))p" "$TMP/film_$nu/history.csv" | cut -d, -f"$col")
+# mei NU T WAVELENGTH: the onset at pseudo-time T and the wavelength against Mei (10%)
+mei() {
+  local nu=$1 t=$2 wavelength=$3
   awk -v t="$t" -v l="$wavelength" -v nus="$nu" 'BEGIN {
     e = 0.020 * (t < 1 ? t : 1) + 0.001 * (t > 1 ? t - 1 : 0)   # the applied strain at t
     r = (2e9 / (1 - nus^2)) / (200e9 / (1 - 0.33^2)); h = 2e-3; pi = atan2(0, -1)
@@ -50,5 +38,42 @@ for nu in 0 0.45; do
     exit !(e > 0.9 * best && e < 1.1 * best && l > 0.9 * lam && l < 1.1 * lam && l > 0.9 * lam44 && l < 1.1 * lam44) }' \
     >"$TMP/mei.txt" ||
     fail "nu_s = $nu: onset at t = $t, wavelength $wavelength m: not within 10% of Mei's $(cat "$TMP/mei.txt")"
-  pass "nu_s = $nu: wavelength $wavelength m, $(cat "$TMP/mei.txt"): within 10%"
-done
+}
+
+# the deck at nu_s: the strain of the pseudo-time and each layer's Poisson expansion
+film_sets() {
+  local nu=$1 eps="(0.020*min(t,1)+0.001*max(t-1,0))"
+  local y="$eps*$nu/(1-$nu)*(y+0.02)"
+  sets=(--set materials.substrate.poisson_ratio="$nu"
+    --set "boundary_conditions.0.x=-$eps*x" --set "boundary_conditions.1.x=-$eps*x"
+    --set "boundary_conditions.2.x=-$eps*x" --set "boundary_conditions.0.y=$y"
+    --set "boundary_conditions.1.y=$y" --set "boundary_conditions.2.y=$y"
+    --set solver.end_time=12 --set solver.load_steps=12 --set output.frames=0 --set output.picture=false)
+}
+
+nu=0
+film_sets "$nu"
+run_peri run examples/thin_film_wrinkling.yaml --threads 2 --output "$TMP/film_$nu" "${sets[@]}"
+expect_status 0
+expect_stdout_contains "onset        wrinkling at t = "
+expect_nonempty_file "$TMP/film_$nu/wrinkling_energy.png"
+expect_nonempty_file "$TMP/film_$nu/wrinkling.csv"
+read -r t step <<<"$(awk -F, '$1 == "wrinkling" { print $2, $3 }' "$TMP/film_$nu/wrinkling.csv")"
+[[ -n "${step:-}" ]] || fail "nu_s = $nu: no wrinkling onset in wrinkling.csv: $(cat "$TMP/film_$nu/wrinkling.csv")"
+col=$(csv_column "$TMP/film_$nu/history.csv" wrinkle_wavelength)
+# history.csv row of load step k is line k + 2 (header, step 0)
+wavelength=$(sed -n "$((step + 3))p" "$TMP/film_$nu/history.csv" | cut -d, -f"$col")
+mei "$nu" "$t" "$wavelength"
+pass "nu_s = $nu (peri run): wavelength $wavelength m, $(cat "$TMP/mei.txt"): within 10%"
+
+nu=0.45
+film_sets "$nu"
+run_peri sweep examples/thin_film_wrinkling.yaml --threads 2 "${sets[@]}" --set-list materials.substrate.poisson_ratio="$nu" \
+  --quantity wrinkling_onset --quantity wrinkle_wavelength_at_onset --quantity film_regime --quantity delamination_onset
+expect_status 0
+# the table's row: | nu | onset | wavelength | regime | delamination | seconds |
+read -r t wavelength regime delamination <<<"$(awk -F'|' 'NR == 3 { print $3, $4, $5, $6 }' "$RUN_STDOUT")"
+[[ "${regime:-}" == 1 && "${delamination:-}" == nan ]] ||
+  fail "nu_s = $nu (peri sweep): film_regime '${regime:-}', delamination_onset '${delamination:-}', not 1 (wrinkling only) and nan: $(cat "$RUN_STDOUT")"
+mei "$nu" "$t" "$wavelength"
+pass "nu_s = $nu (peri sweep): wavelength $wavelength m, $(cat "$TMP/mei.txt"): within 10%; film_regime 1"
