@@ -577,7 +577,8 @@ static void pmb_energy(peri_sim *s, double *W) {
     } else {
       for (int32_t i = i0; i < i1; ++i) W[i] = 0.5 * loops->node(&w, i);
     }
-  }  peri_interface_moduli_energy(s, W);
+  }
+  peri_interface_moduli_energy(s, W); /* interfaces[].youngs_modulus (none: nothing) */
 }
 
 static double pmb_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
