@@ -163,8 +163,9 @@ int peri_partial_stress_prepare(peri_sim *s) {
       for (int r = 0; r < 3; ++r) h->stencil_weight[3 * t + r] = inv[3 * r] * wx[0] + inv[3 * r + 1] * wx[1] + inv[3 * r + 2] * wx[2];
     }
   }
-  free(h->partial_stress);
+  free(h->partial_stress), free(h->control_reaction);
   h->partial_stress = peri_calloc(9 * (size_t)(p->n > 0 ? p->n : 1), sizeof(double));
+  h->control_reaction = peri_calloc(3 * (size_t)(p->n > 0 ? p->n : 1), sizeof(double));
   return PERI_OK;
 }
 
@@ -172,7 +173,8 @@ void peri_partial_stress_force(peri_sim *s) {
   peri_horizon_field *h = s->disc.horizon_field;
   peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
-  double *nu = h->partial_stress;
+  double *nu = h->partial_stress, *reaction_sum = h->control_reaction;
+  memset(reaction_sum, 0, 3 * sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
   /* nu0_i = sum_j t_i<xi> (y_j - y_i)/|y_j - y_i| (x) xi V_j over the intact bonds */
 #pragma omp parallel for schedule(dynamic, 64)
   for (int32_t i = 0; i < p->n_owned; ++i) {
@@ -211,6 +213,7 @@ void peri_partial_stress_force(peri_sim *s) {
       for (int l = 0; l < PERI_FIT_BASIS; ++l)
         for (int a = 0; a < 3; ++a) coef[l][a] += q[l] * (uj[a] - ui[a]);
     }
+    const double kappa = h->stabilization * h->stiffness[i];
     double control[3] = {0, 0, 0};
     for (int64_t t = h->stencil_offset[i]; t < h->stencil_offset[i + 1]; ++t) {
       const int32_t j = h->stencil_node[t];
@@ -221,9 +224,15 @@ void peri_partial_stress_force(peri_sim *s) {
         double z = p->u[3 * (size_t)j + a] - ui[a];
         for (int l = 0; l < nb; ++l) z -= phi[l] * coef[l][a];
         control[a] += h->stencil_bond[t] * z;
+        const double reaction = kappa * h->stencil_bond[t] * z;
+#pragma omp atomic
+        reaction_sum[3 * (size_t)j + a] -= reaction;
       }
     }
-    const double kappa = h->stabilization * h->stiffness[i];
     for (int a = 0; a < 3; ++a) p->f[3 * (size_t)i + a] = f[a] + kappa * control[a];
   }
+  /* the control's reactions, added once every coupled node has its force */
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i)
+    for (int a = 0; a < 3; ++a) p->f[3 * (size_t)i + a] += reaction_sum[3 * (size_t)i + a];
 }
