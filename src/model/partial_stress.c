@@ -11,12 +11,15 @@
  * k dx near 1 then have a negative stiffness and an explicit pulse run diverges. With the
  * bond weights the divergence is, in a uniform region, the adjoint of u -> nu0 up to a positive
  * factor, so the product is negative semi-definite.) Its null space, and the transition where
- * the operator is not symmetric, need one more term: the zero-energy mode control
- *   f_i += kappa k_i sum_j w_ij z_ij,  z_ij = u_j - u_i - (F xi + xi^T Q xi / 2),
- * where F and Q are the weighted least-squares fit of u_j - u_i over i's bonds. z vanishes
- * for every quadratic field, so the control changes neither the patch test nor the long-wave
- * modulus (the force of a field with k delta small changes at order (k delta)^4), and gives
- * every other mode, the checkerboard included, a positive stiffness. */
+ * the operator is not symmetric, need one more term: the zero-energy mode control, the
+ * energy kappa/2 sum_i k_i sum_j w_ij |z_ij|^2,  z_ij = u_j - u_i - (F xi + xi^T Q xi / 2),
+ * where F and Q are the weighted least-squares fit of u_j - u_i over i's bonds. Its force is
+ * kappa k_i sum_j w_ij z_ij on i and the reaction -kappa k_i w_ij z_ij on each j (the fit's
+ * residual is a projector symmetric in the weights): a symmetric, positive semi-definite
+ * stiffness, without which the 2D/3D operator keeps complex eigenvalue pairs whatever kappa.
+ * z vanishes for every quadratic field, so the control changes neither the patch test nor
+ * the long-wave modulus (the force of a field with k delta small changes at order
+ * (k delta)^4), and gives every other mode, the checkerboard included, a positive stiffness. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
