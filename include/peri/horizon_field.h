@@ -15,6 +15,11 @@
  * steps; with 0.25 or 1 it stays within 0.02% over 4 x 10^4 steps, and the reflection figures
  * of docs/variable_horizon.md are those of 1 */
 #define PERI_PARTIAL_STRESS_STABILIZATION 1.0
+/* in 2D and 3D: the smallest factor at which the assembled operator of a plate with a circular
+ * transition inside it has only real, positive eigenvalues (1 and 4 leave complex pairs that
+ * grow; docs/variable_horizon.md "Zero-energy mode control"), and with which the explicit runs
+ * of tests/verification/test_horizon_pulse.c stay bounded over 10^4 steps */
+#define PERI_PARTIAL_STRESS_STABILIZATION_2D3D 8.0
 
 /* the quadratic fit's basis: d linear and d(d+1)/2 quadratic terms, 9 in 3D */
 #define PERI_FIT_BASIS 9
@@ -49,6 +54,7 @@ typedef struct peri_horizon_field {
                              u_j - u_i (zero-energy mode control, src/model/partial_stress.c) */
   double *stiffness;      /* [n] the bond stiffness factor of the control: PMB c_i, LPS alpha_m/m_i */
   double stabilization;   /* the control's factor (discretization.partial_stress_stabilization) */
+  double *control_reaction; /* [3n] scratch: the control's reactions on the stencil nodes */
   uint8_t *needs_stress;  /* [n] coupled nodes and the nodes of their stencils */
   long ps_would_break;    /* bonds of coupled nodes beyond their critical stretch (kept intact) */
 } peri_horizon_field;

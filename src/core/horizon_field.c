@@ -102,6 +102,7 @@ void peri_horizon_field_free(peri_horizon_field *h) {
   free(h->stencil_bond);
   free(h->stencil_fit);
   free(h->stiffness);
+  free(h->control_reaction);
   free(h->needs_stress);
   free(h);
 }

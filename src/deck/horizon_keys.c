@@ -111,16 +111,16 @@ int peri_setup_horizon_coupling(peri_sim *s, const peri_node *root, const bool *
     for (int32_t k = 0; k < region->count; ++k) h->coupled[region->nodes[k]] = 1;
     h->n_coupled = region->count;
   }
-  h->stabilization = PERI_PARTIAL_STRESS_STABILIZATION;
+  h->stabilization = s->disc.geom.dim > 1 ? PERI_PARTIAL_STRESS_STABILIZATION_2D3D : PERI_PARTIAL_STRESS_STABILIZATION;
   int rc = peri_deck_double(d, "partial_stress_stabilization", false, &h->stabilization);
   if (rc != PERI_OK) return rc;
   if (!(h->stabilization >= 0.0) || !isfinite(h->stabilization))
     return peri_deck_error(peri_deck_get(d, "partial_stress_stabilization"),
                            "key 'partial_stress_stabilization': must be a number >= 0");
   if (h->n_coupled > 0 && s->disc.geom.dim > 1)
-    peri_warning("partial stress in %dD: the force passes the patch test, but explicit and relaxation runs through "
-                 "the transition are not stable yet and may grow without bound (docs/variable_horizon.md, "
-                 "\"Limits\"); discretization.partial_stress: none gives full peridynamics",
+    peri_warning("partial stress in %dD: explicit runs are stable where the coupling region lies inside the body; "
+                 "where it meets a free surface they may still grow (docs/variable_horizon.md, \"Limits\"); "
+                 "discretization.partial_stress: none gives full peridynamics",
                  s->disc.geom.dim);
   /* the critical stretch of a failure given as an energy scales as delta^-1/2 (docs/model_reference.md
    * 7.1); the pair table is resolved at the largest horizon */

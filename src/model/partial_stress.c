@@ -11,12 +11,15 @@
  * k dx near 1 then have a negative stiffness and an explicit pulse run diverges. With the
  * bond weights the divergence is, in a uniform region, the adjoint of u -> nu0 up to a positive
  * factor, so the product is negative semi-definite.) Its null space, and the transition where
- * the operator is not symmetric, need one more term: the zero-energy mode control
- *   f_i += kappa k_i sum_j w_ij z_ij,  z_ij = u_j - u_i - (F xi + xi^T Q xi / 2),
- * where F and Q are the weighted least-squares fit of u_j - u_i over i's bonds. z vanishes
- * for every quadratic field, so the control changes neither the patch test nor the long-wave
- * modulus (the force of a field with k delta small changes at order (k delta)^4), and gives
- * every other mode, the checkerboard included, a positive stiffness. */
+ * the operator is not symmetric, need one more term: the zero-energy mode control, the
+ * energy kappa/2 sum_i k_i sum_j w_ij |z_ij|^2,  z_ij = u_j - u_i - (F xi + xi^T Q xi / 2),
+ * where F and Q are the weighted least-squares fit of u_j - u_i over i's bonds. Its force is
+ * kappa k_i sum_j w_ij z_ij on i and the reaction -kappa k_i w_ij z_ij on each j (the fit's
+ * residual is a projector symmetric in the weights): a symmetric, positive semi-definite
+ * stiffness, without which the 2D/3D operator keeps complex eigenvalue pairs whatever kappa.
+ * z vanishes for every quadratic field, so the control changes neither the patch test nor
+ * the long-wave modulus (the force of a field with k delta small changes at order
+ * (k delta)^4), and gives every other mode, the checkerboard included, a positive stiffness. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -163,8 +166,9 @@ int peri_partial_stress_prepare(peri_sim *s) {
       for (int r = 0; r < 3; ++r) h->stencil_weight[3 * t + r] = inv[3 * r] * wx[0] + inv[3 * r + 1] * wx[1] + inv[3 * r + 2] * wx[2];
     }
   }
-  free(h->partial_stress);
+  free(h->partial_stress), free(h->control_reaction);
   h->partial_stress = peri_calloc(9 * (size_t)(p->n > 0 ? p->n : 1), sizeof(double));
+  h->control_reaction = peri_calloc(3 * (size_t)(p->n > 0 ? p->n : 1), sizeof(double));
   return PERI_OK;
 }
 
@@ -172,7 +176,8 @@ void peri_partial_stress_force(peri_sim *s) {
   peri_horizon_field *h = s->disc.horizon_field;
   peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
-  double *nu = h->partial_stress;
+  double *nu = h->partial_stress, *reaction_sum = h->control_reaction;
+  memset(reaction_sum, 0, 3 * sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
   /* nu0_i = sum_j t_i<xi> (y_j - y_i)/|y_j - y_i| (x) xi V_j over the intact bonds */
 #pragma omp parallel for schedule(dynamic, 64)
   for (int32_t i = 0; i < p->n_owned; ++i) {
@@ -211,6 +216,7 @@ void peri_partial_stress_force(peri_sim *s) {
       for (int l = 0; l < PERI_FIT_BASIS; ++l)
         for (int a = 0; a < 3; ++a) coef[l][a] += q[l] * (uj[a] - ui[a]);
     }
+    const double kappa = h->stabilization * h->stiffness[i];
     double control[3] = {0, 0, 0};
     for (int64_t t = h->stencil_offset[i]; t < h->stencil_offset[i + 1]; ++t) {
       const int32_t j = h->stencil_node[t];
@@ -221,9 +227,15 @@ void peri_partial_stress_force(peri_sim *s) {
         double z = p->u[3 * (size_t)j + a] - ui[a];
         for (int l = 0; l < nb; ++l) z -= phi[l] * coef[l][a];
         control[a] += h->stencil_bond[t] * z;
+        const double reaction = kappa * h->stencil_bond[t] * z;
+#pragma omp atomic
+        reaction_sum[3 * (size_t)j + a] -= reaction;
       }
     }
-    const double kappa = h->stabilization * h->stiffness[i];
     for (int a = 0; a < 3; ++a) p->f[3 * (size_t)i + a] = f[a] + kappa * control[a];
   }
+  /* the control's reactions, added once every coupled node has its force */
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i)
+    for (int a = 0; a < 3; ++a) p->f[3 * (size_t)i + a] += reaction_sum[3 * (size_t)i + a];
 }
