@@ -232,7 +232,12 @@ static void pmb_bond_critical(peri_sim *s) {
  * scalar states are not stored: vh_pair_force computes them from the deformed length. The loop
  * stays scalar: vectorised, its gathers of the neighbours' x and u made it 1.4 times slower
  * (measured on examples/graded_notched_beam.yaml; pmb.c avoids them with its node blocks). */
-__attribute__((optimize("no-tree-vectorize"))) static long vh_pmb_force_fused(peri_sim *s) {
+#if defined(__GNUC__) && !defined(__clang__)
+#define VH_SCALAR_LOOP __attribute__((optimize("no-tree-vectorize")))
+#else
+#define VH_SCALAR_LOOP /* (clang has no per-function optimization options) */
+#endif
+VH_SCALAR_LOOP static long vh_pmb_force_fused(peri_sim *s) {
   peri_horizon_field *h = s->disc.horizon_field;
   peri_particles *p = &s->disc.p;
   peri_bonds *b = &s->disc.bonds;
