@@ -7,7 +7,8 @@
 #    (plane stress, nu = 1/3) to 1e-9 of the largest, and the right edge's reaction is
 #    E eps H h = 120 N to 1e-9 (the linear patch test);
 #  - the linear field u = a + Hx imposed on every node: out_of_balance (e_r) below 1e-13; a
-#    quadratic one above 1e-6 (the check can fail);
+#    quadratic one above 1e-6 (the check can fail); the same with 2-node bars (1D) and 8-node
+#    hexahedra (3D) that the Gmsh library meshes from a .geo;
 #  - bad meshes exit 2 before any work, naming the file and the entity: a missing file, a file
 #    Gmsh cannot parse, an element naming a node the file does not define, an inverted element
 #    (clockwise corners: det J < 0), a degenerate one (collinear corners), an element type peri
@@ -88,6 +89,51 @@ near "$er" 0 1e-13 || fail "linear field: e_r $er, the patch test needs round-of
 er2=$(imposed "1e-4*y*y" "1e-4*x*x")
 awk -v e="$er2" 'BEGIN { exit !(e > 1e-6) }' || fail "quadratic field: e_r $er2 should be out of balance"
 pass "linear field on every node: e_r $er (quadratic: $er2)"
+
+# 1D bars and 3D hexahedra: structured meshes that the Gmsh library makes from a .geo when the
+# deck reads it, a linear field imposed on every node
+cat >"$TMP/bar.geo" <<'GEO'
+Point(1) = {0, 0, 0};
+l[] = Extrude {30, 0, 0} { Point{1}; Layers{30}; };
+Physical Curve("bar") = {l[1]};
+GEO
+cat >"$TMP/bar.yaml" <<'DECK'
+dimension: 1
+materials: {m: {model: pmb, density: 1, youngs_modulus: 1}}
+discretization: {spacing: 1, m: 3, cross_section: 1, placement: lattice, fill: [{shape: interval, min: [0], max: [30]}]}
+regions: {pd: {shape: interval, min: [9.5], max: [20.5]}}
+coupling: {pd_region: pd, mesh: bar.geo}
+boundary_conditions: [{type: displacement, region: all, x: "1e-3 + 2e-3*x"}]
+solver: {type: implicit, load_steps: 1}
+DECK
+cat >"$TMP/cube.geo" <<'GEO'
+Point(1) = {0, 0, 0};
+l[] = Extrude {4, 0, 0} { Point{1}; Layers{8}; };
+s[] = Extrude {0, 4, 0} { Curve{l[1]}; Layers{8}; Recombine; };
+v[] = Extrude {0, 0, 4} { Surface{s[1]}; Layers{8}; Recombine; };
+Physical Volume("cube") = {v[1]};
+GEO
+cat >"$TMP/cube.yaml" <<'DECK'
+dimension: 3
+materials: {m: {model: pmb, density: 1, youngs_modulus: 1}}
+discretization: {spacing: 0.5, m: 3, placement: lattice, fill: [{shape: box, min: [0, 0, 0], max: [4, 4, 4]}]}
+regions: {pd: {shape: box, min: [1.25, 1.25, 1.25], max: [2.75, 2.75, 2.75]}}
+coupling: {pd_region: pd, mesh: cube.geo}
+boundary_conditions:
+  - {type: displacement, region: all, x: "1e-3 + 2e-3*x + 5e-4*y - 1e-3*z", y: "3e-4*x - 1e-3*y + 2e-4*z",
+     z: "1e-4*x + 2e-4*y + 7e-4*z"}
+solver: {type: implicit, load_steps: 1}
+DECK
+for case in bar:11 cube:27; do
+  name=${case%:*}
+  run_peri_in "$TMP" run "$name.yaml" -q
+  expect_status 0
+  er=$(value "$TMP/output/$name/history.csv" out_of_balance)
+  pd=$(value "$TMP/output/$name/history.csv" pd_nodes)
+  near "$er" 0 1e-13 || fail "$name: linear field: e_r $er, the patch test needs round-off"
+  [[ "$pd" == "${case#*:}" ]] || fail "$name: $pd PD nodes, expected ${case#*:}"
+  pass "$name on a Gmsh mesh, linear field on every node: e_r $er with $pd PD nodes"
+done
 
 # the failing cases: a small deck on a 2 x 1 grid of spacing 1, its mesh written by the test
 cat >"$TMP/small.yaml" <<'DECK'
@@ -182,3 +228,10 @@ run_peri_in "$TMP" check outside.yaml
 expect_status 2
 expect_stderr_contains "of the PD grid lies outside the mesh"
 pass "a grid node outside the mesh that is not PD"
+
+sed -e 's/solver: {type: implicit, load_steps: 1}/solver: {type: implicit, load_steps: 1, breaking: true}/' \
+  "$TMP/coupling_gmsh_plate.yaml" >"$TMP/breaking.yaml"
+run_peri_in "$TMP" check breaking.yaml
+expect_status 2
+expect_stderr_contains "key 'mesh': not with solver.breaking yet"
+pass "crack growth with switching on a Gmsh mesh is refused at the key"
