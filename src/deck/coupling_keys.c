@@ -173,9 +173,13 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root, const peri_fem_mesh 
                                                                   "pmb); model %s takes its rows from its tangent",
                              bond_only[k], s->mat.model->name);
   const peri_node *solver = peri_deck_get(root, "solver");
-  if (s->solver.kind != PERI_SOLVER_IMPLICIT)
+  const bool explicit_run = s->solver.kind == PERI_SOLVER_EXPLICIT; /* coupled dynamics (docs/coupling.md) */
+  if (s->solver.kind != PERI_SOLVER_IMPLICIT && !explicit_run)
     return peri_deck_error(solver ? solver : cp, "coupling: needs solver type implicit (the coupled stiffness is "
-                                                 "assembled and solved by PETSc)");
+                                                 "assembled and solved by PETSc) or explicit (dynamics)");
+  if (explicit_run && peri_deck_get(solver, "breaking") && s->solver.breaking)
+    return peri_deck_error(peri_deck_get(solver, "breaking"), "key 'breaking': the coupled explicit dynamics is "
+                                                              "linear elastic (no crack growth with switching yet)");
   if (s->solver.breaking && !peri_deck_get(solver, "breaking"))
     s->solver.breaking = false; /* the coupled model is linear elastic: nothing breaks */
   double radius = 2.0; /* MODELS.md 14.5: scheme 2 by default */
@@ -188,10 +192,10 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root, const peri_fem_mesh 
                            "key 'switch_radius': expected a number of horizons >= 0, got %g", radius);
   if (s->solver.breaking) TRY(check_fracture(s, root, cp, state_based, rule == 1));
   /* the coupled stiffness is not symmetric: LU by default, GMRES on request, never CG */
-  if (!peri_deck_get(solver, "linear_solver")) {
+  if (!explicit_run && !peri_deck_get(solver, "linear_solver")) {
     s->solver.qs.linear_solver = PERI_LINEAR_DIRECT;
     s->solver.qs.petsc_preconditioner = PERI_PC_LU;
-  } else if (s->solver.qs.linear_solver == PERI_LINEAR_CG) {
+  } else if (!explicit_run && s->solver.qs.linear_solver == PERI_LINEAR_CG) {
     return peri_deck_error(peri_deck_get(solver, "linear_solver"), "key 'linear_solver': the coupled stiffness is "
                                                                    "not symmetric: use direct or gmres");
   }
