@@ -71,12 +71,12 @@ int peri_graded_mesh_build(peri_particles *p, double dx, double reach, double h,
  * "Gmsh meshes"). The nodes of p are the PD grid: the lattice of spacing dx through the lowest
  * node. A file node within 1e-6 dx of a node of p becomes that node (two file nodes on one is
  * an error); any other file node is added to p with the material `material` and its share of
- * its elements' measures (area times h in 2D, length times h in 1D) as volume. A lattice point
- * inside or on an element that is no file node is a hole: a node of p there is removed. A
- * node of p off the mesh stays (it must be a PD node). A file node keeps the volume of its node
- * of p when all its elements are lattice cells, else takes its share of its elements. fem_only
- * marks the added nodes and every node within `reach` of an added node off the lattice or of
- * a hole, with the cause in fem_only_tag. Returns PERI_ERR_INPUT with a message in why naming
+ * its elements' measures times h (the thickness in 2D, the cross-section in 1D, 1 in 3D) as
+ * volume. A lattice point inside or on an element that is no file node is a hole: a node of p
+ * there is removed. A node of p off the mesh stays (it must be a PD node). A file node keeps
+ * the volume of its node of p when all its elements are lattice cells, else takes its share of
+ * its elements. fem_only marks the added nodes and every node within `reach` of an added node
+ * off the lattice or of a hole, with the cause in fem_only_tag. Returns PERI_ERR_INPUT with a message in why naming
  * the file and the element or node tag: an inverted element (det J < 0 at a Gauss point) or a
  * degenerate one (det J ~ 0), coincident file nodes, nodes of p off their lattice. */
 int peri_fem_mesh_from_file(peri_particles *p, double dx, double reach, double h, int32_t material,
