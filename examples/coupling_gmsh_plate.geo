@@ -1,7 +1,8 @@
 // The FEM part of examples/coupling_gmsh_plate.yaml: a 16 x 12 plate whose middle
 // [4, 12] x [2.5, 9.5] is a structured grid of 0.5 x 0.5 quadrangles (its nodes are those of
 // the PD grid of spacing 0.5 with placement lattice), and whose outer ring is meshed by
-// Gmsh's frontal-Delaunay quadrangle algorithm with elements of about 1.2 (nodes off the grid).
+// Gmsh's frontal-Delaunay algorithm (6) with elements of about 1.2, recombined into quadrangles
+// (nodes off the grid; algorithm 8, frontal-Delaunay for quads, crashes Gmsh 4.8 here).
 // Made with: gmsh coupling_gmsh_plate.geo -2 -format msh41 -o coupling_gmsh_plate.msh
 lc = 1.2;
 Point(1) = {0, 0, 0, lc};
