@@ -35,6 +35,7 @@ typedef struct peri_coupling {
   uint8_t *fem_only;       /* [n] 1: a node of a graded mesh that may not become PD (fem_mesh.h); NULL without */
   int32_t coarse_nodes;    /* graded mesh: nodes of coarse elements, lattice nodes left out */
   int32_t removed_nodes;
+  char *mesh_file;         /* coupling.mesh: the file of the FEM part's elements, NULL without */
   int64_t *node_offset;    /* [n + 1] elements of node i: node_element[node_offset[i] ...] */
   int32_t *node_element;
   /* exact partial volumes (partial_volume: exact): the family of a PD node is every lattice

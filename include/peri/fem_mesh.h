@@ -20,7 +20,31 @@ typedef struct peri_fem_mesh {
                          * horizon reaches a coarse node or a lattice point the mesh left out) */
   int32_t coarse_nodes; /* nodes of coarse elements (for the summary) */
   int32_t removed;      /* lattice nodes the coarse elements replaced */
+  /* a mesh read from a file (peri_fem_mesh_from_file), else NULL: */
+  char *file;           /* its path, for messages */
+  int64_t *element_tag; /* [n_elements] the file's element tags */
+  int64_t *node_tag;    /* [n_nodes] the file's node tag of each node, 0 for a PD grid node off the mesh */
+  int64_t *fem_only_tag;/* [n_nodes] why a node is fem_only: > 0 the tag of a mesh node off the PD grid
+                         * within reach; < 0 minus the tag of an element holding a PD grid point that
+                         * is no node of the mesh within reach; 0 the node is itself off the PD grid */
 } peri_fem_mesh;
+
+/* A finite-element mesh as a file gives it (src/io/gmsh_fem_mesh.c, include/peri/mesh.h): nodes
+ * and elements with the file's tags, each element's corners as indices into the nodes, in the
+ * order of include/peri/fem.h. */
+typedef struct peri_fem_mesh_file {
+  char *path;
+  int dim;
+  int32_t n_nodes;
+  int64_t *node_tag;    /* [n_nodes] */
+  double *x;            /* [3 n_nodes] */
+  int32_t n_elements;
+  int64_t *element_tag; /* [n_elements] */
+  int64_t *offset;      /* [n_elements + 1] */
+  int32_t *corner;      /* [offset[n_elements]] node indices */
+} peri_fem_mesh_file;
+
+void peri_fem_mesh_file_free(peri_fem_mesh_file *f);
 
 void peri_fem_mesh_free(peri_fem_mesh *m);
 /* Renumbers the mesh after the nodes were reordered: new node k is old node perm[k]. */
@@ -42,5 +66,20 @@ void peri_fem_mesh_permute(peri_fem_mesh *m, const int32_t *perm);
  * when the nodes are not on the lattice or the fine zone holds no cell. */
 int peri_graded_mesh_build(peri_particles *p, double dx, double reach, double h, const peri_shape *fine, int n_fine_shapes,
                            int levels, int layers, peri_fem_mesh *m, char *why, size_t n);
+
+/* The FEM part of a coupled model on a mesh read from a file (src/fem/file_mesh.c; docs/coupling.md,
+ * "Gmsh meshes"). The nodes of p are the PD grid: the lattice of spacing dx through the lowest
+ * node. A file node within 1e-6 dx of a node of p becomes that node (two file nodes on one is
+ * an error); any other file node is added to p with the material `material` and its share of
+ * its elements' measures times h (the thickness in 2D, the cross-section in 1D, 1 in 3D) as
+ * volume. A lattice point inside or on an element that is no file node is a hole: a node of p
+ * there is removed. A node of p off the mesh stays (it must be a PD node). A file node keeps
+ * the volume of its node of p when all its elements are lattice cells, else takes its share of
+ * its elements. fem_only marks the added nodes and every node within `reach` of an added node
+ * off the lattice or of a hole, with the cause in fem_only_tag. Returns PERI_ERR_INPUT with a message in why naming
+ * the file and the element or node tag: an inverted element (det J < 0 at a Gauss point) or a
+ * degenerate one (det J ~ 0), coincident file nodes, nodes of p off their lattice. */
+int peri_fem_mesh_from_file(peri_particles *p, double dx, double reach, double h, int32_t material,
+                            const peri_fem_mesh_file *f, peri_fem_mesh *m, char *why, size_t n);
 
 #endif

@@ -5,6 +5,7 @@
 #define PERI_MESH_H
 #include <stdbool.h>
 #include <stdint.h>
+#include "peri/fem_mesh.h"
 
 typedef enum {
   PERI_MESH_TEXT,   /* x y [z] block volume, or a header naming the columns (PeriLab, CSV) */
@@ -77,6 +78,15 @@ int peri_mesh_read_text(peri_mesh *m, const char *path, int dim);
 int peri_mesh_read_exodus(peri_mesh *m, const char *path, int dim, double thickness, double cross_section);
 int peri_mesh_read_gmsh(peri_mesh *m, const char *path, int dim, double thickness, double cross_section);
 int peri_mesh_read_abaqus(peri_mesh *m, const char *path, int dim, double thickness, double cross_section);
+
+/* The finite-element mesh of the FEM part of a coupled model from a Gmsh file
+ * (src/io/gmsh_fem_mesh.c, docs/coupling.md "Gmsh meshes"): every element of dimension dim
+ * (2-node lines, 3-node triangles and 4-node quadrangles, 8-node hexahedra; lower dimensions
+ * skipped) with the file's node and element tags. Errors (a file that is missing or does not
+ * parse, an element type of dimension dim peri has no element for or one of a higher
+ * dimension, an element naming an undefined node, a node in no element, a coordinate beyond
+ * dim) name the file and the entity, are printed, and return PERI_ERR_INPUT; f is then empty. */
+int peri_fem_mesh_file_read(const char *path, int dim, peri_fem_mesh_file *f);
 
 /* A node set file: point ids (as in peri_mesh.id), separated by spaces, commas or newlines;
  * '#' comments and a PeriLab "header: global_id" line are skipped. Each id must be a point of

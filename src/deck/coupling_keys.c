@@ -8,6 +8,7 @@
 #include "peri/error.h"
 #include "peri/fem_mesh.h"
 #include "peri/implicit.h"
+#include "peri/mesh.h"
 #include "peri/setup.h"
 #include "setup_parts.h"
 
@@ -46,8 +47,51 @@ static int check_fracture(const peri_sim *s, const peri_node *root, const peri_n
   return PERI_OK;
 }
 
+/* coupling.mesh: the FEM part on the elements of a Gmsh file (src/io/gmsh_fem_mesh.c), joined
+ * to the PD grid of the fill where its nodes coincide with it (src/fem/file_mesh.c). */
+static int setup_file_mesh(peri_sim *s, const peri_node *root, const peri_node *cp, peri_fem_mesh *m) {
+  const peri_node *at = peri_deck_get(cp, "mesh"), *d = peri_deck_get(root, "discretization");
+  const peri_geometry *g = &s->disc.geom;
+  if (peri_deck_get(cp, "graded_mesh"))
+    return peri_deck_error(peri_deck_key_node(cp, "graded_mesh"), "key 'graded_mesh': not with coupling.mesh (the "
+                                                                  "mesh file is the FEM part)");
+  const peri_node *fill = peri_deck_get(d, "fill");
+  bool zones = false;
+  for (int k = 0; fill && fill->kind == PERI_NODE_SEQUENCE && k < fill->count; ++k)
+    zones = zones || peri_deck_get(fill->items[k], "spacing") != NULL;
+  if (!fill || zones || peri_setup_horizon_is_field(d) || !(g->horizon > 0.0))
+    return peri_deck_error(at, "key 'mesh': needs a uniform grid (discretization.fill with one spacing and one "
+                               "horizon): the PD grid the mesh's nodes meet");
+  const char *path = NULL, *material_name = NULL;
+  TRY(peri_deck_string(cp, "mesh", true, &path));
+  TRY(peri_deck_string(cp, "mesh_material", false, &material_name));
+  int material = 0;
+  if (material_name) {
+    material = peri_setup_find_material(s, peri_deck_get(cp, "mesh_material"), material_name);
+    if (material < 0) return -material;
+  } else if (s->mat.n_materials > 1) {
+    return peri_deck_error(at, "key 'mesh': the deck has %d materials; name the mesh's with coupling.mesh_material",
+                           s->mat.n_materials);
+  }
+  char full[4096];
+  peri_setup_deck_path(s, path, full, sizeof full);
+  peri_fem_mesh_file file;
+  if (peri_fem_mesh_file_read(full, g->dim, &file) != PERI_OK) /* the message names the file and the entity */
+    return peri_deck_error(at, "key 'mesh': '%s' is not a mesh peri can use (above)", path);
+  /* a PD row reaches its bonds (one horizon, two for a state-based tangent) plus half a cell of
+   * partial volume: every node within it must be on the PD grid */
+  const double reach = (s->mat.model && s->mat.model->tangent_reach == 2 ? 2.0 : 1.0) * g->horizon + g->spacing;
+  const double h = g->dim == 2 ? g->thickness : g->dim == 1 ? g->cross_section : 1.0;
+  char why[1024];
+  int rc = peri_fem_mesh_from_file(&s->disc.p, g->spacing, reach, h, material, &file, m, why, sizeof why);
+  peri_fem_mesh_file_free(&file);
+  if (rc != PERI_OK) return peri_deck_error(at, "coupling.mesh: %s", why);
+  return PERI_OK;
+}
+
 int peri_setup_graded_mesh(peri_sim *s, const peri_node *root, peri_fem_mesh *m) {
   const peri_node *cp = peri_deck_get(root, "coupling"), *gm = peri_deck_get(cp, "graded_mesh");
+  if (peri_deck_get(cp, "mesh")) return setup_file_mesh(s, root, cp, m);
   if (!gm) return PERI_OK;
   const peri_node *at = peri_deck_key_node(cp, "graded_mesh"), *d = peri_deck_get(root, "discretization");
   static const char *const keys[] = {"fine", "levels", "layers", NULL};
@@ -99,7 +143,7 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root, const peri_fem_mesh 
   const peri_node *cp = peri_deck_get(root, "coupling");
   if (!cp) return PERI_OK;
   static const char *const keys[] = {"pd_region", "micromodulus_exponent", "gamma", "partial_volume",
-                                     "switch_radius", "graded_mesh", NULL};
+                                     "switch_radius", "graded_mesh", "mesh", "mesh_material", NULL};
   TRY(peri_deck_allow(cp, "coupling", keys));
   const char *name = NULL;
   TRY(peri_deck_string(cp, "pd_region", false, &name));
@@ -129,9 +173,13 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root, const peri_fem_mesh 
                                                                   "pmb); model %s takes its rows from its tangent",
                              bond_only[k], s->mat.model->name);
   const peri_node *solver = peri_deck_get(root, "solver");
-  if (s->solver.kind != PERI_SOLVER_IMPLICIT)
+  const bool explicit_run = s->solver.kind == PERI_SOLVER_EXPLICIT; /* coupled dynamics (docs/coupling.md) */
+  if (s->solver.kind != PERI_SOLVER_IMPLICIT && !explicit_run)
     return peri_deck_error(solver ? solver : cp, "coupling: needs solver type implicit (the coupled stiffness is "
-                                                 "assembled and solved by PETSc)");
+                                                 "assembled and solved by PETSc) or explicit (dynamics)");
+  if (explicit_run && peri_deck_get(solver, "breaking") && s->solver.breaking)
+    return peri_deck_error(peri_deck_get(solver, "breaking"), "key 'breaking': the coupled explicit dynamics is "
+                                                              "linear elastic (no crack growth with switching yet)");
   if (s->solver.breaking && !peri_deck_get(solver, "breaking"))
     s->solver.breaking = false; /* the coupled model is linear elastic: nothing breaks */
   double radius = 2.0; /* MODELS.md 14.5: scheme 2 by default */
@@ -144,15 +192,23 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root, const peri_fem_mesh 
                            "key 'switch_radius': expected a number of horizons >= 0, got %g", radius);
   if (s->solver.breaking) TRY(check_fracture(s, root, cp, state_based, rule == 1));
   /* the coupled stiffness is not symmetric: LU by default, GMRES on request, never CG */
-  if (!peri_deck_get(solver, "linear_solver")) {
+  if (!explicit_run && !peri_deck_get(solver, "linear_solver")) {
     s->solver.qs.linear_solver = PERI_LINEAR_DIRECT;
     s->solver.qs.petsc_preconditioner = PERI_PC_LU;
-  } else if (s->solver.qs.linear_solver == PERI_LINEAR_CG) {
+  } else if (!explicit_run && s->solver.qs.linear_solver == PERI_LINEAR_CG) {
     return peri_deck_error(peri_deck_get(solver, "linear_solver"), "key 'linear_solver': the coupled stiffness is "
                                                                    "not symmetric: use direct or gmres");
   }
   const peri_region *pd = r >= 0 ? &s->cond.regions[r] : NULL;
   char why[512];
+  if (rule == 1 && mesh->file)
+    return peri_deck_error(peri_deck_key_node(cp, "mesh"), "key 'mesh': not with partial_volume exact (its "
+                                                            "families are whole lattice cells)");
+  if (mesh->file && s->solver.breaking)
+    return peri_deck_error(peri_deck_key_node(cp, "mesh"), "key 'mesh': not with solver.breaking yet (the switching "
+                                                            "walks the lattice's own cells or a graded mesh)");
+  if (peri_deck_get(cp, "mesh_material") && !mesh->file)
+    return peri_deck_error(peri_deck_key_node(cp, "mesh_material"), "key 'mesh_material': only with coupling.mesh");
   if (rule == 1 && mesh->nodes)
     return peri_deck_error(peri_deck_key_node(cp, "graded_mesh"), "key 'graded_mesh': not with partial_volume exact "
                                                                    "(its families are whole lattice cells)");

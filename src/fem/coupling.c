@@ -36,6 +36,7 @@ void peri_coupling_free(peri_coupling *c) {
   free(c->element_K);
   free(c->element_K_offset);
   free(c->fem_only);
+  free(c->mesh_file);
   free(c->node_offset);
   free(c->node_element);
   if (c->lattice) peri_lattice_free(c->lattice);
@@ -111,6 +112,10 @@ static int mesh_stiffness(const peri_sim *s, const peri_fem_mesh *mesh, peri_cou
       rc = peri_fem_quad4_incompatible_stiffness(x, mat->E, mat->nu, g->plane, g->thickness, K);
     else if (dim == 2 && corners == 4) rc = peri_fem_quad4_stiffness(x, mat->E, mat->nu, g->plane, g->thickness, K);
     else if (dim == 3 && corners == 8) rc = peri_fem_hex8_stiffness(x, mat->E, mat->nu, K);
+    if (rc != PERI_OK && mesh->file) {
+      snprintf(why, n, "%s: element %lld is inverted or degenerate", mesh->file, (long long)mesh->element_tag[e]);
+      return PERI_ERR_INPUT;
+    }
     if (rc != PERI_OK) {
       snprintf(why, n, "element %d (corners at nodes %d at (%g, %g, %g) ...) is inverted or degenerate", (int)e,
                (int)en[0], p->x[3 * (size_t)en[0]], p->x[3 * (size_t)en[0] + 1], p->x[3 * (size_t)en[0] + 2]);
@@ -188,8 +193,12 @@ int peri_coupling_build_on_mesh(peri_sim *s, const peri_fem_mesh *mesh, const in
     }
   }
   c->corners = 1 << g->dim;
-  c->lattice = peri_calloc(1, sizeof *c->lattice);
-  int rc = peri_lattice_build(p, g->dim, g->spacing, c->lattice, why, n);
+  const bool from_file = mesh && mesh->file; /* its added nodes lie off the lattice */
+  int rc = PERI_OK;
+  if (!from_file) {
+    c->lattice = peri_calloc(1, sizeof *c->lattice);
+    rc = peri_lattice_build(p, g->dim, g->spacing, c->lattice, why, n);
+  }
   if (rc == PERI_OK && mesh) { /* a graded mesh: its elements, each with its own stiffness */
     c->n_elements = mesh->n_elements;
     c->element_offset = peri_malloc(sizeof(int64_t) * ((size_t)mesh->n_elements + 1));
@@ -200,11 +209,27 @@ int peri_coupling_build_on_mesh(peri_sim *s, const peri_fem_mesh *mesh, const in
     c->fem_only = peri_malloc((size_t)(p->n > 0 ? p->n : 1));
     memcpy(c->fem_only, mesh->fem_only, (size_t)p->n_owned);
     c->coarse_nodes = mesh->coarse_nodes, c->removed_nodes = mesh->removed;
+    if (from_file) c->mesh_file = peri_strdup(mesh->file);
     for (int32_t k = 0; k < n_pd_nodes && rc == PERI_OK; ++k)
       if (c->fem_only[pd_nodes[k]]) {
         const double *x = &p->x[3 * (size_t)pd_nodes[k]];
-        snprintf(why, n, "PD node %d at (%g, %g, %g) lies within a horizon of the graded mesh's coarse part: "
-                 "widen graded_mesh.fine around the PD zone", (int)pd_nodes[k], x[0], x[1], x[2]);
+        const int64_t tag = from_file ? mesh->fem_only_tag[pd_nodes[k]] : 0;
+        if (!from_file)
+          snprintf(why, n, "PD node %d at (%g, %g, %g) lies within a horizon of the graded mesh's coarse part: "
+                   "widen graded_mesh.fine around the PD zone", (int)pd_nodes[k], x[0], x[1], x[2]);
+        else if (tag > 0)
+          snprintf(why, n, "PD node %d at (%g, %g, %g): node %lld of %s lies within its horizon (plus dx) and off the "
+                   "PD grid: the mesh's nodes must coincide with the PD grid of spacing %g near the PD zone",
+                   (int)pd_nodes[k], x[0], x[1], x[2], (long long)tag, mesh->file, g->spacing);
+        else if (tag < 0)
+          snprintf(why, n, "PD node %d at (%g, %g, %g): element %lld of %s covers a point of the PD grid within its "
+                   "horizon (plus dx) that is no node of the mesh: the mesh's nodes must coincide with the PD grid "
+                   "of spacing %g near the PD zone", (int)pd_nodes[k], x[0], x[1], x[2], (long long)-tag, mesh->file,
+                   g->spacing);
+        else
+          snprintf(why, n, "PD node %d at (%g, %g, %g) is node %lld of %s, which is not a node of the PD grid "
+                   "(discretization.fill of spacing %g)", (int)pd_nodes[k], x[0], x[1], x[2],
+                   (long long)mesh->node_tag[pd_nodes[k]], mesh->file, g->spacing);
         rc = PERI_ERR_INPUT;
       }
   } else if (rc == PERI_OK) { /* the lattice's own cells, all alike */
@@ -239,7 +264,12 @@ int peri_coupling_build_on_mesh(peri_sim *s, const peri_fem_mesh *mesh, const in
     for (int64_t a = c->element_offset[e]; a < c->element_offset[e + 1]; ++a) c->node_element[fill[c->element_nodes[a]]++] = e;
   free(fill);
   for (int32_t i = 0; mesh && i < p->n_owned && rc == PERI_OK; ++i)
-    if (!c->node_type[i] && c->node_offset[i + 1] == c->node_offset[i]) {
+    if (!c->node_type[i] && c->node_offset[i + 1] == c->node_offset[i] && mesh->file) {
+      snprintf(why, n, "node %d at (%g, %g, %g) of the PD grid lies outside the mesh %s and is no PD node (an FEM "
+               "node must be a node of the mesh; make it a PD node, or leave it out of discretization.fill)", (int)i,
+               p->x[3 * (size_t)i], p->x[3 * (size_t)i + 1], p->x[3 * (size_t)i + 2], mesh->file);
+      rc = PERI_ERR_INPUT;
+    } else if (!c->node_type[i] && c->node_offset[i + 1] == c->node_offset[i]) {
       snprintf(why, n, "FEM node %d at (%g, %g, %g) belongs to no element of the graded mesh (make it a PD node, "
                "or fill the grid around it)", (int)i, p->x[3 * (size_t)i], p->x[3 * (size_t)i + 1],
                p->x[3 * (size_t)i + 2]);

@@ -24,6 +24,10 @@ void peri_fem_mesh_free(peri_fem_mesh *m) {
   free(m->nodes);
   free(m->coarse);
   free(m->fem_only);
+  free(m->file);
+  free(m->element_tag);
+  free(m->node_tag);
+  free(m->fem_only_tag);
   memset(m, 0, sizeof *m);
 }
 
@@ -33,6 +37,14 @@ void peri_fem_mesh_permute(peri_fem_mesh *m, const int32_t *perm) {
   uint8_t *only = peri_malloc((size_t)m->n_nodes);
   for (int32_t k = 0; k < m->n_nodes; ++k) new_of_old[perm[k]] = k, only[k] = m->fem_only[perm[k]];
   for (int64_t q = 0; q < m->offset[m->n_elements]; ++q) m->nodes[q] = new_of_old[m->nodes[q]];
+  int64_t *tags[2] = {m->node_tag, m->fem_only_tag}; /* a mesh from a file */
+  for (int t = 0; t < 2; ++t) {
+    if (!tags[t]) continue;
+    int64_t *moved = peri_malloc(sizeof(int64_t) * (size_t)m->n_nodes);
+    for (int32_t k = 0; k < m->n_nodes; ++k) moved[k] = tags[t][perm[k]];
+    memcpy(tags[t], moved, sizeof(int64_t) * (size_t)m->n_nodes);
+    free(moved);
+  }
   free(m->fem_only);
   m->fem_only = only;
   free(new_of_old);

@@ -75,9 +75,12 @@ void peri_print_discretization(const peri_sim *s, FILE *out, const char *model, 
     static const char *const element[] = {"", "bar", "Q4", "Hex8"};
     fprintf(out, "  coupling     %d PD nodes, %d FEM nodes, %d %s elements%s\n", (int)s->coupling->n_pd,
             (int)(s->disc.p.n - s->coupling->n_pd), (int)s->coupling->n_elements,
-            s->coupling->fem_only ? "graded (Q4 and triangles)" : element[s->disc.geom.dim],
+            s->coupling->mesh_file ? "mesh file" : s->coupling->fem_only ? "graded (Q4 and triangles)" : element[s->disc.geom.dim],
             s->coupling->exact_volumes ? ", exact partial volumes" : "");
-    if (s->coupling->fem_only)
+    if (s->coupling->mesh_file)
+      fprintf(out, "  mesh file    %s: %d nodes with their elements' volumes, %d PD grid nodes left out\n",
+              s->coupling->mesh_file, (int)s->coupling->coarse_nodes, (int)s->coupling->removed_nodes);
+    else if (s->coupling->fem_only)
       fprintf(out, "  graded mesh  %d nodes of coarse elements, %d lattice nodes left out\n",
               (int)s->coupling->coarse_nodes, (int)s->coupling->removed_nodes);
     if (s->solver.breaking)

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include "peri/comm.h"
 #include "peri/contribution.h"
+#include "peri/coupling.h"
 #include "peri/decompose.h"
 #include "peri/energies.h"
 #include "peri/error.h"
@@ -83,6 +84,13 @@ static void held_nodes_free(held_nodes *h) {
   free(h->old);
 }
 
+/* The internal force density: the model's, or with a PD-FEM coupling the rows of the coupled
+ * stiffness times u (docs/coupling.md, "Explicit dynamics"). */
+static void internal_force(peri_sim *s) {
+  if (s->coupling) peri_coupling_force(s);
+  else s->mat.model->force(s);
+}
+
 int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
   peri_particles *p = &s->disc.p;
   const double dt = s->solver.dt;
@@ -103,7 +111,7 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
   peri_apply_loads(s, s->state.time);
   peri_exchange_state(s); /* ghost displacements (MPI ranks, docs/parallel.md) */
   if (s->state.step == 0) { /* a restart resumes with the checkpoint's forces and load */
-    if (!s->state.forces_current) s->mat.model->force(s);
+    if (!s->state.forces_current) internal_force(s);
     external_load(s, p->v, dt, load_old);
   }
   s->state.forces_current = false;
@@ -139,7 +147,7 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
       break;
     }
     peri_exchange_state(s);
-    s->mat.model->force(s);
+    internal_force(s);
     /* one pass over the nodes: second half-step of the velocity, the external load of the
      * step (applied loads, or the reaction rho a - f of prescribed motion), its work by the
      * trapezoid rule, and the finiteness check */

@@ -6,6 +6,7 @@
  * A new solver is one file, one line here and its name under solver.type in the deck. */
 #include <stddef.h>
 #include "peri/contact.h"
+#include "peri/coupling.h"
 #include "peri/error.h"
 #include "peri/implicit.h"
 #include "peri/quasistatic.h"
@@ -31,6 +32,10 @@ peri_qs_status peri_solve_equilibrium(peri_sim *s) {
 
 int peri_solver_check_ranks(const peri_sim *s, int ranks) {
   if (peri_contact_check_ranks(s, ranks) != PERI_OK) return PERI_ERR_INPUT;
+  if (s->coupling && ranks > 1 && s->solver.kind == PERI_SOLVER_EXPLICIT) {
+    peri_error("%s: the PD-FEM coupling runs in one process (docs/coupling.md); run it without mpirun", s->deck_path);
+    return PERI_ERR_INPUT;
+  }
   const peri_qs_solver_ops *solver = peri_qs_solver(s->solver.kind);
   if (ranks <= 1 || !solver || !solver->check_ranks) return PERI_OK;
   return solver->check_ranks(s, ranks);

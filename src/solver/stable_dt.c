@@ -1,5 +1,8 @@
 /* Stable time step estimate (docs/model_reference.md 13.2; Ongaro 2022 eqs. 1.105-1.108). */
 #include <math.h>
+#include <stdlib.h>
+#include "peri/coupling.h"
+#include "peri/error.h"
 #include "peri/comm.h"
 #include "peri/constants.h"
 #include "peri/horizon_field.h"
@@ -51,7 +54,44 @@ static double control_factor(const peri_sim *s, int32_t i) {
   return 1.0 + 2.0 * h->stabilization;
 }
 
+/* PD-FEM coupling (docs/coupling.md, "Explicit dynamics"): the rows of the coupled stiffness, in
+ * force densities, are the rows of rho^-1 K times rho, so by Gershgorin's theorem the largest
+ * eigenvalue w^2 of rho^-1 K is at most max_i R_i / rho_i with R_i node i's largest absolute row
+ * sum, and velocity-Verlet is stable for dt < 2 / w. FEM rows bring their elements (a bar:
+ * R = 4E/dx^2, dt = dx / c, the CFL step of the element), PD rows their bonds (R = 2 sum_j
+ * lambda beta V_j: the bond bound above). */
+typedef struct row_bound {
+  const peri_sim *s;
+  double *dt; /* [n] */
+} row_bound;
+
+static void row_dt(void *ctx, int32_t i, int32_t count, const int32_t *cols, const double *blocks) {
+  (void)cols;
+  const row_bound *rb = ctx;
+  const int dim = rb->s->disc.geom.dim;
+  double R = 0.0;
+  for (int r = 0; r < dim; ++r) {
+    double sum = 0.0;
+    for (int32_t k = 0; k < count; ++k)
+      for (int q = 0; q < dim; ++q) sum += fabs(blocks[9 * (size_t)k + 3 * r + q]);
+    R = fmax(R, sum);
+  }
+  const double rho = rb->s->mat.materials[rb->s->disc.p.material[i]].density;
+  rb->dt[i] = R > 0.0 ? 2.0 * sqrt(rho / R) : INFINITY;
+}
+
+static double coupled_stable_dt(const peri_sim *s) {
+  const int32_t n = s->disc.p.n_owned;
+  row_bound rb = {s, peri_malloc(sizeof(double) * (size_t)(n > 0 ? n : 1))};
+  peri_coupling_rows(s, row_dt, &rb);
+  double dt = INFINITY;
+  for (int32_t i = 0; i < n; ++i) dt = fmin(dt, rb.dt[i]);
+  free(rb.dt);
+  return dt;
+}
+
 double peri_stable_dt(const peri_sim *s) {
+  if (s->coupling) return coupled_stable_dt(s); /* one process (peri_solver_check_ranks) */
   const peri_particles *p = &s->disc.p;
   double dt_bond = INFINITY;
 #pragma omp parallel for schedule(static) reduction(min : dt_bond)
