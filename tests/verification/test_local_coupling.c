@@ -208,11 +208,16 @@ static int record_energy(peri_sim *s, void *ctx) {
   return 0;
 }
 
-/* 10^4 explicit steps of a short pulse (half-width 20 dx) in a free bar, PD in its middle
- * third and local at both ends, so that the pulse crosses the two interfaces many times. The
- * energy (kinetic, PD and local 1/2 sigma : eps) is not conserved exactly by a force that is not
- * its gradient; the coupling's error for the pulse is of the order of its reflection (<= 1%):
- * asserted within 1% of the initial and no growth from the first tenth to the last. */
+/* 10^4 explicit steps of a short pulse (half-width 20 dx) in a free bar, PD (3 dx) in its
+ * middle third and local at both ends: the pulse crosses the two interfaces 18 times. The
+ * energy read (kinetic, PD and local 1/2 sigma : eps) is not the one the coupled force
+ * conserves (it is not the gradient of an energy): it is conserved within each region and
+ * steps between two levels when the pulse crosses, the PD level higher by an amount of second
+ * order in k delta (measured 0.99% for this pulse, 0.25% for one twice as wide: the factor 4
+ * of second order; k delta = sqrt(2) delta / w = 0.21 here). Asserted: no value above 1.02 of
+ * the initial (twice the second-order level) and no growth, the largest over the last tenth at
+ * most 1.001 times that over the first tenth (an unstable coupling grows by orders of
+ * magnitude in such a run). */
 Test(local_coupling, energy_bounded, .init = one_thread) {
   const double w = 0.02, length = 30 * w;
   char field[128];
@@ -225,7 +230,7 @@ Test(local_coupling, energy_bounded, .init = one_thread) {
   const double crossings = s.solver.steps * s.solver.dt * sqrt(E_MOD / RHO) / (length / 3);
   cr_log_info("energy / initial: first tenth %.6f, last tenth %.6f, the run %.6f (%.0f interface crossings)",
               log.first_max / e0, log.last_max / e0, log.overall_max / e0, crossings);
-  cr_expect(log.overall_max <= 1.01 * e0, "energy grew to %.4f of the initial", log.overall_max / e0);
+  cr_expect(log.overall_max <= 1.02 * e0, "energy grew to %.4f of the initial", log.overall_max / e0);
   cr_expect(log.last_max <= 1.001 * log.first_max, "energy grows: last tenth %.6f, first tenth %.6f", log.last_max / e0,
             log.first_max / e0);
   peri_sim_free(&s);
