@@ -208,20 +208,19 @@ static int record_energy(peri_sim *s, void *ctx) {
   return 0;
 }
 
-/* 10^4 explicit steps of a short pulse (half-width 20 dx) in a free bar, PD (3 dx) in its
- * middle third and local at both ends: the pulse crosses the two interfaces 18 times. The
- * energy read (kinetic, PD and local 1/2 sigma : eps) is not the one the coupled force
- * conserves (it is not the gradient of an energy): it is conserved within each region and
- * steps between two levels when the pulse crosses, the PD level higher by an amount of second
- * order in k delta (measured 0.99% for this pulse, 0.25% for one twice as wide: the factor 4
- * of second order; k delta = sqrt(2) delta / w = 0.21 here). Asserted: no value above 1.02 of
- * the initial (twice the second-order level) and no growth, the largest over the last tenth at
- * most 1.001 times that over the first tenth (an unstable coupling grows by orders of
- * magnitude in such a run). */
+/* 10^4 explicit steps of a short pulse (half-width 20 dx) in a free bar, local (horizon 0) in
+ * its middle third and PD (3 dx) either side, so that the pulse crosses the two interfaces
+ * 25 times and reflects at free ends that are peridynamic (a local node at a free surface is
+ * not traction-free: docs/variable_horizon.md "Limits"). The coupled force is not the gradient
+ * of the energy read (kinetic, PD and local 1/2 sigma : eps), so that energy is not conserved
+ * exactly; the coupling's error for the pulse is of the order of its reflection (<= 1%, as in
+ * test_horizon_pulse.c): asserted within 1% of the initial, and no growth, the largest over the
+ * last tenth at most 1.001 times that over the first tenth (an unstable coupling grows by
+ * orders of magnitude in such a run). */
 Test(local_coupling, energy_bounded, .init = one_thread) {
   const double w = 0.02, length = 30 * w;
   char field[128];
-  snprintf(field, sizeof field, "abs(x - %.17g) < %.17g ? 0.003 : 0", 0.5 * length, length / 6);
+  snprintf(field, sizeof field, "abs(x - %.17g) < %.17g ? 0 : 0.003", 0.5 * length, length / 6);
   peri_sim s;
   build_pulse(&s, field, length, 7.5 * w, w, 10000);
   const double e0 = peri_kinetic_energy(&s) + peri_strain_energy(&s);
@@ -230,7 +229,7 @@ Test(local_coupling, energy_bounded, .init = one_thread) {
   const double crossings = s.solver.steps * s.solver.dt * sqrt(E_MOD / RHO) / (length / 3);
   cr_log_info("energy / initial: first tenth %.6f, last tenth %.6f, the run %.6f (%.0f interface crossings)",
               log.first_max / e0, log.last_max / e0, log.overall_max / e0, crossings);
-  cr_expect(log.overall_max <= 1.02 * e0, "energy grew to %.4f of the initial", log.overall_max / e0);
+  cr_expect(log.overall_max <= 1.01 * e0, "energy grew to %.4f of the initial", log.overall_max / e0);
   cr_expect(log.last_max <= 1.001 * log.first_max, "energy grows: last tenth %.6f, first tenth %.6f", log.last_max / e0,
             log.first_max / e0);
   peri_sim_free(&s);
