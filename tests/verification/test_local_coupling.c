@@ -10,7 +10,8 @@
  *     makes nu0 of a PD node under this H exactly the Cauchy stress of the same strain (1D:
  *     E H; 2D/3D: the bulk stress of the dilatation), so a local side with other elastic
  *     constants (a wrong E or nu) leaves a force of the order of the difference at the
- *     interface: the test checks that the two sides have the same constants.
+ *     interface: the test checks that the two sides have the same constants (in 2D and 3D
+ *     the bulk modulus, which is all a dilatation sees; a local E 1% off fails every case).
  *   - Pulse from the PD region into the local one: reflection <= 1% of the incident.
  *   - Energy of a pulse crossing the interface back and forth over 10^4 steps: bounded.
  *   - A local-only bar carries a pulse at sqrt(E/rho). */
