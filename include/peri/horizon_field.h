@@ -57,10 +57,17 @@ typedef struct peri_horizon_field {
   double *control_reaction; /* [3n] scratch: the control's reactions on the stencil nodes */
   uint8_t *needs_stress;  /* [n] coupled nodes and the nodes of their stencils */
   long ps_would_break;    /* bonds of coupled nodes beyond their critical stretch (kept intact) */
+  /* the local region (docs/variable_horizon.md "A vanishing horizon"): nodes whose horizon is 0
+   * carry no force state; their partial stress is the Cauchy stress of the strain of their
+   * least-squares gradient over the nodes within local_radius, which is their delta_i */
+  uint8_t *local;         /* [n] 1: a local node; NULL when there is none */
+  int32_t n_local;
+  double local_radius;
 } peri_horizon_field;
 
 /* Evaluates the horizon expression at every node of p (reference positions). Returns the
- * field, or NULL with *bad set to the first node where the value is not positive and finite. */
+ * field, or NULL with *bad set to the first node where the value is negative or not finite
+ * (0 marks a local node: peri_horizon_field_mark_local). */
 peri_horizon_field *peri_horizon_field_evaluate(const peri_particles *p, peri_expr *horizon, int32_t *bad);
 /* The field of the given horizons, each positive and finite (a graded grid's m dx_i). */
 peri_horizon_field *peri_horizon_field_from_values(int32_t n, const double *delta);
@@ -68,6 +75,13 @@ peri_horizon_field *peri_horizon_field_from_values(int32_t n, const double *delt
  * horizon or volume (relative difference above 1e-12), and where volumes differ (a graded
  * grid) also every node whose family holds such a node. */
 void peri_horizon_field_mark_transition(peri_horizon_field *h, const peri_bonds *b, const double *volume);
+/* Makes every node whose horizon is 0 a local node whose gradient stencil reaches `radius`
+ * (delta_i = radius, so that the bonds within it exist), and updates min and max. */
+void peri_horizon_field_mark_local(peri_horizon_field *h, double radius);
+/* Adds to the coupling region every local node and every node whose family holds one (a
+ * full peridynamic node reads the force state at both ends of its bonds, and a local node has
+ * none). */
+void peri_horizon_field_couple_local(peri_horizon_field *h, const peri_bonds *b);
 /* Bond j -> i of every bond i -> j (both directions exist: the families are symmetric). */
 void peri_horizon_field_reverse_bonds(peri_horizon_field *h, const peri_bonds *b);
 void peri_horizon_field_free(peri_horizon_field *h);

@@ -31,7 +31,7 @@ peri_horizon_field *peri_horizon_field_evaluate(const peri_particles *p, peri_ex
   for (int32_t i = 0; i < p->n; ++i) {
     const double *x = p->x + 3 * (size_t)i;
     const double d = peri_expr_eval(horizon, x[0], x[1], x[2], 0.0);
-    if (!(d > 0.0) || !isfinite(d)) {
+    if (!(d >= 0.0) || !isfinite(d)) {
       *bad = i;
       peri_horizon_field_free(h);
       return NULL;
@@ -73,6 +73,33 @@ void peri_horizon_field_mark_transition(peri_horizon_field *h, const peri_bonds 
   h->n_coupled = count;
 }
 
+void peri_horizon_field_mark_local(peri_horizon_field *h, double radius) {
+  int32_t count = 0;
+  for (int32_t i = 0; i < h->n; ++i) count += h->delta[i] == 0.0;
+  h->n_local = count;
+  h->local_radius = radius;
+  if (count == 0) return;
+  h->local = peri_calloc((size_t)h->n, 1);
+  h->min = INFINITY, h->max = 0.0;
+  for (int32_t i = 0; i < h->n; ++i) {
+    if (h->delta[i] == 0.0) h->local[i] = 1, h->delta[i] = radius;
+    h->min = fmin(h->min, h->delta[i]);
+    h->max = fmax(h->max, h->delta[i]);
+  }
+}
+
+void peri_horizon_field_couple_local(peri_horizon_field *h, const peri_bonds *b) {
+  if (!h->local) return;
+  for (int32_t i = 0; i < b->n_nodes; ++i) {
+    uint8_t reads_local = h->local[i];
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1] && !reads_local; ++k) reads_local = h->local[b->neighbor[k]];
+    h->coupled[i] = h->coupled[i] || reads_local;
+  }
+  int32_t count = 0;
+  for (int32_t i = 0; i < b->n_nodes; ++i) count += h->coupled[i];
+  h->n_coupled = count;
+}
+
 void peri_horizon_field_reverse_bonds(peri_horizon_field *h, const peri_bonds *b) {
   free(h->reverse);
   h->reverse = peri_malloc(sizeof(int64_t) * (size_t)(b->n_bonds > 0 ? b->n_bonds : 1));
@@ -104,5 +131,6 @@ void peri_horizon_field_free(peri_horizon_field *h) {
   free(h->stiffness);
   free(h->control_reaction);
   free(h->needs_stress);
+  free(h->local);
   free(h);
 }

@@ -59,8 +59,20 @@ int peri_setup_horizon_field(peri_sim *s, const peri_node *d) {
     const double value = peri_expr_eval(again, x[0], x[1], x[2], 0.0);
     peri_expr_free(again);
     return peri_deck_error(peri_deck_get(d, "horizon"), "key 'horizon': the horizon is %g at the node at %s; it "
-                           "must be positive and finite at every node", value, where);
+                           "must be positive and finite at every node (or 0 where the node is local)", value, where);
   }
+  /* a horizon of 0: a local node, whose gradient stencil reaches local_stencil (default 2 dx: two
+   * neighbours a side in 1D, more than the quadratic fit of the zero-energy mode control needs) */
+  double radius = 2.0 * s->disc.geom.spacing;
+  rc = peri_deck_double(d, "local_stencil", false, &radius);
+  if (rc == PERI_OK && (!(radius >= s->disc.geom.spacing) || !isfinite(radius)))
+    rc = peri_deck_error(peri_deck_get(d, "local_stencil"), "key 'local_stencil': must be a length of at least the "
+                         "spacing %g (the local nodes' gradient needs neighbours)", s->disc.geom.spacing);
+  if (rc != PERI_OK) {
+    peri_horizon_field_free(h);
+    return rc;
+  }
+  peri_horizon_field_mark_local(h, radius);
   s->disc.horizon_field = h;
   s->disc.geom.horizon = h->max;
   s->disc.family.horizon = h->max;
@@ -103,6 +115,9 @@ int peri_setup_horizon_coupling(peri_sim *s, const peri_node *root, const bool *
   if (!strcmp(choice, "auto")) {
     peri_horizon_field_mark_transition(h, &s->disc.bonds, s->disc.p.volume);
   } else if (!strcmp(choice, "none")) {
+    if (h->n_local > 0)
+      return peri_deck_error(ps, "key 'partial_stress': none leaves the local nodes (horizon 0) without a force; "
+                             "use auto or a region");
     h->n_coupled = 0;
   } else {
     int r = peri_setup_find_region(s, peri_deck_get(root, "regions"), ps, choice);
@@ -111,6 +126,7 @@ int peri_setup_horizon_coupling(peri_sim *s, const peri_node *root, const bool *
     for (int32_t k = 0; k < region->count; ++k) h->coupled[region->nodes[k]] = 1;
     h->n_coupled = region->count;
   }
+  peri_horizon_field_couple_local(h, &s->disc.bonds); /* whatever the choice */
   h->stabilization = s->disc.geom.dim > 1 ? PERI_PARTIAL_STRESS_STABILIZATION_2D3D : PERI_PARTIAL_STRESS_STABILIZATION;
   int rc = peri_deck_double(d, "partial_stress_stabilization", false, &h->stabilization);
   if (rc != PERI_OK) return rc;
@@ -139,9 +155,31 @@ int peri_setup_horizon_solver(const peri_sim *s, const peri_node *root) {
   if (s->solver.kind == PERI_SOLVER_IMPLICIT)
     return peri_deck_error(at, "key 'horizon': the implicit solver needs a tangent stiffness, which the models with a "
                            "horizon that varies do not have; use adr, dynamic_relaxation or nlcg");
+  if (h->n_local > 0 && s->solver.kind != PERI_SOLVER_EXPLICIT)
+    return peri_deck_error(at, "key 'horizon': local nodes (horizon 0) run with solver.type explicit only: the "
+                           "quasi-static solvers do not converge on them yet (docs/variable_horizon.md, \"A vanishing "
+                           "horizon\")");
   if (h->n_coupled > 0 && s->solver.kind == PERI_SOLVER_NLCG)
     return peri_deck_error(ps ? ps : at, "the partial-stress force is not the gradient of an energy, so nlcg cannot "
                            "minimise it: use solver.type adr, dynamic_relaxation or explicit, or set "
                            "discretization.partial_stress: none (full peridynamics everywhere)");
+  return PERI_OK;
+}
+
+int peri_setup_horizon_precracks(const peri_sim *s, const peri_node *root) {
+  const peri_horizon_field *h = s->disc.horizon_field;
+  if (!h || !h->local) return PERI_OK;
+  const peri_bonds *b = &s->disc.bonds;
+  const peri_particles *p = &s->disc.p;
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    if (!h->coupled[i]) continue;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
+      if (b->broken[k]) {
+        const double *x = p->x + 3 * (size_t)i;
+        return peri_deck_error(peri_deck_get(root, "precracks"), "key 'precracks': a crack cuts a bond of the node "
+                               "at (%g, %g, %g), which is in the coupling region of the local nodes (horizon 0); "
+                               "cracks may only run where the force is full peridynamics", x[0], x[1], x[2]);
+      }
+  }
   return PERI_OK;
 }

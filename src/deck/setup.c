@@ -297,7 +297,7 @@ static const char *const discretization_keys[] = {
     "spacing", "horizon", "m", "placement", "origin", "thickness", "cross_section",
     "partial_volume", "influence", "weighted_volume", "surface_correction", "fill", "remove", "node_file",
     "blocks", "volume", "max_nodes", "mesh", "mesh_format", "partial_stress",
-    "partial_stress_stabilization", "fictitious_layers", NULL};
+    "partial_stress_stabilization", "fictitious_layers", "local_stencil", NULL};
 
 static int parse_shape_list(const peri_node *list, int dim, const char *section,
                             const char *const *extra, peri_shape **shapes, int *count) {
@@ -423,7 +423,7 @@ static int parse_discretization(parse_ctx *c) {
     zone_spacing = zone_spacing || peri_deck_get(fill->items[k], "spacing") != NULL;
   /* a horizon per node: an expression, or m times each node's spacing on a graded grid */
   const bool horizon_field = horizon_expression || (zone_spacing && !isnan(m));
-  static const char *const field_keys[] = {"partial_stress", "partial_stress_stabilization", NULL};
+  static const char *const field_keys[] = {"partial_stress", "partial_stress_stabilization", "local_stencil", NULL};
   for (int k = 0; !horizon_field && field_keys[k]; ++k)
     if (peri_deck_get(d, field_keys[k]) && !(k == 0 && peri_deck_get(d, field_keys[k])->scalar &&
                                              !strcmp(peri_deck_get(d, field_keys[k])->scalar, "none")))
@@ -918,6 +918,7 @@ static int build(parse_ctx *c) {
   }
   TRY(parse_precracks(c));
   peri_precracks_apply(s);
+  TRY(peri_setup_horizon_precracks(s, root)); /* none into the local region (horizon_keys.c) */
   if (!heat_only) TRY(parse_interfaces(c));
   TRY(peri_setup_imperfection(s, root)); /* a film's offset reference positions (film_keys.c) */
   TRY(s->mat.model->init(s));

@@ -96,6 +96,9 @@ int peri_setup_horizon_coupling(peri_sim *s, const peri_node *root, const bool *
 /* The solvers a horizon that varies rejects (after the solver section): implicit (no tangent),
  * and nlcg with a coupling region (the partial stress is not an energy's gradient). */
 int peri_setup_horizon_solver(const peri_sim *s, const peri_node *root);
+/* Precracks that cut a bond of the local nodes' coupling region (after they are applied): an
+ * error naming the node, since cracks may only run in the full peridynamic region. */
+int peri_setup_horizon_precracks(const peri_sim *s, const peri_node *root);
 /* The contact section (contact_keys.c, docs/contact.md): short-range forces; after the
  * model's constants and the solver section. */
 int peri_setup_contact(peri_sim *s, const peri_node *root);

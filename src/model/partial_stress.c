@@ -172,6 +172,47 @@ int peri_partial_stress_prepare(peri_sim *s) {
   return PERI_OK;
 }
 
+/* The displacement gradient G_ac = d u_a / d x_c of a coupled node from its least-squares stencil. */
+static void displacement_gradient(const peri_sim *s, int32_t i, double G[9]) {
+  const peri_horizon_field *h = s->disc.horizon_field;
+  const double *u = s->disc.p.u, *ui = u + 3 * (size_t)i;
+  memset(G, 0, 9 * sizeof(double));
+  for (int64_t t = h->stencil_offset[i]; t < h->stencil_offset[i + 1]; ++t) {
+    const double *uj = u + 3 * (size_t)h->stencil_node[t], *w = h->stencil_weight + 3 * t;
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c) G[3 * a + c] += (uj[a] - ui[a]) * w[c];
+  }
+}
+
+/* The Cauchy stress of the small strain eps = sym G with the material's own E and nu (for PMB its
+ * fixed Poisson ratio), the delta -> 0 limit of nu0 (Silling, Littlewood and Seleson 2013,
+ * "Local-nonlocal coupling idea"): 1D sigma = E eps; plane stress lambda' = E nu / (1 - nu^2);
+ * plane strain and 3D lambda = E nu / ((1 + nu)(1 - 2 nu)); mu = E / (2 (1 + nu)). */
+static void cauchy_stress(const peri_sim *s, int32_t i, const double G[9], double sigma[9]) {
+  const peri_material *mat = &s->mat.materials[s->disc.p.material[i]];
+  const int dim = s->disc.p.dim;
+  memset(sigma, 0, 9 * sizeof(double));
+  if (dim == 1) {
+    sigma[0] = mat->E * G[0];
+    return;
+  }
+  const double E = mat->E, nu = mat->nu, mu = E / (2.0 * (1.0 + nu));
+  const double lambda = dim == 2 && s->disc.geom.plane == PERI_PLANE_STRESS ? E * nu / (1.0 - nu * nu)
+                                                                             : E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  double trace = 0.0;
+  for (int a = 0; a < dim; ++a) trace += G[4 * a];
+  for (int a = 0; a < dim; ++a)
+    for (int c = 0; c < dim; ++c) sigma[3 * a + c] = mu * (G[3 * a + c] + G[3 * c + a]) + (a == c ? lambda * trace : 0.0);
+}
+
+double peri_partial_stress_local_energy(const peri_sim *s, int32_t i) {
+  double G[9], sigma[9], W = 0.0;
+  displacement_gradient(s, i, G);
+  cauchy_stress(s, i, G, sigma);
+  for (int k = 0; k < 9; ++k) W += 0.5 * sigma[k] * G[k]; /* sigma symmetric: sigma : G = sigma : eps */
+  return W;
+}
+
 void peri_partial_stress_force(peri_sim *s) {
   peri_horizon_field *h = s->disc.horizon_field;
   peri_particles *p = &s->disc.p;
@@ -182,6 +223,12 @@ void peri_partial_stress_force(peri_sim *s) {
 #pragma omp parallel for schedule(dynamic, 64)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     if (!h->needs_stress[i]) continue;
+    if (h->local && h->local[i]) { /* the delta -> 0 limit: the Cauchy stress of the local strain */
+      double G[9];
+      displacement_gradient(s, i, G);
+      cauchy_stress(s, i, G, nu + 9 * (size_t)i);
+      continue;
+    }
     double sum[9] = {0};
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       if (b->broken[k]) continue;

@@ -12,5 +12,8 @@ int peri_partial_stress_prepare(peri_sim *s);
 /* nu0 of the coupled nodes and of their bonds' nodes from the force states in h->state,
  * then f_i = div nu0 plus the zero-energy mode control at every coupled node i. */
 void peri_partial_stress_force(peri_sim *s);
+/* A local node's (horizon 0) strain energy density 1/2 sigma : eps, with eps the symmetric
+ * part of its least-squares displacement gradient and sigma the Cauchy stress of it. */
+double peri_partial_stress_local_energy(const peri_sim *s, int32_t i);
 
 #endif

@@ -190,6 +190,10 @@ static void vh_states(peri_sim *s, vh_kind kind) {
   const peri_bonds *b = &s->disc.bonds;
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) {
+    if (h->local && h->local[i]) { /* a local node has no force state (partial_stress.c) */
+      for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) h->state[k] = 0.0;
+      continue;
+    }
     const peri_material *mat = &s->mat.materials[p->material[i]];
     const double c = h->node_constant[i];
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
@@ -317,6 +321,10 @@ static void vh_energy(peri_sim *s, double *W, vh_kind kind) {
   if (kind == VH_LPS) vh_lps_dilatation(s);
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) {
+    if (h->local && h->local[i]) { /* 1/2 sigma : eps of its least-squares strain */
+      W[i] = peri_partial_stress_local_energy(s, i);
+      continue;
+    }
     const peri_material *mat = &s->mat.materials[p->material[i]];
     const double c = h->node_constant[i];
     const double theta = kind == VH_LPS ? p->theta[i] : 0.0;
