@@ -50,7 +50,8 @@ typedef struct peri_tool {
   double normal_force;       /* P_contact = -force . direction */
   double tangential_force;   /* |force - (force . direction) direction| */
   double sliding;            /* path length of the position across `direction` since t = 0 */
-  double last_t;             /* time of the last evaluation, for the sliding distance */
+  double last_t;             /* latest time evaluated, for the sliding distance */
+  double last_at[3];         /* position at last_t */
   double start[3];           /* position at the first evaluation (t = 0): where the scratch starts */
   double contact_at[3];      /* position at the first evaluation with a contact force */
   bool touched;              /* whether the tool has touched the body yet */

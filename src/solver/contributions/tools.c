@@ -19,14 +19,19 @@ static void tool_position(peri_tool *tl, double t, double out[3]) {
   }
 }
 
-/* Velocity of the tool at t: the central difference of its expressions over half a step
- * (exact for the linear and quadratic motions of a deck), plus the offset's rate. */
+/* Velocity of the tool at t: in explicit runs the central difference of its expressions over
+ * half a step (exact for the linear and quadratic motions of a deck), plus the offset's rate;
+ * in quasi-static runs (no time step) the backward difference, the way the tool came to t, so
+ * that a load step that ends where a slide begins (a kink in the motion) has no friction yet. */
 static void tool_velocity(const peri_sim *s, peri_tool *tl, double t, double out[3]) {
-  const double h = s->solver.dt > 0.0 ? 0.25 * s->solver.dt : 1e-9;
+  const bool explicit_step = !peri_is_quasi_static(s) || s->solver.qs.phase == PERI_QS_PHASE_DYNAMIC;
+  const double h = explicit_step ? 0.25 * s->solver.dt : 1e-6 * s->solver.end_time / (double)s->solver.qs.load_steps;
   for (int d = 0; d < 3; ++d) {
     out[d] = tl->q_rate * tl->geom.direction[d];
-    if (tl->position[d] && !peri_expr_is_constant(tl->position[d]))
-      out[d] += (peri_expr_eval(tl->position[d], 0.0, 0.0, 0.0, t + h) - peri_expr_eval(tl->position[d], 0.0, 0.0, 0.0, t - h)) / (2.0 * h);
+    if (tl->position[d] && !peri_expr_is_constant(tl->position[d])) {
+      const double ahead = peri_expr_eval(tl->position[d], 0.0, 0.0, 0.0, explicit_step ? t + h : t);
+      out[d] += (ahead - peri_expr_eval(tl->position[d], 0.0, 0.0, 0.0, t - h)) / (explicit_step ? 2.0 * h : h);
+    }
   }
 }
 
@@ -39,13 +44,15 @@ static void apply_tool(peri_sim *s, peri_tool *tl, double t) {
   if (!tl->started) {
     tl->started = true;
     tl->last_t = t;
-    for (int d = 0; d < 3; ++d) tl->start[d] = at[d];
-  } else if (t != tl->last_t) { /* the path across `direction` since the last time */
+    for (int d = 0; d < 3; ++d) tl->start[d] = at[d], tl->last_at[d] = at[d];
+  } else if (t > tl->last_t) { /* the path across `direction` since the last, earlier time (a
+                                 * solver that evaluates an earlier time again adds nothing) */
     double step[3], along = 0.0, len2 = 0.0;
-    for (int d = 0; d < 3; ++d) step[d] = at[d] - tl->at[d], along += step[d] * dir[d];
+    for (int d = 0; d < 3; ++d) step[d] = at[d] - tl->last_at[d], along += step[d] * dir[d];
     for (int d = 0; d < 3; ++d) len2 += (step[d] - along * dir[d]) * (step[d] - along * dir[d]);
     tl->sliding += sqrt(len2);
     tl->last_t = t;
+    for (int d = 0; d < 3; ++d) tl->last_at[d] = at[d];
   }
   for (int d = 0; d < 3; ++d) tl->at[d] = at[d], tl->velocity[d] = vt[d];
   const int32_t n = p->n_owned;
