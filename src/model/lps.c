@@ -7,6 +7,7 @@
  *   f_i     = sum_j (t_ij + t_ji) M_ij W_ij,           W_ij = chi beta V_j
  * Each end uses its own material's constants (half-bond rule, docs/model_reference.md 8). */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 #include "peri/constants.h"
 #include "peri/error.h"
@@ -83,8 +84,9 @@ static inline __attribute__((always_inline)) double lps_bond_sums(const lps_cent
                                                                   double xj1, double xj2, double uj0, double uj1,
                                                                   double uj2, double eth_j, double bound_j,
                                                                   double V_j, bool thermal, peri_influence influence,
-                                                                  bool uniform, bool smin, double *q, double *r0_out,
-                                                                  double *stretch_out, double *excess_out) {
+                                                                  bool uniform, bool smin, bool two_sided, double *q,
+                                                                  double *r0_out, double *stretch_out,
+                                                                  double *excess_out) {
   const lps_centre *ci = &ci_value;
   const double x0 = xj0 - ci->x0, x1 = xj1 - ci->x1, x2 = xj2 - ci->x2;
   const double y0 = x0 + (uj0 - ci->u0), y1 = x1 + (uj1 - ci->u1), y2 = x2 + (uj2 - ci->u2);
@@ -93,7 +95,8 @@ static inline __attribute__((always_inline)) double lps_bond_sums(const lps_cent
   /* the mechanical extension: the stretch times r0 */
   double e_mech = e_total;
   if (thermal) e_mech -= 0.5 * (ci->eth + eth_j) * r0; /* symmetric in i, j */
-  *excess_out = e_mech - (peri_min(ci->bound, bound_j) - PERI_S0_SCREEN_MARGIN) * r0;
+  /* two-sided: |e| against the bound (the plastic screen: sublayers yield in compression too) */
+  *excess_out = (two_sided ? fabs(e_mech) : e_mech) - (peri_min(ci->bound, bound_j) - PERI_S0_SCREEN_MARGIN) * r0;
   *stretch_out = smin ? e_mech / r0 : 0.0;
   *q = e_total - ci->eth * r0;
   *r0_out = r0;
@@ -172,7 +175,8 @@ static inline __attribute__((always_inline)) __m512d lps_bond_sums_v8(const lps_
                                                                       __m512d uj1, __m512d uj2, __m512d eth_j,
                                                                       __m512d bound_j, __m512d V_j, bool thermal,
                                                                       peri_influence influence, bool uniform, bool smin,
-                                                                      __m512d *q, __m512d *r0_out, __m512d *inv_r0_out,
+                                                                      bool two_sided, __m512d *q, __m512d *r0_out,
+                                                                      __m512d *inv_r0_out,
                                                                       __m512d *stretch_out, __m512d *excess_out) {
   __m512d r0, inv_r0, r, inv_r, y[3];
   lps_lengths_v8(ci, xj0, xj1, xj2, uj0, uj1, uj2, &r0, &inv_r0, &r, &inv_r, y);
@@ -180,7 +184,7 @@ static inline __attribute__((always_inline)) __m512d lps_bond_sums_v8(const lps_
   __m512d e_mech = e_total;
   if (thermal) e_mech = _mm512_sub_pd(e_mech, _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(0.5), _mm512_add_pd(ci->eth, eth_j)), r0));
   const __m512d bound = _mm512_sub_pd(_mm512_min_pd(ci->bound, bound_j), _mm512_set1_pd(PERI_S0_SCREEN_MARGIN));
-  *excess_out = _mm512_sub_pd(e_mech, _mm512_mul_pd(bound, r0));
+  *excess_out = _mm512_sub_pd(two_sided ? _mm512_abs_pd(e_mech) : e_mech, _mm512_mul_pd(bound, r0));
   *stretch_out = smin ? _mm512_mul_pd(e_mech, inv_r0) : _mm512_setzero_pd();
   *q = thermal ? _mm512_sub_pd(e_total, _mm512_mul_pd(ci->eth, r0)) : e_total;
   *r0_out = r0, *inv_r0_out = inv_r0;
@@ -224,7 +228,8 @@ typedef struct lps_sums {
  * vector loop, their sums in order). */
 static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_view *w, int32_t i, bool force,
                                                                bool thermal, peri_influence influence,
-                                                               bool uniform, bool track_smin, bool energy) {
+                                                               bool uniform, bool track_smin, bool energy,
+                                                               bool two_sided) {
   const lps_centre ci = lps_centre_of(w, i, thermal, force, !force && !energy);
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
@@ -263,7 +268,8 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
           const __m512d wt = lps_bond_sums_v8(&cv, &fam, LPS_GATHER(X0), LPS_GATHER(X1), LPS_GATHER(X2),
                                               LPS_GATHER(U0), LPS_GATHER(U1), LPS_GATHER(U2),
                                               thermal ? LPS_GATHER(eth) : zero, energy ? zero : LPS_GATHER(s0_bound),
-                                              V_j, thermal, influence, uniform, track_smin, &q, &r0, &inv_r0, &st, &e);
+                                              V_j, thermal, influence, uniform, track_smin, two_sided, &q, &r0, &inv_r0,
+                                              &st, &e);
           _mm512_mask_storeu_pd(g + a, m, wt);
           _mm512_mask_storeu_pd(v0 + a, m, q);
           _mm512_mask_storeu_pd(v1 + a, m, r0);
@@ -305,7 +311,7 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
         double s, e;
         g[a] = lps_bond_sums(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], thermal ? eth[j] : 0.0,
                              energy ? 0.0 : s0_bound[j], uniform ? 0.0 : V[j], thermal, influence, uniform,
-                             track_smin, &v0[a], &v1[a], &s, &e);
+                             track_smin, two_sided, &v0[a], &v1[a], &s, &e);
         if (energy) v2[a] = v0[a] * v0[a] / v1[a];
         if (track_smin) smin = peri_min(smin, s);
         excess = peri_max(excess, e);
@@ -329,7 +335,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
                                                             const uint8_t *restrict lanes, int64_t count,
                                                             bool force, bool thermal, peri_influence influence,
                                                             bool uniform, bool track_smin, bool energy,
-                                                            lps_sums out[PERI_BLOCK]) {
+                                                            bool two_sided, lps_sums out[PERI_BLOCK]) {
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict D = w->coef,
@@ -362,7 +368,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
             &cv, &fam, _mm512_loadu_pd(X0 + j), _mm512_loadu_pd(X1 + j), _mm512_loadu_pd(X2 + j),
             _mm512_loadu_pd(U0 + j), _mm512_loadu_pd(U1 + j), _mm512_loadu_pd(U2 + j),
             thermal ? _mm512_loadu_pd(eth + j) : zero, energy ? zero : _mm512_loadu_pd(s0_bound + j), V_j, thermal,
-            influence, uniform, track_smin, &q, &r0, &inv_r0, &st, &e);
+            influence, uniform, track_smin, two_sided, &q, &r0, &inv_r0, &st, &e);
         s0 = _mm512_mask3_fmadd_pd(wt, q, s0, on);
         s1 = _mm512_mask3_fmadd_pd(wt, r0, s1, on);
         if (energy) s2 = _mm512_mask3_fmadd_pd(wt, _mm512_mul_pd(_mm512_mul_pd(q, q), inv_r0), s2, on);
@@ -423,7 +429,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
         double q, r0, s, e;
         const double wt = lps_bond_sums(c, &fam, A0[l], A1[l], A2[l], E0[l], E1[l], E2[l], thermal ? Ej[l] : 0.0,
                                         energy ? 0.0 : Sj[l], uniform ? 0.0 : Vj[l], thermal, influence, uniform,
-                                        track_smin, &q, &r0, &s, &e);
+                                        track_smin, two_sided, &q, &r0, &s, &e);
         /* unconditional updates, as in the force pass */
         const bool on = on_lanes[l] != 0.0;
         const double wt_on = on ? wt : 0.0;
@@ -452,39 +458,43 @@ typedef struct lps_loops {
   lps_sums (*node)(const peri_bond_view *, int32_t);
   void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, lps_sums *);
 } lps_loops;
-#define LPS_VARIANT(NAME, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY)                                \
+#define LPS_VARIANT(NAME, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO)                           \
   static lps_sums NAME##_node(const peri_bond_view *w, int32_t i) {                                       \
-    return lps_node(w, i, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY);                               \
+    return lps_node(w, i, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO);                          \
   }                                                                                                        \
   static void NAME##_block(const peri_bond_view *w, int32_t i0, const int32_t *tj, const uint8_t *lanes,   \
                            int64_t count, lps_sums *out) {                                                 \
-    lps_block(w, i0, tj, lanes, count, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, out);             \
+    lps_block(w, i0, tj, lanes, count, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, out);        \
   }                                                                                                        \
   static const lps_loops NAME = {NAME##_node, NAME##_block};
 /* Pass 1 by influence function (constant on a grid, constant, inverse, Gaussian), without
  * and with thermal strain; without and with the minimum stretch (the LAMMPS-form critical
  * stretch), and for the energy; "uniform": every node has the same volume, so the loop does
- * not gather it */
-#define LPS_SUMS_VARIANTS(SUFFIX, SMIN, ENERGY)                                                            \
-  LPS_VARIANT(lps_sums_uniform##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, true, SMIN, ENERGY)         \
-  LPS_VARIANT(lps_sums_constant##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, false, SMIN, ENERGY)       \
-  LPS_VARIANT(lps_sums_inverse##SUFFIX, false, false, PERI_INFLUENCE_INVERSE, false, SMIN, ENERGY)         \
-  LPS_VARIANT(lps_sums_gaussian##SUFFIX, false, false, PERI_INFLUENCE_GAUSSIAN, false, SMIN, ENERGY)       \
-  LPS_VARIANT(lps_sums_thermal##SUFFIX, false, true, PERI_INFLUENCE_CONSTANT, false, SMIN, ENERGY)         \
-  LPS_VARIANT(lps_sums_inverse_thermal##SUFFIX, false, true, PERI_INFLUENCE_INVERSE, false, SMIN, ENERGY)  \
-  LPS_VARIANT(lps_sums_gaussian_thermal##SUFFIX, false, true, PERI_INFLUENCE_GAUSSIAN, false, SMIN, ENERGY) \
+ * not gather it; "two-sided": the plastic screen (lps_plastic_force_pass), |e| against it */
+#define LPS_SUMS_VARIANTS(SUFFIX, SMIN, ENERGY, TWO)                                                        \
+  LPS_VARIANT(lps_sums_uniform##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, true, SMIN, ENERGY, TWO)    \
+  LPS_VARIANT(lps_sums_constant##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, false, SMIN, ENERGY, TWO)  \
+  LPS_VARIANT(lps_sums_inverse##SUFFIX, false, false, PERI_INFLUENCE_INVERSE, false, SMIN, ENERGY, TWO)    \
+  LPS_VARIANT(lps_sums_gaussian##SUFFIX, false, false, PERI_INFLUENCE_GAUSSIAN, false, SMIN, ENERGY, TWO)  \
+  LPS_VARIANT(lps_sums_thermal##SUFFIX, false, true, PERI_INFLUENCE_CONSTANT, false, SMIN, ENERGY, TWO)    \
+  LPS_VARIANT(lps_sums_inverse_thermal##SUFFIX, false, true, PERI_INFLUENCE_INVERSE, false, SMIN, ENERGY,  \
+              TWO)                                                                                         \
+  LPS_VARIANT(lps_sums_gaussian_thermal##SUFFIX, false, true, PERI_INFLUENCE_GAUSSIAN, false, SMIN, ENERGY, \
+              TWO)                                                                                         \
   static const lps_loops *const lps_sums_table##SUFFIX[2][4] = {                                         \
       {&lps_sums_uniform##SUFFIX, &lps_sums_constant##SUFFIX, &lps_sums_inverse##SUFFIX,                   \
        &lps_sums_gaussian##SUFFIX},                                                                        \
       {&lps_sums_thermal##SUFFIX, &lps_sums_thermal##SUFFIX, &lps_sums_inverse_thermal##SUFFIX,            \
        &lps_sums_gaussian_thermal##SUFFIX}};
-LPS_SUMS_VARIANTS(, false, false)
-LPS_SUMS_VARIANTS(_smin, true, false)
-LPS_SUMS_VARIANTS(_energy, false, true)
-LPS_VARIANT(lps_force_uniform, true, false, PERI_INFLUENCE_CONSTANT, true, false, false)
-LPS_VARIANT(lps_force_constant, true, false, PERI_INFLUENCE_CONSTANT, false, false, false)
-LPS_VARIANT(lps_force_inverse, true, false, PERI_INFLUENCE_INVERSE, false, false, false)
-LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false, false, false)
+LPS_SUMS_VARIANTS(, false, false, false)
+LPS_SUMS_VARIANTS(_smin, true, false, false)
+LPS_SUMS_VARIANTS(_energy, false, true, false)
+LPS_SUMS_VARIANTS(_plastic, false, false, true)
+LPS_SUMS_VARIANTS(_plastic_smin, true, false, true)
+LPS_VARIANT(lps_force_uniform, true, false, PERI_INFLUENCE_CONSTANT, true, false, false, false)
+LPS_VARIANT(lps_force_constant, true, false, PERI_INFLUENCE_CONSTANT, false, false, false, false)
+LPS_VARIANT(lps_force_inverse, true, false, PERI_INFLUENCE_INVERSE, false, false, false, false)
+LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false, false, false, false)
 
 /* Pass 1's table for the deck's influence function, volumes and thermal strain. */
 static const lps_loops *lps_pass1_loops(const peri_sim *s, const peri_node_blocks *items,
@@ -525,37 +535,51 @@ static const lps_loops *lps_pass1_loops(const peri_sim *s, const peri_node_block
     }                                                                                                      \
   }
 
-/* Pass 1 for every owned node: break bonds beyond their critical stretch, then the dilatation
- * theta, P and the two per-node coefficients of the force pass. With
+/* Node i's dilatation theta, P and the two per-node coefficients of the force pass from its
+ * pass-1 sums sum w q and sum w |xi|. With
  *   A_i = n_theta (K_theta theta_i - alpha_i P_i/3)/m_i,  B_i = alpha_i = (alpha m)/m_i,
  *   D_i = A_i - B_i (alpha_T dT_i + theta_i/3),
  * the pair force of the header is t_ij + t_ji = omega (|xi| (D_i + D_j) + e (B_i + B_j)), so the
  * force pass reads two numbers per neighbour (D in coef[0 .. n-1], B in coef[n .. 2n-1]). */
+static inline void lps_node_coefficients(peri_sim *s, int32_t i, double we_x, double w_xx) {
+  peri_particles *p = &s->disc.p;
+  const size_t n = (size_t)p->n;
+  const peri_material *mat = &s->mat.materials[p->material[i]];
+  const double m = p->wvol[i];
+  const double theta = mat->n_theta * we_x / m;
+  /* the peer form (docs/models.md 3.5) takes P as if the family were intact, sum w |xi| = m */
+  const double P = we_x - theta * (mat->peer_force_state ? m : w_xx) / 3.0;
+  const double alpha = mat->alpha_m / m;
+  const double eth_i = s->state.thermal_strain ? s->state.thermal_strain[i] : 0.0;
+  p->theta[i] = theta;
+  p->pstate[i] = P;
+  p->coef[i] = mat->n_theta * (mat->K_theta * theta - alpha * P / 3.0) / m - alpha * (eth_i + theta / 3.0);
+  p->coef[n + (size_t)i] = alpha;
+}
+
+/* Pass 1 for every owned node: break bonds beyond their critical stretch, then
+ * lps_node_coefficients. */
 static long lps_dilatation(peri_sim *s) {
   peri_update_s0_bound(s);
   peri_node_blocks *items = peri_node_blocks_refresh(s);
-  const bool thermal = s->state.thermal_strain != NULL, track_smin = s->mat.s0_node != NULL, breaking = s->solver.breaking;
+  const bool track_smin = s->mat.s0_node != NULL, breaking = s->solver.breaking;
   const lps_loops *loops = lps_pass1_loops(s, items, track_smin ? lps_sums_table_smin : lps_sums_table);
   peri_particles *p = &s->disc.p;
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
-  const size_t n = (size_t)p->n;
   long n_broken = 0;
   LPS_FOR_EACH_NODE(items, loops, w, breaking, {
-    const double we_x = r->sum[0], w_xx = r->sum[1];
-    const peri_material *mat = &s->mat.materials[p->material[i]];
-    const double m = p->wvol[i];
-    const double theta = mat->n_theta * we_x / m;
-    /* the peer form (docs/models.md 3.5) takes P as if the family were intact, sum w |xi| = m */
-    const double P = we_x - theta * (mat->peer_force_state ? m : w_xx) / 3.0;
-    const double alpha = mat->alpha_m / m;
-    const double eth_i = thermal ? s->state.thermal_strain[i] : 0.0;
-    p->theta[i] = theta;
-    p->pstate[i] = P;
-    p->coef[i] = mat->n_theta * (mat->K_theta * theta - alpha * P / 3.0) / m - alpha * (eth_i + theta / 3.0);
-    p->coef[n + (size_t)i] = alpha;
+    lps_node_coefficients(s, i, r->sum[0], r->sum[1]);
     if (track_smin) p->smin[i] = r->smin;
   })
   return n_broken;
+}
+
+/* Pass 2's loops for the deck's influence function and volumes. */
+static const lps_loops *lps_force_loops(const peri_sim *s, const peri_node_blocks *items) {
+  return s->disc.family.influence == PERI_INFLUENCE_INVERSE    ? &lps_force_inverse
+         : s->disc.family.influence == PERI_INFLUENCE_GAUSSIAN ? &lps_force_gaussian
+         : items->uniform_volume                                ? &lps_force_uniform
+                                                                : &lps_force_constant;
 }
 
 static long lps_force_pass(peri_sim *s, bool update_s0) {
@@ -568,10 +592,7 @@ static long lps_force_pass(peri_sim *s, bool update_s0) {
   peri_sim_exchange(s, s->disc.p.coef + n, 1);
   peri_node_blocks *items = s->disc.node_blocks; /* refreshed by the dilatation pass */
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
-  const lps_loops *loops = s->disc.family.influence == PERI_INFLUENCE_INVERSE    ? &lps_force_inverse
-                           : s->disc.family.influence == PERI_INFLUENCE_GAUSSIAN ? &lps_force_gaussian
-                           : items->uniform_volume                          ? &lps_force_uniform
-                                                                            : &lps_force_constant;
+  const lps_loops *loops = lps_force_loops(s, items);
   long n_broken = 0; /* (the force pass breaks nothing) */
   LPS_FOR_EACH_NODE(items, loops, w, false, {
     for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = r->sum[d];
@@ -579,8 +600,88 @@ static long lps_force_pass(peri_sim *s, bool update_s0) {
   return broken + n_broken;
 }
 
+/* Sublayer plasticity (docs/plasticity.md section 5). Pass 1 runs the elastic loops with the
+ * two-sided plastic screen (the first yield stretch, the critical stretch's bound, the elastic
+ * stretch of a critical bond work): a node none of whose bonds passes it and that has never
+ * yielded keeps the elastic sums (its plastic stretches are 0 and the return mapping leaves
+ * them 0); every other node takes the plastic path (breaking, return mapping, the sums at the
+ * elastic extensions). In pass 2 a node that kept the elastic sums has only elastic bonds, so
+ * its force is the elastic one whatever its neighbours did (D_j and B_j are read as they are);
+ * the nodes of the plastic path sum at their elastic extensions (the bonds they broke are
+ * cleared from the block loops' lane masks at once). The choice depends on
+ * the node's state only, not on threads or ranks. */
+static long lps_plastic_force_pass(peri_sim *s, bool update_s0) {
+  peri_particles *p = &s->disc.p;
+  const size_t n = (size_t)p->n;
+  peri_update_s0_bound(s);
+  peri_plastic_pass pass = peri_plastic_pass_begin(s);
+  peri_node_blocks *items = peri_node_blocks_refresh(s);
+  const bool track_smin = s->mat.s0_node != NULL;
+  const lps_loops *sums_loops = lps_pass1_loops(s, items, track_smin ? lps_sums_table_plastic_smin : lps_sums_table_plastic);
+  const lps_loops *force_loops = lps_force_loops(s, items);
+  const peri_bond_view w = peri_bond_view_of(s, items->soa);
+  peri_bond_view screened = w;
+  screened.s0_bound = pass.screen;
+  const uint8_t *yielded = s->state.plastic_nodes;
+  uint8_t *plastic_path = peri_malloc((size_t)(p->n_owned > 0 ? p->n_owned : 1));
+  long n_broken = 0;
+#pragma omp parallel reduction(+ : n_broken)
+  {
+    peri_plastic_chunk *scratch = peri_plastic_chunk_new();
+    PERI_FOR_EACH_ITEM(items, item) {
+      const int32_t i0 = items->first[item], i1 = items->first[item + 1];
+      lps_sums sums[PERI_BLOCK];
+      const int64_t t0 = items->tpl[item], entries = items->tpl[item + 1] - t0;
+      if (peri_item_is_block(items, item)) {
+        sums_loops->block(&screened, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums);
+      } else {
+        for (int32_t i = i0; i < i1; ++i) sums[i - i0] = sums_loops->node(&screened, i);
+      }
+      for (int32_t i = i0; i < i1; ++i) {
+        lps_sums *r = &sums[i - i0];
+        plastic_path[i] = r->candidate || yielded[i];
+        if (plastic_path[i]) {
+          const long broken_here = peri_plastic_lps_node_sums(s, &w, &pass, i, scratch, r->sum, &r->smin);
+          if (broken_here > 0) peri_node_blocks_clear_broken(items, &s->disc.bonds, item, i);
+          n_broken += broken_here;
+        }
+        lps_node_coefficients(s, i, r->sum[0], r->sum[1]);
+        if (track_smin) p->smin[i] = r->smin;
+      }
+    }
+    free(scratch);
+  }
+  if (track_smin && update_s0) peri_update_lammps_s0(s);
+  peri_sim_exchange(s, p->coef, 1);
+  peri_sim_exchange(s, p->coef + n, 1);
+#pragma omp parallel
+  PERI_FOR_EACH_ITEM(items, item) {
+    const int32_t i0 = items->first[item], i1 = items->first[item + 1];
+    lps_sums sums[PERI_BLOCK];
+    const int64_t t0 = items->tpl[item], entries = items->tpl[item + 1] - t0;
+    bool all_plastic = true;
+    for (int32_t i = i0; i < i1; ++i) all_plastic &= plastic_path[i] != 0;
+    if (all_plastic) {
+      /* (nothing for the elastic loops to do) */
+    } else if (peri_item_is_block(items, item)) {
+      force_loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums);
+    } else {
+      for (int32_t i = i0; i < i1; ++i) sums[i - i0] = force_loops->node(&w, i);
+    }
+    for (int32_t i = i0; i < i1; ++i) {
+      double f[3];
+      if (plastic_path[i]) peri_plastic_lps_node_force(s, &w, &pass, i, f);
+      else f[0] = sums[i - i0].sum[0], f[1] = sums[i - i0].sum[1], f[2] = sums[i - i0].sum[2];
+      for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = f[d];
+    }
+  }
+  free(plastic_path);
+  peri_plastic_pass_end(&pass);
+  return n_broken;
+}
+
 static long lps_force(peri_sim *s) {
-  if (s->state.plastic_stretch) return peri_force_in_breaking_order(s, peri_plastic_lps_force);
+  if (s->state.plastic_stretch) return peri_force_in_breaking_order(s, lps_plastic_force_pass);
   return peri_force_in_breaking_order(s, s->disc.bonds.surface_G ? peri_corrected_lps_force : lps_force_pass);
 }
 

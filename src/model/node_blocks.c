@@ -110,6 +110,10 @@ long peri_node_blocks_break_family(peri_sim *s, peri_node_blocks *nb, int32_t it
   return n;
 }
 
+void peri_node_blocks_clear_broken(peri_node_blocks *nb, const peri_bonds *b, int32_t item, int32_t i) {
+  clear_broken_lanes(nb, b, item, i);
+}
+
 /* Lane masks from the structure and the broken flags. */
 static void sync_broken(peri_node_blocks *nb, const peri_bonds *b) {
   memcpy(nb->tpl_lanes, nb->tpl_bonds, (size_t)nb->tpl_entries);

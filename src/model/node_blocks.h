@@ -53,6 +53,11 @@ peri_node_blocks *peri_node_blocks_refresh(peri_sim *s);
  * masks; returns the number broken. For the force loops, from the thread that runs the item. */
 long peri_node_blocks_break_family(peri_sim *s, peri_node_blocks *nb, int32_t item, int32_t i);
 
+/* Clears from the lane masks the broken bonds of node i (in item `item`), after a loop other
+ * than peri_node_blocks_break_family broke some (the plastic paths): cheaper than a whole
+ * resync through peri_bonds.broken_edits. From the thread that runs the item. */
+void peri_node_blocks_clear_broken(peri_node_blocks *nb, const peri_bonds *b, int32_t item, int32_t i);
+
 /* After the sums of item `item` (nodes i0 .. i1-1, sums[] with fields candidate and smin):
  * the exact breaking test of each candidate node, adding the bonds broken to n_broken, then
  * the sums again for the nodes that lost bonds: the whole block at once (RERUN_BLOCK) when

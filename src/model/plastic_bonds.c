@@ -392,91 +392,64 @@ void peri_plastic_pmb_energy(peri_sim *s, double *W) {
   }
 }
 
-/* LPS pass 1: breaking, return mapping, dilatation theta, P and the force pass's per-node
- * coefficients D (coef[0 .. n-1]) and B = alpha (coef[n .. 2n-1]) as in src/model/lps.c, with
- * the elastic extension e^e = (s - s^p) |xi| in place of e. */
-static long lps_plastic_dilatation(peri_sim *s) {
-  peri_particles *p = &s->disc.p;
-  peri_bonds *b = &s->disc.bonds;
+long peri_plastic_lps_node_sums(peri_sim *s, const peri_bond_view *w, const peri_plastic_pass *pl, int32_t i,
+                                plastic_chunk *c, double sums[2], double *smin_out) {
+  const peri_bonds *b = &s->disc.bonds;
   const double *eth = s->state.thermal_strain;
-  const bool breaking = s->solver.breaking, track_smin = s->mat.s0_node != NULL, thermal = eth != NULL;
-  const size_t n = (size_t)p->n;
-  peri_update_s0_bound(s);
-  const peri_node_blocks *items = peri_node_blocks_refresh(s);
-  const peri_bond_view w = peri_bond_view_of(s, items->soa);
-  peri_plastic_pass pl = peri_plastic_pass_begin(s);
+  const bool breaking = s->solver.breaking, thermal = eth != NULL;
   const peri_influence influence = b->family.influence;
+  const double eth_i = thermal ? eth[i] : 0.0;
+  double we_x = 0.0, w_xx = 0.0, smin = INFINITY;
   long n_broken = 0;
-#pragma omp parallel reduction(+ : n_broken)
-  {
-    plastic_chunk *c = peri_malloc(sizeof *c);
-#pragma omp for schedule(static)
-    for (int32_t i = 0; i < p->n_owned; ++i) {
-      const double eth_i = thermal ? eth[i] : 0.0;
-      double we_x = 0.0, w_xx = 0.0, smin = INFINITY;
-      bool yielded = false;
-      for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PLASTIC_CHUNK) {
-        const int nk = (int)(b->offset[i + 1] - k0 < PLASTIC_CHUNK ? b->offset[i + 1] - k0 : PLASTIC_CHUNK);
-        if (thermal) plastic_chunk_map(s, &w, &pl, i, k0, nk, breaking, true, c, &n_broken, &smin, &yielded);
-        else plastic_chunk_map(s, &w, &pl, i, k0, nk, breaking, false, c, &n_broken, &smin, &yielded);
-        double q[PLASTIC_CHUNK], x[PLASTIC_CHUNK];
+  bool yielded = false;
+  for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PLASTIC_CHUNK) {
+    const int nk = (int)(b->offset[i + 1] - k0 < PLASTIC_CHUNK ? b->offset[i + 1] - k0 : PLASTIC_CHUNK);
+    if (thermal) plastic_chunk_map(s, w, pl, i, k0, nk, breaking, true, c, &n_broken, &smin, &yielded);
+    else plastic_chunk_map(s, w, pl, i, k0, nk, breaking, false, c, &n_broken, &smin, &yielded);
+    double q[PLASTIC_CHUNK], x[PLASTIC_CHUNK];
 #pragma omp simd
-        for (int a = 0; a < nk; ++a) {
-          const double r0 = c->r0[a];
-          /* w = omega |xi| beta V_j (0 for a broken bond); q = e^e - alpha_T dT_i |xi| with the
-           * elastic extension e^e = (s - s^p) |xi| + the bond's thermal extension */
-          const double wt = c->intact[a] * peri_eval_omega(&w.fam, influence, r0) * r0 * peri_eval_beta(&w.fam, r0) *
-                            w.V[c->j[a]];
-          const double plastic = c->s[a] - c->se[a];
-          q[a] = wt * (c->r[a] - r0 - (plastic + eth_i) * r0);
-          x[a] = wt * r0;
-        }
-        for (int a = 0; a < nk; ++a) we_x += q[a], w_xx += x[a]; /* in family order */
-      }
-      const peri_material *mat = &s->mat.materials[p->material[i]];
-      const double m = p->wvol[i];
-      const double theta = mat->n_theta * we_x / m;
-      const double P = we_x - theta * (mat->peer_force_state ? m : w_xx) / 3.0;
-      const double alpha = mat->alpha_m / m;
-      p->theta[i] = theta;
-      p->pstate[i] = P;
-      p->coef[i] = mat->n_theta * (mat->K_theta * theta - alpha * P / 3.0) / m - alpha * (eth_i + theta / 3.0);
-      p->coef[n + (size_t)i] = alpha;
-      if (track_smin) p->smin[i] = smin;
-      s->state.plastic_nodes[i] = yielded;
+    for (int a = 0; a < nk; ++a) {
+      const double r0 = c->r0[a];
+      /* w = omega |xi| beta V_j (0 for a broken bond); q = e^e - alpha_T dT_i |xi| with the
+       * elastic extension e^e = (s - s^p) |xi| + the bond's thermal extension */
+      const double wt =
+          c->intact[a] * peri_eval_omega(&w->fam, influence, r0) * r0 * peri_eval_beta(&w->fam, r0) * w->V[c->j[a]];
+      const double plastic = c->s[a] - c->se[a];
+      q[a] = wt * (c->r[a] - r0 - (plastic + eth_i) * r0);
+      x[a] = wt * r0;
     }
-    free(c);
+    for (int a = 0; a < nk; ++a) we_x += q[a], w_xx += x[a]; /* in family order */
   }
-  peri_plastic_pass_end(&pl);
-  if (n_broken > 0) ++b->broken_edits;
+  sums[0] = we_x, sums[1] = w_xx;
+  *smin_out = smin;
+  s->state.plastic_nodes[i] = yielded; /* (the node's own flag, written by its thread) */
   return n_broken;
 }
 
-long peri_plastic_lps_force(peri_sim *s, bool update_s0) {
-  const long broken = lps_plastic_dilatation(s);
-  if (s->mat.s0_node && update_s0) peri_update_lammps_s0(s);
-  peri_particles *p = &s->disc.p;
+void peri_plastic_lps_node_force(const peri_sim *s, const peri_bond_view *w, const peri_plastic_pass *pl, int32_t i,
+                                 double f[3]) {
   const peri_bonds *b = &s->disc.bonds;
-  const size_t n = (size_t)p->n;
-  peri_sim_exchange(s, p->coef, 1);
-  peri_sim_exchange(s, p->coef + n, 1);
-  const double *D = p->coef, *B = p->coef + n;
-#pragma omp parallel for schedule(static)
-  for (int32_t i = 0; i < p->n_owned; ++i) {
-    double f[3] = {0.0, 0.0, 0.0};
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      const bond_state st = bond_at(s, i, j);
-      const double e_elastic = st.r - st.r0 - peri_plastic_bond_stretch(s, i, k) * st.r0;
-      /* t_ij + t_ji = omega (|xi| (D_i + D_j) + e^e (B_i + B_j)) */
-      const double t = peri_bonds_omega(b, st.r0) * (st.r0 * (D[i] + D[j]) + e_elastic * (B[i] + B[j]));
-      const double g = st.r > 0.0 ? t * peri_bonds_beta(b, st.r0) * p->volume[j] / st.r : 0.0;
-      for (int d = 0; d < 3; ++d) f[d] += g * st.dy[d];
-    }
-    for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = f[d];
+  const int L = pl->layers;
+  const int32_t *material = s->disc.p.material;
+  const int row = material[i] * pl->nm;
+  const double *D = w->coef, *B = w->coef + w->n;
+  const peri_influence influence = b->family.influence;
+  double f0 = 0.0, f1 = 0.0, f2 = 0.0;
+  for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+    if (b->broken[k]) continue;
+    const int32_t j = b->neighbor[k];
+    const double x0 = w->x0[j] - w->x0[i], x1 = w->x1[j] - w->x1[i], x2 = w->x2[j] - w->x2[i];
+    const double d0 = x0 + (w->u0[j] - w->u0[i]), d1 = x1 + (w->u1[j] - w->u1[i]), d2 = x2 + (w->u2[j] - w->u2[i]);
+    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2), r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+    const double *W = pl->W + (row + material[j]) * L, *sp = s->state.plastic_stretch + k * L;
+    double plastic = 0.0; /* sum_l W_l s^p_l (the padding layers have W = 0) */
+    for (int l = 0; l < L; ++l) plastic += W[l] * sp[l];
+    /* t_ij + t_ji = omega (|xi| (D_i + D_j) + e^e (B_i + B_j)), e^e = r - |xi| - s^p |xi| */
+    const double t = peri_eval_omega(&w->fam, influence, r0) * (r0 * (D[i] + D[j]) + (r - r0 - plastic * r0) * (B[i] + B[j]));
+    const double g = r > 0.0 ? t * peri_eval_beta(&w->fam, r0) * w->V[j] / r : 0.0;
+    f0 = fma(g, d0, f0), f1 = fma(g, d1, f1), f2 = fma(g, d2, f2);
   }
-  return broken;
+  f[0] = f0, f[1] = f1, f[2] = f2;
 }
 
 void peri_plastic_lps_energy(peri_sim *s, double *W) {

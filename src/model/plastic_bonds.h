@@ -45,9 +45,16 @@ peri_plastic_chunk *peri_plastic_chunk_new(void);
  * number of bonds it broke; the caller counts a broken-flag edit. */
 long peri_plastic_pmb_node(peri_sim *s, const peri_bond_view *w, const peri_plastic_pass *pass, int32_t i,
                            peri_plastic_chunk *scratch, double f[3], double *smin);
-/* The LPS force pass (as peri_force_pass): the return mapping of every intact bond of the
- * owned nodes at the current stretch, then the force at the elastic stretch. */
-long peri_plastic_lps_force(peri_sim *s, bool update_s0);
+/* LPS node i (owned) through the plastic path, pass 1: breaking and the return mapping as
+ * peri_plastic_pmb_node, then the sums sum w q and sum w |xi| at the elastic extensions into
+ * sums (as the elastic loops of src/model/lps.c), the minimum stretch in *smin. Returns the
+ * number of bonds it broke. */
+long peri_plastic_lps_node_sums(peri_sim *s, const peri_bond_view *w, const peri_plastic_pass *pass, int32_t i,
+                                peri_plastic_chunk *scratch, double sums[2], double *smin);
+/* LPS node i, pass 2: the force density at the elastic extensions of its intact bonds, with
+ * the coefficients D and B of pass 1 in w->coef. */
+void peri_plastic_lps_node_force(const peri_sim *s, const peri_bond_view *w, const peri_plastic_pass *pass, int32_t i,
+                                 double f[3]);
 /* Elastic strain energy densities at the current plastic state. */
 void peri_plastic_pmb_energy(peri_sim *s, double *W);
 void peri_plastic_lps_energy(peri_sim *s, double *W);

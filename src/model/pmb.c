@@ -415,7 +415,11 @@ static long pmb_plastic_force_pass(peri_sim *s, bool update_s0) {
       }
       for (int32_t i = i0; i < i1; ++i) {
         pmb_sums *r = &sums[i - i0];
-        if (r->candidate || yielded[i]) n_broken += peri_plastic_pmb_node(s, &w, &pass, i, scratch, r->f, &r->smin);
+        if (r->candidate || yielded[i]) {
+          const long broken_here = peri_plastic_pmb_node(s, &w, &pass, i, scratch, r->f, &r->smin);
+          if (broken_here > 0) peri_node_blocks_clear_broken(items, &s->disc.bonds, item, i);
+          n_broken += broken_here;
+        }
         for (int d = 0; d < 3; ++d) p->f[3 * i + d] = r->f[d];
         if (track_smin) p->smin[i] = r->smin;
       }
@@ -423,7 +427,6 @@ static long pmb_plastic_force_pass(peri_sim *s, bool update_s0) {
     free(scratch);
   }
   peri_plastic_pass_end(&pass);
-  if (n_broken > 0) ++s->disc.bonds.broken_edits; /* the lane masks follow at the next refresh */
   if (track_smin && update_s0) peri_update_lammps_s0(s);
   return n_broken;
 }
