@@ -25,15 +25,7 @@ int peri_fem_mesh_file_read(const char *path, int dim, peri_fem_mesh_file *f) {
 
 #else
 #include <gmshc.h>
-
-static int failed(const char *path, const char *what) {
-  char *last = NULL;
-  int ierr = 0;
-  gmshLoggerGetLastError(&last, &ierr);
-  peri_error("%s: %s%s%s", path, what, last && *last ? ": " : "", last ? last : "");
-  gmshFree(last);
-  return PERI_ERR_INPUT;
-}
+#include "gmsh_session.h"
 
 typedef struct tag_index {
   int64_t tag;
@@ -57,7 +49,7 @@ static int read_model(const char *path, int dim, peri_fem_mesh_file *f) {
   size_t *ntags = NULL, ntags_n = 0, coord_n = 0, param_n = 0;
   double *coord = NULL, *param = NULL;
   gmshModelMeshGetNodes(&ntags, &ntags_n, &coord, &coord_n, &param, &param_n, -1, -1, 0, 0, &ierr);
-  if (ierr) return failed(path, "cannot read the nodes");
+  if (ierr) return peri_gmsh_failed(path, "cannot read the nodes");
   f->n_nodes = (int32_t)ntags_n;
   f->node_tag = peri_malloc(sizeof(int64_t) * (ntags_n > 0 ? ntags_n : 1));
   f->x = peri_malloc(sizeof(double) * 3 * (ntags_n > 0 ? ntags_n : 1));
@@ -79,7 +71,7 @@ static int read_model(const char *path, int dim, peri_fem_mesh_file *f) {
   int *types = NULL;
   size_t types_n = 0, **etags = NULL, *etags_n = NULL, etags_nn = 0, **enodes = NULL, *enodes_n = NULL, enodes_nn = 0;
   if (rc == PERI_OK) gmshModelMeshGetElements(&types, &types_n, &etags, &etags_n, &etags_nn, &enodes, &enodes_n, &enodes_nn, -1, -1, &ierr);
-  if (rc == PERI_OK && ierr) rc = failed(path, "cannot read the elements");
+  if (rc == PERI_OK && ierr) rc = peri_gmsh_failed(path, "cannot read the elements");
   size_t total = 0, corners = 0;
   for (size_t t = 0; t < types_n && rc == PERI_OK; ++t) {
     char *name = NULL;
@@ -156,29 +148,9 @@ int peri_fem_mesh_file_read(const char *path, int dim, peri_fem_mesh_file *f) {
     return PERI_ERR_INPUT;
   }
   fclose(probe);
-  int ierr = 0;
-  char *argv[] = {"peri", NULL};
-  gmshInitialize(1, argv, 0, &ierr);
-  if (ierr) {
-    peri_error("%s: the Gmsh library failed to start", path);
-    return PERI_ERR_INPUT;
-  }
-  gmshOptionSetNumber("General.Terminal", 0, &ierr); /* its messages: only through the logger */
-  gmshOptionSetNumber("General.Verbosity", 1, &ierr);
-  gmshLoggerStart(&ierr);
-  int rc = PERI_OK;
-  gmshOpen(path, &ierr);
-  char *last = NULL;
-  int ierr2 = 0;
-  gmshLoggerGetLastError(&last, &ierr2);
-  if (ierr || (last && *last)) rc = failed(path, "cannot read the Gmsh mesh");
-  gmshFree(last);
-  const char *dot = strrchr(path, '.');
-  if (rc == PERI_OK && dot && strcmp(dot, ".geo") == 0) { /* a geometry: Gmsh meshes it */
-    gmshModelMeshGenerate(dim, &ierr);
-    if (ierr) rc = failed(path, "Gmsh could not mesh the geometry");
-  }
-  if (rc == PERI_OK) rc = read_model(path, dim, f);
+  int rc = peri_gmsh_open(path, dim), ierr = 0;
+  if (rc != PERI_OK) return rc;
+  rc = read_model(path, dim, f);
   gmshFinalize(&ierr);
   f->path = peri_strdup(path);
   if (rc != PERI_OK) peri_fem_mesh_file_free(f);

@@ -23,15 +23,7 @@ int peri_mesh_read_gmsh(peri_mesh *m, const char *path, int dim, double thicknes
 
 #else
 #include <gmshc.h>
-
-static int gmsh_failed(const char *path, const char *what) {
-  char *last = NULL;
-  int ierr = 0;
-  gmshLoggerGetLastError(&last, &ierr);
-  peri_error("%s: %s%s%s", path, what, last && *last ? ": " : "", last ? last : "");
-  gmshFree(last);
-  return PERI_ERR_INPUT;
-}
+#include "gmsh_session.h"
 
 static char *group_name(int dim, int tag) {
   char *name = NULL;
@@ -61,7 +53,7 @@ static int read_entity(peri_mesh *m, points_conn *pc, const char *path, int dim,
   int *types = NULL, ierr = 0, rc = PERI_OK;
   size_t n_types = 0, **etags = NULL, *etags_n = NULL, etags_nn = 0, **ntags = NULL, *ntags_n = NULL, ntags_nn = 0;
   gmshModelMeshGetElements(&types, &n_types, &etags, &etags_n, &etags_nn, &ntags, &ntags_n, &ntags_nn, dim, entity, &ierr);
-  if (ierr) return gmsh_failed(path, "cannot read the elements");
+  if (ierr) return peri_gmsh_failed(path, "cannot read the elements");
   for (size_t t = 0; t < n_types && rc == PERI_OK; ++t) {
     char *tname = NULL;
     int edim = 0, order = 0, nn = 0, nprimary = 0;
@@ -77,7 +69,7 @@ static int read_entity(peri_mesh *m, points_conn *pc, const char *path, int dim,
                                          entity, 0, 1, &ierr);
     const size_t G = weights_n, ne = etags_n[t];
     if (ierr || det_n != ne * G || coord_n != 3 * ne * G) {
-      rc = gmsh_failed(path, "cannot measure the elements");
+      rc = peri_gmsh_failed(path, "cannot measure the elements");
     } else if (edim == dim) {
       for (size_t e = 0; e < ne && rc == PERI_OK; ++e) {
         double v = 0.0, c[3] = {0, 0, 0};
@@ -142,7 +134,7 @@ static int read_model(peri_mesh *m, const char *path, int dim, double scale) {
   if (ierr) {
     gmshFree(groups);
     gmshFree(entities);
-    return gmsh_failed(path, "cannot read the model's entities");
+    return peri_gmsh_failed(path, "cannot read the model's entities");
   }
   bool have_blocks = false;
   for (size_t g = 0; g < groups_n / 2; ++g) have_blocks |= groups[2 * g] == dim;
@@ -228,29 +220,12 @@ static int read_model(peri_mesh *m, const char *path, int dim, double scale) {
 
 int peri_mesh_read_gmsh(peri_mesh *m, const char *path, int dim, double thickness, double cross_section) {
   peri_mesh_init(m, dim);
-  int ierr = 0;
-  char *argv[] = {"peri", NULL};
-  gmshInitialize(1, argv, 0, &ierr);
-  if (ierr) {
-    peri_error("%s: the Gmsh library failed to start", path);
-    return PERI_ERR_INPUT;
+  int rc = peri_gmsh_open(path, dim), ierr = 0;
+  if (rc != PERI_OK) {
+    peri_mesh_free(m);
+    return rc;
   }
-  gmshOptionSetNumber("General.Terminal", 0, &ierr); /* its messages: only through the logger */
-  gmshOptionSetNumber("General.Verbosity", 1, &ierr);
-  gmshLoggerStart(&ierr);
-  int rc = PERI_OK;
-  gmshOpen(path, &ierr);
-  char *last = NULL;
-  int ierr2 = 0;
-  gmshLoggerGetLastError(&last, &ierr2);
-  if (ierr || (last && *last)) rc = gmsh_failed(path, "cannot read the Gmsh mesh");
-  gmshFree(last);
-  const char *dot = strrchr(path, '.');
-  if (rc == PERI_OK && dot && strcmp(dot, ".geo") == 0) { /* a geometry: Gmsh meshes it */
-    gmshModelMeshGenerate(dim, &ierr);
-    if (ierr) rc = gmsh_failed(path, "Gmsh could not mesh the geometry");
-  }
-  if (rc == PERI_OK) rc = read_model(m, path, dim, dim == 2 ? thickness : dim == 1 ? cross_section : 1.0);
+  rc = read_model(m, path, dim, dim == 2 ? thickness : dim == 1 ? cross_section : 1.0);
   gmshFinalize(&ierr);
   if (rc != PERI_OK) peri_mesh_free(m);
   return rc;

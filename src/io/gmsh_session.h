@@ -1,0 +1,15 @@
+/* Opening a mesh file through the Gmsh library, shared by the readers of PD meshes
+ * (gmsh_mesh.c) and of the FEM part of a coupling (gmsh_fem_mesh.c). Only with PERI_HAVE_GMSH. */
+#ifndef PERI_IO_GMSH_SESSION_H
+#define PERI_IO_GMSH_SESSION_H
+
+/* Reports "PATH: WHAT: <Gmsh's last logged error>" and returns PERI_ERR_INPUT. */
+int peri_gmsh_failed(const char *path, const char *what);
+
+/* Starts the library quietly (messages only through its logger), reads PATH (.msh of any
+ * version Gmsh reads) and, for a .geo geometry, meshes it in dimension DIM. On PERI_OK the
+ * model is open and the caller reads it, then calls gmshFinalize; on an error the library has
+ * been closed again. */
+int peri_gmsh_open(const char *path, int dim);
+
+#endif
