@@ -1,8 +1,6 @@
 /* Stable time step estimate (docs/model_reference.md 13.2; Ongaro 2022 eqs. 1.105-1.108). */
 #include <math.h>
-#include <stdlib.h>
 #include "peri/coupling.h"
-#include "peri/error.h"
 #include "peri/comm.h"
 #include "peri/constants.h"
 #include "peri/horizon_field.h"
@@ -62,12 +60,12 @@ static double control_factor(const peri_sim *s, int32_t i) {
  * lambda beta V_j: the bond bound above). */
 typedef struct row_bound {
   const peri_sim *s;
-  double *dt; /* [n] */
+  double dt; /* the smallest step of the rows so far (peri_coupling_rows adds one row at a time) */
 } row_bound;
 
 static void row_dt(void *ctx, int32_t i, int32_t count, const int32_t *cols, const double *blocks) {
   (void)cols;
-  const row_bound *rb = ctx;
+  row_bound *rb = ctx;
   const int dim = rb->s->disc.geom.dim;
   double R = 0.0;
   for (int r = 0; r < dim; ++r) {
@@ -77,17 +75,13 @@ static void row_dt(void *ctx, int32_t i, int32_t count, const int32_t *cols, con
     R = fmax(R, sum);
   }
   const double rho = rb->s->mat.materials[rb->s->disc.p.material[i]].density;
-  rb->dt[i] = R > 0.0 ? 2.0 * sqrt(rho / R) : INFINITY;
+  if (R > 0.0) rb->dt = fmin(rb->dt, 2.0 * sqrt(rho / R));
 }
 
 static double coupled_stable_dt(const peri_sim *s) {
-  const int32_t n = s->disc.p.n_owned;
-  row_bound rb = {s, peri_malloc(sizeof(double) * (size_t)(n > 0 ? n : 1))};
+  row_bound rb = {s, INFINITY};
   peri_coupling_rows(s, row_dt, &rb);
-  double dt = INFINITY;
-  for (int32_t i = 0; i < n; ++i) dt = fmin(dt, rb.dt[i]);
-  free(rb.dt);
-  return dt;
+  return rb.dt;
 }
 
 double peri_stable_dt(const peri_sim *s) {
