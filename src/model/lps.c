@@ -518,7 +518,7 @@ static const lps_loops *lps_pass1_loops(const peri_sim *s, const peri_node_block
     const int32_t i0 = (items)->first[item], i1 = (items)->first[item + 1];                               \
     lps_sums sums[PERI_BLOCK];                                                                             \
     const bool block = peri_item_is_block(items, item);                                                    \
-    const int64_t t0 = (items)->tpl[item], entries = (items)->tpl[item + 1] - t0;                         \
+    const int64_t t0 = (items)->tpl[item], entries = peri_item_entries(items, item);                         \
     if (block) {                                                                                           \
       (loops)->block(&(w), i0, (items)->tpl_node + t0, (items)->tpl_lanes + t0, entries, sums);           \
     } else {                                                                                               \
@@ -631,7 +631,7 @@ static long lps_plastic_force_pass(peri_sim *s, bool update_s0) {
     PERI_FOR_EACH_ITEM(items, item) {
       const int32_t i0 = items->first[item], i1 = items->first[item + 1];
       lps_sums sums[PERI_BLOCK];
-      const int64_t t0 = items->tpl[item], entries = items->tpl[item + 1] - t0;
+      const int64_t t0 = items->tpl[item], entries = peri_item_entries(items, item);
       if (peri_item_is_block(items, item)) {
         sums_loops->block(&screened, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums);
       } else {
@@ -658,7 +658,7 @@ static long lps_plastic_force_pass(peri_sim *s, bool update_s0) {
   PERI_FOR_EACH_ITEM(items, item) {
     const int32_t i0 = items->first[item], i1 = items->first[item + 1];
     lps_sums sums[PERI_BLOCK];
-    const int64_t t0 = items->tpl[item], entries = items->tpl[item + 1] - t0;
+    const int64_t t0 = items->tpl[item], entries = peri_item_entries(items, item);
     bool all_plastic = true;
     for (int32_t i = i0; i < i1; ++i) all_plastic &= plastic_path[i] != 0;
     if (all_plastic) {

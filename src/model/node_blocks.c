@@ -55,20 +55,73 @@ static void clear_broken_lanes(peri_node_blocks *nb, const peri_bonds *b, int32_
   if (!peri_item_is_block(nb, item)) return;
   const int32_t lane = i - nb->first[item];
   const uint8_t clear = (uint8_t) ~(1u << lane);
-  /* the template and the shifted family are both increasing: one merge */
+  /* the template and the shifted family are both increasing: one merge (a dropped entry's
+   * bonds are all broken: nothing to clear) */
   int64_t a = nb->tpl[item];
+  const int64_t end = nb->tpl_end[item];
   for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
     const int32_t shifted = b->neighbor[k] - lane;
-    while (nb->tpl_node[a] < shifted) ++a;
-    if (b->broken[k]) nb->tpl_lanes[a] &= clear;
+    while (a < end && nb->tpl_node[a] < shifted) ++a;
+    if (a == end) break;
+    if (b->broken[k] && nb->tpl_node[a] == shifted) {
+      nb->tpl_lanes[a] &= clear;
+      if (!nb->tpl_lanes[a]) nb->emptied[item] = 1;
+    }
   }
+}
+
+/* Clears from block item `item`'s lane masks the bond of node i to neighbour j, just broken:
+ * its template entry by bisection (the entries are increasing). */
+static void clear_broken_lane(peri_node_blocks *nb, int32_t item, int32_t i, int32_t j) {
+  const int32_t lane = i - nb->first[item], shifted = j - lane;
+  int64_t lo = nb->tpl[item], hi = nb->tpl_end[item];
+  while (lo < hi) {
+    const int64_t mid = lo + (hi - lo) / 2;
+    if (nb->tpl_node[mid] < shifted) lo = mid + 1;
+    else hi = mid;
+  }
+  if (lo < nb->tpl_end[item] && nb->tpl_node[lo] == shifted) {
+    nb->tpl_lanes[lo] &= (uint8_t) ~(1u << lane);
+    if (!nb->tpl_lanes[lo]) nb->emptied[item] = 1;
+  }
+}
+
+/* Drops the entries of block `item` whose lanes have all lost their bond, when they are an
+ * eighth of its live entries or more; the loops' sums do not change (such an entry adds
+ * nothing to any lane). */
+static void compact_template(peri_node_blocks *nb, int32_t item) {
+  const int64_t a0 = nb->tpl[item], end = nb->tpl_end[item];
+  int64_t empty = 0;
+  for (int64_t a = a0; a < end; ++a) empty += nb->tpl_lanes[a] == 0;
+  nb->emptied[item] = 0;
+  if (empty == 0 || 8 * empty < end - a0) return;
+  int64_t kept = a0;
+  for (int64_t a = a0; a < end; ++a)
+    if (nb->tpl_lanes[a]) {
+      nb->tpl_node[kept] = nb->tpl_node[a];
+      nb->tpl_lanes[kept] = nb->tpl_lanes[a];
+      nb->tpl_bonds[kept++] = nb->tpl_bonds[a];
+    }
+  nb->tpl_end[item] = kept;
+}
+
+/* The mechanical stretch of bond i-j on the structure-of-arrays copies, the same operations
+ * from either end (x_j - x_i is exactly -(x_i - x_j)): both directions break together. */
+static inline double bond_stretch(const double *restrict X0, const double *restrict X1, const double *restrict X2,
+                                  const double *restrict U0, const double *restrict U1, const double *restrict U2,
+                                  const double *restrict eth, int32_t i, int32_t j) {
+  const double x0 = X0[j] - X0[i], x1 = X1[j] - X1[i], x2 = X2[j] - X2[i];
+  const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+  const double d0 = x0 + (U0[j] - U0[i]), d1 = x1 + (U1[j] - U1[i]), d2 = x2 + (U2[j] - U2[i]);
+  const double r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+  return (r - r0) / r0 - (eth ? 0.5 * (eth[i] + eth[j]) : 0.0);
 }
 
 /* The exact breaking test of node i's family, on the structure-of-arrays copies: the
  * stretches of a chunk of the family by a vector loop (the same operations from either end of
  * a bond, so both directions break together), then the exact critical stretch for the bonds
  * beyond the lower bound of theirs. */
-static long break_family_vector(peri_sim *s, const peri_node_blocks *nb, int32_t i) {
+static long break_family_vector(peri_sim *s, peri_node_blocks *nb, int32_t item, int32_t i) {
   peri_bonds *b = &s->disc.bonds;
   const size_t n_nodes = (size_t)nb->n;
   const double *restrict X0 = nb->soa, *restrict X1 = X0 + n_nodes, *restrict X2 = X1 + n_nodes,
@@ -76,28 +129,38 @@ static long break_family_vector(peri_sim *s, const peri_node_blocks *nb, int32_t
   const double *restrict eth = s->state.thermal_strain, *restrict bound = s->disc.p.s0_bound;
   const int32_t *restrict neighbor = b->neighbor;
   const double xi0 = X0[i], xi1 = X1[i], xi2 = X2[i], ui0 = U0[i], ui1 = U1[i], ui2 = U2[i];
-  const double eth_i = eth ? eth[i] : 0.0, bound_i = bound[i];
-  double stretch[PERI_INTACT_CHUNK];
+  const double bound_i = bound[i];
+  const bool block = peri_item_is_block(nb, item);
   bool beyond[PERI_INTACT_CHUNK];
   long broken = 0;
   for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PERI_INTACT_CHUNK) {
     const int count = (int)(b->offset[i + 1] - k0 < PERI_INTACT_CHUNK ? b->offset[i + 1] - k0 : PERI_INTACT_CHUNK);
+    if (eth) {
 #pragma omp simd
-    for (int a = 0; a < count; ++a) {
-      const int32_t j = neighbor[k0 + a];
-      const double x0 = X0[j] - xi0, x1 = X1[j] - xi1, x2 = X2[j] - xi2;
-      const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
-      const double d0 = x0 + (U0[j] - ui0), d1 = x1 + (U1[j] - ui1), d2 = x2 + (U2[j] - ui2);
-      const double r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-      const double st = (r - r0) / r0 - (eth ? 0.5 * (eth_i + eth[j]) : 0.0);
-      stretch[a] = st;
-      beyond[a] = st > peri_min(bound_i, bound[j]);
+      for (int a = 0; a < count; ++a) {
+        const int32_t j = neighbor[k0 + a];
+        beyond[a] = bond_stretch(X0, X1, X2, U0, U1, U2, eth, i, j) > peri_min(bound_i, bound[j]);
+      }
+    } else {
+      /* without square roots: s > b is r > r0 (1 + b), taken with a margin of 1e-12 so that
+       * the screen keeps every bond the exact stretch below may find beyond b */
+#pragma omp simd
+      for (int a = 0; a < count; ++a) {
+        const int32_t j = neighbor[k0 + a];
+        const double x0 = X0[j] - xi0, x1 = X1[j] - xi1, x2 = X2[j] - xi2;
+        const double d0 = x0 + (U0[j] - ui0), d1 = x1 + (U1[j] - ui1), d2 = x2 + (U2[j] - ui2);
+        const double grow = 1.0 + peri_min(bound_i, bound[j]);
+        const double r0_sq = x0 * x0 + x1 * x1 + x2 * x2, r_sq = d0 * d0 + d1 * d1 + d2 * d2;
+        beyond[a] = !(grow > 0.0) || r_sq > r0_sq * grow * grow * (1.0 - 1e-12);
+      }
     }
     for (int a = 0; a < count; ++a) {
       const int64_t k = k0 + a;
-      if (beyond[a] && !b->broken[k] && stretch[a] > peri_bond_s0(s, i, neighbor[k])) {
+      if (beyond[a] && !b->broken[k] &&
+          bond_stretch(X0, X1, X2, U0, U1, U2, eth, i, neighbor[k]) > peri_bond_s0(s, i, neighbor[k])) {
         b->broken[k] = 1;
         ++broken;
+        if (block) clear_broken_lane(nb, item, i, neighbor[k]);
       }
     }
   }
@@ -105,9 +168,7 @@ static long break_family_vector(peri_sim *s, const peri_node_blocks *nb, int32_t
 }
 
 long peri_node_blocks_break_family(peri_sim *s, peri_node_blocks *nb, int32_t item, int32_t i) {
-  const long n = break_family_vector(s, nb, i);
-  if (n > 0) clear_broken_lanes(nb, &s->disc.bonds, item, i);
-  return n;
+  return break_family_vector(s, nb, item, i);
 }
 
 void peri_node_blocks_clear_broken(peri_node_blocks *nb, const peri_bonds *b, int32_t item, int32_t i) {
@@ -131,6 +192,8 @@ static void build(peri_node_blocks *nb, const peri_sim *s) {
   free(nb->tpl_node);
   free(nb->tpl_lanes);
   free(nb->tpl_bonds);
+  free(nb->tpl_end);
+  free(nb->emptied);
   int64_t largest = 0;
   for (int32_t i = 0; i < n_owned; ++i)
     if (b->offset[i + 1] - b->offset[i] > largest) largest = b->offset[i + 1] - b->offset[i];
@@ -173,6 +236,10 @@ static void build(peri_node_blocks *nb, const peri_sim *s) {
   if (!nb->share) nb->share = peri_work_share_new();
   nb->tpl_bonds = peri_malloc((size_t)(used > 0 ? used : 1));
   memcpy(nb->tpl_bonds, nb->tpl_lanes, (size_t)used);
+  nb->tpl_end = peri_malloc(sizeof(int64_t) * ((size_t)items + 1));
+  for (int32_t k = 0; k < items; ++k) nb->tpl_end[k] = nb->tpl[k + 1];
+  nb->emptied = peri_calloc((size_t)items + 1, 1);
+  nb->compacted = false;
   free(tj);
   free(lanes);
   nb->offset = b->offset;
@@ -212,7 +279,19 @@ peri_node_blocks *peri_node_blocks_refresh(peri_sim *s) {
       for (int c = 0; c < 3; ++c) nb->soa[c * n + i] = p->x[3 * i + (size_t)c];
     sync_broken(nb, &s->disc.bonds);
   }
-  if (nb->broken_edits != s->disc.bonds.broken_edits) sync_broken(nb, &s->disc.bonds);
+  if (nb->broken_edits != s->disc.bonds.broken_edits) {
+    if (nb->compacted) build(nb, s); /* bonds may have come back: every entry again */
+    sync_broken(nb, &s->disc.bonds);
+  }
+  bool dropped = false;
+#pragma omp parallel for schedule(dynamic, 256) reduction(|| : dropped)
+  for (int32_t item = 0; item < nb->n_items; ++item)
+    if (nb->emptied[item]) {
+      const int64_t end = nb->tpl_end[item];
+      compact_template(nb, item);
+      dropped = dropped || nb->tpl_end[item] < end;
+    }
+  if (dropped) nb->compacted = true;
   double *restrict u_soa = nb->soa + 3 * n;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n; ++i)
@@ -227,6 +306,8 @@ void peri_node_blocks_free(struct peri_node_blocks *nb) {
   free(nb->tpl_node);
   free(nb->tpl_lanes);
   free(nb->tpl_bonds);
+  free(nb->tpl_end);
+  free(nb->emptied);
   free(nb->soa);
   free(nb->cost);
   peri_work_share_free(nb->share);

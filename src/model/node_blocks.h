@@ -25,6 +25,12 @@ typedef struct peri_node_blocks {
   int32_t *tpl_node;   /* template entries: neighbour of lane 0 (lane l reads tpl_node + l) */
   uint8_t *tpl_lanes;  /* template entries: bit l set when node i0 + l has that bond, intact */
   uint8_t *tpl_bonds;  /* the same with broken bonds too (the structure) */
+  int64_t *tpl_end;    /* [n_items] end of a block's live entries: the entries none of whose lanes
+                          keeps a bond are dropped at the next refresh (a fragmenting body loses
+                          a third of them), so the loops stop visiting them */
+  uint8_t *emptied;    /* [n_items] an entry of the block lost its last lane since the refresh */
+  bool compacted;      /* entries were dropped: a resync from the flags (bonds restored by a
+                          cut-back or a checkpoint) rebuilds the templates first */
   int64_t block_bonds, tpl_entries;
   int64_t *cost;             /* [n_items + 1] bonds of items 0 .. k-1 */
   peri_work_share *share;    /* the items among the threads (peri_work_share_start) */
@@ -105,6 +111,11 @@ extern const double peri_lane_on[256][PERI_BLOCK];
 /* Whether item `item` is a block (else a single node). */
 static inline bool peri_item_is_block(const peri_node_blocks *nb, int32_t item) {
   return nb->tpl[item + 1] > nb->tpl[item];
+}
+
+/* The template entries a block's loops visit (its live entries, node_blocks.h tpl_end). */
+static inline int64_t peri_item_entries(const peri_node_blocks *nb, int32_t item) {
+  return nb->tpl_end[item] - nb->tpl[item];
 }
 
 

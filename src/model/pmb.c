@@ -359,7 +359,7 @@ static long pmb_force_pass(peri_sim *s, bool update_s0) {
     const int32_t i0 = items->first[item], i1 = items->first[item + 1];
     pmb_sums sums[PERI_BLOCK];
     const bool block = peri_item_is_block(items, item);
-    const int64_t t0 = items->tpl[item], entries = items->tpl[item + 1] - t0;
+    const int64_t t0 = items->tpl[item], entries = peri_item_entries(items, item);
     if (block) {
       loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums);
     } else {
@@ -409,7 +409,7 @@ static long pmb_plastic_force_pass(peri_sim *s, bool update_s0) {
       pmb_sums sums[PERI_BLOCK];
       if (peri_item_is_block(items, item)) {
         const int64_t t0 = items->tpl[item];
-        loops->block(&screened, i0, items->tpl_node + t0, items->tpl_lanes + t0, items->tpl[item + 1] - t0, sums);
+        loops->block(&screened, i0, items->tpl_node + t0, items->tpl_lanes + t0, peri_item_entries(items, item), sums);
       } else {
         for (int32_t i = i0; i < i1; ++i) sums[i - i0] = loops->node(&screened, i);
       }
@@ -460,6 +460,34 @@ static inline __attribute__((always_inline)) double pmb_bond_energy(const pmb_ce
          peri_eval_beta(fam, r0) * V_j;
 }
 
+#ifdef PERI_BOND_V8
+/* pmb_bond_energy for eight bonds, lengths as in pmb_bond_v8 (no square root or division):
+ * the history rows' energy pass then costs about one force pass. Both energy loops use it. */
+static inline __attribute__((always_inline)) __m512d pmb_bond_energy_v8(const pmb_centre_v8 *ci,
+                                                                        const peri_family_eval *fam, __m512d xj0,
+                                                                        __m512d xj1, __m512d xj2, __m512d uj0,
+                                                                        __m512d uj1, __m512d uj2, __m512d cj,
+                                                                        __m512d eth_j, __m512d V_j, bool thermal,
+                                                                        peri_influence influence) {
+  const __m512d x0 = _mm512_sub_pd(xj0, ci->x0), x1 = _mm512_sub_pd(xj1, ci->x1), x2 = _mm512_sub_pd(xj2, ci->x2);
+  const __m512d y0 = _mm512_add_pd(x0, _mm512_sub_pd(uj0, ci->u0)), y1 = _mm512_add_pd(x1, _mm512_sub_pd(uj1, ci->u1)),
+                y2 = _mm512_add_pd(x2, _mm512_sub_pd(uj2, ci->u2));
+  const __m512d r0_sq = peri_norm2_v8(x0, x1, x2), r_sq = peri_norm2_v8(y0, y1, y2);
+  const __m512d inv_r0 = peri_rsqrt_v8(r0_sq);
+  const __m512d r0 = _mm512_mul_pd(r0_sq, inv_r0);
+  /* (a collapsed bond, r = 0, has stretch -1: no 0 * inf) */
+  const __m512d r = _mm512_maskz_mul_pd(_mm512_cmp_pd_mask(r_sq, _mm512_setzero_pd(), _CMP_GT_OQ), r_sq,
+                                        peri_rsqrt_v8(r_sq));
+  const __m512d half = _mm512_set1_pd(0.5);
+  __m512d stretch = _mm512_mul_pd(_mm512_sub_pd(r, r0), inv_r0);
+  if (thermal) stretch = _mm512_sub_pd(stretch, _mm512_mul_pd(half, _mm512_add_pd(ci->eth, eth_j)));
+  __m512d e = _mm512_mul_pd(_mm512_set1_pd(0.25), _mm512_add_pd(ci->c, cj));
+  if (influence == PERI_INFLUENCE_INVERSE) e = _mm512_mul_pd(e, inv_r0); /* omega = 1/|xi| */
+  e = _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(e, stretch), stretch), r0);
+  return _mm512_mul_pd(_mm512_mul_pd(e, peri_beta_v8(fam, r0)), V_j);
+}
+#endif
+
 /* Node i's data for the energy (which may run before any force evaluation: no bounds). */
 static inline pmb_centre pmb_energy_centre(const peri_bond_view *w, int32_t i, bool thermal) {
   const pmb_centre c = {w->x0[i], w->x1[i], w->x2[i], w->u0[i], w->u1[i], w->u2[i],
@@ -479,6 +507,30 @@ static inline __attribute__((always_inline)) double pmb_node_energy(const peri_b
   const bool damaged = memchr(w->broken + k0, 1, (size_t)(k1 - k0)) != NULL;
   int32_t intact[PERI_INTACT_CHUNK];
   double e[PERI_INTACT_CHUNK], sum = 0.0;
+#ifdef PERI_BOND_V8
+  if (PMB_V8(influence)) {
+    const __m512d zero = _mm512_setzero_pd();
+    const pmb_centre_v8 cv = {_mm512_set1_pd(ci.x0), _mm512_set1_pd(ci.x1), _mm512_set1_pd(ci.x2),
+                              _mm512_set1_pd(ci.u0), _mm512_set1_pd(ci.u1), _mm512_set1_pd(ci.u2),
+                              _mm512_set1_pd(ci.c),  _mm512_set1_pd(ci.eth), zero, zero};
+    for (int64_t k = k0; k < k1;) {
+      int n;
+      const int32_t *restrict nbr = peri_next_chunk(w, damaged, &k, k1, intact, &n);
+      for (int a = 0; a < n; a += 8) {
+        const __mmask8 m = peri_first_lanes(n - a);
+        const __m256i j = _mm256_maskz_loadu_epi32(m, nbr + a);
+#define PMB_GATHER(P) _mm512_mask_i32gather_pd(zero, m, j, (P), 8)
+        _mm512_mask_storeu_pd(e + a, m,
+                              pmb_bond_energy_v8(&cv, &fam, PMB_GATHER(X0), PMB_GATHER(X1), PMB_GATHER(X2),
+                                                 PMB_GATHER(U0), PMB_GATHER(U1), PMB_GATHER(U2), PMB_GATHER(c_node),
+                                                 thermal ? PMB_GATHER(eth) : zero, PMB_GATHER(V), thermal, influence));
+#undef PMB_GATHER
+      }
+      for (int a = 0; a < n; ++a) sum += e[a];
+    }
+    return sum;
+  }
+#endif
   for (int64_t k = k0; k < k1;) {
     int n;
     const int32_t *restrict nbr = peri_next_chunk(w, damaged, &k, k1, intact, &n);
@@ -503,6 +555,27 @@ static inline __attribute__((always_inline)) void pmb_block_energy(const peri_bo
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict c_node = w->coef,
                          *restrict eth = w->eth;
   const peri_family_eval fam = w->fam;
+#ifdef PERI_BOND_V8
+  if (PMB_V8(influence)) {
+    const __m512d zero = _mm512_setzero_pd();
+    const pmb_centre_v8 cv = {_mm512_loadu_pd(X0 + i0), _mm512_loadu_pd(X1 + i0), _mm512_loadu_pd(X2 + i0),
+                              _mm512_loadu_pd(U0 + i0), _mm512_loadu_pd(U1 + i0), _mm512_loadu_pd(U2 + i0),
+                              _mm512_loadu_pd(c_node + i0), thermal ? _mm512_loadu_pd(eth + i0) : zero, zero, zero};
+    __m512d sum = zero;
+    for (int64_t a = 0; a < count; ++a) {
+      const int64_t j = tj[a];
+      peri_prefetch_next_blocks(w, j);
+      const __m512d e = pmb_bond_energy_v8(&cv, &fam, _mm512_loadu_pd(X0 + j), _mm512_loadu_pd(X1 + j),
+                                           _mm512_loadu_pd(X2 + j), _mm512_loadu_pd(U0 + j), _mm512_loadu_pd(U1 + j),
+                                           _mm512_loadu_pd(U2 + j), _mm512_loadu_pd(c_node + j),
+                                           thermal ? _mm512_loadu_pd(eth + j) : zero, _mm512_loadu_pd(V + j), thermal,
+                                           influence);
+      sum = _mm512_mask_add_pd(sum, lanes[a], sum, e); /* a lane adds the bond when its bit is set */
+    }
+    _mm512_storeu_pd(out, sum);
+    return;
+  }
+#endif
   double c0[PERI_BLOCK], c1[PERI_BLOCK], c2[PERI_BLOCK], cu0[PERI_BLOCK], cu1[PERI_BLOCK], cu2[PERI_BLOCK],
       cc[PERI_BLOCK], ceth[PERI_BLOCK], sum[PERI_BLOCK];
   for (int l = 0; l < PERI_BLOCK; ++l) {
@@ -575,7 +648,7 @@ static void pmb_energy(peri_sim *s, double *W) {
     if (peri_item_is_block(items, item)) {
       double sums[PERI_BLOCK];
       const int64_t t0 = items->tpl[item];
-      loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, items->tpl[item + 1] - t0, sums);
+      loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, peri_item_entries(items, item), sums);
       for (int32_t i = i0; i < i1; ++i) W[i] = 0.5 * sums[i - i0];
     } else {
       for (int32_t i = i0; i < i1; ++i) W[i] = 0.5 * loops->node(&w, i);

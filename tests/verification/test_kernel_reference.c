@@ -5,7 +5,8 @@
  * breaking by the optimized loops breaks exactly the bonds whose stretch exceeds their
  * critical stretch, from both ends. The loops' two paths (eight nodes at a time on node
  * blocks, one node at a time otherwise) give bit-identical forces and strain energies, also
- * after bonds break inside the loops and outside them. */
+ * after bonds break inside the loops and outside them, and after the block path drops the
+ * template entries that lost every bond and the bonds come back. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>
@@ -296,6 +297,40 @@ static void check_paths(int dim, const char *model, const char *influence, const
   cr_expect(memcmp(a, b, bytes) == 0, "%s %dD %s: the paths differ after bonds broke outside the loops", model, dim,
             influence);
   cr_expect(energies_agree(&s), "%s %dD %s: the energies differ after bonds broke", model, dim, influence);
+  /* 4. whole template entries without a bond (every bond of the nodes left of x = 0 broken):
+   * the block path drops them and keeps its forces; bonds restored afterwards (a cut-back, a
+   * checkpoint) bring them back */
+  uint8_t *restore = malloc((size_t)bonds->n_bonds);
+  memcpy(restore, bonds->broken, (size_t)bonds->n_bonds);
+  for (int32_t i = 0; i < bonds->n_nodes; ++i)
+    for (int64_t k = bonds->offset[i]; k < bonds->offset[i + 1]; ++k)
+      if (s.disc.p.x[3 * (size_t)i] < 0.0 || s.disc.p.x[3 * (size_t)bonds->neighbor[k]] < 0.0) bonds->broken[k] = 1;
+  ++bonds->broken_edits;
+  s.disc.generic_bond_loops = true;
+  s.mat.model->force(&s);
+  memcpy(b, s.disc.p.f, bytes);
+  s.disc.generic_bond_loops = false;
+  s.mat.model->force(&s);
+  memcpy(a, s.disc.p.f, bytes);
+  const peri_node_blocks *nb = s.disc.node_blocks;
+  int64_t live = 0;
+  for (int32_t item = 0; item < nb->n_items; ++item) live += peri_item_entries(nb, item);
+  cr_log_info("%s %dD %s: %lld of %lld template entries kept", model, dim, influence, (long long)live,
+              (long long)nb->tpl_entries);
+  cr_expect(live < nb->tpl_entries * 3 / 4, "%s %dD %s: the entries without bonds were not dropped", model, dim,
+            influence);
+  cr_expect(memcmp(a, b, bytes) == 0, "%s %dD %s: the paths differ after entries were dropped", model, dim,
+            influence);
+  memcpy(bonds->broken, restore, (size_t)bonds->n_bonds);
+  ++bonds->broken_edits;
+  s.mat.model->force(&s);
+  memcpy(a, s.disc.p.f, bytes);
+  s.disc.generic_bond_loops = true;
+  s.mat.model->force(&s);
+  memcpy(b, s.disc.p.f, bytes);
+  s.disc.generic_bond_loops = false;
+  cr_expect(memcmp(a, b, bytes) == 0, "%s %dD %s: the paths differ after the bonds came back", model, dim, influence);
+  free(restore);
   free(a);
   free(b);
   peri_sim_free(&s);
