@@ -200,3 +200,55 @@ Test(coupling_3pb, switching_crack_and_all_pd_curve) {
   peri_sim_free(&sg);
   peri_sim_free(&sp);
 }
+
+/* One elastic load step of 1 mm (the crack starts near 7 mm) with the given coupling settings. */
+static void elastic_3pb(peri_sim *s, const char *a, const char *b, double *reaction) {
+  const char *sets[N_COARSE + 4];
+  for (int k = 0; k < N_COARSE; ++k) sets[k] = coarse[k];
+  sets[N_COARSE] = "solver.load_steps=1", sets[N_COARSE + 1] = "boundary_conditions.2.y=-1e-3*t";
+  sets[N_COARSE + 2] = a, sets[N_COARSE + 3] = b;
+  cr_assert_eq(peri_sim_from_deck_with(s, "examples/coupling_three_point_bending.yaml", N_COARSE + 4, sets), 0);
+  s->out.quiet = true;
+  run r;
+  memset(&r, 0, sizeof r);
+  for (int k = 1; k < s->cond.n_regions; ++k)
+    if (!strcmp(s->cond.regions[k].name, "load")) r.load = k;
+  peri_apply_initial_conditions(s);
+  cr_assert_eq(peri_solve_quasi_static(s, record, &r), 0);
+  cr_assert_eq(r.broken[0], 0, "a bond broke at 1 mm");
+  *reaction = r.reaction[0];
+}
+
+/* The largest difference of the displacements of two runs over the largest displacement. */
+static double u_difference(const peri_sim *a, const peri_sim *b) {
+  double most = 0.0, largest = 0.0;
+  for (size_t c = 0; c < 3 * (size_t)a->disc.p.n; ++c) {
+    most = fmax(most, fabs(a->disc.p.u[c] - b->disc.p.u[c]));
+    largest = fmax(largest, fabs(a->disc.p.u[c]));
+  }
+  return most / largest;
+}
+
+/* A uniform gamma scales every PD row; where no PD node is loaded or held (the supports and the
+ * load are FEM nodes here) each PD row is a homogeneous equation, so the coupled displacements
+ * and reactions do not change (docs/coupling.md, "gamma for the discrete family"), while in the
+ * all-PD beam the displacements stay and the reactions scale by gamma exactly. gamma auto is
+ * Remark A.2's for the linear ramp at m = 3, below 1 (the discrete side is stiffer). */
+Test(coupling_3pb, gamma_drops_out_of_the_coupled_solution) {
+  peri_sim a, b;
+  double ra, rb;
+  elastic_3pb(&a, "coupling.switch_radius=1", "coupling.gamma=1", &ra);
+  elastic_3pb(&b, "coupling.switch_radius=1", "coupling.gamma=auto", &rb);
+  const double gamma = b.coupling->gamma;
+  cr_assert(gamma < 0.99 && gamma > 0.9, "gamma auto %g", gamma);
+  cr_expect_lt(u_difference(&a, &b), 1e-9, "coupled: gamma moved the displacements by %g", u_difference(&a, &b));
+  cr_expect_lt(fabs(rb - ra), 1e-9 * ra, "coupled: load reaction %.12g with gamma 1, %.12g with gamma %g", ra, rb, gamma);
+  peri_sim_free(&a);
+  peri_sim_free(&b);
+  elastic_3pb(&a, "coupling.pd_region=all", "coupling.gamma=1", &ra);
+  elastic_3pb(&b, "coupling.pd_region=all", "coupling.gamma=auto", &rb);
+  cr_expect_lt(u_difference(&a, &b), 1e-9, "all PD: gamma moved the displacements by %g", u_difference(&a, &b));
+  cr_expect_lt(fabs(rb - gamma * ra), 1e-9 * ra, "all PD: load reaction %.12g, gamma times %.12g", rb, ra);
+  peri_sim_free(&a);
+  peri_sim_free(&b);
+}
