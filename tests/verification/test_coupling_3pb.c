@@ -98,8 +98,10 @@ static void check_crack(const peri_sim *s, const char *what) {
   free(phi);
 }
 
-/* Every node within r delta of a node that lost a bond is a PD node. */
-static void check_switching(const peri_sim *s, double r, int32_t pd_at_start) {
+/* Every node within r delta of a node that lost a bond after the start (the pre-crack's bonds,
+ * `cut`, are the notch patch's: its cut nodes and the nodes within r delta of its tip) is a PD
+ * node. */
+static void check_switching(const peri_sim *s, double r, int32_t pd_at_start, const uint8_t *cut) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const int32_t *type = s->coupling->node_type;
@@ -108,7 +110,7 @@ static void check_switching(const peri_sim *s, double r, int32_t pd_at_start) {
   for (int32_t i = 0; i < p->n; ++i) {
     pd += type[i];
     bool lost = false;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) lost |= b->broken[k] != 0;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) lost |= b->broken[k] && !cut[k];
     if (!lost) continue;
     cr_assert_eq(type[i], 1, "node %d has a broken bond and is not a PD node", (int)i);
     for (int32_t j = 0; j < p->n; ++j) {
@@ -123,6 +125,22 @@ static void check_switching(const peri_sim *s, double r, int32_t pd_at_start) {
                pd_at_start);
   const int32_t lattice = p->n + s->coupling->removed_nodes; /* the specimen's lattice nodes, graded mesh or not */
   cr_expect_lt(pd, lattice / 3, "%d of %d lattice nodes are PD nodes: the switching spread too far", pd, lattice);
+}
+
+/* The notch patch: the nodes the pre-crack cut and the nodes within r delta of its tip
+ * (10, 1), exactly (brute force); its other end lies below the beam. */
+static void check_patch(const peri_sim *s, double r) {
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const double reach = r * s->disc.geom.horizon;
+  for (int32_t i = 0; i < p->n; ++i) {
+    bool cut = false;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) cut |= b->broken[k] != 0;
+    const double to_tip = hypot(p->x[3 * i] - 10.0, p->x[3 * i + 1] - 1.0);
+    const bool pd = cut || to_tip <= reach * (1.0 + 1e-9);
+    cr_assert_eq(s->coupling->node_type[i], pd, "r %g: node %d at (%g, %g) is %s (cut: %d, %g from the tip)", r, (int)i,
+                 p->x[3 * i], p->x[3 * i + 1], pd ? "FEM" : "PD", cut, to_tip);
+  }
 }
 
 /* The last load step before the reaction falls below 90% of the largest so far. */
@@ -155,20 +173,27 @@ Test(coupling_3pb, switching_crack_and_all_pd_curve) {
 
   /* the notch patches: nodes cut by the pre-crack and those within r delta of them */
   peri_sim fresh;
+  uint8_t *cut1, *cut2, *cutg;
   load_3pb(&fresh, "coupling.switch_radius=1");
   const int32_t patch1 = fresh.coupling->n_pd;
+  check_patch(&fresh, 1.0);
+  cut1 = malloc((size_t)fresh.disc.bonds.n_bonds), memcpy(cut1, fresh.disc.bonds.broken, (size_t)fresh.disc.bonds.n_bonds);
   peri_sim_free(&fresh);
   load_3pb(&fresh, "coupling.switch_radius=2");
   const int32_t patch2 = fresh.coupling->n_pd;
+  check_patch(&fresh, 2.0);
+  cut2 = malloc((size_t)fresh.disc.bonds.n_bonds), memcpy(cut2, fresh.disc.bonds.broken, (size_t)fresh.disc.bonds.n_bonds);
   peri_sim_free(&fresh);
   load_3pb(&fresh, graded);
   const int32_t patchg = fresh.coupling->n_pd;
+  cutg = malloc((size_t)fresh.disc.bonds.n_bonds), memcpy(cutg, fresh.disc.bonds.broken, (size_t)fresh.disc.bonds.n_bonds);
   peri_sim_free(&fresh);
   cr_assert(patch1 > 0 && patch2 > patch1 && patchg == patch2, "notch patches of %d, %d and %d nodes", patch1, patch2,
             patchg);
-  check_switching(&s1, 1.0, patch1);
-  check_switching(&s2, 2.0, patch2);
-  check_switching(&sg, 2.0, patchg);
+  check_switching(&s1, 1.0, patch1, cut1);
+  check_switching(&s2, 2.0, patch2, cut2);
+  check_switching(&sg, 2.0, patchg, cutg);
+  free(cut1), free(cut2), free(cutg);
 
   /* the curves up to the coupled peak: the all-PD run (the expensive one) stops there */
   const int peak1 = peak_step(&r1), peak2 = peak_step(&r2), peakg = peak_step(&rg);
