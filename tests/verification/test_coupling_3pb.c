@@ -20,6 +20,7 @@
  *    all-PD one up to its peak. */
 #include <criterion/criterion.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "peri/coupling.h"
@@ -227,7 +228,7 @@ Test(coupling_3pb, switching_crack_and_all_pd_curve) {
 }
 
 /* One elastic load step of 1 mm (the crack starts near 7 mm) with the given coupling settings. */
-static void elastic_3pb(peri_sim *s, const char *a, const char *b, double *reaction) {
+static void elastic_3pb(peri_sim *s, const char *a, const char *b, double *reaction, double *e_r) {
   const char *sets[N_COARSE + 4];
   for (int k = 0; k < N_COARSE; ++k) sets[k] = coarse[k];
   sets[N_COARSE] = "solver.load_steps=1", sets[N_COARSE + 1] = "boundary_conditions.2.y=-1e-3*t";
@@ -242,6 +243,7 @@ static void elastic_3pb(peri_sim *s, const char *a, const char *b, double *react
   cr_assert_eq(peri_solve_quasi_static(s, record, &r), 0);
   cr_assert_eq(r.broken[0], 0, "a bond broke at 1 mm");
   *reaction = r.reaction[0];
+  if (e_r) *e_r = r.e_r[0];
 }
 
 /* The largest difference of the displacements of two runs over the largest displacement. */
@@ -262,18 +264,39 @@ static double u_difference(const peri_sim *a, const peri_sim *b) {
 Test(coupling_3pb, gamma_drops_out_of_the_coupled_solution) {
   peri_sim a, b;
   double ra, rb;
-  elastic_3pb(&a, "coupling.switch_radius=1", "coupling.gamma=1", &ra);
-  elastic_3pb(&b, "coupling.switch_radius=1", "coupling.gamma=auto", &rb);
+  elastic_3pb(&a, "coupling.switch_radius=1", "coupling.gamma=1", &ra, NULL);
+  elastic_3pb(&b, "coupling.switch_radius=1", "coupling.gamma=auto", &rb, NULL);
   const double gamma = b.coupling->gamma;
   cr_assert(gamma < 0.99 && gamma > 0.9, "gamma auto %g", gamma);
   cr_expect_lt(u_difference(&a, &b), 1e-9, "coupled: gamma moved the displacements by %g", u_difference(&a, &b));
   cr_expect_lt(fabs(rb - ra), 1e-9 * ra, "coupled: load reaction %.12g with gamma 1, %.12g with gamma %g", ra, rb, gamma);
   peri_sim_free(&a);
   peri_sim_free(&b);
-  elastic_3pb(&a, "coupling.pd_region=all", "coupling.gamma=1", &ra);
-  elastic_3pb(&b, "coupling.pd_region=all", "coupling.gamma=auto", &rb);
+  elastic_3pb(&a, "coupling.pd_region=all", "coupling.gamma=1", &ra, NULL);
+  elastic_3pb(&b, "coupling.pd_region=all", "coupling.gamma=auto", &rb, NULL);
   cr_expect_lt(u_difference(&a, &b), 1e-9, "all PD: gamma moved the displacements by %g", u_difference(&a, &b));
   cr_expect_lt(fabs(rb - gamma * ra), 1e-9 * ra, "all PD: load reaction %.12g, gamma times %.12g", rb, ra);
   peri_sim_free(&a);
   peri_sim_free(&b);
+}
+
+/* Scheme 2 out of balance less than scheme 1 (Ongaro 2022 §2.7.1, Fig. 2.25: its interface lies
+ * further from the crack tip, where the field is closer to linear): e_r of eq. 2.114 (the
+ * vertical reactions; after a solve the sum over all nodes) on the elastic beam with a crack
+ * up the midline to height a and its notch patch (the cut nodes and the nodes within r delta of
+ * the tip) as the PD zone, for a = 3, 4 and 5 m. (For a crack of 1 m, shorter than 2 delta
+ * here, scheme 2's patch reaches the stressed bottom face and the order is reversed:
+ * docs/coupling.md.) */
+Test(coupling_3pb, scheme_2_out_of_balance_below_scheme_1) {
+  for (int a = 3; a <= 5; ++a) {
+    char tip[64];
+    snprintf(tip, sizeof tip, "precracks.0.to=[10, %d]", a);
+    peri_sim s;
+    double reaction, e1, e2;
+    elastic_3pb(&s, "coupling.switch_radius=1", tip, &reaction, &e1);
+    peri_sim_free(&s);
+    elastic_3pb(&s, "coupling.switch_radius=2", tip, &reaction, &e2);
+    peri_sim_free(&s);
+    cr_expect_lt(e2, e1, "crack to %d m: e_r %.3e with scheme 2, %.3e with scheme 1", a, e2, e1);
+  }
 }
