@@ -120,5 +120,10 @@ void peri_coupling_nonlocal_traction(const peri_sim *s, const double x0[3], int 
  * ratio[d] = |net_d| / sum_i |F_id| (e_r per axis, eq. 2.40) and ratio[3] = |net| / sum_i |F_i|
  * (e_r, eq. 2.38; in 1D the two agree). */
 void peri_coupling_balance(const peri_sim *s, double net[3], double ratio[4]);
+/* coupling.gamma: auto (src/fem/linear_field_gamma.c): the gamma of Remark A.2 for the family
+ * of the PD rows, the classical stress of a linear field over the discrete one (0.9784710341
+ * with the exact partial volumes at m = 3), and the rows' micromoduli rescaled to a gamma. */
+double peri_coupling_linear_field_gamma(const peri_sim *s);
+void peri_coupling_set_gamma(peri_sim *s, double gamma);
 
 #endif

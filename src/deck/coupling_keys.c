@@ -154,7 +154,9 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root, const peri_fem_mesh 
   }
   double alpha = s->disc.geom.dim == 1 ? 1.0 : 3.0, gamma = 1.0;
   TRY(peri_deck_double(cp, "micromodulus_exponent", false, &alpha));
-  TRY(peri_deck_double(cp, "gamma", false, &gamma));
+  const peri_node *gamma_at = peri_deck_get(cp, "gamma");
+  const bool gamma_auto = gamma_at && gamma_at->scalar && !strcmp(gamma_at->scalar, "auto"); /* Remark A.2's */
+  if (!gamma_auto) TRY(peri_deck_double(cp, "gamma", false, &gamma));
   static const char *const rules[] = {"discretization", "exact", NULL};
   int rule = 0;
   TRY(peri_deck_choice(cp, "partial_volume", false, rules, &rule));
@@ -215,6 +217,7 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root, const peri_fem_mesh 
   if (peri_coupling_build_on_mesh(s, mesh->nodes ? mesh : NULL, pd ? pd->nodes : NULL, pd ? pd->count : 0, alpha,
                                   gamma, rule == 1, why, sizeof why) != PERI_OK)
     return peri_deck_error(cp, "coupling: %s", why);
+  if (gamma_auto) peri_coupling_set_gamma(s, peri_coupling_linear_field_gamma(s)); /* linear_field_gamma.c */
   if (s->solver.breaking && peri_coupling_set_switching(s, radius, why, sizeof why) != PERI_OK) /* switching.c */
     return peri_deck_error(cp, "coupling: the PD patch around the pre-cracks: %s", why);
   return PERI_OK;

@@ -7,6 +7,7 @@
  * changes only the rows of the switched nodes: the elements stay, and an element whose
  * corners are all PD enters no row. */
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -67,17 +68,96 @@ static int32_t switch_around(peri_sim *s, const uint8_t *lost, char *why, size_t
   return switched;
 }
 
+/* A point of a pre-crack lies in the body when it lies in the cell (side dx) of a node. */
+static bool in_body(const peri_particles *p, int dim, double dx, const double e[3]) {
+  for (int32_t j = 0; j < p->n_owned; ++j) {
+    bool in = true;
+    for (int d = 0; d < dim && in; ++d) in = fabs(e[d] - p->x[3 * (size_t)j + d]) <= 0.5 * dx * (1.0 + 1e-9);
+    if (in) return true;
+  }
+  return false;
+}
+
+/* The distance from x to the segment a-b. */
+static double segment_distance(const double x[3], const double a[3], const double b[3]) {
+  double ab[3], ax[3], t = 0.0, len2 = 0.0, dist2 = 0.0;
+  for (int d = 0; d < 3; ++d) ab[d] = b[d] - a[d], ax[d] = x[d] - a[d], t += ab[d] * ax[d], len2 += ab[d] * ab[d];
+  t = len2 > 0.0 ? fmin(fmax(t / len2, 0.0), 1.0) : 0.0;
+  for (int d = 0; d < 3; ++d) dist2 += (ax[d] - t * ab[d]) * (ax[d] - t * ab[d]);
+  return sqrt(dist2);
+}
+
+/* Marks the nodes within reach of the pre-cracks' fronts in the body: the ends of a segment
+ * (2D) that lie in the body, the parts of a rectangle's edges (3D) that do (sampled every
+ * dx/2 along each edge: consecutive samples in the body bound a piece of the front). */
+static void mark_fronts(const peri_sim *s, double reach, uint8_t *mark) {
+  const peri_particles *p = &s->disc.p;
+  const int dim = s->disc.geom.dim;
+  const double dx = s->disc.geom.spacing, limit = reach * (1.0 + 1e-9);
+  for (int c = 0; c < s->cond.n_precracks; ++c) {
+    const peri_precrack *pc = &s->cond.precracks[c];
+    double corner[4][3];
+    int corners = 2;
+    for (int d = 0; d < 3; ++d) {
+      corner[0][d] = pc->a[d];
+      if (pc->dim == 2) corner[1][d] = pc->b[d];
+      else {
+        corner[1][d] = pc->a[d] + pc->e1[d], corner[2][d] = pc->a[d] + pc->e1[d] + pc->e2[d];
+        corner[3][d] = pc->a[d] + pc->e2[d];
+        corners = 4;
+      }
+    }
+    if (corners == 2) { /* a segment: its ends */
+      for (int e = 0; e < 2; ++e) {
+        if (!in_body(p, dim, dx, corner[e])) continue;
+        for (int32_t i = 0; i < p->n_owned; ++i)
+          if (segment_distance(&p->x[3 * (size_t)i], corner[e], corner[e]) <= limit) mark[i] = 1;
+      }
+      continue;
+    }
+    for (int e = 0; e < 4; ++e) { /* a rectangle: its edges */
+      const double *P = corner[e], *Q = corner[(e + 1) % 4];
+      const double length = segment_distance(P, Q, Q);
+      const int samples = (int)ceil(length / (0.5 * dx)) + 1;
+      double prev[3];
+      bool prev_in = false;
+      for (int k = 0; k < samples; ++k) {
+        double at[3];
+        const double t = samples > 1 ? (double)k / (samples - 1) : 0.0;
+        for (int d = 0; d < 3; ++d) at[d] = P[d] + t * (Q[d] - P[d]);
+        const bool in = in_body(p, dim, dx, at);
+        if (in)
+          for (int32_t i = 0; i < p->n_owned; ++i)
+            if (segment_distance(&p->x[3 * (size_t)i], prev_in ? prev : at, at) <= limit) mark[i] = 1;
+        memcpy(prev, at, sizeof prev);
+        prev_in = in;
+      }
+    }
+  }
+}
+
 int peri_coupling_set_switching(peri_sim *s, double radius, char *why, size_t n) {
   peri_coupling *c = s->coupling;
   const peri_bonds *b = &s->disc.bonds;
   c->switch_radius = radius;
   if (radius > 0.0) switch_offsets(c, s->disc.geom.dim, s->disc.geom.spacing, radius * s->disc.geom.horizon);
-  /* the initial PD patch: the nodes that a pre-crack cut, and every node within r delta of them */
-  uint8_t *cut = peri_calloc((size_t)(c->n_nodes > 0 ? c->n_nodes : 1), 1);
+  /* the initial PD patch: the nodes that a pre-crack cut (elements cannot hold a crack), and
+   * every node within r delta of a pre-crack's front in the body. Not r delta about every cut
+   * node: an interface that meets a free face under stress along it is out of balance even
+   * for a uniform strain (docs/coupling.md, "The causes, measured"), and the flanks of a notch
+   * from a face would put such interfaces on that face beside the notch. */
+  uint8_t *patch = peri_calloc((size_t)(c->n_nodes > 0 ? c->n_nodes : 1), 1);
   for (int32_t i = 0; i < c->n_nodes; ++i)
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1] && !cut[i]; ++k) cut[i] = b->broken[k] != 0;
-  const int32_t switched = switch_around(s, cut, why, n);
-  free(cut);
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1] && !patch[i]; ++k) patch[i] = b->broken[k] != 0;
+  if (radius > 0.0) mark_fronts(s, radius * s->disc.geom.horizon, patch);
+  int32_t switched = 0;
+  for (int32_t i = 0; i < c->n_nodes && switched >= 0; ++i) {
+    if (!patch[i] || c->node_type[i]) continue;
+    if (c->fem_only && c->fem_only[i]) cannot_switch(s, i, why, n), switched = -1;
+    else c->node_type[i] = 1, ++switched;
+  }
+  if (switched > 0) c->n_pd += switched;
+  free(patch);
   return switched < 0 ? PERI_ERR_INPUT : PERI_OK;
 }
 

@@ -173,8 +173,11 @@ static void table_a3_quadratic(const double *x, double *u) {
   u[0] = 0.0, u[1] = r2 <= 2.25 * 2.25 ? (2.25 * 2.25 - r2) / (15.0 * 15.0) : 0.0;
 }
 
-/* tau_num at x0 = (11.5, 24.125) on a patch of the lattice with PD nodes below y0 = 24.125 */
-static void traction_a34(double m, field_fn f, double tau[3]) {
+/* tau_num at x0 = (11.5, 24.125) on a patch of the lattice with PD nodes below y0 = 24.125,
+ * with the discretization's partial-volume rule `rule` and the coupling options `options`
+ * (partial volumes, gamma); *gamma: the rows' gamma */
+static void traction_with(double m, const char *rule, const char *options, field_fn f, double tau[3],
+                          double *gamma) {
   const double delta = 0.75, dx = delta / m, x0 = 11.5, y0 = 24.125;
   const int K = (int)m + 3;
   char deck[1024];
@@ -182,19 +185,24 @@ static void traction_a34(double m, field_fn f, double tau[3]) {
            "dimension: 2\n"
            "plane: stress\n"
            "materials: {plate: {model: pmb, density: 1, youngs_modulus: 1}}\n"
-           "discretization: {spacing: %.17g, horizon: %.17g, thickness: 1,\n"
+           "discretization: {spacing: %.17g, horizon: %.17g, thickness: 1, partial_volume: %s,\n"
            "  fill: [{shape: rectangle, min: [%.17g, %.17g], max: [%.17g, %.17g]}]}\n"
            "regions: {pd: {shape: rectangle, min: [0, 0], max: [100, %.17g]}}\n"
-           "coupling: {pd_region: pd, partial_volume: exact}\n"
+           "coupling: {pd_region: pd, %s}\n"
            "solver: {type: implicit, load_steps: 1}\n"
            "output: {picture: false}\n",
-           dx, delta, x0 - (K + 0.5) * dx, y0 - K * dx, x0 + (K + 0.5) * dx, y0 + K * dx, y0);
+           dx, delta, rule, x0 - (K + 0.5) * dx, y0 - K * dx, x0 + (K + 0.5) * dx, y0 + K * dx, y0, options);
   peri_sim s;
   build(&s, deck);
   for (int32_t i = 0; i < s.disc.p.n; ++i) f(&s.disc.p.x[3 * (size_t)i], &s.disc.p.u[3 * (size_t)i]);
   const double at[3] = {x0, y0, 0};
   peri_coupling_nonlocal_traction(&s, at, 1, +1, tau);
+  if (gamma) *gamma = s.coupling->gamma;
   peri_sim_free(&s);
+}
+
+static void traction_a34(double m, field_fn f, double tau[3]) {
+  traction_with(m, "linear", "partial_volume: exact", f, tau, NULL);
 }
 
 Test(coupling_2d3d, correction_factor_and_tractions_table_a_4) {
@@ -213,6 +221,35 @@ Test(coupling_2d3d, correction_factor_and_tractions_table_a_4) {
     cr_expect(fabs(tau[0]) <= 1e-15, "m %g: quadratic tau1 %.3e", table[k].m, tau[0]);
     expect_printed(tau[1], table[k].quadratic, "quadratic tau2_num (Table A.4)");
   }
+}
+
+/* gamma: auto is Remark A.2's gamma for the family of the rows: with the exact partial volumes
+ * the printed 0.9784710341 (m = 3) and 0.9974762599 (m = 8); with the discretization's partial
+ * volumes (linear ramp, none) it makes the nonlocal traction of the linear field of Table A.3
+ * the classical t2 = E/(1 - nu^2) u2,y = 0.25 (a sum over the bonds that cross the interface,
+ * not the lattice sum gamma is computed from), which gamma = 1 misses by more than 1%. */
+Test(coupling_2d3d, gamma_auto_is_remark_a2) {
+  static const struct {
+    double m, gamma;
+  } printed[] = {{3, 0.9784710341}, {8, 0.9974762599}};
+  for (int k = 0; k < 2; ++k) {
+    double tau[3], gamma;
+    traction_with(printed[k].m, "linear", "partial_volume: exact, gamma: auto", table_a3_linear, tau, &gamma);
+    cr_expect(fabs(gamma - printed[k].gamma) <= 1e-10 * printed[k].gamma, "m %g: gamma auto %.12f, Remark A.2 %.10f",
+              printed[k].m, gamma, printed[k].gamma);
+    cr_expect(fabs(tau[1] - 0.25) <= 1e-9, "m %g, exact volumes: traction %.12f with gamma auto", printed[k].m, tau[1]);
+  }
+  static const char *const rules[] = {"linear", "none"};
+  for (int k = 0; k < 2; ++k)
+    for (double m = 3; m <= 4; ++m) {
+      double tau[3], untouched[3], gamma;
+      traction_with(m, rules[k], "gamma: auto", table_a3_linear, tau, &gamma);
+      traction_with(m, rules[k], "gamma: 1", table_a3_linear, untouched, NULL);
+      cr_expect(fabs(tau[1] - 0.25) <= 1e-12, "m %g, %s: traction %.15f with gamma auto %.10f", m, rules[k], tau[1],
+                gamma);
+      cr_expect(fabs(untouched[1] - 0.25) > 0.01 * 0.25, "m %g, %s: gamma = 1 gives the classical traction %.6f", m,
+                rules[k], untouched[1]);
+    }
 }
 
 static const char *plate_2_6_2 =

@@ -20,6 +20,7 @@
  *    all-PD one up to its peak. */
 #include <criterion/criterion.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "peri/coupling.h"
@@ -98,8 +99,10 @@ static void check_crack(const peri_sim *s, const char *what) {
   free(phi);
 }
 
-/* Every node within r delta of a node that lost a bond is a PD node. */
-static void check_switching(const peri_sim *s, double r, int32_t pd_at_start) {
+/* Every node within r delta of a node that lost a bond after the start (the pre-crack's bonds,
+ * `cut`, are the notch patch's: its cut nodes and the nodes within r delta of its tip) is a PD
+ * node. */
+static void check_switching(const peri_sim *s, double r, int32_t pd_at_start, const uint8_t *cut) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const int32_t *type = s->coupling->node_type;
@@ -108,7 +111,7 @@ static void check_switching(const peri_sim *s, double r, int32_t pd_at_start) {
   for (int32_t i = 0; i < p->n; ++i) {
     pd += type[i];
     bool lost = false;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) lost |= b->broken[k] != 0;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) lost |= b->broken[k] && !cut[k];
     if (!lost) continue;
     cr_assert_eq(type[i], 1, "node %d has a broken bond and is not a PD node", (int)i);
     for (int32_t j = 0; j < p->n; ++j) {
@@ -123,6 +126,22 @@ static void check_switching(const peri_sim *s, double r, int32_t pd_at_start) {
                pd_at_start);
   const int32_t lattice = p->n + s->coupling->removed_nodes; /* the specimen's lattice nodes, graded mesh or not */
   cr_expect_lt(pd, lattice / 3, "%d of %d lattice nodes are PD nodes: the switching spread too far", pd, lattice);
+}
+
+/* The notch patch: the nodes the pre-crack cut and the nodes within r delta of its tip
+ * (10, 1), exactly (brute force); its other end lies below the beam. */
+static void check_patch(const peri_sim *s, double r) {
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const double reach = r * s->disc.geom.horizon;
+  for (int32_t i = 0; i < p->n; ++i) {
+    bool cut = false;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) cut |= b->broken[k] != 0;
+    const double to_tip = hypot(p->x[3 * i] - 10.0, p->x[3 * i + 1] - 1.0);
+    const bool pd = cut || to_tip <= reach * (1.0 + 1e-9);
+    cr_assert_eq(s->coupling->node_type[i], pd, "r %g: node %d at (%g, %g) is %s (cut: %d, %g from the tip)", r, (int)i,
+                 p->x[3 * i], p->x[3 * i + 1], pd ? "FEM" : "PD", cut, to_tip);
+  }
 }
 
 /* The last load step before the reaction falls below 90% of the largest so far. */
@@ -155,20 +174,27 @@ Test(coupling_3pb, switching_crack_and_all_pd_curve) {
 
   /* the notch patches: nodes cut by the pre-crack and those within r delta of them */
   peri_sim fresh;
+  uint8_t *cut1, *cut2, *cutg;
   load_3pb(&fresh, "coupling.switch_radius=1");
   const int32_t patch1 = fresh.coupling->n_pd;
+  check_patch(&fresh, 1.0);
+  cut1 = malloc((size_t)fresh.disc.bonds.n_bonds), memcpy(cut1, fresh.disc.bonds.broken, (size_t)fresh.disc.bonds.n_bonds);
   peri_sim_free(&fresh);
   load_3pb(&fresh, "coupling.switch_radius=2");
   const int32_t patch2 = fresh.coupling->n_pd;
+  check_patch(&fresh, 2.0);
+  cut2 = malloc((size_t)fresh.disc.bonds.n_bonds), memcpy(cut2, fresh.disc.bonds.broken, (size_t)fresh.disc.bonds.n_bonds);
   peri_sim_free(&fresh);
   load_3pb(&fresh, graded);
   const int32_t patchg = fresh.coupling->n_pd;
+  cutg = malloc((size_t)fresh.disc.bonds.n_bonds), memcpy(cutg, fresh.disc.bonds.broken, (size_t)fresh.disc.bonds.n_bonds);
   peri_sim_free(&fresh);
   cr_assert(patch1 > 0 && patch2 > patch1 && patchg == patch2, "notch patches of %d, %d and %d nodes", patch1, patch2,
             patchg);
-  check_switching(&s1, 1.0, patch1);
-  check_switching(&s2, 2.0, patch2);
-  check_switching(&sg, 2.0, patchg);
+  check_switching(&s1, 1.0, patch1, cut1);
+  check_switching(&s2, 2.0, patch2, cut2);
+  check_switching(&sg, 2.0, patchg, cutg);
+  free(cut1), free(cut2), free(cutg);
 
   /* the curves up to the coupled peak: the all-PD run (the expensive one) stops there */
   const int peak1 = peak_step(&r1), peak2 = peak_step(&r2), peakg = peak_step(&rg);
@@ -199,4 +225,78 @@ Test(coupling_3pb, switching_crack_and_all_pd_curve) {
   peri_sim_free(&s2);
   peri_sim_free(&sg);
   peri_sim_free(&sp);
+}
+
+/* One elastic load step of 1 mm (the crack starts near 7 mm) with the given coupling settings. */
+static void elastic_3pb(peri_sim *s, const char *a, const char *b, double *reaction, double *e_r) {
+  const char *sets[N_COARSE + 4];
+  for (int k = 0; k < N_COARSE; ++k) sets[k] = coarse[k];
+  sets[N_COARSE] = "solver.load_steps=1", sets[N_COARSE + 1] = "boundary_conditions.2.y=-1e-3*t";
+  sets[N_COARSE + 2] = a, sets[N_COARSE + 3] = b;
+  cr_assert_eq(peri_sim_from_deck_with(s, "examples/coupling_three_point_bending.yaml", N_COARSE + 4, sets), 0);
+  s->out.quiet = true;
+  run r;
+  memset(&r, 0, sizeof r);
+  for (int k = 1; k < s->cond.n_regions; ++k)
+    if (!strcmp(s->cond.regions[k].name, "load")) r.load = k;
+  peri_apply_initial_conditions(s);
+  cr_assert_eq(peri_solve_quasi_static(s, record, &r), 0);
+  cr_assert_eq(r.broken[0], 0, "a bond broke at 1 mm");
+  *reaction = r.reaction[0];
+  if (e_r) *e_r = r.e_r[0];
+}
+
+/* The largest difference of the displacements of two runs over the largest displacement. */
+static double u_difference(const peri_sim *a, const peri_sim *b) {
+  double most = 0.0, largest = 0.0;
+  for (size_t c = 0; c < 3 * (size_t)a->disc.p.n; ++c) {
+    most = fmax(most, fabs(a->disc.p.u[c] - b->disc.p.u[c]));
+    largest = fmax(largest, fabs(a->disc.p.u[c]));
+  }
+  return most / largest;
+}
+
+/* A uniform gamma scales every PD row; where no PD node is loaded or held (the supports and the
+ * load are FEM nodes here) each PD row is a homogeneous equation, so the coupled displacements
+ * and reactions do not change (docs/coupling.md, "gamma for the discrete family"), while in the
+ * all-PD beam the displacements stay and the reactions scale by gamma exactly. gamma auto is
+ * Remark A.2's for the linear ramp at m = 3, below 1 (the discrete side is stiffer). */
+Test(coupling_3pb, gamma_drops_out_of_the_coupled_solution) {
+  peri_sim a, b;
+  double ra, rb;
+  elastic_3pb(&a, "coupling.switch_radius=1", "coupling.gamma=1", &ra, NULL);
+  elastic_3pb(&b, "coupling.switch_radius=1", "coupling.gamma=auto", &rb, NULL);
+  const double gamma = b.coupling->gamma;
+  cr_assert(gamma < 0.99 && gamma > 0.9, "gamma auto %g", gamma);
+  cr_expect_lt(u_difference(&a, &b), 1e-9, "coupled: gamma moved the displacements by %g", u_difference(&a, &b));
+  cr_expect_lt(fabs(rb - ra), 1e-9 * ra, "coupled: load reaction %.12g with gamma 1, %.12g with gamma %g", ra, rb, gamma);
+  peri_sim_free(&a);
+  peri_sim_free(&b);
+  elastic_3pb(&a, "coupling.pd_region=all", "coupling.gamma=1", &ra, NULL);
+  elastic_3pb(&b, "coupling.pd_region=all", "coupling.gamma=auto", &rb, NULL);
+  cr_expect_lt(u_difference(&a, &b), 1e-9, "all PD: gamma moved the displacements by %g", u_difference(&a, &b));
+  cr_expect_lt(fabs(rb - gamma * ra), 1e-9 * ra, "all PD: load reaction %.12g, gamma times %.12g", rb, ra);
+  peri_sim_free(&a);
+  peri_sim_free(&b);
+}
+
+/* Scheme 2 out of balance less than scheme 1 (Ongaro 2022 §2.7.1, Fig. 2.25: its interface lies
+ * further from the crack tip, where the field is closer to linear): e_r of eq. 2.114 (the
+ * vertical reactions; after a solve the sum over all nodes) on the elastic beam with a crack
+ * up the midline to height a and its notch patch (the cut nodes and the nodes within r delta of
+ * the tip) as the PD zone, for a = 3, 4 and 5 m. (For a crack of 1 m, shorter than 2 delta
+ * here, scheme 2's patch reaches the stressed bottom face and the order is reversed:
+ * docs/coupling.md.) */
+Test(coupling_3pb, scheme_2_out_of_balance_below_scheme_1) {
+  for (int a = 3; a <= 5; ++a) {
+    char tip[64];
+    snprintf(tip, sizeof tip, "precracks.0.to=[10, %d]", a);
+    peri_sim s;
+    double reaction, e1, e2;
+    elastic_3pb(&s, "coupling.switch_radius=1", tip, &reaction, &e1);
+    peri_sim_free(&s);
+    elastic_3pb(&s, "coupling.switch_radius=2", tip, &reaction, &e2);
+    peri_sim_free(&s);
+    cr_expect_lt(e2, e1, "crack to %d m: e_r %.3e with scheme 2, %.3e with scheme 1", a, e2, e1);
+  }
 }
