@@ -1,9 +1,10 @@
 /* Rigid tools (include/peri/tools.h, docs/contact.md "Rigid tools"): on a node at y inside a
  * tool, the force density k pen^2 n (LAMMPS fix indent's law, pen the penetration and n the
- * way out) and the friction (mu k pen^2 + tau0 / dx) against the node's sliding on the tool,
- * -t/|t| with t the part of v_node - v_tool across n: Coulomb's mu, and the interfacial
+ * way out) and the friction (mu f_n + min(tau0 / dx, f_n)) against the node's sliding on the
+ * tool, -t/|t| with t the part of v_node - v_tool across n: Coulomb's mu, and the interfacial
  * shear strength tau0 acting on the node's face V / dx (Bowden and Tabor's F_t = tau0 A + mu P,
- * A the contact area). The tool's force is summed per block of nodes in node order
+ * A the contact area), capped by the node's pressure f_n dx where that is lower (the edge of
+ * the contact). The tool's force is summed per block of nodes in node order
  * (independent of threads and ranks). Under load control the tool's offset q along its
  * direction follows M q'' = P(t) - P_contact - M c q' (explicit runs). */
 #include <math.h>
@@ -93,7 +94,10 @@ static void apply_tool(peri_sim *s, peri_tool *tl, double t) {
         for (int d = 0; d < 3; ++d) rel[d] = p->v[3 * (size_t)i + d] - vt[d], vn += rel[d] * nrm[d];
         for (int d = 0; d < 3; ++d) rel[d] -= vn * nrm[d], tt += rel[d] * rel[d];
         if (tt > 0.0) {
-          const double scale = (mu * fn + tau0 / dx) / sqrt(tt);
+          /* the shear traction tau0, but never more than the node's pressure fn dx: it grows
+           * from 0 as a node enters the contact, so the force has no jump there */
+          const double shear = tau0 / dx < fn ? tau0 / dx : fn;
+          const double scale = (mu * fn + shear) / sqrt(tt);
           for (int d = 0; d < 3; ++d) f[d] -= scale * rel[d];
         }
       }
