@@ -2,7 +2,8 @@
  * cylinder, flat punch and plane, moved by expressions of t or, along their direction, by a
  * load (load control); a penalty force on the nodes inside them, the LAMMPS fix indent law
  * k pen^2 along the outward normal, or the kinematic contact of Madenci and Oterkus (the
- * momentum that puts a node back on the surface in one step), and Coulomb friction. */
+ * momentum that puts a node back on the surface in one step), and friction: Coulomb's mu
+ * and an interfacial shear strength tau0 (Bowden and Tabor: F_t = tau0 A + mu P). */
 #ifndef PERI_TOOLS_H
 #define PERI_TOOLS_H
 #include <stdbool.h>
@@ -39,6 +40,7 @@ typedef struct peri_tool {
   double stiffness;          /* k (N/m^5): force density k pen^2 (penalty contact) */
   bool kinematic;            /* kinematic contact: force density rho pen / dt^2 instead */
   double friction;           /* Coulomb coefficient mu */
+  double shear_strength;     /* tau0 (Pa): a sliding contact node's face, V / dx, is sheared by tau0 */
   peri_expr *position[3];    /* reference point at t (NULL component: 0) */
   /* load control of the position along `direction` (NULL: the position is prescribed) */
   peri_expr *load;           /* normal load P(t) (N) pushing the tool along `direction` */
@@ -49,6 +51,7 @@ typedef struct peri_tool {
   double force[3];           /* total force of the nodes on the tool */
   double normal_force;       /* P_contact = -force . direction */
   double tangential_force;   /* |force - (force . direction) direction| */
+  double contact_area;       /* A: the faces V / dx of the nodes in contact, summed */
   double sliding;            /* path length of the position across `direction` since t = 0 */
   double last_t;             /* latest time evaluated, for the sliding distance */
   double last_at[3];         /* position at last_t */
@@ -56,7 +59,7 @@ typedef struct peri_tool {
   double contact_at[3];      /* position at the first evaluation with a contact force */
   bool touched;              /* whether the tool has touched the body yet */
   bool started;
-  double *block_force;       /* per-block force sums (4 per block: force, normal force) */
+  double *block_force;       /* per-block sums (4 per block: force, contact area) */
   int64_t blocks;
 } peri_tool;
 

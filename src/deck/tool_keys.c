@@ -64,7 +64,7 @@ static int parse_load(peri_sim *s, const peri_node *it, peri_tool *tl) {
 
 static int parse_tool(peri_sim *s, const peri_node *it, peri_tool *tl) {
   static const char *const keys[] = {"name", "shape", "radius", "half_angle", "direction", "axis",
-                                     "position", "stiffness", "friction", "load", "contact", NULL};
+                                     "position", "stiffness", "friction", "shear_strength", "load", "contact", NULL};
   TRY(peri_deck_allow(it, "tools", keys));
   const char *name = NULL;
   TRY(peri_deck_string(it, "name", true, &name));
@@ -119,6 +119,10 @@ static int parse_tool(peri_sim *s, const peri_node *it, peri_tool *tl) {
   TRY(peri_deck_double(it, "friction", false, &tl->friction));
   if (!(tl->friction >= 0.0) || !isfinite(tl->friction))
     return peri_deck_error(peri_deck_get(it, "friction"), "key 'friction': the Coulomb coefficient must be zero or positive");
+  TRY(peri_deck_double(it, "shear_strength", false, &tl->shear_strength));
+  if (!(tl->shear_strength >= 0.0) || !isfinite(tl->shear_strength))
+    return peri_deck_error(peri_deck_get(it, "shear_strength"),
+                           "key 'shear_strength': the interfacial shear strength must be zero or positive (Pa)");
   return parse_load(s, it, tl);
 }
 

@@ -75,7 +75,7 @@ static void body_columns(column_list *c, const peri_sim *s) {
 
 /* Per rigid tool (docs/contact.md "Rigid tools"): the force of the body on it, its position,
  * normal and tangential force, their ratio (the coefficient of friction), the distance
- * slid across its direction and the wear depth of its scratch. */
+ * slid across its direction, its contact area and the wear depth of its scratch. */
 static void tool_columns(column_list *c, const peri_sim *s) {
   char buf[300];
   for (int k = 0; s->tools && k < s->tools->count; ++k) {
@@ -88,7 +88,7 @@ static void tool_columns(column_list *c, const peri_sim *s) {
       snprintf(buf, sizeof buf, "tool_%s_position_%c", name, "xyz"[d]);
       add(c, buf);
     }
-    static const char *const each[] = {"normal_force", "tangential_force", "cof", "sliding_distance", "wear_depth",
+    static const char *const each[] = {"normal_force", "tangential_force", "cof", "sliding_distance", "contact_area", "wear_depth",
                                        "speed", "penetration"};
     for (size_t j = 0; j < sizeof each / sizeof each[0]; ++j) {
       snprintf(buf, sizeof buf, "tool_%s_%s", name, each[j]);
@@ -225,7 +225,7 @@ const char *peri_history_unit(const char *column) {
   if (!strncmp(column, "tool_", 5)) { /* tool_NAME_WHAT: the unit of WHAT */
     static const struct {
       const char *suffix, *unit;
-    } tool_units[] = {{"_normal_force", "N"}, {"_tangential_force", "N"}, {"_cof", "1"}, {"_sliding_distance", "m"}, {"_wear_depth", "m"},
+    } tool_units[] = {{"_normal_force", "N"}, {"_tangential_force", "N"}, {"_cof", "1"}, {"_sliding_distance", "m"}, {"_contact_area", "m^2"}, {"_wear_depth", "m"},
                       {"_speed", "m/s"}, {"_penetration", "m"},
                       {"_force_x", "N"}, {"_force_y", "N"}, {"_force_z", "N"},
                       {"_position_x", "m"}, {"_position_y", "m"}, {"_position_z", "m"}};

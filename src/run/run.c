@@ -105,6 +105,7 @@ static int write_history(peri_sim *s, run_ctx *c) {
     c->log.row[k++] = tl->tangential_force;
     c->log.row[k++] = tl->normal_force > 0.0 ? tl->tangential_force / tl->normal_force : 0.0; /* CoF = F_t / P */
     c->log.row[k++] = tl->sliding;
+    c->log.row[k++] = tl->contact_area;
     c->log.row[k++] = peri_tool_wear_depth(s, tl, phi);
     double speed = 0.0, depth = 0.0; /* along `direction`; the depth since the first contact */
     for (int d = 0; d < 3; ++d) {

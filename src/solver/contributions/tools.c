@@ -1,13 +1,17 @@
 /* Rigid tools (include/peri/tools.h, docs/contact.md "Rigid tools"): on a node at y inside a
  * tool, the force density k pen^2 n (LAMMPS fix indent's law, pen the penetration and n the
- * way out) and the Coulomb friction mu k pen^2 against the node's sliding on the tool,
- * -t/|t| with t the part of v_node - v_tool across n. The tool's force is summed per block
- * of nodes in node order (independent of threads and ranks). Under load control the tool's
- * offset q along its direction follows M q'' = P(t) - P_contact - M c q' (explicit runs). */
+ * way out) and the friction (mu f_n + min(tau0 / dx, f_n)) against the node's sliding on the
+ * tool, -t/|t| with t the part of v_node - v_tool across n: Coulomb's mu, and the interfacial
+ * shear strength tau0 acting on the node's face V / dx (Bowden and Tabor's F_t = tau0 A + mu P,
+ * A the contact area), capped by the node's pressure f_n dx where that is lower (the edge of
+ * the contact). The tool's force is summed per block of nodes in node order
+ * (independent of threads and ranks). Under load control the tool's offset q along its
+ * direction follows M q'' = P(t) - P_contact - M c q' (explicit runs). */
 #include <math.h>
 #include <stdlib.h>
 #include "peri/contribution.h"
 #include "peri/decompose.h"
+#include "peri/discretize.h"
 #include "peri/error.h"
 #include "peri/tools.h"
 
@@ -59,10 +63,11 @@ static void apply_tool(peri_sim *s, peri_tool *tl, double t) {
   const int64_t n_blocks = peri_sum_blocks_owned(s);
   if (tl->blocks != n_blocks) {
     free(tl->block_force);
-    tl->block_force = peri_malloc(sizeof(double) * 3 * (size_t)(n_blocks > 0 ? n_blocks : 1));
+    tl->block_force = peri_malloc(sizeof(double) * 4 * (size_t)(n_blocks > 0 ? n_blocks : 1));
     tl->blocks = n_blocks;
   }
-  const double k = tl->stiffness, mu = tl->friction;
+  const double k = tl->stiffness, mu = tl->friction, tau0 = tl->shear_strength;
+  const peri_geometry *grid = &s->disc.geom;
   /* kinematic contact (MODELS.md 17.2, after Madenci & Oterkus): the force density rho pen / dt^2 is the
    * momentum change rho (v_bar - v) / dt that, over the step, puts the node back on the
    * surface (v_bar - v = pen / dt), so the tool's force is -sum rho (v_bar - v) V / dt */
@@ -72,21 +77,27 @@ static void apply_tool(peri_sim *s, peri_tool *tl, double t) {
 #pragma omp parallel for schedule(static)
   for (int64_t blk = 0; blk < n_blocks; ++blk) {
     const int32_t i0 = (int32_t)(blk * PERI_SUM_BLOCK), i1 = i0 + PERI_SUM_BLOCK < n ? i0 + PERI_SUM_BLOCK : n;
-    double sum[3] = {0.0, 0.0, 0.0};
+    double sum[4] = {0.0, 0.0, 0.0, 0.0};
     for (int32_t i = i0; i < i1; ++i) {
       double y[3], nrm[3];
       for (int d = 0; d < 3; ++d) y[d] = p->x[3 * (size_t)i + d] + p->u[3 * (size_t)i + d];
       const double pen = peri_tool_penetration(g, at, y, nrm);
       if (!(pen > 0.0)) continue;
+      /* the node's face on the tool: its volume over its own spacing (dx^2 in 3D, dx h in 2D) */
+      const double dx = peri_grid_node_spacing(p->volume[i], grid->dim, grid->thickness, grid->cross_section);
+      sum[3] += p->volume[i] / dx;
       const double fn = tl->kinematic ? mats[p->material[i]].density * inv_dt2 * pen : k * pen * pen;
       double f[3];
       for (int d = 0; d < 3; ++d) f[d] = fn * nrm[d];
-      if (mu > 0.0) { /* Coulomb: against the node's sliding on the tool */
+      if (mu > 0.0 || tau0 > 0.0) { /* friction: against the node's sliding on the tool */
         double rel[3], vn = 0.0, tt = 0.0;
         for (int d = 0; d < 3; ++d) rel[d] = p->v[3 * (size_t)i + d] - vt[d], vn += rel[d] * nrm[d];
         for (int d = 0; d < 3; ++d) rel[d] -= vn * nrm[d], tt += rel[d] * rel[d];
         if (tt > 0.0) {
-          const double scale = mu * fn / sqrt(tt);
+          /* the shear traction tau0, but never more than the node's pressure fn dx: it grows
+           * from 0 as a node enters the contact, so the force has no jump there */
+          const double shear = tau0 / dx < fn ? tau0 / dx : fn;
+          const double scale = (mu * fn + shear) / sqrt(tt);
           for (int d = 0; d < 3; ++d) f[d] -= scale * rel[d];
         }
       }
@@ -95,9 +106,12 @@ static void apply_tool(peri_sim *s, peri_tool *tl, double t) {
         sum[d] -= f[d] * p->volume[i];
       }
     }
-    for (int d = 0; d < 3; ++d) tl->block_force[3 * blk + d] = sum[d];
+    for (int d = 0; d < 4; ++d) tl->block_force[4 * blk + d] = sum[d];
   }
-  peri_sum_blocks(s, tl->block_force, 3, tl->force);
+  double total[4];
+  peri_sum_blocks(s, tl->block_force, 4, total);
+  for (int d = 0; d < 3; ++d) tl->force[d] = total[d];
+  tl->contact_area = total[3];
   double along = 0.0, tangential = 0.0;
   for (int d = 0; d < 3; ++d) along += tl->force[d] * dir[d];
   for (int d = 0; d < 3; ++d) tangential += (tl->force[d] - along * dir[d]) * (tl->force[d] - along * dir[d]);
