@@ -61,6 +61,8 @@ typedef struct peri_horizon_field {
    * carry no force state; their partial stress is the Cauchy stress of the strain of their
    * least-squares gradient over the nodes within local_radius, which is their delta_i */
   uint8_t *local;         /* [n] 1: a local node; NULL when there is none */
+  uint8_t *variational;   /* [n] 1: a local node that no peridynamic node's stencil reaches, whose
+                             force is -dU/du of the local nodes' energy (src/model/partial_stress.c) */
   int32_t n_local;
   double local_radius;
 } peri_horizon_field;

@@ -132,5 +132,6 @@ void peri_horizon_field_free(peri_horizon_field *h) {
   free(h->control_reaction);
   free(h->needs_stress);
   free(h->local);
+  free(h->variational);
   free(h);
 }

@@ -155,10 +155,10 @@ int peri_setup_horizon_solver(const peri_sim *s, const peri_node *root) {
   if (s->solver.kind == PERI_SOLVER_IMPLICIT)
     return peri_deck_error(at, "key 'horizon': the implicit solver needs a tangent stiffness, which the models with a "
                            "horizon that varies do not have; use adr, dynamic_relaxation or nlcg");
-  if (h->n_local > 0 && s->solver.kind != PERI_SOLVER_EXPLICIT)
-    return peri_deck_error(at, "key 'horizon': local nodes (horizon 0) run with solver.type explicit only: the "
-                           "quasi-static solvers do not converge on them yet (docs/variable_horizon.md, \"A vanishing "
-                           "horizon\")");
+  if (h->n_local > 0 && s->solver.kind == PERI_SOLVER_NLCG)
+    return peri_deck_error(at, "key 'horizon': local nodes (horizon 0) run with solver.type explicit, adr or "
+                           "dynamic_relaxation: their coupling to the peridynamic nodes (the partial stress) is not "
+                           "the gradient of an energy, so nlcg cannot minimise it");
   if (h->n_coupled > 0 && s->solver.kind == PERI_SOLVER_NLCG)
     return peri_deck_error(ps ? ps : at, "the partial-stress force is not the gradient of an energy, so nlcg cannot "
                            "minimise it: use solver.type adr, dynamic_relaxation or explicit, or set "

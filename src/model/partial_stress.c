@@ -86,6 +86,25 @@ static double gradient_weight(const peri_sim *s, int32_t i, int32_t j, double r0
   return w * s->disc.p.volume[j] / (s->mat.model->fixed_poisson ? r0 : 1.0);
 }
 
+/* The local nodes whose force is variational: those that no peridynamic coupled node's stencil
+ * reaches. Their force is -dU/du of the local energy U = sum_i V_i sigma_i : G_i / 2, which holds
+ * the traction condition at a free or loaded surface in the weak sense (the collocated divergence
+ * has none: a uniform stretch of a free local end costs no force, and a reaction at a held local
+ * end vanishes under a uniform stress). In a uniform interior the two forces are equal (the
+ * stencil is odd: w_ij = -w_ji and sum_k w_jk = 0), and every stencil that reaches such a node is
+ * a local one, so the patch test holds; a local node that a peridynamic stencil reaches keeps the
+ * divergence, which the peridynamic nodes' nu0 enter. */
+static void mark_variational(peri_horizon_field *h, const peri_particles *p) {
+  free(h->variational);
+  h->variational = NULL;
+  if (!h->local) return;
+  h->variational = peri_calloc((size_t)(p->n > 0 ? p->n : 1), 1);
+  for (int32_t i = 0; i < p->n_owned; ++i) h->variational[i] = h->local[i];
+  for (int32_t i = 0; i < p->n_owned; ++i)
+    if (h->coupled[i] && !h->local[i])
+      for (int64_t t = h->stencil_offset[i]; t < h->stencil_offset[i + 1]; ++t) h->variational[h->stencil_node[t]] = 0;
+}
+
 int peri_partial_stress_prepare(peri_sim *s) {
   peri_horizon_field *h = s->disc.horizon_field;
   const peri_particles *p = &s->disc.p;
@@ -166,6 +185,7 @@ int peri_partial_stress_prepare(peri_sim *s) {
       for (int r = 0; r < 3; ++r) h->stencil_weight[3 * t + r] = inv[3 * r] * wx[0] + inv[3 * r + 1] * wx[1] + inv[3 * r + 2] * wx[2];
     }
   }
+  mark_variational(h, p);
   free(h->partial_stress), free(h->control_reaction);
   h->partial_stress = peri_calloc(9 * (size_t)(p->n > 0 ? p->n : 1), sizeof(double));
   h->control_reaction = peri_calloc(3 * (size_t)(p->n > 0 ? p->n : 1), sizeof(double));
@@ -249,10 +269,21 @@ void peri_partial_stress_force(peri_sim *s) {
     if (!h->coupled[i]) continue;
     double f[3] = {0, 0, 0};
     const double *nu_i = nu + 9 * (size_t)i;
+    const bool variational = h->variational && h->variational[i];
     for (int64_t t = h->stencil_offset[i]; t < h->stencil_offset[i + 1]; ++t) {
-      const double *nu_j = nu + 9 * (size_t)h->stencil_node[t], *w = h->stencil_weight + 3 * t;
+      const int32_t j = h->stencil_node[t];
+      const double *nu_j = nu + 9 * (size_t)j, *w = h->stencil_weight + 3 * t;
       for (int a = 0; a < 3; ++a)
-        for (int c = 0; c < 3; ++c) f[a] += (nu_j[3 * a + c] - nu_i[3 * a + c]) * w[c];
+        for (int c = 0; c < 3; ++c) f[a] += (variational ? nu_i[3 * a + c] : nu_j[3 * a + c] - nu_i[3 * a + c]) * w[c];
+      if (h->variational && h->local[i] && h->variational[j]) { /* -V_i sigma_i . dG_i/du_j / V_j on a variational node j */
+        const double ratio = p->volume[i] / p->volume[j];
+        for (int a = 0; a < 3; ++a) {
+          double share = 0.0;
+          for (int c = 0; c < 3; ++c) share += nu_i[3 * a + c] * w[c];
+#pragma omp atomic
+          reaction_sum[3 * (size_t)j + a] -= ratio * share;
+        }
+      }
     }
     /* zero-energy mode control: the part of u_j - u_i that the quadratic fit leaves */
     double coef[PERI_FIT_BASIS][3] = {{0}}, phi[PERI_FIT_BASIS];

@@ -42,11 +42,19 @@ static double pair_stiffness(const peri_sim *s, int32_t i) {
 void peri_qs_density(const peri_sim *s, double fs, double *lambda) {
   const peri_particles *p = &s->disc.p;
   const bool pair = s->disc.horizon_field && s->disc.horizon_field->bond_pair;
+  /* A local node (horizon 0, docs/variable_horizon.md) is stiffer than the bond bound of its
+   * stencil: its elastic force reads the stencils of its stencil's nodes, and the zero-energy
+   * mode control adds kappa times the bond stiffness at most twice over; the stable time step's
+   * factor 1 + 2 kappa (src/solver/stable_dt.c) keeps the pseudo-dynamics stable there (in 2D
+   * the largest eigenvalue of Lambda^-1 K was 4.7 without it, above the 4 of a unit step). */
+  const uint8_t *local = s->disc.horizon_field ? s->disc.horizon_field->local : NULL;
+  const double local_factor = local ? 1.0 + 2.0 * s->disc.horizon_field->stabilization : 1.0;
 #pragma omp parallel for schedule(static) if (p->n_owned > 8192)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const peri_material *mi = &s->mat.materials[p->material[i]];
     lambda[i] = 0.25 * fs * (pair ? pair_stiffness(s, i) : peri_node_stiffness_bound(s, i));
     if (!(lambda[i] > 0.0)) lambda[i] = 0.25 * fs * mi->c_stable * p->volume[i] / s->disc.geom.spacing;
+    if (local && local[i]) lambda[i] *= local_factor;
   }
 }
 

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Local nodes (horizon 0; docs/variable_horizon.md "A vanishing horizon: the local model"):
 # what is rejected exits 2 with the deck position before any work (partial_stress: none, which
-# would leave the local nodes without a force; the quasi-static solvers: nlcg, since the coupled
-# force is not an energy's gradient, and adr, which does not converge on them yet; a precrack into the coupling region of
-# the local nodes; a local_stencil shorter than the spacing), and the example deck runs.
+# would leave the local nodes without a force; nlcg, since the coupled force is not an energy's
+# gradient; implicit, which needs a tangent; a precrack into the coupling region of the local
+# nodes; a local_stencil shorter than the spacing), adr and dynamic_relaxation are accepted, and
+# the example deck runs.
 # Usage: bash tests/cli/local_coupling.sh PATH_TO_PERI   (from the repository root)
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
@@ -46,7 +47,7 @@ fails_at "$TMP/none.yaml" "none" "key 'partial_stress': none leaves the local no
 pass "partial_stress: none with local nodes is rejected"
 
 deck "$TMP/nlcg.yaml" "" "{type: nlcg, end_time: 1, load_steps: 1}" ""
-fails_at "$TMP/nlcg.yaml" '"abs' "key 'horizon': local nodes (horizon 0) run with solver.type explicit only"
+fails_at "$TMP/nlcg.yaml" '"abs' "key 'horizon': local nodes (horizon 0) run with solver.type explicit, adr or dynamic_relaxation"
 pass "nlcg with local nodes is rejected"
 
 # a crack from the PD band into the local region at x = 6 mm
@@ -62,10 +63,16 @@ deck "$TMP/stencil.yaml" "  local_stencil: 0.5e-3" "$EXPLICIT" ""
 fails_at "$TMP/stencil.yaml" "0.5e-3" "key 'local_stencil': must be a length of at least the spacing"
 pass "local_stencil shorter than the spacing is rejected"
 
-# the quasi-static solvers: rejected (they do not converge on local nodes yet)
-deck "$TMP/adr.yaml" "" "{type: adr, end_time: 1, load_steps: 1}" ""
-fails_at "$TMP/adr.yaml" '"abs' "key 'horizon': local nodes (horizon 0) run with solver.type explicit only"
-pass "adr with local nodes is rejected"
+# implicit is rejected (no tangent stiffness); adr and dynamic_relaxation are accepted
+deck "$TMP/implicit.yaml" "" "{type: implicit, end_time: 1, load_steps: 1}" ""
+fails_at "$TMP/implicit.yaml" '"abs' "key 'horizon': the implicit solver needs a tangent stiffness"
+pass "implicit with local nodes is rejected"
+for solver in "{type: adr, end_time: 1, load_steps: 1}" "{type: dynamic_relaxation, end_time: 1, load_steps: 1, damping: 1e5}"; do
+  deck "$TMP/qs.yaml" "" "$solver" ""
+  run_peri check "$TMP/qs.yaml"
+  expect_status 0
+done
+pass "adr and dynamic_relaxation with local nodes are accepted"
 
 # the example, a short part of it: runs and writes the horizon field
 run_peri run examples/local_bar.yaml --quiet --output "$TMP/bar" --set solver.end_time=5e-6
