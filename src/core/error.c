@@ -46,9 +46,12 @@ void peri_set_message_sink(peri_message_sink sink, void *ctx) {
 /* One message line: "peri: KIND: text", or "file:line:col: KIND: text" when file is given,
  * escaped, to the sink (without the newline) or to stderr. */
 static void emit(const char *kind, const char *file, int line, int col, const char *fmt, va_list ap) {
+  /* composed in memory and written to stderr in one call: stderr is unbuffered, and a line
+   * written a character at a time reaches a terminal or mpirun's output forwarding in
+   * pieces that other ranks' or mpirun's own lines can split */
   char *captured = NULL;
   size_t size = 0;
-  FILE *memory = message_sink ? open_memstream(&captured, &size) : NULL;
+  FILE *memory = open_memstream(&captured, &size);
   FILE *stream = memory ? memory : stderr;
   if (file) {
     write_escaped(stream, file);
@@ -59,13 +62,15 @@ static void emit(const char *kind, const char *file, int line, int col, const ch
   char *text = peri_vformat(fmt, ap);
   write_escaped(stream, text);
   free(text);
-  if (memory) {
-    fclose(memory);
-    message_sink(kind, captured, message_sink_ctx);
-    free(captured);
-  } else {
+  if (!memory) {
     fputc('\n', stderr);
+    return;
   }
+  if (!message_sink) fputc('\n', memory);
+  fclose(memory);
+  if (message_sink) message_sink(kind, captured, message_sink_ctx);
+  else fwrite(captured, 1, size, stderr);
+  free(captured);
 }
 
 void peri_error(const char *fmt, ...) {

@@ -63,7 +63,16 @@ static void agree(const char *call, const char *site) {
   if (comm_rank == 0) {
     peri_error("MPI ranks disagree on the sequence of collective calls (PERI_CHECK_COLLECTIVES) at checked "
                "call %ld; a decision before it was taken from data that differ between ranks:", checked_calls);
-    for (int r = 0; r < comm_size; ++r) fprintf(stderr, "  rank %d: %s\n", r, texts + (size_t)SITE_TEXT * r);
+    /* the ranks' calls in one write, as peri_error writes its line (error.c) */
+    char *lines = NULL;
+    size_t size = 0;
+    FILE *memory = open_memstream(&lines, &size);
+    for (int r = 0; r < comm_size; ++r) fprintf(memory ? memory : stderr, "  rank %d: %s\n", r, texts + (size_t)SITE_TEXT * r);
+    if (memory) {
+      fclose(memory);
+      fwrite(lines, 1, size, stderr);
+      free(lines);
+    }
     peri_comm_abort(PERI_ERR_RUN);
   }
   MPI_Barrier(MPI_COMM_WORLD); /* rank 0 never enters it: its abort ends this rank */
