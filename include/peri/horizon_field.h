@@ -88,4 +88,9 @@ void peri_horizon_field_couple_local(peri_horizon_field *h, const peri_bonds *b)
 void peri_horizon_field_reverse_bonds(peri_horizon_field *h, const peri_bonds *b);
 void peri_horizon_field_free(peri_horizon_field *h);
 
+/* The zero-energy mode control adds to a node it reaches at most twice kappa times its bond
+ * stiffness: the factor 1 + 2 kappa on that node's stiffness bound (the stable time step, ADR's
+ * fictitious density; docs/variable_horizon.md "Zero-energy mode control"). */
+static inline double peri_horizon_control_factor(const peri_horizon_field *h) { return 1.0 + 2.0 * h->stabilization; }
+
 #endif

@@ -48,7 +48,7 @@ void peri_qs_density(const peri_sim *s, double fs, double *lambda) {
    * factor 1 + 2 kappa (src/solver/stable_dt.c) keeps the pseudo-dynamics stable there (in 2D
    * the largest eigenvalue of Lambda^-1 K was 4.7 without it, above the 4 of a unit step). */
   const uint8_t *local = s->disc.horizon_field ? s->disc.horizon_field->local : NULL;
-  const double local_factor = local ? 1.0 + 2.0 * s->disc.horizon_field->stabilization : 1.0;
+  const double local_factor = local ? peri_horizon_control_factor(s->disc.horizon_field) : 1.0;
 #pragma omp parallel for schedule(static) if (p->n_owned > 8192)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const peri_material *mi = &s->mat.materials[p->material[i]];

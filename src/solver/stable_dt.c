@@ -49,7 +49,7 @@ double peri_node_stiffness_bound(const peri_sim *s, int32_t i) {
 static double control_factor(const peri_sim *s, int32_t i) {
   const peri_horizon_field *h = s->disc.horizon_field;
   if (!h || h->n_coupled == 0 || !h->needs_stress || !h->needs_stress[i]) return 1.0;
-  return 1.0 + 2.0 * h->stabilization;
+  return peri_horizon_control_factor(h);
 }
 
 /* PD-FEM coupling (docs/coupling.md, "Explicit dynamics"): the rows of the coupled stiffness, in
