@@ -15,6 +15,8 @@ void peri_checkpoint_print_summary(const peri_sim *s, FILE *out);
 /* Writes the checkpoint when one is due after this step (every checkpoint_every steps and
  * at the last step; nothing without output.checkpoint_every). Collective on MPI ranks. */
 int peri_checkpoint_after_step(const peri_sim *s, const peri_checkpoint_progress *done);
+/* Whether a checkpoint is written after step `step` (output.checkpoint_every, and the last step). */
+bool peri_checkpoint_due(const peri_sim *s, long step);
 /* A restart's output: applies the checkpoint's state, lists its frames in `frames`, and returns
  * the history.csv rows written before it (rows: their number; -1 on a failure). */
 const double *peri_restart_resume(peri_sim *s, struct peri_frames *frames, int n_columns, long *rows);

@@ -34,5 +34,7 @@ int peri_dataset_begin(peri_sim *s);
 /* After a step (load step): a frame when one is due (every `every` steps and at the last).
  * Collective; PERI_OK or PERI_ERR_RUN as peri_dataset_begin. */
 int peri_dataset_after_step(peri_sim *s);
+/* Whether the graph dataset records a frame after step `step`. */
+bool peri_dataset_due(const peri_sim *s, long step);
 
 #endif

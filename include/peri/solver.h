@@ -21,7 +21,15 @@ void peri_apply_prescribed_motion(peri_sim *s, double t, double dt);
 /* Per-step callback for output; return nonzero to stop. */
 typedef int (*peri_step_hook)(peri_sim *s, void *ctx);
 
+/* Whether the hook after step `step` (the step just completed) reads nothing of the state
+ * but its step and time, writes nothing and does not stop the run. */
+typedef bool (*peri_step_quiet)(const peri_sim *s, long step, void *ctx);
+
 /* Explicit dynamics with velocity-Verlet (docs/model_reference.md 13.1). Calls hook after every step. */
 int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx);
+/* The same; after a step whose hook `quiet` says is quiet, the pass that finishes the step
+ * also begins the next one (the first half kick and the drift): the same arithmetic in one
+ * pass over the nodes instead of two. */
+int peri_solve_explicit_hooked(peri_sim *s, peri_step_hook hook, peri_step_quiet quiet, void *ctx);
 
 #endif

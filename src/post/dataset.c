@@ -311,8 +311,10 @@ int peri_dataset_begin(peri_sim *s) {
 }
 
 int peri_dataset_after_step(peri_sim *s) {
+  return peri_dataset_due(s, s->state.step) ? write_frame(s) : PERI_OK;
+}
+
+bool peri_dataset_due(const peri_sim *s, long step) {
   const peri_dataset_output *ds = s->out.dataset;
-  if (!ds) return PERI_OK;
-  if (s->state.step % ds->every != 0 && s->state.step != s->solver.steps) return PERI_OK;
-  return write_frame(s);
+  return ds && (step % ds->every == 0 || step == s->solver.steps);
 }

@@ -25,9 +25,13 @@ void peri_checkpoint_path(const peri_sim *s, char *out, size_t size) {
   else snprintf(out, size, "%s/%s", o->directory, name);
 }
 
-int peri_checkpoint_after_step(const peri_sim *s, const peri_checkpoint_progress *done) {
+bool peri_checkpoint_due(const peri_sim *s, long step) {
   const long every = s->out.checkpoint_every;
-  if (every < 1 || (s->state.step % every != 0 && s->state.step != s->solver.steps)) return PERI_OK;
+  return every >= 1 && (step % every == 0 || step == s->solver.steps);
+}
+
+int peri_checkpoint_after_step(const peri_sim *s, const peri_checkpoint_progress *done) {
+  if (!peri_checkpoint_due(s, s->state.step)) return PERI_OK;
   /* inside a dynamic phase the load step is not finished: its checkpoint comes at its end */
   if (s->solver.qs.phase == PERI_QS_PHASE_DYNAMIC) return PERI_OK;
   char path[8192];

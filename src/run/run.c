@@ -190,16 +190,31 @@ static int write_history(peri_sim *s, run_ctx *c) {
   return peri_history_log_record(&c->log);
 }
 
+/* Whether the step hook writes a frame and a history row after step `step`. */
+static void step_output(const peri_sim *s, long step, bool *frame, bool *history) {
+  const bool last = step == s->solver.steps;
+  *frame = (s->out.every > 0 && step % s->out.every == 0) || last;
+  /* an Exodus frame holds the history row of its step as global variables */
+  *history = step % s->out.history_every == 0 || last || (*frame && s->out.exodus);
+}
+
+/* Whether the hook after `step` of an explicit run only ticks the progress line: nothing
+ * written, nothing read of the state, no stop (peri_step_quiet). */
+static bool step_hook_quiet(const peri_sim *s, long step, void *ctx) {
+  const run_ctx *c = ctx;
+  bool frame, history;
+  step_output(s, step, &frame, &history);
+  return !frame && !history && step < c->stop_at && !peri_dataset_due(s, step) && !peri_checkpoint_due(s, step);
+}
+
 static int step_hook(peri_sim *s, void *ctx) {
   run_ctx *c = ctx;
   if (peri_is_quasi_static(s) && s->solver.qs.phase == PERI_QS_PHASE_DYNAMIC) { /* inside a load step: a row only */
     if (write_history(s, c) != PERI_OK) c->failed = 1;
     return peri_comm_max_int(c->failed);
   }
-  bool last = s->state.step == s->solver.steps;
-  const bool frame = (s->out.every > 0 && s->state.step % s->out.every == 0) || last;
-  /* an Exodus frame holds the history row of its step as global variables */
-  const bool history = s->state.step % s->out.history_every == 0 || last || (frame && s->out.exodus);
+  bool frame, history;
+  step_output(s, s->state.step, &frame, &history);
   if (history && write_history(s, c) != PERI_OK) c->failed = 1;
   /* only rank 0 writes history.csv: the ranks agree before the collective frame write */
   if (history) c->failed = peri_comm_max_int(c->failed);
@@ -268,7 +283,7 @@ int peri_run_advance(peri_run_session *r, long until) {
   if (r->rc != PERI_OK || r->finished || s->state.step >= until) return r->rc;
   r->c.stop_at = until;
   int rc = peri_is_quasi_static(s) ? peri_solve_quasi_static(s, step_hook, &r->c)
-                                   : peri_solve_explicit(s, step_hook, &r->c);
+                                   : peri_solve_explicit_hooked(s, step_hook, step_hook_quiet, &r->c);
   if (r->c.failed) rc = PERI_ERR_RUN;
   return r->rc = rc;
 }

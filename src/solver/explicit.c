@@ -91,7 +91,34 @@ static void internal_force(peri_sim *s) {
   else s->mat.model->force(s);
 }
 
+/* The first half of a step on node i's free components: the half kick with the force of the
+ * step's start, then the drift. One function for both passes that do it, so that a step
+ * begun by the previous step's last pass is the same to the bit. */
+static inline void kick_and_drift(peri_particles *p, int32_t i, uint8_t held, double inv_rho, double dt, double damping) {
+  for (int d = 0; d < 3; ++d) {
+    const size_t c = 3 * (size_t)i + d;
+    if (held & (1u << d)) continue;
+    const double a = (p->f[c] + p->b[c]) * inv_rho - damping * p->v[c];
+    p->v[c] += 0.5 * dt * a;
+    p->u[c] += dt * p->v[c];
+  }
+}
+
+/* Keeps node i's displacement and velocity where it has prescribed components, before the
+ * step moves them: the step's reaction and work read them. */
+static inline void keep_held(const peri_particles *p, const held_nodes *held, int32_t i) {
+  double *old = &held->old[6 * (size_t)held->slot[i]];
+  for (int d = 0; d < 3; ++d) {
+    old[d] = p->u[3 * (size_t)i + d];
+    old[3 + d] = p->v[3 * (size_t)i + d];
+  }
+}
+
 int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
+  return peri_solve_explicit_hooked(s, hook, NULL, ctx);
+}
+
+int peri_solve_explicit_hooked(peri_sim *s, peri_step_hook hook, peri_step_quiet quiet, void *ctx) {
   peri_particles *p = &s->disc.p;
   const double dt = s->solver.dt;
   const int32_t n = p->n_owned;
@@ -120,22 +147,13 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
   double energy_in = check_runaway ? peri_kinetic_energy(s) + initial_strain_energy(s) : 0.0;
   /* accelerations at t = 0 live in f + b */
   int status = PERI_OK;
+  bool begun = false; /* whether the previous step's last pass began this step */
   for (long step = s->state.step; step < s->solver.steps; ++step) {
+    if (!begun) {
 #pragma omp parallel for schedule(static) if (held.count > 4096)
-    for (int32_t k = 0; k < held.count; ++k)
-      for (int d = 0; d < 3; ++d) {
-        held.old[6 * (size_t)k + d] = p->u[3 * (size_t)held.node[k] + d];
-        held.old[6 * (size_t)k + 3 + d] = p->v[3 * (size_t)held.node[k] + d];
-      }
+      for (int32_t k = 0; k < held.count; ++k) keep_held(p, &held, held.node[k]);
 #pragma omp parallel for schedule(static)
-    for (int32_t i = 0; i < n; ++i) {
-      for (int d = 0; d < 3; ++d) {
-        size_t c = 3 * (size_t)i + d;
-        if (held.mask[i] & (1u << d)) continue;
-        double a = (p->f[c] + p->b[c]) * inv_rho[i] - damping * p->v[c];
-        p->v[c] += 0.5 * dt * a;
-        p->u[c] += dt * p->v[c];
-      }
+      for (int32_t i = 0; i < n; ++i) kick_and_drift(p, i, held.mask[i], inv_rho[i], dt, damping);
     }
     s->state.time += dt;
     s->state.step = step + 1;
@@ -150,7 +168,10 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
     internal_force(s);
     /* one pass over the nodes: second half-step of the velocity, the external load of the
      * step (applied loads, or the reaction rho a - f of prescribed motion), its work by the
-     * trapezoid rule, and the finiteness check */
+     * trapezoid rule, and the finiteness check; when the hook after this step reads nothing
+     * and another step follows, also the next step's first half, node by node */
+    /* (a run stopped below for divergence has then begun its next step: it reports, not resumes) */
+    const bool begin_next = quiet && step + 1 < s->solver.steps && quiet(s, s->state.step, ctx);
     bool finite = true;
 #pragma omp parallel for schedule(static) reduction(&& : finite)
     for (int64_t k = 0; k < n_blocks; ++k) {
@@ -180,6 +201,10 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
         }
         work_sum += work;
         ke_sum += 0.5 * p->volume[i] / inv_rho[i] * v2;
+        if (begin_next) {
+          if (held.mask[i]) keep_held(p, &held, i);
+          kick_and_drift(p, i, held.mask[i], inv_rho[i], dt, damping);
+        }
       }
       block_sums[2 * k] = work_sum;
       block_sums[2 * k + 1] = ke_sum;
@@ -203,6 +228,7 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx) {
       status = PERI_ERR_RUN;
     }
     if (status != PERI_OK) break;
+    begun = begin_next;
     if (hook && hook(s, ctx)) break;
   }
   free(inv_rho);
