@@ -34,8 +34,13 @@ static void apply_indenter(peri_sim *s, double t, bool overwrite) {
         d[a] = p->x[3 * (size_t)i + a] + p->u[3 * (size_t)i + a] - c[a];
         r2 += d[a] * d[a];
       }
+      if (r2 >= R * R) {
+        /* outside: b is +0 when the last pass left it so; reading spares writing every node */
+        if (overwrite && (b[0] != 0.0 || b[1] != 0.0 || b[2] != 0.0 || signbit(b[0]) || signbit(b[1]) || signbit(b[2])))
+          b[0] = b[1] = b[2] = 0.0;
+        continue;
+      }
       if (overwrite) b[0] = b[1] = b[2] = 0.0;
-      if (r2 >= R * R) continue;
       double r = sqrt(r2);
       if (r == 0.0) continue;
       double mag = k * (R - r) * (R - r) / r;
