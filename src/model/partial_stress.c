@@ -19,7 +19,9 @@
  * stiffness, without which the 2D/3D operator keeps complex eigenvalue pairs whatever kappa.
  * z vanishes for every quadratic field, so the control changes neither the patch test nor
  * the long-wave modulus (the force of a field with k delta small changes at order
- * (k delta)^4), and gives every other mode, the checkerboard included, a positive stiffness. */
+ * (k delta)^4), and gives every other mode, the checkerboard included, a positive stiffness.
+ * On a lattice nu0 is D_i : eps with D_i the node's discrete (anisotropic) elasticity, so each
+ * peridynamic stencil node's nu0 is mapped onto the isotropic C_iso (lattice_correction below). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
