@@ -21,6 +21,15 @@
  * of tests/verification/test_horizon_pulse.c stay bounded over 10^4 steps */
 #define PERI_PARTIAL_STRESS_STABILIZATION_2D3D 8.0
 
+/* the lattice correction of the partial stress (src/model/partial_stress.c, docs/variable_horizon.md
+ * "The lattice correction"): the unit strain of its fourth-order central-difference probe of a
+ * node's discrete elasticity D_i, whose truncation error (order 1e-12 relative) and rounding
+ * (eps |x| / (1e-3 |xi|), 1e-11 for |x| / |xi| = 50) stay below the patch test's 1e-10 */
+#define PERI_LATTICE_PROBE_STRAIN 1.0e-3
+/* a node whose D_i is not at least this fraction of C_iso in every strain keeps its own nu0
+ * (its correction would amplify nu0 by more than the inverse) */
+#define PERI_LATTICE_MIN_STIFFNESS 0.1
+
 /* the quadratic fit's basis: d linear and d(d+1)/2 quadratic terms, 9 in 3D */
 #define PERI_FIT_BASIS 9
 
@@ -56,6 +65,11 @@ typedef struct peri_horizon_field {
   double stabilization;   /* the control's factor (discretization.partial_stress_stabilization) */
   double *control_reaction; /* [3n] scratch: the control's reactions on the stencil nodes */
   uint8_t *needs_stress;  /* [n] coupled nodes and the nodes of their stencils */
+  int32_t *lattice_index; /* [n] row of node i in lattice_correction; -1: none (a local node, a node
+                             outside the stencils, a node whose family is too weak) */
+  double *lattice_correction; /* [V^2 per row, V = 1, 3, 6 in 1D, 2D, 3D] R_i = C_iso D_i^-1 in Voigt
+                             form: nu0 <- nu0 + (R_i - I) : sym nu0 (src/model/partial_stress.c) */
+  int32_t lattice_weak;   /* stencil nodes left without the correction (D_i below 0.1 C_iso) */
   long ps_would_break;    /* bonds of coupled nodes beyond their critical stretch (kept intact) */
   /* the local region (docs/variable_horizon.md "A vanishing horizon"): nodes whose horizon is 0
    * carry no force state; their partial stress is the Cauchy stress of the strain of their

@@ -130,6 +130,8 @@ void peri_horizon_field_free(peri_horizon_field *h) {
   free(h->stencil_fit);
   free(h->stiffness);
   free(h->control_reaction);
+  free(h->lattice_index);
+  free(h->lattice_correction);
   free(h->needs_stress);
   free(h->local);
   free(h->variational);

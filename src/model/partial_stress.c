@@ -19,7 +19,9 @@
  * stiffness, without which the 2D/3D operator keeps complex eigenvalue pairs whatever kappa.
  * z vanishes for every quadratic field, so the control changes neither the patch test nor
  * the long-wave modulus (the force of a field with k delta small changes at order
- * (k delta)^4), and gives every other mode, the checkerboard included, a positive stiffness. */
+ * (k delta)^4), and gives every other mode, the checkerboard included, a positive stiffness.
+ * On a lattice nu0 is D_i : eps with D_i the node's discrete (anisotropic) elasticity, so each
+ * peridynamic stencil node's nu0 is mapped onto the isotropic C_iso (lattice_correction below). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -105,7 +107,192 @@ static void mark_variational(peri_horizon_field *h, const peri_particles *p) {
       for (int64_t t = h->stencil_offset[i]; t < h->stencil_offset[i + 1]; ++t) h->variational[h->stencil_node[t]] = 0;
 }
 
-int peri_partial_stress_prepare(peri_sim *s) {
+/* The isotropic moduli of the material's own E and nu (for PMB its fixed Poisson ratio), the
+ * delta -> 0 limit of nu0 (Silling, Littlewood and Seleson 2013, "Local-nonlocal coupling
+ * idea"): plane stress lambda' = E nu / (1 - nu^2); plane strain and 3D lambda = E nu / ((1 + nu)(1 - 2 nu));
+ * mu = E / (2 (1 + nu)). (1D: sigma = E eps.) */
+static void isotropic_moduli(const peri_sim *s, int32_t i, double *lambda, double *mu) {
+  const peri_material *mat = &s->mat.materials[s->disc.p.material[i]];
+  const double E = mat->E, nu = mat->nu;
+  *mu = E / (2.0 * (1.0 + nu));
+  *lambda = s->disc.p.dim == 2 && s->disc.geom.plane == PERI_PLANE_STRESS ? E * nu / (1.0 - nu * nu)
+                                                                          : E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+}
+
+/* Voigt order of the symmetric tensors: 1D xx; 2D xx yy xy; 3D xx yy zz yz xz xy. */
+static const int voigt_row[3][6] = {{0}, {0, 1, 0}, {0, 1, 2, 1, 0, 0}};
+static const int voigt_col[3][6] = {{0}, {0, 1, 1}, {0, 1, 2, 2, 2, 1}};
+static int voigt_size(int dim) { return dim == 1 ? 1 : dim == 2 ? 3 : 6; }
+
+/* C_iso in Voigt form (stress from the engineering strain), the elasticity of the local nodes. */
+static void isotropic_voigt(const peri_sim *s, int32_t i, double C[36]) {
+  const int dim = s->disc.p.dim, n = voigt_size(dim);
+  memset(C, 0, 36 * sizeof(double));
+  if (dim == 1) {
+    C[0] = s->mat.materials[s->disc.p.material[i]].E;
+    return;
+  }
+  double lambda, mu;
+  isotropic_moduli(s, i, &lambda, &mu);
+  for (int r = 0; r < dim; ++r)
+    for (int c = 0; c < dim; ++c) C[n * r + c] = lambda + (r == c ? 2.0 * mu : 0.0);
+  for (int r = dim; r < n; ++r) C[n * r + r] = mu;
+}
+
+/* nu0_i = sum_j t_i<xi> (y_j - y_i)/|y_j - y_i| (x) xi V_j over the intact bonds, from h->state */
+static void node_partial_stress(const peri_sim *s, int32_t i, double nu[9]) {
+  const peri_horizon_field *h = s->disc.horizon_field;
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  memset(nu, 0, 9 * sizeof(double));
+  for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+    if (b->broken[k]) continue;
+    const int32_t j = b->neighbor[k];
+    double xi[3], dy[3];
+    peri_bond_xi(p->x, i, j, xi);
+    const double r = peri_deformed_bond(p->x, p->u, i, j, dy);
+    if (!(r > 0.0)) continue;
+    const double g = h->state[k] * p->volume[j] / r;
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c) nu[3 * a + c] += g * dy[a] * xi[c];
+  }
+}
+
+/* True when the symmetric part of the n x n matrix m is positive definite (Cholesky). */
+static bool positive_definite(const double *m, int n) {
+  double l[36] = {0};
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c <= r; ++c) {
+      double sum = 0.5 * (m[n * r + c] + m[n * c + r]);
+      for (int k = 0; k < c; ++k) sum -= l[n * r + k] * l[n * c + k];
+      if (r == c) {
+        if (!(sum > 0.0)) return false;
+        l[n * r + r] = sqrt(sum);
+      } else {
+        l[n * r + c] = sum / l[n * c + c];
+      }
+    }
+  return true;
+}
+
+/* The lattice correction (docs/variable_horizon.md "The lattice correction"). Under u = a + Hx a
+ * peridynamic node's nu0 is D_i : eps to first order, with D_i the elasticity of its own discrete
+ * family: on a square or cubic lattice its fourth moment is not isotropic and depends on
+ * delta_i / dx (the shear stiffness of a full PMB family is 0.927, 0.951, 0.988, 0.995 of the
+ * isotropic one at delta = 2, 3, 4, 5 dx), and at a free surface the family is truncated, so
+ * nu0 differs from node to node under a shear and the divergence leaves a force. Each
+ * peridynamic node of a stencil therefore takes nu0 <- nu0 + (C_iso D_i^-1 - I) : sym nu0, which
+ * makes nu0 = C_iso : eps on every node, whatever its horizon, under any H (the local nodes'
+ * sigma already is). D_i is probed at set-up through the run's own state computation: its
+ * columns are the symmetric part of nu0 under the unit strains, by the fourth-order central
+ * difference (8 (nu(e) - nu(-e)) - (nu(2e) - nu(-2e))) / 12e at e = PERI_LATTICE_PROBE_STRAIN,
+ * whose truncation (order e^4) and rounding (eps |x| / (e |xi|)) are far below the patch test's
+ * 1e-10, on the bonds as built (a precrack or a broken bond is damage, which the correction
+ * must not undo; it is not refreshed when bonds break). A node whose D_i is not at least
+ * PERI_LATTICE_MIN_STIFFNESS times C_iso (D_i - tau C_iso not positive definite) keeps its nu0
+ * and is counted: its correction would amplify nu0 by more than 1 / tau. */
+static int lattice_correction(peri_sim *s, void (*compute_states)(peri_sim *)) {
+  peri_horizon_field *h = s->disc.horizon_field;
+  peri_particles *p = &s->disc.p;
+  peri_bonds *b = &s->disc.bonds;
+  const int dim = p->dim, nv = voigt_size(dim);
+  free(h->lattice_index), free(h->lattice_correction);
+  h->lattice_index = peri_malloc(sizeof(int32_t) * (size_t)(p->n > 0 ? p->n : 1));
+  int32_t rows = 0;
+  for (int32_t i = 0; i < p->n; ++i)
+    h->lattice_index[i] = i < p->n_owned && h->needs_stress[i] && !(h->local && h->local[i]) ? rows++ : -1;
+  const size_t block = (size_t)nv * (size_t)nv, n3 = 3 * (size_t)(p->n > 0 ? p->n : 1);
+  double *D = peri_calloc(block * (size_t)(rows > 0 ? rows : 1), sizeof(double));
+  double *u_saved = peri_malloc(n3 * sizeof(double));
+  uint8_t *broken_saved = peri_malloc((size_t)(b->n_bonds > 0 ? b->n_bonds : 1));
+  memcpy(u_saved, p->u, n3 * sizeof(double));
+  memcpy(broken_saved, b->broken, (size_t)b->n_bonds);
+  memset(b->broken, 0, (size_t)b->n_bonds);
+  static const double factor[4] = {1.0, -1.0, 2.0, -2.0}, weight[4] = {8.0, -8.0, -1.0, 1.0};
+  const double e = PERI_LATTICE_PROBE_STRAIN;
+  for (int k = 0; k < nv; ++k) {
+    const int ka = voigt_row[dim - 1][k], kb = voigt_col[dim - 1][k];
+    for (int q = 0; q < 4; ++q) {
+      /* u = e_q E_k x, E_k the unit engineering strain k (shear: 1/2 in each of ab and ba) */
+      const double amount = factor[q] * e * (ka == kb ? 1.0 : 0.5);
+      memset(p->u, 0, n3 * sizeof(double));
+      for (int32_t j = 0; j < p->n; ++j) {
+        p->u[3 * (size_t)j + ka] += amount * p->x[3 * (size_t)j + kb];
+        if (ka != kb) p->u[3 * (size_t)j + kb] += amount * p->x[3 * (size_t)j + ka];
+      }
+      compute_states(s);
+#pragma omp parallel for schedule(dynamic, 64)
+      for (int32_t i = 0; i < p->n_owned; ++i) {
+        if (h->lattice_index[i] < 0) continue;
+        double nu[9];
+        node_partial_stress(s, i, nu);
+        double *column = D + block * (size_t)h->lattice_index[i];
+        for (int r = 0; r < nv; ++r) {
+          const int a = voigt_row[dim - 1][r], c = voigt_col[dim - 1][r];
+          column[nv * r + k] += weight[q] * 0.5 * (nu[3 * a + c] + nu[3 * c + a]) / (12.0 * e);
+        }
+      }
+    }
+  }
+  memcpy(p->u, u_saved, n3 * sizeof(double));
+  memcpy(b->broken, broken_saved, (size_t)b->n_bonds);
+  compute_states(s); /* those of the restored displacement */
+  free(u_saved), free(broken_saved);
+  /* R_i = C_iso D_i^-1 */
+  h->lattice_correction = peri_malloc(block * sizeof(double) * (size_t)(rows > 0 ? rows : 1));
+  int32_t weak = 0, first_weak = -1;
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    if (h->lattice_index[i] < 0) continue;
+    double *Di = D + block * (size_t)h->lattice_index[i], C[36], shifted[36];
+    isotropic_voigt(s, i, C);
+    for (size_t t = 0; t < block; ++t) shifted[t] = Di[t] - PERI_LATTICE_MIN_STIFFNESS * C[t];
+    if (!positive_definite(shifted, nv) || !invert_small(Di, nv)) {
+      if (first_weak < 0) first_weak = i;
+      weak++;
+      h->lattice_index[i] = -1;
+      continue;
+    }
+    double *R = h->lattice_correction + block * (size_t)(h->lattice_index[i]);
+    for (int r = 0; r < nv; ++r)
+      for (int c = 0; c < nv; ++c) {
+        double sum = 0.0;
+        for (int t = 0; t < nv; ++t) sum += C[nv * r + t] * Di[nv * t + c];
+        R[nv * r + c] = sum;
+      }
+  }
+  free(D);
+  h->lattice_weak = weak;
+  if (weak > 0) {
+    const double *x = p->x + 3 * (size_t)first_weak;
+    peri_warning("partial stress: %d nodes (first at (%g, %g, %g)) have a discrete elasticity below %g of the "
+                 "isotropic one in some strain (a family cut by free surfaces); they keep their own partial stress "
+                 "without the lattice correction (docs/variable_horizon.md)",
+                 (int)weak, x[0], x[1], x[2], PERI_LATTICE_MIN_STIFFNESS);
+  }
+  return PERI_OK;
+}
+
+/* nu0 <- nu0 + (R_i - I) : sym nu0 (lattice_correction) */
+static void correct_lattice(const peri_horizon_field *h, int dim, int32_t i, double nu[9]) {
+  const int32_t row = h->lattice_index[i];
+  if (row < 0) return;
+  const int nv = voigt_size(dim);
+  const double *R = h->lattice_correction + (size_t)nv * (size_t)nv * (size_t)row;
+  double v[6];
+  for (int r = 0; r < nv; ++r) {
+    const int a = voigt_row[dim - 1][r], c = voigt_col[dim - 1][r];
+    v[r] = 0.5 * (nu[3 * a + c] + nu[3 * c + a]);
+  }
+  for (int r = 0; r < nv; ++r) {
+    double change = -v[r];
+    for (int q = 0; q < nv; ++q) change += R[nv * r + q] * v[q];
+    const int a = voigt_row[dim - 1][r], c = voigt_col[dim - 1][r];
+    nu[3 * a + c] += change;
+    if (a != c) nu[3 * c + a] += change;
+  }
+}
+
+int peri_partial_stress_prepare(peri_sim *s, void (*compute_states)(peri_sim *s)) {
   peri_horizon_field *h = s->disc.horizon_field;
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
@@ -189,7 +376,7 @@ int peri_partial_stress_prepare(peri_sim *s) {
   free(h->partial_stress), free(h->control_reaction);
   h->partial_stress = peri_calloc(9 * (size_t)(p->n > 0 ? p->n : 1), sizeof(double));
   h->control_reaction = peri_calloc(3 * (size_t)(p->n > 0 ? p->n : 1), sizeof(double));
-  return PERI_OK;
+  return lattice_correction(s, compute_states);
 }
 
 /* The displacement gradient G_ac = d u_a / d x_c of a coupled node from its least-squares stencil. */
@@ -204,22 +391,16 @@ static void displacement_gradient(const peri_sim *s, int32_t i, double G[9]) {
   }
 }
 
-/* The Cauchy stress of the small strain eps = sym G with the material's own E and nu (for PMB its
- * fixed Poisson ratio), the delta -> 0 limit of nu0 (Silling, Littlewood and Seleson 2013,
- * "Local-nonlocal coupling idea"): 1D sigma = E eps; plane stress lambda' = E nu / (1 - nu^2);
- * plane strain and 3D lambda = E nu / ((1 + nu)(1 - 2 nu)); mu = E / (2 (1 + nu)). */
+/* The Cauchy stress of the small strain eps = sym G with the material's isotropic moduli (above). */
 static void cauchy_stress(const peri_sim *s, int32_t i, const double G[9], double sigma[9]) {
-  const peri_material *mat = &s->mat.materials[s->disc.p.material[i]];
   const int dim = s->disc.p.dim;
   memset(sigma, 0, 9 * sizeof(double));
   if (dim == 1) {
-    sigma[0] = mat->E * G[0];
+    sigma[0] = s->mat.materials[s->disc.p.material[i]].E * G[0];
     return;
   }
-  const double E = mat->E, nu = mat->nu, mu = E / (2.0 * (1.0 + nu));
-  const double lambda = dim == 2 && s->disc.geom.plane == PERI_PLANE_STRESS ? E * nu / (1.0 - nu * nu)
-                                                                             : E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
-  double trace = 0.0;
+  double lambda, mu, trace = 0.0;
+  isotropic_moduli(s, i, &lambda, &mu);
   for (int a = 0; a < dim; ++a) trace += G[4 * a];
   for (int a = 0; a < dim; ++a)
     for (int c = 0; c < dim; ++c) sigma[3 * a + c] = mu * (G[3 * a + c] + G[3 * c + a]) + (a == c ? lambda * trace : 0.0);
@@ -236,10 +417,9 @@ double peri_partial_stress_local_energy(const peri_sim *s, int32_t i) {
 void peri_partial_stress_force(peri_sim *s) {
   peri_horizon_field *h = s->disc.horizon_field;
   peri_particles *p = &s->disc.p;
-  const peri_bonds *b = &s->disc.bonds;
   double *nu = h->partial_stress, *reaction_sum = h->control_reaction;
   memset(reaction_sum, 0, 3 * sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
-  /* nu0_i = sum_j t_i<xi> (y_j - y_i)/|y_j - y_i| (x) xi V_j over the intact bonds */
+  /* nu0_i of every node of a stencil, with the lattice correction */
 #pragma omp parallel for schedule(dynamic, 64)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     if (!h->needs_stress[i]) continue;
@@ -249,19 +429,8 @@ void peri_partial_stress_force(peri_sim *s) {
       cauchy_stress(s, i, G, nu + 9 * (size_t)i);
       continue;
     }
-    double sum[9] = {0};
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      double xi[3], dy[3];
-      peri_bond_xi(p->x, i, j, xi);
-      const double r = peri_deformed_bond(p->x, p->u, i, j, dy);
-      if (!(r > 0.0)) continue;
-      const double g = h->state[k] * p->volume[j] / r;
-      for (int a = 0; a < 3; ++a)
-        for (int c = 0; c < 3; ++c) sum[3 * a + c] += g * dy[a] * xi[c];
-    }
-    memcpy(nu + 9 * (size_t)i, sum, sizeof sum);
+    node_partial_stress(s, i, nu + 9 * (size_t)i);
+    correct_lattice(h, p->dim, i, nu + 9 * (size_t)i);
   }
   /* f_a = sum_b d nu_ab / d x_b */
 #pragma omp parallel for schedule(static)

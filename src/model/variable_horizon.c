@@ -63,6 +63,9 @@ static void pmb_bond_constants(peri_sim *s) {
       h->bond_pair[k] = (h->bond_state[k] + h->bond_state[h->reverse[k]]) * p->volume[b->neighbor[k]];
 }
 
+static void vh_pmb_states(peri_sim *s);
+static void vh_lps_states(peri_sim *s);
+
 static int vh_init(peri_sim *s, vh_kind kind) {
   peri_horizon_field *h = s->disc.horizon_field;
   peri_particles *p = &s->disc.p;
@@ -114,7 +117,7 @@ static int vh_init(peri_sim *s, vh_kind kind) {
     p->wvol = peri_calloc(n, sizeof(double));
     memcpy(p->wvol, h->node_constant, sizeof(double) * (size_t)p->n);
   }
-  return h->n_coupled > 0 ? peri_partial_stress_prepare(s) : PERI_OK;
+  return h->n_coupled > 0 ? peri_partial_stress_prepare(s, kind == VH_LPS ? vh_lps_states : vh_pmb_states) : PERI_OK;
 }
 
 static int vh_pmb_init(peri_sim *s) { return vh_init(s, VH_PMB); }
@@ -212,6 +215,13 @@ static void vh_states(peri_sim *s, vh_kind kind) {
       h->state[k] = b->broken[k] ? 0.0 : t;
     }
   }
+}
+
+/* the force states of the current displacement, for the lattice probe of partial_stress.c */
+static void vh_pmb_states(peri_sim *s) { vh_states(s, VH_PMB); }
+static void vh_lps_states(peri_sim *s) {
+  vh_lps_dilatation(s);
+  vh_states(s, VH_LPS);
 }
 
 /* The critical elongation s0 |xi| of every directed bond for vh_pmb_force_fused, set at its

@@ -5,7 +5,8 @@
  * the delta -> 0 limit of nu0 = sum_j T<xi> (x) xi V_j under T = delta^-(d+1) Z<xi/delta>, and
  * their force is its divergence, as in the coupling region.
  *   - Patch test u = a + Hx (1D any H, 2D and 3D the dilatation H = h I, as for the partial
- *     stress alone, tests/verification/test_variable_horizon.c): the interior force vanishes
+ *     stress alone, tests/verification/test_variable_horizon.c; a general H in 2D and 3D is
+ *     tests/verification/test_shear_patch.c): the interior force vanishes
  *     to round-off at the full-PD, the coupled and the local nodes. The per-node calibration
  *     makes nu0 of a PD node under this H exactly the Cauchy stress of the same strain (1D:
  *     E H; 2D/3D: the bulk stress of the dilatation), so a local side with other elastic

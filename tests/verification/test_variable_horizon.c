@@ -2,7 +2,8 @@
  * Silling, Littlewood and Seleson 2013, "Patch test requirement for a coupling method").
  * Under u = a + Hx the interior force density must vanish. With the partial-stress force in
  * the coupling region (the default: nodes whose family holds a different horizon) it does to
- * round-off, in 1D for any H and in 2D and 3D for the dilatation H = h I, for PMB and LPS; the
+ * round-off, in 1D for any H and in 2D and 3D for the dilatation H = h I (a general H:
+ * tests/verification/test_shear_patch.c), for PMB and LPS; the
  * full peridynamic force on the same grid does not ("Full PD shows artifacts"), and the test
  * measures those ghost forces too, so that either regression is caught.
  *
@@ -12,7 +13,8 @@
  * dilatation the bond stretches all equal h and nu0_i is the per-node constant times the
  * second moment sum omega beta V xi (x) xi of i's family, which on a square or cubic lattice is
  * isotropic and, with the calibration, gives nu0_i = (stress of the dilatation) I whatever
- * delta_i. The least-squares divergence of a constant field is zero. Round-off: a bond's
+ * delta_i, which the lattice correction C_iso D_i^-1 keeps (on a full family D_i : I = C_iso : I).
+ * The least-squares divergence of a constant field is zero. Round-off: a bond's
  * extension carries an absolute error of a few eps |x|max (|x| <= 0.05 m here) against
  * h |xi| >= 0.02 x 1e-3 m, a relative 1e-12; the force is a difference of nu0 over dx ~
  * delta/3 of sums of such terms, so |f| <= ~1e-11 of the force scale S |H| below: the limit
