@@ -220,6 +220,10 @@ typedef struct peri_state {
    * built from the state when NULL; whoever sets the state from outside the loops frees it */
   uint8_t *plastic_nodes;
   double plastic_reach;
+  /* the deviatoric yield rule (docs/plasticity.md section 8): [n_bonds] the index of bond
+   * j -> i for bond k = i -> j (a node's force reads its neighbours' plastic state of the
+   * bond), NULL for the bond rule */
+  int64_t *plastic_reverse;
   struct peri_restart *restart; /* checkpoint to continue from (--restart), NULL otherwise */
 } peri_state;
 

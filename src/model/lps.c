@@ -680,7 +680,19 @@ static long lps_plastic_force_pass(peri_sim *s, bool update_s0) {
   return n_broken;
 }
 
+/* The deviatoric yield rule (src/model/deviatoric_plasticity.c, docs/plasticity.md section
+ * 8): the dilatation stays elastic, so both elastic passes run unchanged; the sublayers then
+ * return radially at the nodes' theta, and the nodes that have or neighbour a plastic state
+ * get the plastic part of their force. */
+static long lps_deviatoric_force_pass(peri_sim *s, bool update_s0) {
+  const long broken = lps_force_pass(s, update_s0);
+  peri_deviatoric_return(s);
+  peri_deviatoric_force(s);
+  return broken;
+}
+
 static long lps_force(peri_sim *s) {
+  if (s->state.plastic_reverse) return peri_force_in_breaking_order(s, lps_deviatoric_force_pass);
   if (s->state.plastic_stretch) return peri_force_in_breaking_order(s, lps_plastic_force_pass);
   return peri_force_in_breaking_order(s, s->disc.bonds.surface_G ? peri_corrected_lps_force : lps_force_pass);
 }
@@ -692,6 +704,10 @@ static long lps_force(peri_sim *s) {
 static void lps_energy(peri_sim *s, double *W) {
   if (s->disc.bonds.surface_G) {
     peri_corrected_lps_energy(s, W);
+    return;
+  }
+  if (s->state.plastic_reverse) {
+    peri_deviatoric_energy(s, W);
     return;
   }
   if (s->state.plastic_stretch) {
@@ -720,12 +736,15 @@ static double lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) 
   const peri_bonds *b = &s->disc.bonds;
   const int32_t j = b->neighbor[k];
   const double L = peri_bond_length(p->x, i, j), omega = peri_bonds_omega(b, L);
+  const size_t n = (size_t)p->n;
+  if (s->state.plastic_reverse) /* the deviatoric rule: each end's plastic part of its deviatoric term */
+    return omega * (L * (p->coef[i] + p->coef[j]) + (r - L) * (p->coef[n + (size_t)i] + p->coef[n + (size_t)j]) -
+                    L * peri_deviatoric_pair_plastic(s, i, k));
   const double e = r - L - peri_plastic_bond_stretch(s, i, k) * L; /* the elastic extension */
   /* node i's half, omega (n_theta (K theta - alpha P/3) L/m + alpha (e - eth L - theta L/3))
    * with its thermal strain eth, is omega (D L + B e) with i's coefficients D, B of the
    * dilatation pass, which the force pass exchanges for ghosts (theta and P it does not): a
    * node next to another rank's nodes gets their halves right */
-  const size_t n = (size_t)p->n;
   return omega * (L * (p->coef[i] + p->coef[j]) + e * (p->coef[n + (size_t)i] + p->coef[n + (size_t)j]));
 }
 

@@ -299,6 +299,108 @@ static void check_bar_1d_rate(void) {
   peri_sim_free(&s);
 }
 
+/* The deviatoric yield rule (yield_rule: deviatoric, docs/plasticity.md section 8) on the 3D
+ * LPS block (m = 3, nu = 1/4) under uniaxial stress: u = (eps x, l y, l z) with the lateral
+ * strain l solved at every increment so that sigma_yy = 0 at the centre node (the secant
+ * method; the plastic state of the increment maps from the accepted one, as the quasi-static
+ * solvers do, and is accepted when sigma_yy vanishes). With the bulk response elastic and
+ * every bond of a node yielding together the block is von Mises with kinematic hardening by
+ * overlay, whose uniaxial curve is the piecewise-linear one of the sublayers built from the
+ * deviatoric curve. */
+static const char *const table_5_2_deviatoric = "    plasticity:\n"
+                                                "      strains: [0.002, 0.0065, 0.0124, 0.0168]\n"
+                                                "      power_law: {yield_stress: 400e6, yield_strain: 0.002, exponent: 0.1}\n"
+                                                "      yield_rule: deviatoric\n";
+
+/* sigma_yy at node c at the axial strain eps and lateral strain l (sigma_xx in *sxx). */
+static double lateral_stress(peri_sim *s, int32_t c, double eps, double l, double *sig, double *sxx) {
+  for (int32_t i = 0; i < s->disc.p.n; ++i)
+    for (int d = 0; d < 3; ++d) s->disc.p.u[3 * i + d] = (d == 0 ? eps : l) * s->disc.p.x[3 * i + d];
+  cr_assert_eq(peri_stress(s, sig), 0);
+  *sxx = sig[9 * c];
+  return sig[9 * c + 4];
+}
+
+/* sigma_xx at node c under uniaxial stress at the axial strain eps (the lateral strain in and
+ * out in *lateral), the increment accepted. */
+static double uniaxial_at(peri_sim *s, int32_t c, double eps, double *lateral, double *sig) {
+  double sxx = 0.0, la = *lateral, fa = lateral_stress(s, c, eps, la, sig, &sxx);
+  double lb = la - 1e-5, fb = lateral_stress(s, c, eps, lb, sig, &sxx);
+  for (int it = 0; it < 40 && fabs(fb) > 1e-9 * fabs(sxx) + 1.0; ++it) {
+    const double next = lb - fb * (lb - la) / (fb - fa);
+    la = lb, fa = fb, lb = next;
+    fb = lateral_stress(s, c, eps, lb, sig, &sxx);
+  }
+  cr_assert(fabs(fb) <= 1e-9 * fabs(sxx) + 1.0, "uniaxial stress not reached at eps %g (sigma_yy %g)", eps, fb);
+  *lateral = lb;
+  peri_plastic_commit(s);
+  return sxx;
+}
+
+/* Walks the axial strain from a to b in increments of at most h under uniaxial stress. */
+static double uniaxial_walk(peri_sim *s, int32_t c, double a, double b, double h, double *lateral, double *sig) {
+  const int n = (int)ceil(fabs(b - a) / h);
+  double out = 0.0;
+  for (int k = 1; k <= n; ++k) out = uniaxial_at(s, c, a + (b - a) * k / n, lateral, sig);
+  return out;
+}
+
+static void check_bar_3d_deviatoric(const char *plasticity, const char *label) {
+  peri_sim s;
+  build_with(&s, 3, "lps", plasticity);
+  const int32_t c = centre_node(&s);
+  double *sig = malloc(sizeof(double) * 9 * (size_t)s.disc.p.n);
+  s.state.plastic_committed = calloc((size_t)s.state.plastic_layers * (size_t)s.disc.bonds.n_bonds, sizeof(double));
+  const double h = 1e-3, e_small = 0.5 * EPS0;
+  double lateral = 0.0;
+  const double E_pd = uniaxial_walk(&s, c, 0.0, e_small, h, &lateral, sig) / e_small;
+  cr_log_info("3D %s: E_pd %.5g (E %.5g), nu_pd %.4f", label, E_pd, E_STEEL, -lateral / e_small);
+  cr_expect(fabs(E_pd / E_STEEL - 1.0) < 0.03, "3D %s: elastic modulus %g, expected %g within 3%%", label, E_pd, E_STEEL);
+  double eps = e_small, mono[4];
+  for (int k = 0; k < 4; ++k) {
+    const double sigma = uniaxial_walk(&s, c, eps, breakpoints[k], h, &lateral, sig);
+    eps = breakpoints[k];
+    mono[k] = sigma;
+    const double curve = SIGMA0 * pow(eps / EPS0, 0.1), expected = curve * E_pd / E_STEEL;
+    cr_log_info("3D %s: eps %.4f sigma %.5g, curve %.5g (%+.2f%%), curve x E_pd/E %.5g (%+.2f%%)", label, eps, sigma,
+                curve, 100 * (sigma / curve - 1), expected, 100 * (sigma / expected - 1));
+    cr_expect(fabs(sigma / expected - 1.0) < 0.02, "3D %s: at breakpoint %.4f sigma %g, expected %g within 2%%", label,
+              eps, sigma, expected);
+  }
+  /* unloading from eps_a beyond the last breakpoint: elastic with the slope E_pd */
+  const double eps_a = 0.02, sigma_a = uniaxial_walk(&s, c, eps, eps_a, h, &lateral, sig), d_el = 0.5 * EPS0;
+  const double slope = (sigma_a - uniaxial_walk(&s, c, eps_a, eps_a - d_el, h, &lateral, sig)) / d_el;
+  cr_log_info("3D %s: sigma at %.3f %.5g (flat %.5g); unloading slope %.5g (E_pd %.5g, %+.2f%%)", label, eps_a, sigma_a,
+              mono[3], slope, E_pd, 100 * (slope / E_pd - 1));
+  cr_expect(fabs(sigma_a / mono[3] - 1.0) < 0.02, "3D %s: beyond the last breakpoint sigma %g, flat %g", label, sigma_a,
+            mono[3]);
+  cr_expect(fabs(slope / E_pd - 1.0) < 0.02, "3D %s: unloading slope %g, E_pd %g within 2%%", label, slope, E_pd);
+  /* reversed loading, Masing: elastic until the drop 2 sigma_1, then a drop of 2 sigma_k at
+   * eps_a - 2 eps_k (the deviatoric strain and the stress both change by twice the
+   * monotonic curve's: 2 e_k + 2 sigma_k / (9K) = 2 eps_k) */
+  eps = eps_a - d_el;
+  const double before = eps_a - 0.95 * 2.0 * EPS0;
+  const double drop_before = sigma_a - uniaxial_walk(&s, c, eps, before, h, &lateral, sig);
+  cr_log_info("3D %s: reverse drop at %.4f: %.5g, elastic %.5g", label, before, drop_before, E_pd * (eps_a - before));
+  cr_expect(fabs(drop_before / (E_pd * (eps_a - before)) - 1.0) < 0.02, "3D %s: not elastic up to the reverse yield",
+            label);
+  eps = before;
+  for (int k = 0; k < 4; ++k) {
+    const double target = eps_a - 2.0 * breakpoints[k];
+    const double drop = sigma_a - uniaxial_walk(&s, c, eps, target, h, &lateral, sig);
+    eps = target;
+    const double expected = 2.0 * SIGMA0 * pow(breakpoints[k] / EPS0, 0.1) * E_pd / E_STEEL;
+    cr_log_info("3D %s: reverse eps %.4f drop %.5g, Masing %.5g (%+.2f%%)", label, eps, drop, expected,
+                100 * (drop / expected - 1));
+    cr_expect(fabs(drop / expected - 1.0) < 0.02, "3D %s: reverse branch at %.4f: drop %g, Masing %g within 2%%", label,
+              eps, drop, expected);
+  }
+  free(sig);
+  peri_sim_free(&s);
+}
+
+
+Test(plasticity, bar_3d_lps_deviatoric) { check_bar_3d_deviatoric(table_5_2_deviatoric, "LPS deviatoric"); }
 Test(plasticity, bar_1d_pmb) { check_bar_1d(); }
 Test(plasticity, bar_1d_rate) { check_bar_1d_rate(); }
 Test(plasticity, bar_3d_pmb) { check_bar_3d("pmb"); }
