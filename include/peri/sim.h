@@ -224,6 +224,10 @@ typedef struct peri_state {
    * j -> i for bond k = i -> j (a node's force reads its neighbours' plastic state of the
    * bond), NULL for the bond rule */
   int64_t *plastic_reverse;
+  /* the deviatoric yield rule: [n_bonds] for bond k = i -> j the other end's plastic term
+   * alpha_j sum_l W_l s^dp_l,ji, written by j's return mapping (recomputed at every force
+   * evaluation by every node that has a plastic state), NULL for the bond rule */
+  double *plastic_reverse_term;
   struct peri_restart *restart; /* checkpoint to continue from (--restart), NULL otherwise */
 } peri_state;
 

@@ -18,9 +18,11 @@
  * family at once, the closest point in the energy norm (associated flow). All bonds of a node
  * therefore yield together.
  *
- * Each end of a bond keeps its own state: the pair force t_ij + t_ji reads the other end's
- * plastic stretches of the bond through s->state.plastic_reverse (every neighbour is an owned
- * node: one rank, no periodic images). */
+ * Each end of a bond keeps its own state. The pair force t_ij + t_ji needs the other end's
+ * plastic term alpha_j sum_k W_k s^dp_k,ji: j's return mapping writes it where i's force pass
+ * reads it in family order, s->state.plastic_reverse_term at the reverse bond's index
+ * s->state.plastic_reverse[k] (each entry has one writer; every neighbour is an owned node:
+ * one rank, no periodic images). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -56,6 +58,7 @@ int peri_deviatoric_init(peri_sim *s) {
     return PERI_ERR_INPUT;
   }
   s->state.plastic_reverse = reverse;
+  s->state.plastic_reverse_term = peri_calloc((size_t)(b->n_bonds > 0 ? b->n_bonds : 1), sizeof(double));
   return PERI_OK;
 }
 
@@ -91,11 +94,32 @@ static void deviatoric_stretches(const peri_sim *s, const peri_bond_view *w, int
  * sits on the bound to round-off, and a second evaluation at the same displacement (the
  * breaking order, the energy) must change nothing. */
 #define RETURN_MARGIN 1e-10
+/* The screen of pass 1's sum (whose lengths come from other arithmetic) keeps this margin. */
+#define SCREEN_MARGIN 1e-6
+
+/* sum_l W_l s^dp_l of the bond whose state starts at sp, W those of the node's material. */
+static inline double mean_plastic(const peri_sublayers *sl, const double *sp) {
+  double plastic = 0.0;
+  if (sl)
+    for (int l = 0; l < sl->n; ++l) plastic += sl->weight[l] * sp[l];
+  return plastic;
+}
+
+/* Node i's plastic terms alpha_i sum_l W_l s^dp_l,ij into the reverse bonds' entries. */
+static void write_reverse_terms(peri_sim *s, int32_t i) {
+  const peri_bonds *b = &s->disc.bonds;
+  const peri_sublayers *sl = node_layers(s, i);
+  const int L = s->state.plastic_layers;
+  const double alpha = s->disc.p.coef[(size_t)s->disc.p.n + (size_t)i];
+  const double *sp = s->state.plastic_stretch;
+  for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
+    s->state.plastic_reverse_term[s->state.plastic_reverse[k]] = alpha * mean_plastic(sl, sp + k * L);
+}
 
 /* The return mapping of node i's sublayers (from the committed state in quasi-static load
  * steps, else in place). Returns whether a plastic stretch of the node (or a committed one)
  * is nonzero. */
-static bool node_return(peri_sim *s, const peri_bond_view *w, int32_t i, double *sd, double *wt) {
+static bool node_return(peri_sim *s, const peri_bond_view *w, int32_t i, double elastic, double *sd, double *wt) {
   const peri_sublayers *sl = node_layers(s, i);
   if (!sl) return false;
   const peri_bonds *b = &s->disc.bonds;
@@ -107,12 +131,10 @@ static bool node_return(peri_sim *s, const peri_bond_view *w, int32_t i, double 
   const double *base = committed ? s->state.plastic_committed + k0 * L : out;
   /* the bound of sublayer k is (3 mu / alpha_m) m_i e_yk^2 */
   const double scale = 3.0 * mat->mu / mat->alpha_m * s->disc.p.wvol[i];
+  /* every plastic stretch 0 and the elastic deviatoric energy of pass 1 below the first
+   * yield (with a margin for that sum's rounding; nearer, the exact sums below decide) */
+  if (!s->state.plastic_nodes[i] && elastic <= scale * sl->yield[0] * sl->yield[0] * (1.0 - SCREEN_MARGIN)) return false;
   deviatoric_stretches(s, w, i, sd, wt);
-  if (!s->state.plastic_nodes[i]) { /* every plastic stretch 0: one sum for all sublayers */
-    double S = 0.0;
-    for (int64_t a = 0; a < nb; ++a) S = fma(wt[a], sd[a] * sd[a], S);
-    if (S <= scale * sl->yield[0] * sl->yield[0] * (1.0 + RETURN_MARGIN)) return false;
-  }
   double S[PERI_MAX_SUBLAYERS] = {0}, factor[PERI_MAX_SUBLAYERS];
   for (int64_t a = 0; a < nb; ++a)
     for (int k = 0; k < n; ++k) {
@@ -147,7 +169,7 @@ static int64_t longest_family(const peri_bonds *b, int32_t n) {
   return longest;
 }
 
-void peri_deviatoric_return(peri_sim *s) {
+void peri_deviatoric_return(peri_sim *s, const double *elastic) {
   if (!s->state.plastic_nodes) peri_plastic_flag_nodes(s);
   const peri_particles *p = &s->disc.p;
   const peri_bond_view w = peri_bond_view_of(s, s->disc.node_blocks->soa);
@@ -157,27 +179,21 @@ void peri_deviatoric_return(peri_sim *s) {
   {
     double *sd = peri_malloc(sizeof(double) * 2 * (size_t)longest), *wt = sd + longest;
 #pragma omp for schedule(static)
-    for (int32_t i = 0; i < p->n_owned; ++i) yielded[i] = node_return(s, &w, i, sd, wt);
+    for (int32_t i = 0; i < p->n_owned; ++i) {
+      const bool before = yielded[i];
+      yielded[i] = node_return(s, &w, i, elastic[i], sd, wt);
+      /* a node with a plastic state, or that had one (quasi-static iterations), refreshes its
+       * terms on the other ends; the others' stay 0 */
+      if (before || yielded[i]) write_reverse_terms(s, i);
+    }
     free(sd);
   }
 }
 
-/* sum_l W_l s^dp_l of the bond whose state starts at sp, W those of the node's material. */
-static inline double mean_plastic(const peri_sublayers *sl, const double *sp) {
-  double plastic = 0.0;
-  if (sl)
-    for (int l = 0; l < sl->n; ++l) plastic += sl->weight[l] * sp[l];
-  return plastic;
-}
-
 double peri_deviatoric_pair_plastic(const peri_sim *s, int32_t i, int64_t k) {
   const peri_particles *p = &s->disc.p;
-  const int32_t j = s->disc.bonds.neighbor[k];
-  const int L = s->state.plastic_layers;
-  const size_t n = (size_t)p->n;
-  const double *sp = s->state.plastic_stretch;
-  return p->coef[n + (size_t)i] * mean_plastic(node_layers(s, i), sp + k * L) +
-         p->coef[n + (size_t)j] * mean_plastic(node_layers(s, j), sp + s->state.plastic_reverse[k] * L);
+  return p->coef[(size_t)p->n + (size_t)i] * mean_plastic(node_layers(s, i), s->state.plastic_stretch + k * s->state.plastic_layers) +
+         s->state.plastic_reverse_term[k];
 }
 
 void peri_deviatoric_force(peri_sim *s) {
@@ -186,12 +202,17 @@ void peri_deviatoric_force(peri_sim *s) {
   const peri_bond_view w = peri_bond_view_of(s, s->disc.node_blocks->soa);
   const uint8_t *yielded = s->state.plastic_nodes;
   const peri_influence influence = b->family.influence;
+  const int L = s->state.plastic_layers;
+  const double *reverse_term = s->state.plastic_reverse_term;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const int64_t k0 = b->offset[i], k1 = b->offset[i + 1];
     bool near = yielded[i];
     for (int64_t k = k0; k < k1 && !near; ++k) near = yielded[b->neighbor[k]];
     if (!near) continue; /* no plastic stretch on either end of any bond: the elastic force */
+    const peri_sublayers *sl = node_layers(s, i);
+    const double alpha = p->coef[(size_t)p->n + (size_t)i];
+    const double *sp = s->state.plastic_stretch;
     double f0 = 0.0, f1 = 0.0, f2 = 0.0;
     for (int64_t k = k0; k < k1; ++k) {
       if (b->broken[k]) continue;
@@ -199,11 +220,10 @@ void peri_deviatoric_force(peri_sim *s) {
       const double x0 = w.x0[j] - w.x0[i], x1 = w.x1[j] - w.x1[i], x2 = w.x2[j] - w.x2[i];
       const double d0 = x0 + (w.u0[j] - w.u0[i]), d1 = x1 + (w.u1[j] - w.u1[i]), d2 = x2 + (w.u2[j] - w.u2[i]);
       const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2), r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-      if (!(r > 0.0)) continue;
       /* t_ij + t_ji loses omega |xi| (alpha_i sum W s^dp_ij + alpha_j sum W s^dp_ji) */
-      const double t = -peri_eval_omega(&w.fam, influence, r0) * r0 * peri_deviatoric_pair_plastic(s, i, k);
-      const double g = t * peri_eval_beta(&w.fam, r0) * w.V[j] / r;
-      f0 = fma(g, d0, f0), f1 = fma(g, d1, f1), f2 = fma(g, d2, f2);
+      const double plastic = alpha * mean_plastic(sl, sp + k * L) + reverse_term[k];
+      const double g = -peri_eval_omega(&w.fam, influence, r0) * r0 * plastic * peri_eval_beta(&w.fam, r0) * w.V[j] / r;
+      if (r > 0.0) f0 = fma(g, d0, f0), f1 = fma(g, d1, f1), f2 = fma(g, d2, f2);
     }
     p->f[3 * (size_t)i] += f0, p->f[3 * (size_t)i + 1] += f1, p->f[3 * (size_t)i + 2] += f2;
   }

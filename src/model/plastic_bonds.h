@@ -69,10 +69,11 @@ bool peri_deviatoric_rule(const peri_sim *s);
  * when a neighbour is not an owned node. */
 int peri_deviatoric_init(peri_sim *s);
 /* After the elastic LPS passes (theta, D and B of every node, the node blocks' copies of the
- * positions at this displacement): the radial return of every owned node's sublayers, then
- * the plastic part of the force added to p->f of the nodes that have or neighbour a plastic
- * state. */
-void peri_deviatoric_return(peri_sim *s);
+ * positions at this displacement): the radial return of every owned node's sublayers, with
+ * elastic[i] = sum_j omega beta V_j (e^d_ij)^2 at the total extensions (a node that has never
+ * yielded and stays below its first yield skips the return), then the plastic part of the
+ * force added to p->f of the nodes that have or neighbour a plastic state. */
+void peri_deviatoric_return(peri_sim *s, const double *elastic);
 void peri_deviatoric_force(peri_sim *s);
 /* alpha_i sum_l W_l s^dp_l,ij + alpha_j sum_l W_l s^dp_l,ji of bond k = i -> j (alpha the
  * coefficients B of the dilatation pass): the pair force t_ij + t_ji loses omega |xi| times it. */
