@@ -62,7 +62,7 @@ int peri_deviatoric_init(peri_sim *s) {
   return PERI_OK;
 }
 
-/* The sublayers of material m padded to L layers (weight 0), or NULL for an elastic one. */
+/* The sublayers of node i's material, or NULL for an elastic one. */
 static const peri_sublayers *node_layers(const peri_sim *s, int32_t i) {
   return s->mat.materials[s->disc.p.material[i]].sublayers;
 }
