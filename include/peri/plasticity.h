@@ -26,6 +26,11 @@ typedef struct peri_sublayers {
   /* Cowper-Symonds rate dependence (model reference 16.3): the yield stretches scale by
    * 1 + (|ds/dt| / rate_d)^(1 / rate_p) with the bond's stretch rate; rate_d = 0: none */
   double rate_d, rate_p;
+  /* the yield rule (docs/plasticity.md section 8): false, every bond's sublayers yield on its
+   * own stretch (yield[] are stretches); true, the deviatoric state-based rule of LPS in 3D,
+   * where sublayer k of a node yields on the deviatoric energy of its whole family (von
+   * Mises) and yield[] are the uniaxial deviatoric yield strains e_yk of the deviatoric curve */
+  bool deviatoric;
 } peri_sublayers;
 
 /* The bond work at which a bond breaks for the fracture energy G0, when every bond crossing a
@@ -54,6 +59,14 @@ static inline double peri_sublayer_work(const peri_sublayers *sl, double s, cons
  * negative slope, a slope that increases (a negative weight), too many points. */
 int peri_sublayers_from_curve(double E, int n, const double *strain, const double *stress, peri_sublayers *out,
                               int *bad, char *why, size_t why_size);
+/* The deviatoric curve of a uniaxial stress-strain curve (docs/plasticity.md section 8): under
+ * uniaxial stress sigma the axial deviatoric strain is e = eps - sigma / (9K) and the axial
+ * deviatoric stress 2 sigma / 3, whose ratio on the elastic line is 2 mu. The sublayers of the
+ * deviatoric rule are peri_sublayers_from_curve(2 mu, ...) of these points: with the bulk
+ * response elastic, the uniaxial tangent after j sublayers is 9 K G_t / (3 K + G_t),
+ * G_t = mu sum_{k>j} W_k, and the bar passes every breakpoint of the uniaxial curve. */
+void peri_deviatoric_curve(double K, int n, const double *strain, const double *stress, double *dev_strain,
+                           double *dev_stress);
 /* Breakpoint stresses of the power-law hardening curve sigma = sigma0 (eps/eps0)^exponent
  * (eps >= eps0; Ebrahimi eq. 5.7 as corrected in the model reference, section 20) at the
  * given strains. */

@@ -220,6 +220,14 @@ typedef struct peri_state {
    * built from the state when NULL; whoever sets the state from outside the loops frees it */
   uint8_t *plastic_nodes;
   double plastic_reach;
+  /* the deviatoric yield rule (docs/plasticity.md section 8): [n_bonds] the index of bond
+   * j -> i for bond k = i -> j (a node's force reads its neighbours' plastic state of the
+   * bond), NULL for the bond rule */
+  int64_t *plastic_reverse;
+  /* the deviatoric yield rule: [n_bonds] for bond k = i -> j the other end's plastic term
+   * alpha_j sum_l W_l s^dp_l,ji, written by j's return mapping (recomputed at every force
+   * evaluation by every node that has a plastic state), NULL for the bond rule */
+  double *plastic_reverse_term;
   struct peri_restart *restart; /* checkpoint to continue from (--restart), NULL otherwise */
 } peri_state;
 

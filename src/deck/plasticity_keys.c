@@ -5,6 +5,8 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include "peri/comm.h"
 #include "peri/deck.h"
 #include "peri/error.h"
 #include "peri/plasticity.h"
@@ -83,14 +85,45 @@ static int calibrate_to_family(const peri_sim *s, const peri_node *pl, const cha
   return PERI_OK;
 }
 
+/* yield_rule: bond (each bond's sublayers on its stretch) or deviatoric (the state-based rule
+ * of docs/plasticity.md section 8: LPS in 3D, sublayers from a curve, none of the bond
+ * rule's failure and rate keys, whose quantities are a bond's). */
+static int parse_yield_rule(const peri_sim *s, const peri_node *pl, const char *section, const peri_material *mat,
+                            peri_sublayers *sl) {
+  static const char *const choices[] = {"bond", "deviatoric", NULL};
+  int which = 0;
+  TRY(peri_deck_choice(pl, "yield_rule", false, choices, &which));
+  if (which == 0) return PERI_OK;
+  const peri_node *at = peri_deck_get(pl, "yield_rule");
+  if (strcmp(s->mat.model->name, "lps") != 0)
+    return peri_deck_error(at, "%s.yield_rule: deviatoric is a rule of the lps model (model here: %s)", section,
+                           s->mat.model->name);
+  if (s->disc.geom.dim != 3)
+    return peri_deck_error(at, "%s.yield_rule: deviatoric is for dimension 3 (its von Mises calibration is the 3D "
+                           "family's)", section);
+  if (mat->peer_force_state)
+    return peri_deck_error(at, "%s.yield_rule: deviatoric needs force_state variational", section);
+  static const char *const bond_only[] = {"weights", "yield_stretches", "calibration", "critical_plastic_stretch",
+                                          "critical_bond_energy", "cowper_symonds", NULL};
+  for (int k = 0; bond_only[k]; ++k)
+    if (peri_deck_get(pl, bond_only[k]))
+      return peri_deck_error(peri_deck_key_node(pl, bond_only[k]), "%s.%s: not with yield_rule deviatoric (%s)",
+                             section, bond_only[k],
+                             k < 2 ? "give the uniaxial curve: strains with stresses or power_law"
+                                   : "a key of the bond rule");
+  sl->deviatoric = true;
+  return PERI_OK;
+}
+
 static int parse_one(const peri_sim *s, const peri_node *pl, peri_material *mat) {
   static const char *const keys[] = {"weights", "yield_stretches", "strains", "stresses", "power_law",
                                      "critical_plastic_stretch", "critical_bond_energy", "cowper_symonds", "calibration",
-                                     NULL};
+                                     "yield_rule", NULL};
   char section[200];
   snprintf(section, sizeof section, "materials.%s.plasticity", mat->name);
   TRY(peri_deck_allow(pl, section, keys));
   peri_sublayers sl = {0};
+  TRY(parse_yield_rule(s, pl, section, mat, &sl));
   char why[256];
   int bad = -1;
   const bool given = peri_deck_get(pl, "weights") || peri_deck_get(pl, "yield_stretches");
@@ -146,6 +179,13 @@ static int parse_one(const peri_sim *s, const peri_node *pl, peri_material *mat)
     if (peri_sublayers_from_curve(mat->E, n, strain, stress, &sl, &bad, why, sizeof why) != 0)
       return peri_deck_error(item_or(pl, law ? "strains" : "stresses", bad), "%s: %s", section, why);
     TRY(calibrate_to_family(s, pl, section, mat, n, strain, stress, &sl));
+    if (sl.deviatoric) { /* the same construction on the deviatoric curve (docs/plasticity.md section 8) */
+      double dev_strain[PERI_MAX_SUBLAYERS], dev_stress[PERI_MAX_SUBLAYERS];
+      peri_deviatoric_curve(mat->K, n, strain, stress, dev_strain, dev_stress);
+      if (peri_sublayers_from_curve(2.0 * mat->mu, n, dev_strain, dev_stress, &sl, &bad, why, sizeof why) != 0)
+        return peri_deck_error(item_or(pl, law ? "strains" : "stresses", bad), "%s: the deviatoric curve: %s", section,
+                               why);
+    }
     if (peri_sublayers_check(&sl, &bad, why, sizeof why) != 0) /* (the weights of a curve sum to 1 exactly) */
       return peri_deck_error(pl, "%s: %s", section, why);
   }
@@ -173,6 +213,17 @@ int peri_setup_plasticity(peri_sim *s, const peri_node *root) {
                              peri_deck_kind_name(pl));
     TRY(parse_one(s, pl, &s->mat.materials[m]));
   }
+  /* one rule for the run: the two rules' force passes are different loops */
+  const peri_sublayers *first = NULL;
+  for (int m = 0; m < s->mat.n_materials && mats; ++m) {
+    const peri_sublayers *sl = s->mat.materials[m].sublayers;
+    if (!sl) continue;
+    if (first && sl->deviatoric != first->deviatoric)
+      return peri_deck_error(peri_deck_get(mats->items[m], "plasticity"),
+                             "materials.%s.plasticity: all plastic materials take the same yield_rule",
+                             s->mat.materials[m].name);
+    first = sl;
+  }
   return PERI_OK;
 }
 
@@ -183,9 +234,17 @@ int peri_setup_plasticity_solver(peri_sim *s, const peri_node *root) {
     return peri_deck_error(d ? peri_deck_get(d, "surface_correction") : root,
                            "discretization.surface_correction: not available with plastic materials");
   }
+  const peri_node *mats = peri_deck_get(root, "materials");
+  for (int m = 0; m < s->mat.n_materials; ++m)
+    if (s->mat.materials[m].sublayers && s->mat.materials[m].sublayers->deviatoric && peri_comm_size() > 1) {
+      const peri_node *pl = mats ? peri_deck_get(mats->items[m], "plasticity") : NULL;
+      return peri_deck_error(pl ? peri_deck_get(pl, "yield_rule") : root,
+                             "materials.%s.plasticity.yield_rule: deviatoric runs on one MPI rank (a node's force "
+                             "reads its neighbours' plastic state of each bond, which ranks do not exchange)",
+                             s->mat.materials[m].name);
+    }
   if (s->solver.kind == PERI_SOLVER_EXPLICIT) return PERI_OK;
   /* the stretch rate is the bonds' rate in time (src/model/plastic_bonds.c) */
-  const peri_node *mats = peri_deck_get(root, "materials");
   for (int m = 0; m < s->mat.n_materials; ++m)
     if (s->mat.materials[m].sublayers && s->mat.materials[m].sublayers->rate_d > 0.0) {
       const peri_node *pl = mats ? peri_deck_get(mats->items[m], "plasticity") : NULL;

@@ -229,7 +229,7 @@ typedef struct lps_sums {
 static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_view *w, int32_t i, bool force,
                                                                bool thermal, peri_influence influence,
                                                                bool uniform, bool track_smin, bool energy,
-                                                               bool two_sided) {
+                                                               bool two_sided, bool deviatoric) {
   const lps_centre ci = lps_centre_of(w, i, thermal, force, !force && !energy);
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
@@ -273,7 +273,7 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
           _mm512_mask_storeu_pd(g + a, m, wt);
           _mm512_mask_storeu_pd(v0 + a, m, q);
           _mm512_mask_storeu_pd(v1 + a, m, r0);
-          if (energy) _mm512_mask_storeu_pd(v2 + a, m, _mm512_mul_pd(_mm512_mul_pd(q, q), inv_r0));
+          if (energy || deviatoric) _mm512_mask_storeu_pd(v2 + a, m, _mm512_mul_pd(_mm512_mul_pd(q, q), inv_r0));
           if (track_smin) smin_v = _mm512_mask_min_pd(smin_v, m, smin_v, st);
           excess_v = _mm512_mask_max_pd(excess_v, m, excess_v, e);
         }
@@ -282,7 +282,7 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
       for (int a = 0; a < n; ++a) {
         s0 = fma(g[a], v0[a], s0);
         s1 = fma(g[a], v1[a], s1);
-        if (force || energy) s2 = fma(g[a], v2[a], s2);
+        if (force || energy || deviatoric) s2 = fma(g[a], v2[a], s2);
       }
     }
     const lps_sums r = {{s0, s1, s2}, _mm512_reduce_min_pd(smin_v), _mm512_reduce_max_pd(excess_v) > 0.0};
@@ -312,14 +312,14 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
         g[a] = lps_bond_sums(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], thermal ? eth[j] : 0.0,
                              energy ? 0.0 : s0_bound[j], uniform ? 0.0 : V[j], thermal, influence, uniform,
                              track_smin, two_sided, &v0[a], &v1[a], &s, &e);
-        if (energy) v2[a] = v0[a] * v0[a] / v1[a];
+        if (energy || deviatoric) v2[a] = v0[a] * v0[a] / v1[a];
         if (track_smin) smin = peri_min(smin, s);
         excess = peri_max(excess, e);
       }
       for (int a = 0; a < n; ++a) {
         s0 = fma(g[a], v0[a], s0);
         s1 = fma(g[a], v1[a], s1);
-        if (energy) s2 = fma(g[a], v2[a], s2);
+        if (energy || deviatoric) s2 = fma(g[a], v2[a], s2);
       }
     }
   }
@@ -335,7 +335,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
                                                             const uint8_t *restrict lanes, int64_t count,
                                                             bool force, bool thermal, peri_influence influence,
                                                             bool uniform, bool track_smin, bool energy,
-                                                            bool two_sided, lps_sums out[PERI_BLOCK]) {
+                                                            bool two_sided, bool deviatoric, lps_sums out[PERI_BLOCK]) {
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict D = w->coef,
@@ -371,7 +371,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
             influence, uniform, track_smin, two_sided, &q, &r0, &inv_r0, &st, &e);
         s0 = _mm512_mask3_fmadd_pd(wt, q, s0, on);
         s1 = _mm512_mask3_fmadd_pd(wt, r0, s1, on);
-        if (energy) s2 = _mm512_mask3_fmadd_pd(wt, _mm512_mul_pd(_mm512_mul_pd(q, q), inv_r0), s2, on);
+        if (energy || deviatoric) s2 = _mm512_mask3_fmadd_pd(wt, _mm512_mul_pd(_mm512_mul_pd(q, q), inv_r0), s2, on);
         if (track_smin) smin = _mm512_mask_min_pd(smin, on, smin, st);
         beyond |= _mm512_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ); /* bonds beyond the screening bound */
       }
@@ -435,7 +435,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
         const double wt_on = on ? wt : 0.0;
         s0[l] = fma(wt_on, q, s0[l]);
         s1[l] = fma(wt_on, r0, s1[l]);
-        if (energy) s2[l] = fma(wt_on, q * q / r0, s2[l]);
+        if (energy || deviatoric) s2[l] = fma(wt_on, q * q / r0, s2[l]);
         stretch_on[l] = on ? s : INFINITY;
         beyond[l] += on && e > 0.0 ? 1.0 : 0.0; /* the bonds beyond the screening bound */
       }
@@ -458,43 +458,47 @@ typedef struct lps_loops {
   lps_sums (*node)(const peri_bond_view *, int32_t);
   void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, lps_sums *);
 } lps_loops;
-#define LPS_VARIANT(NAME, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO)                           \
+#define LPS_VARIANT(NAME, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, DEV)                      \
   static lps_sums NAME##_node(const peri_bond_view *w, int32_t i) {                                       \
-    return lps_node(w, i, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO);                          \
+    return lps_node(w, i, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, DEV);                     \
   }                                                                                                        \
   static void NAME##_block(const peri_bond_view *w, int32_t i0, const int32_t *tj, const uint8_t *lanes,   \
                            int64_t count, lps_sums *out) {                                                 \
-    lps_block(w, i0, tj, lanes, count, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, out);        \
+    lps_block(w, i0, tj, lanes, count, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, DEV, out);   \
   }                                                                                                        \
   static const lps_loops NAME = {NAME##_node, NAME##_block};
 /* Pass 1 by influence function (constant on a grid, constant, inverse, Gaussian), without
  * and with thermal strain; without and with the minimum stretch (the LAMMPS-form critical
  * stretch), and for the energy; "uniform": every node has the same volume, so the loop does
  * not gather it; "two-sided": the plastic screen (lps_plastic_force_pass), |e| against it */
-#define LPS_SUMS_VARIANTS(SUFFIX, SMIN, ENERGY, TWO)                                                        \
-  LPS_VARIANT(lps_sums_uniform##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, true, SMIN, ENERGY, TWO)    \
-  LPS_VARIANT(lps_sums_constant##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, false, SMIN, ENERGY, TWO)  \
-  LPS_VARIANT(lps_sums_inverse##SUFFIX, false, false, PERI_INFLUENCE_INVERSE, false, SMIN, ENERGY, TWO)    \
-  LPS_VARIANT(lps_sums_gaussian##SUFFIX, false, false, PERI_INFLUENCE_GAUSSIAN, false, SMIN, ENERGY, TWO)  \
-  LPS_VARIANT(lps_sums_thermal##SUFFIX, false, true, PERI_INFLUENCE_CONSTANT, false, SMIN, ENERGY, TWO)    \
+#define LPS_SUMS_VARIANTS(SUFFIX, SMIN, ENERGY, TWO, DEV)                                                           \
+  LPS_VARIANT(lps_sums_uniform##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, true, SMIN, ENERGY, TWO, DEV)    \
+  LPS_VARIANT(lps_sums_constant##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, false, SMIN, ENERGY, TWO, DEV)  \
+  LPS_VARIANT(lps_sums_inverse##SUFFIX, false, false, PERI_INFLUENCE_INVERSE, false, SMIN, ENERGY, TWO, DEV)    \
+  LPS_VARIANT(lps_sums_gaussian##SUFFIX, false, false, PERI_INFLUENCE_GAUSSIAN, false, SMIN, ENERGY, TWO, DEV)  \
+  LPS_VARIANT(lps_sums_thermal##SUFFIX, false, true, PERI_INFLUENCE_CONSTANT, false, SMIN, ENERGY, TWO, DEV)    \
   LPS_VARIANT(lps_sums_inverse_thermal##SUFFIX, false, true, PERI_INFLUENCE_INVERSE, false, SMIN, ENERGY,  \
-              TWO)                                                                                         \
+              TWO, DEV)                                                                                         \
   LPS_VARIANT(lps_sums_gaussian_thermal##SUFFIX, false, true, PERI_INFLUENCE_GAUSSIAN, false, SMIN, ENERGY, \
-              TWO)                                                                                         \
+              TWO, DEV)                                                                                         \
   static const lps_loops *const lps_sums_table##SUFFIX[2][4] = {                                         \
       {&lps_sums_uniform##SUFFIX, &lps_sums_constant##SUFFIX, &lps_sums_inverse##SUFFIX,                   \
        &lps_sums_gaussian##SUFFIX},                                                                        \
       {&lps_sums_thermal##SUFFIX, &lps_sums_thermal##SUFFIX, &lps_sums_inverse_thermal##SUFFIX,            \
        &lps_sums_gaussian_thermal##SUFFIX}};
-LPS_SUMS_VARIANTS(, false, false, false)
-LPS_SUMS_VARIANTS(_smin, true, false, false)
-LPS_SUMS_VARIANTS(_energy, false, true, false)
-LPS_SUMS_VARIANTS(_plastic, false, false, true)
-LPS_SUMS_VARIANTS(_plastic_smin, true, false, true)
-LPS_VARIANT(lps_force_uniform, true, false, PERI_INFLUENCE_CONSTANT, true, false, false, false)
-LPS_VARIANT(lps_force_constant, true, false, PERI_INFLUENCE_CONSTANT, false, false, false, false)
-LPS_VARIANT(lps_force_inverse, true, false, PERI_INFLUENCE_INVERSE, false, false, false, false)
-LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false, false, false, false)
+LPS_SUMS_VARIANTS(, false, false, false, false)
+LPS_SUMS_VARIANTS(_smin, true, false, false, false)
+LPS_SUMS_VARIANTS(_energy, false, true, false, false)
+LPS_SUMS_VARIANTS(_plastic, false, false, true, false)
+LPS_SUMS_VARIANTS(_plastic_smin, true, false, true, false)
+/* the deviatoric yield rule: pass 1 with the sum of omega beta V q^2 (the elastic deviatoric
+ * energy of a node that has never yielded, its screen) */
+LPS_SUMS_VARIANTS(_deviatoric, false, false, false, true)
+LPS_SUMS_VARIANTS(_deviatoric_smin, true, false, false, true)
+LPS_VARIANT(lps_force_uniform, true, false, PERI_INFLUENCE_CONSTANT, true, false, false, false, false)
+LPS_VARIANT(lps_force_constant, true, false, PERI_INFLUENCE_CONSTANT, false, false, false, false, false)
+LPS_VARIANT(lps_force_inverse, true, false, PERI_INFLUENCE_INVERSE, false, false, false, false, false)
+LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false, false, false, false, false)
 
 /* Pass 1's table for the deck's influence function, volumes and thermal strain. */
 static const lps_loops *lps_pass1_loops(const peri_sim *s, const peri_node_blocks *items,
@@ -582,9 +586,8 @@ static const lps_loops *lps_force_loops(const peri_sim *s, const peri_node_block
                                                                 : &lps_force_constant;
 }
 
-static long lps_force_pass(peri_sim *s, bool update_s0) {
-  const long broken = lps_dilatation(s);
-  if (s->mat.s0_node && update_s0) peri_update_lammps_s0(s);
+/* Pass 2 for every owned node, after pass 1 (the coefficients D and B of every node). */
+static void lps_pair_forces(peri_sim *s) {
   peri_particles *p = &s->disc.p;
   const size_t n = (size_t)p->n;
   /* the force pass reads D_j and B_j of ghosts (docs/parallel.md) */
@@ -597,7 +600,14 @@ static long lps_force_pass(peri_sim *s, bool update_s0) {
   LPS_FOR_EACH_NODE(items, loops, w, false, {
     for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = r->sum[d];
   })
-  return broken + n_broken;
+  (void)n_broken;
+}
+
+static long lps_force_pass(peri_sim *s, bool update_s0) {
+  const long broken = lps_dilatation(s);
+  if (s->mat.s0_node && update_s0) peri_update_lammps_s0(s);
+  lps_pair_forces(s);
+  return broken;
 }
 
 /* Sublayer plasticity (docs/plasticity.md section 5). Pass 1 runs the elastic loops with the
@@ -680,7 +690,39 @@ static long lps_plastic_force_pass(peri_sim *s, bool update_s0) {
   return n_broken;
 }
 
+/* The deviatoric yield rule (src/model/deviatoric_plasticity.c, docs/plasticity.md section
+ * 8): the dilatation stays elastic, so both elastic passes run unchanged (pass 1 also sums
+ * omega beta V q^2, from which a node that has never yielded knows its elastic deviatoric
+ * energy and skips the return unless it passes the first yield); the sublayers then return
+ * radially at the nodes' theta, and the nodes that have or neighbour a plastic state get the
+ * plastic part of their force. */
+static long lps_deviatoric_force_pass(peri_sim *s, bool update_s0) {
+  peri_update_s0_bound(s);
+  peri_node_blocks *items = peri_node_blocks_refresh(s);
+  const bool track_smin = s->mat.s0_node != NULL, breaking = s->solver.breaking;
+  const lps_loops *loops =
+      lps_pass1_loops(s, items, track_smin ? lps_sums_table_deviatoric_smin : lps_sums_table_deviatoric);
+  peri_particles *p = &s->disc.p;
+  const peri_bond_view w = peri_bond_view_of(s, items->soa);
+  /* sum omega beta V (e^d)^2 of the total deviatoric extensions: the screen of the return */
+  double *elastic = peri_malloc(sizeof(double) * (size_t)(p->n_owned > 0 ? p->n_owned : 1));
+  long n_broken = 0;
+  LPS_FOR_EACH_NODE(items, loops, w, breaking, {
+    lps_node_coefficients(s, i, r->sum[0], r->sum[1]);
+    if (track_smin) p->smin[i] = r->smin;
+    const double theta = p->theta[i];
+    elastic[i] = r->sum[2] - (2.0 * theta / 3.0) * r->sum[0] + (theta * theta / 9.0) * r->sum[1];
+  })
+  if (track_smin && update_s0) peri_update_lammps_s0(s);
+  lps_pair_forces(s);
+  peri_deviatoric_return(s, elastic);
+  peri_deviatoric_force(s);
+  free(elastic);
+  return n_broken;
+}
+
 static long lps_force(peri_sim *s) {
+  if (s->state.plastic_reverse) return peri_force_in_breaking_order(s, lps_deviatoric_force_pass);
   if (s->state.plastic_stretch) return peri_force_in_breaking_order(s, lps_plastic_force_pass);
   return peri_force_in_breaking_order(s, s->disc.bonds.surface_G ? peri_corrected_lps_force : lps_force_pass);
 }
@@ -692,6 +734,10 @@ static long lps_force(peri_sim *s) {
 static void lps_energy(peri_sim *s, double *W) {
   if (s->disc.bonds.surface_G) {
     peri_corrected_lps_energy(s, W);
+    return;
+  }
+  if (s->state.plastic_reverse) {
+    peri_deviatoric_energy(s, W);
     return;
   }
   if (s->state.plastic_stretch) {
@@ -720,12 +766,15 @@ static double lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) 
   const peri_bonds *b = &s->disc.bonds;
   const int32_t j = b->neighbor[k];
   const double L = peri_bond_length(p->x, i, j), omega = peri_bonds_omega(b, L);
+  const size_t n = (size_t)p->n;
+  if (s->state.plastic_reverse) /* the deviatoric rule: each end's plastic part of its deviatoric term */
+    return omega * (L * (p->coef[i] + p->coef[j]) + (r - L) * (p->coef[n + (size_t)i] + p->coef[n + (size_t)j]) -
+                    L * peri_deviatoric_pair_plastic(s, i, k));
   const double e = r - L - peri_plastic_bond_stretch(s, i, k) * L; /* the elastic extension */
   /* node i's half, omega (n_theta (K theta - alpha P/3) L/m + alpha (e - eth L - theta L/3))
    * with its thermal strain eth, is omega (D L + B e) with i's coefficients D, B of the
    * dilatation pass, which the force pass exchanges for ghosts (theta and P it does not): a
    * node next to another rank's nodes gets their halves right */
-  const size_t n = (size_t)p->n;
   return omega * (L * (p->coef[i] + p->coef[j]) + e * (p->coef[n + (size_t)i] + p->coef[n + (size_t)j]));
 }
 

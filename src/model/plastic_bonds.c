@@ -28,6 +28,7 @@
 static const peri_sublayers *bond_layers(const peri_sim *s, int32_t i, int32_t j) {
   const peri_particles *p = &s->disc.p;
   const peri_sublayers *a = s->mat.materials[p->material[i]].sublayers, *b = s->mat.materials[p->material[j]].sublayers;
+  if (s->state.plastic_reverse) return a; /* the deviatoric rule: node i's state of the bond */
   if (a == b || !b) return a;
   if (!a) return b;
   return a->yield[0] <= b->yield[0] ? a : b;
@@ -42,7 +43,7 @@ int peri_plastic_init(peri_sim *s) {
   const size_t n = (size_t)s->disc.bonds.n_bonds * (size_t)layers;
   s->state.plastic_stretch = peri_calloc(n > 0 ? n : 1, sizeof(double));
   s->state.plastic_layers = layers;
-  return PERI_OK;
+  return peri_deviatoric_rule(s) ? peri_deviatoric_init(s) : PERI_OK;
 }
 
 double peri_plastic_bond_stretch(const peri_sim *s, int32_t i, int64_t k) {
@@ -86,7 +87,7 @@ static double bond_micromodulus(const peri_sim *s, int m) {
 
 /* The yielded flags (s->state.plastic_nodes) from the plastic state, after the state was set
  * from outside the loops (start, a checkpoint, a decomposition), and the longest bond. */
-static void flag_yielded_nodes(peri_sim *s) {
+void peri_plastic_flag_nodes(peri_sim *s) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const int L = s->state.plastic_layers;
@@ -107,7 +108,7 @@ static void flag_yielded_nodes(peri_sim *s) {
 }
 
 peri_plastic_pass peri_plastic_pass_begin(peri_sim *s) {
-  if (!s->state.plastic_nodes) flag_yielded_nodes(s);
+  if (!s->state.plastic_nodes) peri_plastic_flag_nodes(s);
   const int nm = s->mat.n_materials, L = s->state.plastic_layers;
   peri_plastic_pass t = {L,
                          nm,

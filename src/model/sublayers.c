@@ -52,6 +52,14 @@ int peri_sublayers_from_curve(double E, int n, const double *strain, const doubl
   return 0;
 }
 
+void peri_deviatoric_curve(double K, int n, const double *strain, const double *stress, double *dev_strain,
+                           double *dev_stress) {
+  for (int k = 0; k < n; ++k) {
+    dev_strain[k] = strain[k] - stress[k] / (9.0 * K); /* eps minus the mean strain sigma / (9K) */
+    dev_stress[k] = 2.0 * stress[k] / 3.0;             /* sigma minus the mean stress sigma / 3 */
+  }
+}
+
 void peri_power_law_stresses(double sigma0, double eps0, double exponent, int n, const double *strain,
                              double *stress) {
   for (int k = 0; k < n; ++k) stress[k] = sigma0 * pow(strain[k] / eps0, exponent);

@@ -57,7 +57,9 @@ double peri_memory_estimate(const peri_sim *s) {
   if (s->disc.p.theta) per_node += 3 * 8;
   if (s->mat.s0_node) per_node += 2 * 8;
   per_node += 6 * 8; /* the bond loops' copies of x and u (src/model/node_blocks.c) */
-  const double plastic = 8.0 * s->state.plastic_layers; /* sublayer plastic stretches (docs/plasticity.md) */
+  /* sublayer plastic stretches and, for the deviatoric rule, the reverse bond's index and
+   * plastic term (docs/plasticity.md) */
+  const double plastic = 8.0 * s->state.plastic_layers + (s->state.plastic_reverse ? 16.0 : 0.0);
   return n * per_node + (n + 1) * 8 +
          nb * (peri_bonds_bytes_per_bond(&s->disc.bonds) + peri_node_blocks_bytes_bound() + plastic);
 }
@@ -118,11 +120,17 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
             mat->lammps_s0 ? " (s00, compression-dependent)" : "");
     const peri_sublayers *sl = mat->sublayers;
     if (!sl) continue;
-    fprintf(out, "  plasticity   %s: %d sublayers (W, s_y):", mat->name, sl->n);
+    if (sl->deviatoric)
+      fprintf(out, "  plasticity   %s: deviatoric yield rule, %d sublayers (W, e_y):", mat->name, sl->n);
+    else
+      fprintf(out, "  plasticity   %s: %d sublayers (W, s_y):", mat->name, sl->n);
     for (int k = 0; k < sl->n; ++k) fprintf(out, " (%.4f, %.4g)", sl->weight[k], sl->yield[k]);
     fprintf(out, "\n");
   }
-  if (s->state.plastic_stretch)
+  if (s->state.plastic_reverse)
+    fprintf(out, "  plastic state %d bytes per directed bond (%d plastic deviatoric stretches, the reverse bond's index "
+            "and plastic term)\n", 8 * s->state.plastic_layers + 16, s->state.plastic_layers);
+  else if (s->state.plastic_stretch)
     fprintf(out, "  plastic state %d bytes per directed bond (%d plastic stretches)\n", 8 * s->state.plastic_layers,
             s->state.plastic_layers);
   if (peri_is_quasi_static(s)) peri_print_quasi_static_summary(s, out);

@@ -14,7 +14,9 @@
 #    Cowper-Symonds constants that are not positive or with a quasi-static solver);
 #  - the thread count does not change a plastic fracture run (history and frames bitwise);
 #  - a plastic material that never reaches its first yield moves bitwise as the elastic one
-#    (PMB and LPS), and the LPS screen gives the plastic path's results where the plate yields in part.
+#    (PMB and LPS), and the LPS screen gives the plastic path's results where the plate yields in part;
+#  - the deviatoric yield rule (docs/plasticity.md section 8): peri check's sublayers and bytes per
+#    bond, 1 and 3 threads bitwise on a 3D block that yields through, bad combinations exit 2.
 # Usage: bash tests/cli/plasticity.sh PATH_TO_PERI   (from the repository root)
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
@@ -260,5 +262,31 @@ PYEOF
 else
   echo "SKIP (part): no python3 with numpy for the LPS screened/unscreened comparison"
 fi
+
+# --- the deviatoric yield rule: peri check, threads, bad input
+block="$DECKS/plastic_block3d.yaml"
+run_peri check "$block"
+expect_status 0
+expect_stdout_contains "plasticity   steel: deviatoric yield rule, 4 sublayers (W, e_y): (0.9532, 0.001667)"
+expect_stdout_contains "plastic state 48 bytes per directed bond (4 plastic deviatoric stretches, the reverse bond's index and plastic term)"
+for threads in 1 3; do
+  run_peri run "$block" --quiet --threads "$threads" --output "$TMP/block$threads"
+  expect_status 0
+done
+cmp -s "$TMP/block1/history.csv" "$TMP/block3/history.csv" || fail "deviatoric: history.csv differs between 1 and 3 threads"
+for f in "$TMP"/block1/*.vtu; do
+  cmp -s "$f" "$TMP/block3/$(basename "$f")" || fail "deviatoric: $(basename "$f") differs between 1 and 3 threads"
+done
+psi=$(tail -n 1 "$TMP/block1/history.csv" | cut -d, -f"$(csv_column "$TMP/block1/history.csv" mean_yield_index)")
+awk -v p="$psi" 'BEGIN { exit !(p > 0.5) }' || fail "deviatoric: the block barely yields (mean yield index $psi)"
+d=$(bad_deck dev_pmb "strains: [0.002, 0.004]" "stresses: [400e6, 450e6]" "yield_rule: deviatoric")
+run_peri check "$d"
+expect_status 2
+expect_stderr_contains "$d:10:19: error: materials.steel.plasticity.yield_rule: deviatoric is a rule of the lps model"
+sed 's|      yield_rule: deviatoric|&\n      critical_plastic_stretch: 0.01|' "$block" >"$TMP/dev_ductile.yaml"
+run_peri check "$TMP/dev_ductile.yaml"
+expect_status 2
+expect_stderr_contains "$TMP/dev_ductile.yaml:16:7: error: materials.steel.plasticity.critical_plastic_stretch: not with yield_rule deviatoric"
+pass "deviatoric rule: peri check (48 bytes per bond), threads 1 and 3 bitwise (mean yield index $psi), bad input exit 2"
 
 echo "PASS: $CLI_NAME"

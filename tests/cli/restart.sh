@@ -113,6 +113,9 @@ restart_case compression_s0 "$DECKS/plate_pmb.yaml" 100 200 broken_bond_fraction
 # sublayer plasticity (docs/plasticity.md): the plastic state of every bond is carried over
 restart_case plastic "$DECKS/plate_pmb.yaml" 100 200 mean_yield_index "${every[@]}" \
   --set 'materials.glass={model: pmb, density: 2440, youngs_modulus: 72.0e9, fracture_energy: 3.8, plasticity: {weights: [0.9, 0.1], yield_stretches: [5.0e-5, 2.0e-4]}}'
+# the deviatoric yield rule (docs/plasticity.md section 8): each node's plastic deviatoric
+# stretches of its bonds carried over, the 3D block restarted while it yields through
+restart_case deviatoric "$DECKS/plastic_block3d.yaml" 50 400 mean_yield_index "${every[@]}"
 restart_case heat "$DECKS/restart_heat.yaml" 20 60 broken_bond_fraction
 restart_case thermal_shock "$DECKS/restart_thermal_shock.yaml" 240 512 broken_bond_fraction
 # the bar breaks through at load step 21 in a dynamic phase (solver.dynamic_switch), whose

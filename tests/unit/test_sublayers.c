@@ -150,3 +150,42 @@ Test(sublayers, family_fit_table_5_2) {
     cr_expect(fabs(sigma / stress[k] - 1.0) < 0.10, "family fit at %g: %g, curve %g", strains[k], sigma, stress[k]);
   }
 }
+
+/* The deviatoric yield rule's calibration (docs/plasticity.md section 8): the uniaxial curve
+ * mapped to the deviatoric one (e = eps - sigma / (9K), s = 2 sigma / 3) and built with the
+ * modulus 2 mu. With the bulk response elastic, the uniaxial tangent after j sublayers is
+ * E_t = 9 K G_t / (3K + G_t), G_t = mu sum_{k>j} W_k: it must equal the slope of segment j + 1
+ * of the uniaxial curve (E before the first yield, 0 beyond the last), and the deviatoric
+ * response 2 mu sum_k W_k min(e, e_yk) at e_k must give back (eps_k, sigma_k). Table 5.2's
+ * curve with E = 200 GPa, nu = 1/4 (K = E / (3 (1 - 2 nu)), mu = E / (2 (1 + nu))). */
+Test(sublayers, deviatoric_calibration) {
+  const double nu = 0.25, K = E_STEEL / (3.0 * (1.0 - 2.0 * nu)), mu = E_STEEL / (2.0 * (1.0 + nu));
+  double stress[4], e[4], s[4];
+  peri_power_law_stresses(400e6, 0.002, 0.1, 4, strains, stress);
+  peri_deviatoric_curve(K, 4, strains, stress, e, s);
+  peri_sublayers sl;
+  int bad;
+  char why[256];
+  cr_assert_eq(peri_sublayers_from_curve(2.0 * mu, 4, e, s, &sl, &bad, why, sizeof why), 0, "%s", why);
+  double sum = 0.0;
+  for (int k = 0; k < 4; ++k) sum += sl.weight[k];
+  cr_expect(fabs(sum - 1.0) < 1e-12, "sum W = %.15g", sum);
+  /* the first yield: 3 mu e_y1 = sigma_1 (von Mises: the axial deviatoric stress 2 mu e = 2 sigma / 3) */
+  cr_expect(fabs(3.0 * mu * sl.yield[0] / stress[0] - 1.0) < 1e-12, "e_y1 %g, sigma_1 / (3 mu) %g", sl.yield[0],
+            stress[0] / (3.0 * mu));
+  for (int j = 0; j <= 4; ++j) {
+    double rest = 0.0;
+    for (int k = j; k < 4; ++k) rest += sl.weight[k];
+    const double Gt = mu * rest, Et = 9.0 * K * Gt / (3.0 * K + Gt);
+    const double segment = j == 0 ? E_STEEL : j == 4 ? 0.0 : (stress[j] - stress[j - 1]) / (strains[j] - strains[j - 1]);
+    cr_log_info("deviatoric: W_%d = %.5f, e_y = %.6f; tangent after %d sublayers %.6g, curve %.6g", j < 4 ? j + 1 : 4,
+                sl.weight[j < 4 ? j : 3], sl.yield[j < 4 ? j : 3], j, Et, segment);
+    cr_expect(fabs(Et - segment) <= 1e-9 * E_STEEL, "after %d sublayers: E_t %g, segment slope %g", j, Et, segment);
+  }
+  for (int k = 0; k < 4; ++k) {
+    const double dev_stress = 2.0 * mu * peri_sublayers_monotonic(&sl, sl.yield[k]);
+    const double sigma = 1.5 * dev_stress, eps = sl.yield[k] + sigma / (9.0 * K);
+    cr_expect(fabs(sigma / stress[k] - 1.0) < 1e-12 && fabs(eps / strains[k] - 1.0) < 1e-12,
+              "breakpoint %d: (%g, %g), curve (%g, %g)", k + 1, eps, sigma, strains[k], stress[k]);
+  }
+}

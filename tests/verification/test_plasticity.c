@@ -22,6 +22,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include "peri/plasticity.h"
+#include "peri/plastic_fields.h"
 #include "peri/setup.h"
 #include "peri/stress.h"
 #include "support.h"
@@ -299,6 +300,189 @@ static void check_bar_1d_rate(void) {
   peri_sim_free(&s);
 }
 
+/* The deviatoric yield rule (yield_rule: deviatoric, docs/plasticity.md section 8) on the 3D
+ * LPS block (m = 3, nu = 1/4) under uniaxial stress: u = (eps x, l y, l z) with the lateral
+ * strain l solved at every increment so that sigma_yy = 0 at the centre node (the secant
+ * method; the plastic state of the increment maps from the accepted one, as the quasi-static
+ * solvers do, and is accepted when sigma_yy vanishes). With the bulk response elastic and
+ * every bond of a node yielding together the block is von Mises with kinematic hardening by
+ * overlay, whose uniaxial curve is the piecewise-linear one of the sublayers built from the
+ * deviatoric curve. */
+static const char *const table_5_2_deviatoric = "    plasticity:\n"
+                                                "      strains: [0.002, 0.0065, 0.0124, 0.0168]\n"
+                                                "      power_law: {yield_stress: 400e6, yield_strain: 0.002, exponent: 0.1}\n"
+                                                "      yield_rule: deviatoric\n";
+
+/* sigma_yy at node c at the axial strain eps and lateral strain l (sigma_xx in *sxx). */
+static double lateral_stress(peri_sim *s, int32_t c, double eps, double l, double *sig, double *sxx) {
+  for (int32_t i = 0; i < s->disc.p.n; ++i)
+    for (int d = 0; d < 3; ++d) s->disc.p.u[3 * i + d] = (d == 0 ? eps : l) * s->disc.p.x[3 * i + d];
+  cr_assert_eq(peri_stress(s, sig), 0);
+  *sxx = sig[9 * c];
+  return sig[9 * c + 4];
+}
+
+/* sigma_xx at node c under uniaxial stress at the axial strain eps (the lateral strain in and
+ * out in *lateral), the increment accepted. */
+static double uniaxial_at(peri_sim *s, int32_t c, double eps, double *lateral, double *sig) {
+  double sxx = 0.0, la = *lateral, fa = lateral_stress(s, c, eps, la, sig, &sxx);
+  double lb = la - 1e-5, fb = lateral_stress(s, c, eps, lb, sig, &sxx);
+  for (int it = 0; it < 40 && fabs(fb) > 1e-9 * fabs(sxx) + 1.0; ++it) {
+    const double next = lb - fb * (lb - la) / (fb - fa);
+    la = lb, fa = fb, lb = next;
+    fb = lateral_stress(s, c, eps, lb, sig, &sxx);
+  }
+  cr_assert(fabs(fb) <= 1e-9 * fabs(sxx) + 1.0, "uniaxial stress not reached at eps %g (sigma_yy %g)", eps, fb);
+  *lateral = lb;
+  peri_plastic_commit(s);
+  return sxx;
+}
+
+/* Walks the axial strain from a to b in increments of at most h under uniaxial stress. */
+static double uniaxial_walk(peri_sim *s, int32_t c, double a, double b, double h, double *lateral, double *sig) {
+  const int n = (int)ceil(fabs(b - a) / h);
+  double out = 0.0;
+  for (int k = 1; k <= n; ++k) out = uniaxial_at(s, c, a + (b - a) * k / n, lateral, sig);
+  return out;
+}
+
+/* The LPS block of 15^3 nodes (m = 3, nu = 1/4): the centre node and its neighbours have whole
+ * families. */
+static void build_block(peri_sim *s, const char *plasticity) {
+  char deck[2048];
+  snprintf(deck, sizeof deck,
+           "dimension: 3\n"
+           "materials:\n"
+           "  steel:\n"
+           "    model: lps\n"
+           "    density: 7800\n"
+           "    youngs_modulus: 200e9\n"
+           "    poisson_ratio: 0.25\n"
+           "%s"
+           "discretization: {spacing: 1e-3, m: 3, fill: [{shape: box, min: [0, 0, 0], max: [0.014, 0.014, 0.014]}]}\n"
+           "solver: {type: explicit, steps: 1, breaking: false}\n"
+           "output: {picture: false}\n",
+           plasticity);
+  cr_assert_eq(sim_from_string(s, deck), 0, "deck:\n%s", deck);
+  if (s->state.plastic_stretch) /* increments map from the accepted state (uniaxial_at) */
+    s->state.plastic_committed = calloc((size_t)s->state.plastic_layers * (size_t)s->disc.bonds.n_bonds, sizeof(double));
+}
+
+/* Under a proportional path (the deviatoric strain stays on one axis) the radial return of
+ * an increment is exact whatever its size, so the walk goes from point to point. */
+#define DEVIATORIC_STEP 0.01
+
+static void check_bar_3d_deviatoric(const char *plasticity, const char *label) {
+  peri_sim s;
+  build_block(&s, plasticity);
+  const int32_t c = centre_node(&s);
+  double *sig = malloc(sizeof(double) * 9 * (size_t)s.disc.p.n);
+  const double h = DEVIATORIC_STEP, e_small = 0.5 * EPS0;
+  double lateral = 0.0;
+  const double E_pd = uniaxial_walk(&s, c, 0.0, e_small, h, &lateral, sig) / e_small;
+  cr_log_info("3D %s: E_pd %.5g (E %.5g), nu_pd %.4f", label, E_pd, E_STEEL, -lateral / e_small);
+  cr_expect(fabs(E_pd / E_STEEL - 1.0) < 0.03, "3D %s: elastic modulus %g, expected %g within 3%%", label, E_pd, E_STEEL);
+  /* elastic up to the first breakpoint */
+  const double below = 0.95 * EPS0, sigma_below = uniaxial_walk(&s, c, e_small, below, h, &lateral, sig);
+  cr_expect(fabs(sigma_below / (E_pd * below) - 1.0) < 0.005, "3D %s: not elastic up to 0.95 eps_1 (%g, %g)", label,
+            sigma_below, E_pd * below);
+  double eps = below, mono[4];
+  for (int k = 0; k < 4; ++k) {
+    const double sigma = uniaxial_walk(&s, c, eps, breakpoints[k], h, &lateral, sig);
+    eps = breakpoints[k];
+    mono[k] = sigma;
+    const double curve = SIGMA0 * pow(eps / EPS0, 0.1), expected = curve * E_pd / E_STEEL;
+    cr_log_info("3D %s: eps %.4f sigma %.5g, curve %.5g (%+.2f%%), curve x E_pd/E %.5g (%+.2f%%)", label, eps, sigma,
+                curve, 100 * (sigma / curve - 1), expected, 100 * (sigma / expected - 1));
+    cr_expect(fabs(sigma / expected - 1.0) < 0.02, "3D %s: at breakpoint %.4f sigma %g, expected %g within 2%%", label,
+              eps, sigma, expected);
+  }
+  /* beyond the last breakpoint flat; unloading elastic with the slope of the elastic block
+   * over the same strains (the stretch is geometrically nonlinear: at eps_a the tangent
+   * differs from E_pd by O(eps_a)) */
+  const double eps_a = 0.02, sigma_a = uniaxial_walk(&s, c, eps, eps_a, h, &lateral, sig), d_el = 0.5 * EPS0;
+  const double lateral_a = lateral;
+  const double slope = (sigma_a - uniaxial_walk(&s, c, eps_a, eps_a - d_el, h, &lateral, sig)) / d_el;
+  peri_sim elastic;
+  build_block(&elastic, "");
+  double lat_el = -0.25 * eps_a;
+  const double s_hi = uniaxial_at(&elastic, c, eps_a, &lat_el, sig), s_lo = uniaxial_at(&elastic, c, eps_a - d_el, &lat_el, sig);
+  const double slope_el = (s_hi - s_lo) / d_el;
+  peri_sim_free(&elastic);
+  cr_log_info("3D %s: sigma at %.3f %.5g (flat %.5g, %+.2f%%), lateral strain %.5f; unloading slope %.5g (elastic block "
+              "%.5g, %+.2f%%; E_pd %.5g)", label, eps_a, sigma_a, mono[3], 100 * (sigma_a / mono[3] - 1), lateral_a,
+              slope, slope_el, 100 * (slope / slope_el - 1), E_pd);
+  cr_expect(fabs(sigma_a / mono[3] - 1.0) < 0.02, "3D %s: beyond the last breakpoint sigma %g, flat %g", label, sigma_a,
+            mono[3]);
+  cr_expect(fabs(slope / slope_el - 1.0) < 0.02, "3D %s: unloading slope %g, elastic %g within 2%%", label, slope,
+            slope_el);
+  /* reversed loading, Masing: elastic until the drop 2 sigma_1, then a drop of 2 sigma_k at
+   * eps_a - 2 eps_k (the deviatoric strain and the stress both change by twice the
+   * monotonic curve's: 2 e_k + 2 sigma_k / (9K) = 2 eps_k) */
+  eps = eps_a - d_el;
+  const double before = eps_a - 0.95 * 2.0 * EPS0;
+  const double drop_before = sigma_a - uniaxial_walk(&s, c, eps, before, h, &lateral, sig);
+  cr_log_info("3D %s: reverse drop at %.4f: %.5g, elastic %.5g (%+.2f%%)", label, before, drop_before,
+              slope_el * (eps_a - before), 100 * (drop_before / (slope_el * (eps_a - before)) - 1));
+  cr_expect(fabs(drop_before / (slope_el * (eps_a - before)) - 1.0) < 0.02, "3D %s: not elastic up to the reverse "
+            "yield", label);
+  eps = before;
+  for (int k = 0; k < 4; ++k) {
+    const double target = eps_a - 2.0 * breakpoints[k];
+    const double drop = sigma_a - uniaxial_walk(&s, c, eps, target, h, &lateral, sig);
+    eps = target;
+    const double expected = 2.0 * SIGMA0 * pow(breakpoints[k] / EPS0, 0.1) * E_pd / E_STEEL;
+    cr_log_info("3D %s: reverse eps %.4f drop %.5g, Masing %.5g (%+.2f%%)", label, eps, drop, expected,
+                100 * (drop / expected - 1));
+    cr_expect(fabs(drop / expected - 1.0) < 0.02, "3D %s: reverse branch at %.4f: drop %g, Masing %g within 2%%", label,
+              eps, drop, expected);
+  }
+  free(sig);
+  peri_sim_free(&s);
+}
+
+/* The return mapping of one node's family (docs/plasticity.md section 8) under pure shear
+ * u = (g y / 2, g x / 2, 0), theta = 0: one sublayer (the curve flat from (sigma_y / E,
+ * sigma_y), sigma_y = 400 MPa) yields when the shear stress reaches the von Mises k =
+ * sigma_y / sqrt(3) = 230.9 MPa and stays there; every bond of the centre's family yields at
+ * once (yield index 1 from the first yield on, 0 before). */
+static void check_shear_deviatoric(void) {
+  peri_sim s;
+  build_block(&s, "    plasticity: {strains: [0.002], stresses: [400e6], yield_rule: deviatoric}\n");
+  const int32_t c = centre_node(&s);
+  double *sig = malloc(sizeof(double) * 9 * (size_t)s.disc.p.n), *psi = malloc(sizeof(double) * (size_t)s.disc.p.n);
+  const double k_vm = SIGMA0 / sqrt(3.0), mu = E_STEEL / 2.5, g_y = k_vm / mu; /* the continuum yield shear strain */
+  static const double fractions[5] = {0.5, 0.97, 1.03, 1.5, 3.0};
+  double G_pd = 0.0;
+  for (int q = 0; q < 5; ++q) {
+    const double g = fractions[q] * g_y;
+    for (int32_t i = 0; i < s.disc.p.n; ++i) {
+      s.disc.p.u[3 * i] = 0.5 * g * s.disc.p.x[3 * i + 1];
+      s.disc.p.u[3 * i + 1] = 0.5 * g * s.disc.p.x[3 * i];
+      s.disc.p.u[3 * i + 2] = 0.0;
+    }
+    cr_assert_eq(peri_stress(&s, sig), 0);
+    peri_plastic_commit(&s);
+    peri_yield_index(&s, psi);
+    const double tau = sig[9 * c + 1];
+    if (q == 0) G_pd = tau / g;
+    const bool yielded = fractions[q] > 1.0;
+    cr_log_info("shear: g / g_y %.2f tau %.5g (elastic G_pd g %.5g, k %.5g), yield index %.3f", fractions[q], tau,
+                G_pd * g, k_vm, psi[c]);
+    if (yielded)
+      cr_expect(fabs(tau / k_vm - 1.0) < 0.02, "shear at %.2f g_y: tau %g, von Mises k %g within 2%%", fractions[q], tau,
+                k_vm);
+    else
+      cr_expect(fabs(tau / (G_pd * g) - 1.0) < 0.005, "shear at %.2f g_y: not elastic", fractions[q]);
+    cr_expect_eq(psi[c], yielded ? 1.0 : 0.0, "shear at %.2f g_y: yield index %g", fractions[q], psi[c]);
+  }
+  cr_log_info("shear: G_pd %.5g (mu %.5g)", G_pd, mu);
+  free(sig), free(psi);
+  peri_sim_free(&s);
+}
+
+Test(plasticity, bar_3d_lps_deviatoric) { check_bar_3d_deviatoric(table_5_2_deviatoric, "LPS deviatoric"); }
+Test(plasticity, shear_3d_lps_deviatoric) { check_shear_deviatoric(); }
 Test(plasticity, bar_1d_pmb) { check_bar_1d(); }
 Test(plasticity, bar_1d_rate) { check_bar_1d_rate(); }
 Test(plasticity, bar_3d_pmb) { check_bar_3d("pmb"); }
