@@ -90,10 +90,109 @@ typedef struct mo_sums {
   bool candidate;
 } mo_sums;
 
-/* Node i over its intact bonds in family order: pass 1 (`force` false) the sum
- * sum_j (s L - eth_i) beta V_j and the breaking screen; pass 2 the force density. The bond
- * values come from a vector loop, their sums in order (so a node's result depends on neither
- * threads nor ranks). */
+/* Node i's own data, read once per family (A, B, C for pass 2, the bound for pass 1). */
+typedef struct mo_centre {
+  double x0, x1, x2, u0, u1, u2, eth, bound, A, B, C;
+} mo_centre;
+
+static inline mo_centre mo_centre_of(const peri_bond_view *w, int32_t i, bool force, bool thermal) {
+  const size_t n = (size_t)w->n;
+  const mo_centre c = {w->x0[i], w->x1[i], w->x2[i], w->u0[i], w->u1[i], w->u2[i], thermal ? w->eth[i] : 0.0,
+                       force ? 0.0 : w->s0_bound[i], force ? w->coef[i] : 0.0, force ? w->coef[n + (size_t)i] : 0.0,
+                       force ? w->coef[2 * n + (size_t)i] : 0.0};
+  return c;
+}
+
+/* Bond i-j, the one function of both loops below (so a node's bonds give the same numbers
+ * whichever loop runs them). Pass 2 (`force`): the factor g of the force density g (y_j - y_i)
+ * on i, with y_j - y_i in y0 .. y2. Pass 1: the term (s L - eth_i) beta V_j of the dilatation
+ * sum, with in *excess a number positive when the mechanical stretch passes the screening
+ * bound (symmetric in i and j). L/|xi| = (x.y)/(|y| |xi|^2); a bond of zero length carries no
+ * force. */
+static inline __attribute__((always_inline)) double mo_bond(const mo_centre ci_value, const peri_family_eval *fam,
+                                                            double xj0, double xj1, double xj2, double uj0,
+                                                            double uj1, double uj2, double Aj, double Bj, double Cj,
+                                                            double eth_j, double bound_j, double V_j, bool force,
+                                                            bool thermal, double *y0, double *y1, double *y2,
+                                                            double *excess) {
+  const mo_centre *ci = &ci_value;
+  const double x0 = xj0 - ci->x0, x1 = xj1 - ci->x1, x2 = xj2 - ci->x2;
+  const double d0 = x0 + (uj0 - ci->u0), d1 = x1 + (uj1 - ci->u1), d2 = x2 + (uj2 - ci->u2);
+  *y0 = d0, *y1 = d1, *y2 = d2;
+  const double r0 = peri_length3(x0, x1, x2), r = peri_length3(d0, d1, d2);
+  const double inv_r0 = 1.0 / r0, inv_r = r > 0.0 ? 1.0 / r : 0.0;
+  const double cos_r0 = fma(x2, d2, fma(x1, d1, x0 * d0)) * inv_r * (inv_r0 * inv_r0);
+  const double bv = peri_eval_beta(fam, r0) * V_j, stretch = (r - r0) * inv_r0;
+  if (force) {
+    *excess = 0.0;
+    const double pair = fma(ci->A + Aj, cos_r0, fma(ci->B + Bj, stretch, -(ci->C + Cj)));
+    return pair * bv * inv_r;
+  }
+  const double st = stretch - (thermal ? 0.5 * (ci->eth + eth_j) : 0.0);
+  *excess = st - (peri_min(ci->bound, bound_j) - PERI_S0_SCREEN_MARGIN);
+  return fma(r - r0, cos_r0, -ci->eth) * bv; /* s L = (r - |xi|) L/|xi| */
+}
+
+#ifdef PERI_BOND_V8
+/* mo_bond for eight bonds (bond_kernel.h): the same quantities, the lengths and their
+ * reciprocals from reciprocal square roots, no division. Both loops use it, so the node and
+ * block paths agree bit for bit. */
+typedef struct mo_centre_v8 {
+  __m512d x0, x1, x2, u0, u1, u2, eth, bound, A, B, C;
+} mo_centre_v8;
+
+/* The centre i (one value in every lane) or the eight centres i .. i+7. */
+static inline __attribute__((always_inline)) mo_centre_v8 mo_centre_v8_of(const peri_bond_view *w, int32_t i,
+                                                                          bool force, bool thermal, bool eight) {
+  const size_t n = (size_t)w->n;
+  const __m512d zero = _mm512_setzero_pd();
+#define MO_CENTRE(P) (eight ? _mm512_loadu_pd((P) + i) : _mm512_set1_pd((P)[i]))
+  const mo_centre_v8 c = {MO_CENTRE(w->x0), MO_CENTRE(w->x1), MO_CENTRE(w->x2),
+                          MO_CENTRE(w->u0), MO_CENTRE(w->u1), MO_CENTRE(w->u2),
+                          thermal ? MO_CENTRE(w->eth) : zero, force ? zero : MO_CENTRE(w->s0_bound),
+                          force ? MO_CENTRE(w->coef) : zero, force ? MO_CENTRE(w->coef + n) : zero,
+                          force ? MO_CENTRE(w->coef + 2 * n) : zero};
+#undef MO_CENTRE
+  return c;
+}
+
+static inline __attribute__((always_inline)) __m512d mo_bond_v8(const mo_centre_v8 *ci, const peri_family_eval *fam,
+                                                                __m512d xj0, __m512d xj1, __m512d xj2, __m512d uj0,
+                                                                __m512d uj1, __m512d uj2, __m512d Aj, __m512d Bj,
+                                                                __m512d Cj, __m512d eth_j, __m512d bound_j,
+                                                                __m512d V_j, bool force, bool thermal, __m512d y[3],
+                                                                __m512d *excess) {
+  const __m512d zero = _mm512_setzero_pd();
+  const __m512d x0 = _mm512_sub_pd(xj0, ci->x0), x1 = _mm512_sub_pd(xj1, ci->x1), x2 = _mm512_sub_pd(xj2, ci->x2);
+  y[0] = _mm512_add_pd(x0, _mm512_sub_pd(uj0, ci->u0));
+  y[1] = _mm512_add_pd(x1, _mm512_sub_pd(uj1, ci->u1));
+  y[2] = _mm512_add_pd(x2, _mm512_sub_pd(uj2, ci->u2));
+  const __m512d r0_sq = _mm512_fmadd_pd(x2, x2, _mm512_fmadd_pd(x1, x1, _mm512_mul_pd(x0, x0)));
+  const __m512d r_sq = _mm512_fmadd_pd(y[2], y[2], _mm512_fmadd_pd(y[1], y[1], _mm512_mul_pd(y[0], y[0])));
+  /* a bond of zero length carries no force (its lanes of 1/r and r set to 0) */
+  const __mmask8 stretched = _mm512_cmp_pd_mask(r_sq, zero, _CMP_GT_OQ);
+  const __m512d inv_r0 = peri_rsqrt_v8(r0_sq), inv_r = _mm512_maskz_mov_pd(stretched, peri_rsqrt_v8(r_sq));
+  const __m512d r0 = _mm512_mul_pd(r0_sq, inv_r0), r = _mm512_mul_pd(r_sq, inv_r);
+  const __m512d dot = _mm512_fmadd_pd(x2, y[2], _mm512_fmadd_pd(x1, y[1], _mm512_mul_pd(x0, y[0])));
+  const __m512d cos_r0 = _mm512_mul_pd(_mm512_mul_pd(dot, inv_r), _mm512_mul_pd(inv_r0, inv_r0));
+  const __m512d bv = _mm512_mul_pd(peri_beta_v8(fam, r0), V_j);
+  const __m512d extension = _mm512_sub_pd(r, r0), stretch = _mm512_mul_pd(extension, inv_r0);
+  if (force) {
+    *excess = zero;
+    const __m512d pair =
+        _mm512_fmadd_pd(_mm512_add_pd(ci->A, Aj), cos_r0,
+                        _mm512_fmsub_pd(_mm512_add_pd(ci->B, Bj), stretch, _mm512_add_pd(ci->C, Cj)));
+    return _mm512_mul_pd(_mm512_mul_pd(pair, bv), inv_r);
+  }
+  const __m512d st =
+      thermal ? _mm512_sub_pd(stretch, _mm512_mul_pd(_mm512_set1_pd(0.5), _mm512_add_pd(ci->eth, eth_j))) : stretch;
+  *excess = _mm512_sub_pd(st, _mm512_sub_pd(_mm512_min_pd(ci->bound, bound_j), _mm512_set1_pd(PERI_S0_SCREEN_MARGIN)));
+  return _mm512_mul_pd(_mm512_fmsub_pd(extension, cos_r0, ci->eth), bv);
+}
+#endif
+
+/* Node i alone over its intact bonds in family order: the bond values by a vector loop, their
+ * sums in order (so a node's result depends on neither threads nor ranks). */
 static inline __attribute__((always_inline)) mo_sums mo_node(const peri_bond_view *w, int32_t i, bool force,
                                                              bool thermal) {
   const size_t n = (size_t)w->n;
@@ -102,37 +201,64 @@ static inline __attribute__((always_inline)) mo_sums mo_node(const peri_bond_vie
                          *restrict B = w->coef + n, *restrict C = w->coef + 2 * n, *restrict eth = w->eth,
                          *restrict bound = w->s0_bound;
   const peri_family_eval fam = w->fam;
-  const double xi0 = X0[i], xi1 = X1[i], xi2 = X2[i], ui0 = U0[i], ui1 = U1[i], ui2 = U2[i];
-  const double eth_i = thermal ? eth[i] : 0.0, bound_i = force ? 0.0 : bound[i];
-  const double Ai = force ? A[i] : 0.0, Bi = force ? B[i] : 0.0, Ci = force ? C[i] : 0.0;
+  const mo_centre ci = mo_centre_of(w, i, force, thermal);
   const int64_t k0 = w->offset[i], k1 = w->offset[i + 1];
   const bool damaged = memchr(w->broken + k0, 1, (size_t)(k1 - k0)) != NULL;
   double s0 = 0.0, s1 = 0.0, s2 = 0.0, excess = -INFINITY;
   int32_t intact[PERI_INTACT_CHUNK];
   double g[PERI_INTACT_CHUNK], v0[PERI_INTACT_CHUNK], v1[PERI_INTACT_CHUNK], v2[PERI_INTACT_CHUNK];
+#ifdef PERI_BOND_V8
+  const __m512d zero = _mm512_setzero_pd();
+  const mo_centre_v8 cv = mo_centre_v8_of(w, i, force, thermal, false);
+  __m512d excess_v = _mm512_set1_pd(-INFINITY);
+  for (int64_t k = k0; k < k1;) {
+    int count;
+    const int32_t *restrict nbr = peri_next_chunk(w, damaged, &k, k1, intact, &count);
+    for (int a = 0; a < count; a += 8) {
+      const __mmask8 m = peri_first_lanes(count - a);
+      const __m256i j = _mm256_maskz_loadu_epi32(m, nbr + a);
+#define MO_GATHER(P) _mm512_mask_i32gather_pd(zero, m, j, (P), 8)
+      __m512d y[3], e;
+      const __m512d gv = mo_bond_v8(&cv, &fam, MO_GATHER(X0), MO_GATHER(X1), MO_GATHER(X2), MO_GATHER(U0),
+                                    MO_GATHER(U1), MO_GATHER(U2), force ? MO_GATHER(A) : zero,
+                                    force ? MO_GATHER(B) : zero, force ? MO_GATHER(C) : zero,
+                                    thermal ? MO_GATHER(eth) : zero, force ? zero : MO_GATHER(bound), MO_GATHER(V),
+                                    force, thermal, y, &e);
+#undef MO_GATHER
+      _mm512_mask_storeu_pd(g + a, m, gv);
+      if (force) {
+        _mm512_mask_storeu_pd(v0 + a, m, y[0]);
+        _mm512_mask_storeu_pd(v1 + a, m, y[1]);
+        _mm512_mask_storeu_pd(v2 + a, m, y[2]);
+      } else {
+        excess_v = _mm512_mask_max_pd(excess_v, m, excess_v, e);
+      }
+    }
+    if (force) {
+      for (int a = 0; a < count; ++a) {
+        s0 = fma(g[a], v0[a], s0);
+        s1 = fma(g[a], v1[a], s1);
+        s2 = fma(g[a], v2[a], s2);
+      }
+    } else {
+      for (int a = 0; a < count; ++a) s0 += g[a];
+    }
+  }
+  (void)ci;
+  const mo_sums r8 = {{s0, s1, s2}, _mm512_reduce_max_pd(excess_v) > 0.0};
+  return r8;
+#endif
   for (int64_t k = k0; k < k1;) {
     int count;
     const int32_t *restrict nbr = peri_next_chunk(w, damaged, &k, k1, intact, &count);
 #pragma omp simd reduction(max : excess)
     for (int a = 0; a < count; ++a) {
       const int32_t j = nbr[a];
-      const double x0 = X0[j] - xi0, x1 = X1[j] - xi1, x2 = X2[j] - xi2;
-      const double y0 = x0 + (U0[j] - ui0), y1 = x1 + (U1[j] - ui1), y2 = x2 + (U2[j] - ui2);
-      const double r0 = peri_length3(x0, x1, x2), r = peri_length3(y0, y1, y2);
-      const double inv_r0 = 1.0 / r0, inv_r = r > 0.0 ? 1.0 / r : 0.0;
-      /* L/|xi| = (x.y)/(|y| |xi|^2) (0 for a bond of zero length, which carries no force) */
-      const double cos_r0 = fma(x2, y2, fma(x1, y1, x0 * y0)) * inv_r * inv_r0 * inv_r0;
-      const double bv = peri_eval_beta(&fam, r0) * V[j];
-      if (force) {
-        const double pair = (Ai + A[j]) * cos_r0 + (Bi + B[j]) * (r - r0) * inv_r0 - (Ci + C[j]);
-        g[a] = pair * bv * inv_r;
-        v0[a] = y0, v1[a] = y1, v2[a] = y2;
-      } else {
-        g[a] = ((r - r0) * cos_r0 - eth_i) * bv; /* (s L - eth_i) beta V, s L = (r - |xi|) L/|xi| */
-        /* the mechanical stretch against the screening bound (symmetric in i and j) */
-        const double st = (r - r0) * inv_r0 - (thermal ? 0.5 * (eth_i + eth[j]) : 0.0);
-        excess = peri_max(excess, st - (peri_min(bound_i, bound[j]) - PERI_S0_SCREEN_MARGIN));
-      }
+      double e;
+      g[a] = mo_bond(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], force ? A[j] : 0.0, force ? B[j] : 0.0,
+                     force ? C[j] : 0.0, thermal ? eth[j] : 0.0, force ? 0.0 : bound[j], V[j], force, thermal, &v0[a],
+                     &v1[a], &v2[a], &e);
+      excess = peri_max(excess, e);
     }
     if (force) {
       for (int a = 0; a < count; ++a) {
@@ -148,11 +274,129 @@ static inline __attribute__((always_inline)) mo_sums mo_node(const peri_bond_vie
   return r;
 }
 
+/* The block of nodes i0 .. i0+7 (node_blocks.h): lane l is node i0 + l and takes template
+ * entry a, neighbour tj[a] + l, when bit l of lanes[a] is set; every read is contiguous. The
+ * same sums, in the same order, as mo_node. */
+static inline __attribute__((always_inline)) void mo_block(const peri_bond_view *w, int32_t i0,
+                                                           const int32_t *restrict tj, const uint8_t *restrict lanes,
+                                                           int64_t count, bool force, bool thermal,
+                                                           mo_sums out[PERI_BLOCK]) {
+  const size_t n = (size_t)w->n;
+  const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
+                         *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict A = w->coef,
+                         *restrict B = w->coef + n, *restrict C = w->coef + 2 * n, *restrict eth = w->eth,
+                         *restrict bound = w->s0_bound;
+  const peri_family_eval fam = w->fam;
+#ifdef PERI_BOND_V8
+  {
+    const __m512d zero = _mm512_setzero_pd();
+    const mo_centre_v8 cv = mo_centre_v8_of(w, i0, force, thermal, true);
+    __m512d s0 = zero, s1 = zero, s2 = zero;
+    __mmask8 beyond = 0;
+    for (int64_t a = 0; a < count; ++a) {
+      const int64_t j = tj[a];
+      const __mmask8 on = lanes[a];
+      peri_prefetch_next_blocks(w, j);
+      __m512d y[3], e;
+      const __m512d g = mo_bond_v8(&cv, &fam, _mm512_loadu_pd(X0 + j), _mm512_loadu_pd(X1 + j),
+                                   _mm512_loadu_pd(X2 + j), _mm512_loadu_pd(U0 + j), _mm512_loadu_pd(U1 + j),
+                                   _mm512_loadu_pd(U2 + j), force ? _mm512_loadu_pd(A + j) : zero,
+                                   force ? _mm512_loadu_pd(B + j) : zero, force ? _mm512_loadu_pd(C + j) : zero,
+                                   thermal ? _mm512_loadu_pd(eth + j) : zero,
+                                   force ? zero : _mm512_loadu_pd(bound + j), _mm512_loadu_pd(V + j), force, thermal,
+                                   y, &e);
+      /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
+      if (force) {
+        s0 = _mm512_mask3_fmadd_pd(g, y[0], s0, on);
+        s1 = _mm512_mask3_fmadd_pd(g, y[1], s1, on);
+        s2 = _mm512_mask3_fmadd_pd(g, y[2], s2, on);
+      } else {
+        s0 = _mm512_mask_add_pd(s0, on, s0, g);
+        beyond |= _mm512_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ);
+      }
+    }
+    double a0[PERI_BLOCK], a1[PERI_BLOCK], a2[PERI_BLOCK];
+    _mm512_storeu_pd(a0, s0), _mm512_storeu_pd(a1, s1), _mm512_storeu_pd(a2, s2);
+    for (int l = 0; l < PERI_BLOCK; ++l) {
+      const mo_sums r = {{a0[l], a1[l], a2[l]}, (beyond >> l) & 1u};
+      out[l] = r;
+    }
+    return;
+  }
+#endif
+  double c0[PERI_BLOCK], c1[PERI_BLOCK], c2[PERI_BLOCK], cu0[PERI_BLOCK], cu1[PERI_BLOCK], cu2[PERI_BLOCK],
+      ceth[PERI_BLOCK], cbound[PERI_BLOCK], cA[PERI_BLOCK], cB[PERI_BLOCK], cC[PERI_BLOCK];
+  double s0[PERI_BLOCK], s1[PERI_BLOCK], s2[PERI_BLOCK], beyond[PERI_BLOCK];
+  for (int l = 0; l < PERI_BLOCK; ++l) {
+    const mo_centre c = mo_centre_of(w, i0 + l, force, thermal);
+    c0[l] = c.x0, c1[l] = c.x1, c2[l] = c.x2, cu0[l] = c.u0, cu1[l] = c.u1, cu2[l] = c.u2;
+    ceth[l] = c.eth, cbound[l] = c.bound, cA[l] = c.A, cB[l] = c.B, cC[l] = c.C;
+    s0[l] = s1[l] = s2[l] = 0.0, beyond[l] = 0.0;
+  }
+  for (int64_t a = 0; a < count; ++a) {
+    const int64_t j = tj[a];
+    /* (a second exit keeps GCC from versioning this loop for outer-loop vectorization, lps.c) */
+    if (j < 0) break;
+    const double *restrict on_lanes = peri_lane_on[lanes[a]];
+    peri_prefetch_next_blocks(w, j);
+    const double *restrict A0 = X0 + j, *restrict A1 = X1 + j, *restrict A2 = X2 + j, *restrict E0 = U0 + j,
+                           *restrict E1 = U1 + j, *restrict E2 = U2 + j, *restrict Vj = V + j;
+    const double *restrict Aj = force ? A + j : A, *restrict Bj = force ? B + j : B, *restrict Cj = force ? C + j : C,
+                           *restrict Ej = thermal ? eth + j : eth, *restrict Sj = force ? bound : bound + j;
+#pragma omp simd
+    for (int l = 0; l < PERI_BLOCK; ++l) {
+      const mo_centre c = {c0[l], c1[l], c2[l], cu0[l], cu1[l], cu2[l], ceth[l], cbound[l], cA[l], cB[l], cC[l]};
+      double y0, y1, y2, e;
+      const double g = mo_bond(c, &fam, A0[l], A1[l], A2[l], E0[l], E1[l], E2[l], force ? Aj[l] : 0.0,
+                               force ? Bj[l] : 0.0, force ? Cj[l] : 0.0, thermal ? Ej[l] : 0.0,
+                               force ? 0.0 : Sj[l], Vj[l], force, thermal, &y0, &y1, &y2, &e);
+      /* unconditional updates (a lane without the bond adds exactly 0), as in lps.c */
+      const bool on = on_lanes[l] != 0.0;
+      const double g_on = on ? g : 0.0;
+      if (force) {
+        s0[l] = fma(g_on, y0, s0[l]);
+        s1[l] = fma(g_on, y1, s1[l]);
+        s2[l] = fma(g_on, y2, s2[l]);
+      } else {
+        s0[l] += g_on;
+        beyond[l] += on && e > 0.0 ? 1.0 : 0.0;
+      }
+    }
+  }
+  for (int l = 0; l < PERI_BLOCK; ++l) {
+    const mo_sums r = {{s0[l], s1[l], s2[l]}, beyond[l] > 0.0};
+    out[l] = r;
+  }
+}
+
 /* The specialisations the passes call (constants fixed inside functions of their own, so
- * that they reach the vector loop through the outlined OpenMP regions). */
-static mo_sums mo_dilatation_node(const peri_bond_view *w, int32_t i) { return mo_node(w, i, false, false); }
-static mo_sums mo_dilatation_thermal_node(const peri_bond_view *w, int32_t i) { return mo_node(w, i, false, true); }
-static mo_sums mo_force_node(const peri_bond_view *w, int32_t i) { return mo_node(w, i, true, false); }
+ * that they reach the vector loops through the outlined OpenMP regions). */
+typedef struct mo_loops {
+  mo_sums (*node)(const peri_bond_view *, int32_t);
+  void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, mo_sums *);
+} mo_loops;
+#define MO_VARIANT(NAME, FORCE, THERMAL)                                                                 \
+  static mo_sums NAME##_node(const peri_bond_view *w, int32_t i) { return mo_node(w, i, FORCE, THERMAL); } \
+  static void NAME##_block(const peri_bond_view *w, int32_t i0, const int32_t *tj, const uint8_t *lanes,   \
+                           int64_t count, mo_sums *out) {                                                 \
+    mo_block(w, i0, tj, lanes, count, FORCE, THERMAL, out);                                               \
+  }                                                                                                       \
+  static const mo_loops NAME = {NAME##_node, NAME##_block};
+MO_VARIANT(mo_dilatation, false, false)
+MO_VARIANT(mo_dilatation_thermal, false, true)
+MO_VARIANT(mo_forces, true, false)
+
+/* The sums of every node of item `item` into sums[] (a block at a time where it is one). */
+static inline void mo_item_sums(const mo_loops *loops, const peri_bond_view *w, const peri_node_blocks *items,
+                                int32_t item, mo_sums sums[PERI_BLOCK]) {
+  const int32_t i0 = items->first[item], i1 = items->first[item + 1];
+  if (peri_item_is_block(items, item)) {
+    const int64_t t0 = items->tpl[item];
+    loops->block(w, i0, items->tpl_node + t0, items->tpl_lanes + t0, peri_item_entries(items, item), sums);
+  } else {
+    for (int32_t i = i0; i < i1; ++i) sums[i - i0] = loops->node(w, i);
+  }
+}
 
 /* Node i's dilatation and its three coefficients of the force pass from the pass-1 sum. */
 static inline void mo_node_coefficients(peri_sim *s, int32_t i, double sum) {
@@ -182,29 +426,31 @@ static long mo_force_pass(peri_sim *s, bool update_s0) {
   peri_node_blocks *items = peri_node_blocks_refresh(s);
   peri_particles *p = &s->disc.p;
   const bool breaking = s->solver.breaking;
-  mo_sums (*const dilatation)(const peri_bond_view *, int32_t) =
-      s->state.thermal_strain ? mo_dilatation_thermal_node : mo_dilatation_node;
+  const mo_loops *dilatation = s->state.thermal_strain ? &mo_dilatation_thermal : &mo_dilatation;
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
   long n_broken = 0;
 #pragma omp parallel reduction(+ : n_broken)
   PERI_FOR_EACH_ITEM(items, item) {
-    for (int32_t i = items->first[item]; i < items->first[item + 1]; ++i) {
-      mo_sums r = dilatation(&w, i);
-      if (breaking && r.candidate) {
+    const int32_t i0 = items->first[item], i1 = items->first[item + 1];
+    mo_sums sums[PERI_BLOCK];
+    mo_item_sums(dilatation, &w, items, item, sums);
+    for (int32_t i = i0; i < i1; ++i) {
+      if (breaking && sums[i - i0].candidate) {
         const long broken_here = peri_node_blocks_break_family(s, items, item, i);
-        if (broken_here > 0) r = dilatation(&w, i);
+        if (broken_here > 0) sums[i - i0] = dilatation->node(&w, i); /* (the same sums as the block's) */
         n_broken += broken_here;
       }
-      mo_node_coefficients(s, i, r.sum[0]);
+      mo_node_coefficients(s, i, sums[i - i0].sum[0]);
     }
   }
   mo_exchange_coefficients(s);
 #pragma omp parallel
   PERI_FOR_EACH_ITEM(items, item) {
-    for (int32_t i = items->first[item]; i < items->first[item + 1]; ++i) {
-      const mo_sums r = mo_force_node(&w, i);
-      for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = r.sum[d];
-    }
+    const int32_t i0 = items->first[item], i1 = items->first[item + 1];
+    mo_sums sums[PERI_BLOCK];
+    mo_item_sums(&mo_forces, &w, items, item, sums);
+    for (int32_t i = i0; i < i1; ++i)
+      for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = sums[i - i0].sum[d];
   }
   return n_broken;
 }
