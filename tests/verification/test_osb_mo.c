@@ -18,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include "support.h"
+#include "peri/plasticity.h"
 
 #define DX 1.0e-3
 #define M_RATIO 3.0
@@ -32,7 +33,8 @@ typedef struct {
   double K, mu;       /* the material */
 } mo_case;
 
-static void build(peri_sim *s, const mo_case *c, const char *model, const char *disc_extra) {
+static void build_with(peri_sim *s, const mo_case *c, const char *model, const char *disc_extra,
+                       const char *material_extra) {
   char box[320], deck[2048];
   double h = 0.5 * c->n * DX;
   if (c->dim == 1) snprintf(box, sizeof box, "{shape: interval, min: [%.17g], max: [%.17g]}", -h, h);
@@ -45,7 +47,7 @@ static void build(peri_sim *s, const mo_case *c, const char *model, const char *
            "dimension: %d\n"
            "%s"
            "materials:\n"
-           "  mat: {model: %s, density: 2700, bulk_modulus: %.17g, shear_modulus: %.17g}\n"
+           "  mat: {model: %s, density: 2700, bulk_modulus: %.17g, shear_modulus: %.17g%s}\n"
            "discretization:\n"
            "  spacing: %.17g\n"
            "  m: %.17g\n"
@@ -55,10 +57,14 @@ static void build(peri_sim *s, const mo_case *c, const char *model, const char *
            "solver: {type: explicit, steps: 1, breaking: false}\n"
            "output: {picture: false}\n",
            c->dim, c->dim != 2 ? "" : c->plane == PERI_PLANE_STRAIN ? "plane: strain\n" : "plane: stress\n", model,
-           c->K, c->mu, DX, M_RATIO,
+           c->K, c->mu, material_extra, DX, M_RATIO,
            c->dim == 2 ? "  thickness: 1.0e-3\n" : c->dim == 1 ? "  cross_section: 1.0e-6\n" : "", disc_extra, box);
   cr_assert_eq(sim_from_string(s, deck), 0, "deck:\n%s", deck);
   s->solver.breaking = false;
+}
+
+static void build(peri_sim *s, const mo_case *c, const char *model, const char *disc_extra) {
+  build_with(s, c, model, disc_extra, "");
 }
 
 static double half_width(const mo_case *c) { return 0.5 * c->n * DX; }
@@ -155,7 +161,7 @@ static double interior_energy(peri_sim *s, const mo_case *c, double *spread) {
 
 static const mo_case ps = {2, PERI_PLANE_STRESS, 30, 60.0e9, 26.0e9};
 static const mo_case pe = {2, PERI_PLANE_STRAIN, 30, 60.0e9, 26.0e9};
-static const mo_case d3 = {3, PERI_PLANE_NONE, 18, 60.0e9, 26.0e9};
+static const mo_case d3 = {3, PERI_PLANE_NONE, 16, 60.0e9, 26.0e9};
 
 /* (1) and (2): a dilatation eps I and a shear eps (e1 e2 + e2 e1), on osb_mo and on lps with
  * omega = 1/|xi|. Dilatation: the classical W to 1e-10 (rounding: s = eps and L = 1 exactly,
@@ -315,3 +321,87 @@ static void check_thermal(const mo_case *c) {
 Test(osb_mo, thermal_plane_stress) { check_thermal(&ps); }
 Test(osb_mo, thermal_plane_strain) { check_thermal(&pe); }
 Test(osb_mo, thermal_3d) { check_thermal(&d3); }
+
+/* (5) Sublayers (MODELS.md 16.2: s^e in both the dilatation sum and the b-term). Two layers
+ * W = (0.6, 0.4), s_y = (1e-3, 2e-3) under a dilatation eps = 1.5e-3 I: the first layer
+ * yields (s^p_1 = eps - s_y1), the second does not, so every bond's elastic stretch is
+ * s^e = 0.6 s_y1 + 0.4 eps = 1.2e-3 and the interior W is the classical one at the strain
+ * s^e I (exact, as in (1)), the interior force zero. */
+static void check_plastic_dilatation(const mo_case *c) {
+  const double eps = 1.5e-3, se = 0.6 * 1.0e-3 + 0.4 * eps;
+  peri_sim s;
+  build_with(&s, c, "osb_mo", "", ", plasticity: {weights: [0.6, 0.4], yield_stretches: [1.0e-3, 2.0e-3]}");
+  double H[9] = {0};
+  H[0] = H[4] = eps, H[8] = c->dim == 3 ? eps : 0.0;
+  set_affine(&s, H);
+  s.mat.model->force(&s);
+  double inner, all;
+  force_extent(&s, c, &inner, &all);
+  cr_expect(all > 0.0 && inner <= 1e-9 * all, "interior |f| %.3g against surface %.3g", inner, all);
+  double spread;
+  const double W = interior_energy(&s, c, &spread);
+  const double W_cl = c->dim == 3 ? 0.5 * c->K * 9.0 * se * se : 2.0 * bulk_2d(c) * se * se;
+  cr_expect(fabs(W / W_cl - 1.0) < 1e-10, "dim %d plane %d: W %.17g, classical at s^e %.17g", c->dim, (int)c->plane, W,
+            W_cl);
+  peri_sim_free(&s);
+}
+
+Test(osb_mo, plastic_dilatation_3d) { check_plastic_dilatation(&d3); }
+Test(osb_mo, plastic_dilatation_plane_stress) { check_plastic_dilatation(&ps); }
+
+/* At a1 = 0 with the analytic b, osb_mo with sublayers is the PMB with the same sublayers
+ * (the pair force c s^e at every bond, the same return mapping): under the non-affine field
+ * (stretches up to ~3e-4) with yield stretches 2e-5 and 6e-5 most bonds yield, and the force
+ * of every node equals PMB's to rounding (1e-10 of the largest). */
+static void check_plastic_pmb(const mo_case *c) {
+  const char *layers = ", plasticity: {weights: [0.5, 0.3, 0.2], yield_stretches: [2.0e-5, 6.0e-5, 1.0e-4]}";
+  peri_sim mo, pmb;
+  build_with(&mo, c, "osb_mo", "  weighted_volume: analytic\n", layers);
+  build_with(&pmb, c, "pmb", "", layers);
+  set_field(&mo, c->dim, half_width(c));
+  set_field(&pmb, c->dim, half_width(c));
+  mo.mat.model->force(&mo);
+  pmb.mat.model->force(&pmb);
+  double diff = 0.0, ref = 0.0, plastic = 0.0;
+  for (int32_t i = 0; i < mo.disc.p.n_owned; ++i) {
+    double v[3];
+    for (int d = 0; d < 3; ++d) v[d] = mo.disc.p.f[3 * i + d] - pmb.disc.p.f[3 * i + d];
+    diff = fmax(diff, norm3(v)), ref = fmax(ref, norm3(&pmb.disc.p.f[3 * i]));
+    for (int64_t k = mo.disc.bonds.offset[i]; k < mo.disc.bonds.offset[i + 1]; ++k)
+      plastic = fmax(plastic, fabs(peri_plastic_bond_stretch(&mo, i, k)));
+  }
+  cr_assert_gt(plastic, 1e-5, "no bond yielded (largest plastic stretch %.3g)", plastic);
+  cr_expect(diff <= 1e-10 * ref, "dim %d plane %d: |f_MO - f_PMB| = %.3g of %.3g", c->dim, (int)c->plane, diff, ref);
+  peri_sim_free(&mo);
+  peri_sim_free(&pmb);
+}
+
+Test(osb_mo, plastic_pmb_plane_stress_nu_third) { check_plastic_pmb(&(mo_case){2, PERI_PLANE_STRESS, 30, 8.0e9, 3.0e9}); }
+Test(osb_mo, plastic_pmb_1d_bar) { check_plastic_pmb(&(mo_case){1, PERI_PLANE_NONE, 40, 60.0e9, 26.0e9}); }
+
+/* The node and block loops give the same forces bit for bit (a node's result must not
+ * depend on which path it takes, so neither on threads nor ranks): every node by the
+ * one-node path against the blocks, 3D, non-affine field with a thermal strain. */
+Test(osb_mo, node_and_block_paths_agree) {
+  const mo_case c = {3, PERI_PLANE_NONE, 14, 60.0e9, 26.0e9};
+  peri_sim a, b;
+  build(&a, &c, "osb_mo", "");
+  build(&b, &c, "osb_mo", "");
+  b.disc.generic_bond_loops = true;
+  peri_sim *both[2] = {&a, &b};
+  for (int k = 0; k < 2; ++k) {
+    both[k]->state.thermal_strain = calloc((size_t)both[k]->disc.p.n, sizeof(double));
+    for (int32_t i = 0; i < both[k]->disc.p.n; ++i) both[k]->state.thermal_strain[i] = 1e-5 * both[k]->disc.p.x[3 * i];
+    set_field(both[k], 3, half_width(&c));
+    both[k]->mat.model->force(both[k]);
+  }
+  for (int32_t i = 0; i < a.disc.p.n_owned; ++i)
+    for (int d = 0; d < 3; ++d)
+      cr_assert(a.disc.p.f[3 * i + d] == b.disc.p.f[3 * i + d], "node %d: %.17g (blocks) vs %.17g (one node)", i,
+                a.disc.p.f[3 * i + d], b.disc.p.f[3 * i + d]);
+  for (int k = 0; k < 2; ++k) {
+    free(both[k]->state.thermal_strain);
+    both[k]->state.thermal_strain = NULL;
+    peri_sim_free(both[k]);
+  }
+}
