@@ -497,23 +497,28 @@ static long mo_force(peri_sim *s) {
  * bonds as they are (e^e the elastic extension), theta^m_i from node i's own bonds. Not on the
  * time-step path. */
 static void mo_energy(peri_sim *s, double *W) {
+  peri_node_blocks *items = peri_node_blocks_refresh(s); /* (the structure-of-arrays copies) */
+  const peri_bond_view w = peri_bond_view_of(s, items->soa);
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const double *eth = s->state.thermal_strain, delta = s->disc.geom.horizon;
+  const bool plastic = s->state.plastic_stretch != NULL;
+  const peri_family_eval fam = w.fam;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const double eth_i = eth ? eth[i] : 0.0;
+    const double xi0 = w.x0[i], xi1 = w.x1[i], xi2 = w.x2[i], ui0 = w.u0[i], ui1 = w.u1[i], ui2 = w.u2[i];
     double sum = 0.0, q2 = 0.0;
+#pragma omp simd reduction(+ : sum, q2)
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
       const int32_t j = b->neighbor[k];
-      double y[3];
-      const double r = peri_deformed_bond(p->x, p->u, i, j, y), r0 = peri_bond_length(p->x, i, j);
-      double x_dot_y = 0.0;
-      for (int c = 0; c < 3; ++c) x_dot_y += (p->x[3 * j + c] - p->x[3 * i + c]) * y[c];
-      const double cosine = r > 0.0 ? x_dot_y / (r * r0) : 0.0;
-      const double se = (r - r0) / r0 - peri_plastic_bond_stretch(s, i, k); /* the elastic stretch */
-      const double bv = peri_bonds_beta(b, r0) * p->volume[j];
+      const double x0 = w.x0[j] - xi0, x1 = w.x1[j] - xi1, x2 = w.x2[j] - xi2;
+      const double y0 = x0 + (w.u0[j] - ui0), y1 = x1 + (w.u1[j] - ui1), y2 = x2 + (w.u2[j] - ui2);
+      const double r0 = peri_length3(x0, x1, x2), r = peri_length3(y0, y1, y2);
+      const double cosine = r > 0.0 ? (x0 * y0 + x1 * y1 + x2 * y2) / (r * r0) : 0.0;
+      /* the elastic stretch */
+      const double se = (r - r0) / r0 - (plastic ? peri_plastic_bond_stretch(s, i, k) : 0.0);
+      const double bv = b->broken[k] ? 0.0 : peri_eval_beta(&fam, r0) * w.V[j];
       sum += (se * cosine - eth_i) * bv;
       q2 += (se - eth_i) * (se - eth_i) * r0 * bv; /* omega e^2 with omega = delta/|xi|, over delta */
     }
