@@ -951,7 +951,7 @@ static int build(parse_ctx *c) {
   TRY(peri_setup_check_fictitious_layers(c->s, c->root));
   TRY(parse_indenter(c));
   TRY(parse_solver(c));
-  if (s->solver.kind == PERI_SOLVER_IMPLICIT && !s->mat.model->tangent && !peri_deck_get(c->root, "coupling")) {
+  if (s->solver.kind == PERI_SOLVER_IMPLICIT && s->mat.model == peri_model_find("osb_mo")) {
     const peri_node *solver = peri_deck_get(c->root, "solver");
     return peri_deck_error(solver ? peri_deck_get(solver, "type") : c->root, "solver.type implicit: the %s model has "
                            "no tangent stiffness (use nlcg, adr or dynamic_relaxation)", s->mat.model->name);
