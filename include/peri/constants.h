@@ -27,6 +27,10 @@ double peri_fracture_energy_from_toughness(const peri_geometry *g, double KIc, d
 /* LPS constants n_theta, K_theta, alpha*m (model reference section 3.3). */
 void peri_lps_constants(const peri_geometry *g, double K, double mu, double *n_theta,
                         double *K_theta, double *alpha_m);
+/* Madenci-Oterkus constants in the same three numbers (src/model/constants.c): n, K_theta = 2 a1,
+ * alpha*m = 2 b m (Ebrahimi 2020 Table 2.1 with the weighted volume of omega = delta/|xi|). */
+void peri_mo_constants(const peri_geometry *g, double K, double mu, double *n_theta, double *K_theta,
+                       double *alpha_m);
 /* P-wave modulus M and its PMB-equivalent micromodulus c_eq (section 13.2). */
 double peri_pwave_modulus(const peri_geometry *g, double E, double nu, double K, double mu);
 double peri_stable_micromodulus(const peri_geometry *g, double M);

@@ -168,6 +168,27 @@ static int parse_materials(parse_ctx *c) {
   return PERI_OK;
 }
 
+/* The osb_mo model (src/model/osb_mo.c) has its own influence function delta/|xi| and none of
+ * the LPS surface corrections or the LAMMPS-form critical stretch. */
+static int check_osb_mo(parse_ctx *c) {
+  const peri_sim *s = c->s;
+  if (s->mat.model != peri_model_find("osb_mo")) return PERI_OK;
+  const peri_node *d = peri_deck_get(c->root, "discretization");
+  if (d && peri_deck_get(d, "influence"))
+    return peri_deck_error(peri_deck_key_node(d, "influence"), "key 'influence': the osb_mo model has its own influence "
+                           "function omega = delta/|xi| (Ebrahimi 2020 eq. 2.22); remove the key, or use model lps "
+                           "for another");
+  if (s->disc.surface_correction != PERI_SURFACE_NONE)
+    return peri_deck_error(peri_deck_key_node(d, "surface_correction"), "key 'surface_correction': not available with "
+                           "the osb_mo model (the corrections are those of lps, docs/models.md 4.1)");
+  for (int m = 0; m < s->mat.n_materials; ++m)
+    if (s->mat.materials[m].lammps_s0)
+      return peri_deck_error(c->failure[m].at, "materials.%s: the {s00, alpha} critical stretch is not available "
+                             "with the osb_mo model (give a number, a fracture_energy or a fracture_toughness)",
+                             s->mat.materials[m].name);
+  return PERI_OK;
+}
+
 /* Elastic constants (which need the horizon when a micromodulus is given) and the
  * critical stretch of every material and material pair. */
 static int resolve_materials(parse_ctx *c) {
@@ -799,7 +820,8 @@ static int parse_output(parse_ctx *c) {
           return peri_deck_error(f, "unknown output field '%s'; did you mean '%s'? (fields: %s)",
                                  f->scalar ? f->scalar : "", peri_frame_fields[best], list);
         }
-        if (!strcmp(f->scalar, "dilatation") && s->mat.model != peri_model_find("lps"))
+        if (!strcmp(f->scalar, "dilatation") && s->mat.model != peri_model_find("lps") &&
+            s->mat.model != peri_model_find("osb_mo"))
           return peri_deck_error(f, "output field 'dilatation': the %s model has no dilatation", s->mat.model->name);
         if (!strcmp(f->scalar, "horizon") && !s->disc.horizon_field)
           return peri_deck_error(f, "output field 'horizon': only with a horizon that varies (discretization.horizon "
@@ -818,7 +840,8 @@ static int parse_output(parse_ctx *c) {
       TRY(peri_deck_allow(pic, "output.picture", pkeys));
       int which = 3;
       TRY(peri_deck_choice(pic, "field", false, peri_frame_fields, &which));
-      if (!strcmp(peri_frame_fields[which], "dilatation") && s->mat.model != peri_model_find("lps"))
+      if (!strcmp(peri_frame_fields[which], "dilatation") && s->mat.model != peri_model_find("lps") &&
+          s->mat.model != peri_model_find("osb_mo"))
         return peri_deck_error(peri_deck_get(pic, "field"), "picture field 'dilatation': the %s model has no "
                                "dilatation", s->mat.model->name);
       free(o->picture_field);
@@ -905,6 +928,7 @@ static int build(parse_ctx *c) {
   const bool heat_only = peri_setup_heat_only(root);
   TRY(parse_materials(c));
   TRY(parse_discretization(c));
+  if (!heat_only) TRY(check_osb_mo(c));
   if (!heat_only) TRY(resolve_materials(c));
   if (!heat_only) TRY(peri_setup_plasticity(s, root)); /* sublayers (plasticity_keys.c, docs/plasticity.md) */
   TRY(parse_regions(c));
@@ -927,6 +951,11 @@ static int build(parse_ctx *c) {
   TRY(peri_setup_check_fictitious_layers(c->s, c->root));
   TRY(parse_indenter(c));
   TRY(parse_solver(c));
+  if (s->solver.kind == PERI_SOLVER_IMPLICIT && s->mat.model == peri_model_find("osb_mo")) {
+    const peri_node *solver = peri_deck_get(c->root, "solver");
+    return peri_deck_error(solver ? peri_deck_get(solver, "type") : c->root, "solver.type implicit: the %s model has "
+                           "no tangent stiffness (use nlcg, adr or dynamic_relaxation)", s->mat.model->name);
+  }
   if (s->mat.pair_strength && !peri_is_quasi_static(s)) /* the criterion runs between load steps */
     return peri_deck_error(peri_deck_get(root, "interfaces"), "interfaces: normal_strength needs a quasi-static "
                            "solver (solver.type nlcg, adr, dynamic_relaxation or implicit)");

@@ -103,6 +103,38 @@ void peri_lps_constants(const peri_geometry *g, double K, double mu, double *n_t
   }
 }
 
+/* Madenci-Oterkus (Ebrahimi 2020 Table 2.1; MODELS.md 3.5-3.6) in the LPS fields: n the
+ * dimension of the dilatation (theta = n times the horizon-average stretch), K_theta = 2 a1
+ * (W = K_theta theta^2/2 + ...), alpha*m = 2 b m with m the weighted volume of omega =
+ * delta/|xi| (pi delta^5 in 3D, 2 pi h delta^4/3 in 2D, A delta^3 in 1D):
+ *   3D  a1 = (K - 5 mu/3)/2,   b = 15 mu/(2 pi delta^5):    alpha*m = 15 mu
+ *   2D  a1 = (K2D - 2 mu)/2,   b = 6 mu/(pi h delta^4):     alpha*m = 8 mu
+ *   1D  a1 = 0,                b = E/(2 A delta^3):         alpha*m = E
+ * K2D = K + mu/3 (plane strain), E/(2(1 - nu)) = 9 K mu/(3K + 4 mu) (plane stress): the
+ * modulus of W = 2 K2D eps^2 under isotropic in-plane strain (MODELS.md 3.5, Derived). */
+void peri_mo_constants(const peri_geometry *g, double K, double mu, double *n_theta, double *K_theta,
+                       double *alpha_m) {
+  switch (g->dim) {
+  case 3:
+    *n_theta = 3.0;
+    *K_theta = K - 5.0 * mu / 3.0;
+    *alpha_m = 15.0 * mu;
+    break;
+  case 2: {
+    const double K2D = g->plane == PERI_PLANE_STRAIN ? K + mu / 3.0 : 9.0 * K * mu / (3.0 * K + 4.0 * mu);
+    *n_theta = 2.0;
+    *K_theta = K2D - 2.0 * mu;
+    *alpha_m = 8.0 * mu;
+    break;
+  }
+  default:
+    *n_theta = 1.0;
+    *K_theta = 0.0;
+    *alpha_m = 9.0 * K * mu / (3.0 * K + mu); /* E */
+    break;
+  }
+}
+
 /* docs/model_reference.md 13.2: M = K + 4mu/3 (3D, plane strain), E/(1-nu^2) (plane stress), E (1D). */
 double peri_pwave_modulus(const peri_geometry *g, double E, double nu, double K, double mu) {
   if (g->dim == 1) return E;

@@ -4,8 +4,9 @@
 
 extern const peri_model_ops peri_model_pmb;
 extern const peri_model_ops peri_model_lps;
+extern const peri_model_ops peri_model_osb_mo; /* src/model/osb_mo.c */
 
-static const peri_model_ops *const models[] = {&peri_model_pmb, &peri_model_lps};
+static const peri_model_ops *const models[] = {&peri_model_pmb, &peri_model_lps, &peri_model_osb_mo};
 #define N_MODELS (sizeof models / sizeof *models)
 
 const peri_model_ops *peri_model_find(const char *name) {

@@ -453,6 +453,66 @@ void peri_plastic_lps_node_force(const peri_sim *s, const peri_bond_view *w, con
   f[0] = f0, f[1] = f1, f[2] = f2;
 }
 
+long peri_plastic_mo_node_sums(peri_sim *s, const peri_bond_view *w, const peri_plastic_pass *pl, int32_t i,
+                               plastic_chunk *c, double *sum) {
+  const peri_bonds *b = &s->disc.bonds;
+  const double *eth = s->state.thermal_strain;
+  const bool breaking = s->solver.breaking, thermal = eth != NULL;
+  const double eth_i = thermal ? eth[i] : 0.0;
+  double total = 0.0, smin = INFINITY;
+  long n_broken = 0;
+  bool yielded = false;
+  for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PLASTIC_CHUNK) {
+    const int nk = (int)(b->offset[i + 1] - k0 < PLASTIC_CHUNK ? b->offset[i + 1] - k0 : PLASTIC_CHUNK);
+    if (thermal) plastic_chunk_map(s, w, pl, i, k0, nk, breaking, true, c, &n_broken, &smin, &yielded);
+    else plastic_chunk_map(s, w, pl, i, k0, nk, breaking, false, c, &n_broken, &smin, &yielded);
+    double term[PLASTIC_CHUNK];
+#pragma omp simd
+    for (int a = 0; a < nk; ++a) {
+      const int32_t j = c->j[a];
+      const double r0 = c->r0[a], r = c->r[a];
+      const double x_dot_y = (w->x0[j] - w->x0[i]) * c->y0[a] + (w->x1[j] - w->x1[i]) * c->y1[a] +
+                             (w->x2[j] - w->x2[i]) * c->y2[a];
+      const double cosine = r > 0.0 ? x_dot_y / (r * r0) : 0.0;
+      /* (s^e L - eth_i) beta V_j (0 for a broken bond), s^e = (r - |xi|)/|xi| - s^p */
+      const double se = (r - r0) / r0 - (c->s[a] - c->se[a]);
+      term[a] = c->intact[a] * (se * cosine - eth_i) * peri_eval_beta(&w->fam, r0) * w->V[j];
+    }
+    for (int a = 0; a < nk; ++a) total += term[a]; /* in family order */
+  }
+  *sum = total;
+  s->state.plastic_nodes[i] = yielded; /* (the node's own flag, written by its thread) */
+  return n_broken;
+}
+
+void peri_plastic_mo_node_force(const peri_sim *s, const peri_bond_view *w, const peri_plastic_pass *pl, int32_t i,
+                                double f[3]) {
+  const peri_bonds *b = &s->disc.bonds;
+  const int L = pl->layers;
+  const int32_t *material = s->disc.p.material;
+  const int row = material[i] * pl->nm;
+  const size_t n = (size_t)w->n;
+  const double *A = w->coef, *B = w->coef + n, *C = w->coef + 2 * n;
+  double f0 = 0.0, f1 = 0.0, f2 = 0.0;
+  for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+    if (b->broken[k]) continue;
+    const int32_t j = b->neighbor[k];
+    const double x0 = w->x0[j] - w->x0[i], x1 = w->x1[j] - w->x1[i], x2 = w->x2[j] - w->x2[i];
+    const double d0 = x0 + (w->u0[j] - w->u0[i]), d1 = x1 + (w->u1[j] - w->u1[i]), d2 = x2 + (w->u2[j] - w->u2[i]);
+    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2), r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+    if (!(r > 0.0)) continue;
+    const double *W = pl->W + (row + material[j]) * L, *sp = s->state.plastic_stretch + k * L;
+    double plastic = 0.0; /* sum_l W_l s^p_l (the padding layers have W = 0) */
+    for (int l = 0; l < L; ++l) plastic += W[l] * sp[l];
+    /* t_ij + t_ji = (A_i + A_j) L/|xi| + (B_i + B_j) s^e - (C_i + C_j) (src/model/osb_mo.c) */
+    const double cos_r0 = (x0 * d0 + x1 * d1 + x2 * d2) / (r * r0 * r0);
+    const double t = (A[i] + A[j]) * cos_r0 + (B[i] + B[j]) * ((r - r0) / r0 - plastic) - (C[i] + C[j]);
+    const double g = t * peri_eval_beta(&w->fam, r0) * w->V[j] / r;
+    f0 = fma(g, d0, f0), f1 = fma(g, d1, f1), f2 = fma(g, d2, f2);
+  }
+  f[0] = f0, f[1] = f1, f[2] = f2;
+}
+
 void peri_plastic_lps_energy(peri_sim *s, double *W) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
@@ -481,6 +541,7 @@ void peri_plastic_dissipation(const peri_sim *s, double *D) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const bool lps = !strcmp(s->mat.model->name, "lps"); /* (by name: the model table calls this file) */
+  const bool mo = !strcmp(s->mat.model->name, "osb_mo");
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const peri_material *mi = &s->mat.materials[p->material[i]];
@@ -495,8 +556,10 @@ void peri_plastic_dissipation(const peri_sim *s, double *D) {
       if (work == 0.0) continue;
       const double r0 = peri_bond_length(p->x, i, j);
       /* k_ij: node i's energy holds k_ij s^2 / 2 of this bond */
-      const double stiffness = lps ? (mi->alpha_m / p->wvol[i]) * r0 * r0
-                                   : 0.25 * (mi->micromodulus + s->mat.materials[p->material[j]].micromodulus) * r0;
+      /* (osb_mo: b_i omega e^2 with omega = delta/|xi|, b_i = (alpha m)/(2 m_i), src/model/osb_mo.c) */
+      const double stiffness = mo    ? (mi->alpha_m / p->wvol[i]) * s->disc.geom.horizon * r0
+                               : lps ? (mi->alpha_m / p->wvol[i]) * r0 * r0
+                                     : 0.25 * (mi->micromodulus + s->mat.materials[p->material[j]].micromodulus) * r0;
       sum += stiffness * peri_bonds_omega(b, r0) * peri_bonds_beta(b, r0) * p->volume[j] * work;
     }
     D[i] = sum;

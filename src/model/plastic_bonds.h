@@ -55,6 +55,15 @@ long peri_plastic_lps_node_sums(peri_sim *s, const peri_bond_view *w, const peri
  * the coefficients D and B of pass 1 in w->coef. */
 void peri_plastic_lps_node_force(const peri_sim *s, const peri_bond_view *w, const peri_plastic_pass *pass, int32_t i,
                                  double f[3]);
+/* osb_mo node i (owned) through the plastic path, pass 1: breaking and the return mapping as
+ * peri_plastic_pmb_node, then the dilatation sum sum_j (s^e L - eth_i) beta V_j at the
+ * elastic stretches (src/model/osb_mo.c) into *sum. Returns the number of bonds it broke. */
+long peri_plastic_mo_node_sums(peri_sim *s, const peri_bond_view *w, const peri_plastic_pass *pass, int32_t i,
+                               peri_plastic_chunk *scratch, double *sum);
+/* osb_mo node i, pass 2: the force density at the elastic stretches of its intact bonds, with
+ * the coefficients A, B, C of pass 1 in w->coef. */
+void peri_plastic_mo_node_force(const peri_sim *s, const peri_bond_view *w, const peri_plastic_pass *pass, int32_t i,
+                                double f[3]);
 /* Elastic strain energy densities at the current plastic state. */
 void peri_plastic_pmb_energy(peri_sim *s, double *W);
 void peri_plastic_lps_energy(peri_sim *s, double *W);

@@ -84,7 +84,7 @@ pass "(d) y: \"2*q\": unknown variable 'q'"
 
 # (e) an unknown choice with a suggestion and the list of choices
 check_both "$D/err_model.yaml" "pbm" "key 'model': unknown value 'pbm'; did you mean 'pmb'?"
-expect_stderr_contains "(choices: pmb, lps)"
+expect_stderr_contains "(choices: pmb, lps, osb_mo)"
 pass "(e) model: pbm: did you mean 'pmb'"
 
 # (f) YAML syntax errors: file:line:col of the offending character

@@ -1,6 +1,6 @@
 /* Thermal strain in the mechanics (docs/model_reference.md 9): a body at the free-expansion displacement
- * u = eps x, eps = alpha dT ((1 + nu) alpha dT in plane strain), carries no force in PMB
- * and LPS, 1D, 2D and 3D; a 1D bar held at u = 0 carries the stress -E alpha dT. */
+ * u = eps x, eps = alpha dT ((1 + nu) alpha dT in plane strain), carries no force in PMB,
+ * LPS and osb_mo, 1D, 2D and 3D; a 1D bar held at u = 0 carries the stress -E alpha dT. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>
@@ -62,6 +62,11 @@ Test(thermal_mech, free_expansion_no_force) {
   check_free(2, "plane: strain\n", "lps", "poisson_ratio: 0.3,", "0.02, 0.015");
   check_free(3, "", "pmb", "", "0.008, 0.007, 0.006");
   check_free(3, "", "lps", "poisson_ratio: 0.3,", "0.008, 0.007, 0.006");
+  /* osb_mo (docs/models.md 3.6: theta^m without n alpha_T dT, the 2D a2 erratum-corrected) */
+  check_free(1, "", "osb_mo", "poisson_ratio: 0.3,", "0.03");
+  check_free(2, "plane: stress\n", "osb_mo", "poisson_ratio: 0.3,", "0.02, 0.015");
+  check_free(2, "plane: strain\n", "osb_mo", "poisson_ratio: 0.3,", "0.02, 0.015");
+  check_free(3, "", "osb_mo", "poisson_ratio: 0.3,", "0.008, 0.007, 0.006");
 }
 
 /* 1D bar held at u = 0: the force the right part exerts on the left part, sum over the
@@ -83,6 +88,7 @@ static void check_constrained_bar(const char *model, const char *nu) {
 Test(thermal_mech, constrained_bar_stress) {
   check_constrained_bar("pmb", "");
   check_constrained_bar("lps", "poisson_ratio: 0.3,");
+  check_constrained_bar("osb_mo", "poisson_ratio: 0.3,");
 }
 
 /* Without a thermal section nothing changes: no thermal strain array, no thermal state. */

@@ -54,6 +54,7 @@ static void check_wave_speed(const char *model, const char *extra) {
 
 Test(dynamics, wave_speed_pmb_1d) { check_wave_speed("pmb", ""); }
 Test(dynamics, wave_speed_lps_1d) { check_wave_speed("lps", ", poisson_ratio: 0.3"); }
+Test(dynamics, wave_speed_osb_mo_1d) { check_wave_speed("osb_mo", ", poisson_ratio: 0.3"); }
 
 /* A free 2D plate (or 3D block) with a smooth initial velocity field vibrates without
  * damage; velocity-Verlet is symplectic, so kinetic + strain energy stays within 0.1%
