@@ -106,6 +106,11 @@ void peri_coupling_free(peri_coupling *c);
  * K_ij = d f_i / d u_j of the force density, FEM rows -K^e / V_i. Linear: it does not depend on
  * the displacement. Broken bonds are left out. */
 void peri_coupling_rows(const peri_sim *s, peri_tangent_add_fn add, void *ctx);
+/* The rows a node can have in a run that switches (solver.breaking with a switch_radius): its
+ * present row and, for an FEM node that may become PD, its PD row too. A node's row depends on
+ * its own type only (an FEM row holds the node's elements, none of them all PD; a PD row its
+ * intact bonds), so a bound over these rows holds before and after any switch. */
+void peri_coupling_switchable_rows(const peri_sim *s, peri_tangent_add_fn add, void *ctx);
 /* The internal force density of the coupled model at the current displacement into p->f of
  * the owned nodes: f = K u row by row. */
 void peri_coupling_force(peri_sim *s);

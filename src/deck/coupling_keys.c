@@ -38,8 +38,9 @@ static int check_fracture(const peri_sim *s, const peri_node *root, const peri_n
                                        "energy or critical_stretch), not the {s00, alpha} form of material %s",
                              s->mat.materials[m].name);
   if (peri_deck_get(solver, "dynamic_switch"))
-    return peri_deck_error(peri_deck_get(solver, "dynamic_switch"), "key 'dynamic_switch': the coupled model "
-                                                                     "has no explicit dynamics");
+    return peri_deck_error(peri_deck_get(solver, "dynamic_switch"), "key 'dynamic_switch': not with a coupling "
+                                                                     "(crack growth with switching is quasi-static "
+                                                                     "or, with solver.type: explicit, dynamic)");
   const peri_node *every = peri_deck_get(peri_deck_get(root, "output"), "checkpoint_every");
   if (every)
     return peri_deck_error(every, "key 'checkpoint_every': a coupled run with switching cannot restart (the node "
@@ -179,9 +180,6 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root, const peri_fem_mesh 
   if (s->solver.kind != PERI_SOLVER_IMPLICIT && !explicit_run)
     return peri_deck_error(solver ? solver : cp, "coupling: needs solver type implicit (the coupled stiffness is "
                                                  "assembled and solved by PETSc) or explicit (dynamics)");
-  if (explicit_run && peri_deck_get(solver, "breaking") && s->solver.breaking)
-    return peri_deck_error(peri_deck_get(solver, "breaking"), "key 'breaking': the coupled explicit dynamics is "
-                                                              "linear elastic (no crack growth with switching yet)");
   if (s->solver.breaking && !peri_deck_get(solver, "breaking"))
     s->solver.breaking = false; /* the coupled model is linear elastic: nothing breaks */
   double radius = 2.0; /* MODELS.md 14.5: scheme 2 by default */

@@ -6,6 +6,7 @@
  * Rows are in the force-density convention of the model tangents, so the implicit solver
  * assembles them as it assembles a model's tangent. */
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -407,6 +408,30 @@ void peri_coupling_rows(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
       const int32_t count = type[i] ? pd_row(s, i, cols, blocks) : fem_row(s, i, cols, blocks);
 #pragma omp critical(peri_coupling_rows_add)
       add(ctx, i, count, cols, blocks);
+    }
+    free(cols);
+    free(blocks);
+  }
+}
+
+void peri_coupling_switchable_rows(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
+  const int64_t longest = longest_row(s);
+  const peri_coupling *c = s->coupling;
+#pragma omp parallel
+  {
+    int32_t *cols = peri_malloc(sizeof(int32_t) * (size_t)longest);
+    double *blocks = peri_malloc(sizeof(double) * 9 * (size_t)longest);
+#pragma omp for schedule(dynamic, 256)
+    for (int32_t i = 0; i < s->disc.p.n_owned; ++i) {
+      const bool fem = !c->node_type[i];
+      int32_t count = fem ? fem_row(s, i, cols, blocks) : pd_row(s, i, cols, blocks);
+#pragma omp critical(peri_coupling_rows_add)
+      add(ctx, i, count, cols, blocks);
+      if (fem && !(c->fem_only && c->fem_only[i])) { /* it may switch: its PD row too */
+        count = pd_row(s, i, cols, blocks);
+#pragma omp critical(peri_coupling_rows_add)
+        add(ctx, i, count, cols, blocks);
+      }
     }
     free(cols);
     free(blocks);

@@ -85,10 +85,14 @@ static void held_nodes_free(held_nodes *h) {
 }
 
 /* The internal force density: the model's, or with a PD-FEM coupling the rows of the coupled
- * stiffness times u (docs/coupling.md, "Explicit dynamics"). */
-static void internal_force(peri_sim *s) {
-  if (s->coupling) peri_coupling_force(s);
-  else s->mat.model->force(s);
+ * stiffness times u (docs/coupling.md, "Explicit dynamics"); a coupled run with breaking first
+ * breaks the bonds past their critical stretch and switches the FEM nodes about them to PD
+ * ("Switching during explicit dynamics"). */
+static int internal_force(peri_sim *s) {
+  if (!s->coupling) s->mat.model->force(s);
+  else if (!s->solver.breaking) peri_coupling_force(s);
+  else if (peri_coupling_break(s) < 0) return PERI_ERR_RUN; /* a node that may not switch, named */
+  return PERI_OK;
 }
 
 /* The first half of a step on node i's free components: the half kick with the force of the
@@ -138,7 +142,12 @@ int peri_solve_explicit_hooked(peri_sim *s, peri_step_hook hook, peri_step_quiet
   peri_apply_loads(s, s->state.time);
   peri_exchange_state(s); /* ghost displacements (MPI ranks, docs/parallel.md) */
   if (s->state.step == 0) { /* a restart resumes with the checkpoint's forces and load */
-    if (!s->state.forces_current) internal_force(s);
+    if (!s->state.forces_current && internal_force(s) != PERI_OK) {
+      free(inv_rho);
+      free(block_sums);
+      held_nodes_free(&held);
+      return PERI_ERR_RUN;
+    }
     external_load(s, p->v, dt, load_old);
   }
   s->state.forces_current = false;
@@ -165,7 +174,10 @@ int peri_solve_explicit_hooked(peri_sim *s, peri_step_hook hook, peri_step_quiet
       break;
     }
     peri_exchange_state(s);
-    internal_force(s);
+    if (internal_force(s) != PERI_OK) {
+      status = PERI_ERR_RUN;
+      break;
+    }
     /* one pass over the nodes: second half-step of the velocity, the external load of the
      * step (applied loads, or the reaction rho a - f of prescribed motion), its work by the
      * trapezoid rule, and the finiteness check; when the hook after this step reads nothing

@@ -80,7 +80,10 @@ static void row_dt(void *ctx, int32_t i, int32_t count, const int32_t *cols, con
 
 static double coupled_stable_dt(const peri_sim *s) {
   row_bound rb = {s, INFINITY};
-  peri_coupling_rows(s, row_dt, &rb);
+  /* a run that switches FEM nodes to PD: the step must hold after any switch (bonds that
+   * break later only lower a PD row's sum) */
+  if (s->solver.breaking && s->coupling->switch_radius > 0.0) peri_coupling_switchable_rows(s, row_dt, &rb);
+  else peri_coupling_rows(s, row_dt, &rb);
   return rb.dt;
 }
 

@@ -6,7 +6,7 @@
 #  - the point-supported plate (Table 2.1): the support reactions sum to 10.1425 within 1%;
 #  - bad input exits 2 before any work, naming the deck position and what is wrong: an
 #    unknown pd_region, an FEM node that belongs to no element, linear_solver cg, a solver
-#    other than implicit or explicit, breaking with the explicit solver, a bond-based key
+#    other than implicit or explicit, breaking in explicit dynamics with a state-based PD side, a bond-based key
 #    with a state-based material, bonds that may break,
 #    a node off the lattice of the elements; a graded mesh (coupling.graded_mesh) whose coarse
 #    part lies within a horizon of a PD node (naming the node), with an FEM node in no element,
@@ -95,9 +95,10 @@ d=$(deck explicit -e 's/solver: {type: implicit, load_steps: 1}/solver: {type: n
 fails_at "$d" "{type: nlcg" "coupling: needs solver type implicit"
 pass "a solver other than implicit is a positioned error"
 
-d=$(deck explicit_breaking -e 's/solver: {type: implicit, load_steps: 1}/solver: {type: explicit, steps: 10, breaking: true}/')
-fails_at "$d" "true}" "key 'breaking': the coupled explicit dynamics is linear elastic"
-pass "breaking in the coupled explicit dynamics is a positioned error"
+d=$(deck explicit_lps_breaking -e 's/model: pmb, density: 1,/model: lps, poisson_ratio: 0.3, density: 1,/' \
+      -e 's/solver: {type: implicit, load_steps: 1}/solver: {type: explicit, steps: 10, breaking: true}/')
+fails_at "$d" "true}" "key 'breaking': crack growth with switching needs the bond-based PD side"
+pass "crack growth in the coupled explicit dynamics with a state-based PD side is a positioned error"
 
 d=$(deck lps -e 's/model: pmb, density: 1,/model: lps, poisson_ratio: 0.3, density: 1,/' -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, gamma: 0.98}/')
 fails_at "$d" "gamma" "key 'gamma': only for the bond-based PD side"

@@ -23,7 +23,9 @@
  * a wrong step fails these checks. */
 #include <criterion/criterion.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
+#include <string.h>
 #include "peri/coupling.h"
 #include "peri/energies.h"
 #include "peri/sim.h"
@@ -108,4 +110,117 @@ Test(coupling_dynamics, pulse_crosses_the_interfaces) {
     cr_expect(fabs(r->end / r->e0 - 1.0) <= 1e-4, "w = %g: energy after both crossings %g of E0", w, r->end / r->e0 - 1.0);
     cr_expect(r->worst_in_pd <= 0.25 * pow(delta / w, 2), "w = %g: energy in the PD part off by %g", w, r->worst_in_pd);
   }
+}
+
+/* Switching during explicit dynamics (docs/coupling.md, "Switching during explicit dynamics"):
+ * a bar of 300 m (E = rho = A = 1, c = 1 m/s, dx = 1, delta = 3 dx), 2-node bars except PD
+ * nodes in [146, 154], both ends pulled apart by u = -+v0 (t - tau tanh(t / tau)) (velocity
+ * v0 tanh^2(t / tau), v0 = 1e-3, tau = 20 s: a smooth front some 20 dx wide), critical stretch
+ * s0 = 1.5 v0 / c, switch_radius 2, 0.2 times the stable step. Each end sends a tensile wave
+ * of strain (v0 / c) tanh^2((t - |x - x_end| / c) / tau) inward; one wave (at most v0 / c)
+ * never breaks a bond, the two superposed at the midpoint x = 150 reach s0 when
+ * 2 tanh^2((t - 150) / tau) = 1.5, at t* = 150 + tau atanh(sqrt(0.75)) = 176.34 s. Checked:
+ *  - the first bond breaks within 0.5 s of t*: the time step is 0.2 s, and a strain error of
+ *    1% of s0 moves the break by 0.35 s at the front's slope there,
+ *    4 (v0 / c) tanh sech^2 / tau = 0.043 (v0 / c) per s; the errors are smaller: the lumped
+ *    bar's phase lag over 150 m, 150 (k dx)^2 / 24 with k = 1 / tau, is 0.016 s, a bond's
+ *    stretch averages the strain over |xi| <= delta ((delta / tau)^2 / 24 = 0.1%), and the
+ *    interfaces' out-of-balance radiates at most (1/27)(delta / tau)^2 = 0.08% of the wave;
+ *  - the first bonds to break are about the midpoint (within 2 delta of x = 150);
+ *  - the switching rule at the end: every node within 2 delta of a node that lost a bond is PD,
+ *    and the PD zone grew beyond [146, 154];
+ *  - the time step holds through any switch: it is the smaller of the all-FEM and all-PD
+ *    steps (each node's row is its FEM or its PD row); in 1D the bar element's dx / c (the PD
+ *    rows' Gershgorin step is 1.6 times longer at m = 3).
+ * Without switching during the run these fail. */
+static const char switching_bar[] =
+    "dimension: 1\n"
+    "materials:\n"
+    "  bar: {model: pmb, density: 1, youngs_modulus: 1, critical_stretch: 1.5e-3}\n"
+    "discretization: {spacing: 1, m: 3, cross_section: 1, placement: lattice,\n"
+    "                 fill: [{shape: interval, min: [0], max: [300]}]}\n"
+    "regions:\n"
+    "  pd: {shape: interval, min: [145.5], max: [154.5]}\n"
+    "  left_end: {shape: interval, min: [-0.5], max: [0.5]}\n"
+    "  right_end: {shape: interval, min: [299.5], max: [300.5]}\n"
+    "coupling: %s\n"
+    "boundary_conditions:\n"
+    "  - {type: displacement, region: left_end, x: \"-1e-3*(t-20*tanh(t/20))\"}\n"
+    "  - {type: displacement, region: right_end, x: \"1e-3*(t-20*tanh(t/20))\"}\n"
+    "solver: {type: explicit, end_time: 220, safety_factor: 0.2, breaking: %s}\n"
+    "output: {frames: 0}\n";
+
+typedef struct first_break {
+  double time;
+  double lo, hi; /* the span of the nodes that lost a bond at that step */
+} first_break;
+
+static int on_break(peri_sim *s, void *ctx) {
+  first_break *fb = ctx;
+  if (fb->time > 0.0) return 0;
+  const peri_bonds *b = &s->disc.bonds;
+  for (int32_t i = 0; i < s->disc.p.n; ++i)
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
+      if (b->broken[k]) {
+        fb->time = s->state.time;
+        fb->lo = fmin(fb->lo, s->disc.p.x[3 * (size_t)i]);
+        fb->hi = fmax(fb->hi, s->disc.p.x[3 * (size_t)i]);
+      }
+  return 0;
+}
+
+/* The time step of the bar with the given coupling mapping and breaking. */
+static double bar_step(const char *coupling, const char *breaking) {
+  char deck[2048];
+  snprintf(deck, sizeof deck, switching_bar, coupling, breaking);
+  peri_sim s;
+  cr_assert_eq(sim_from_string(&s, deck), 0);
+  const double dt = s.solver.dt;
+  peri_sim_free(&s);
+  return dt;
+}
+
+Test(coupling_dynamics, switching_during_a_dynamic_crack_run) {
+  char deck[2048];
+  snprintf(deck, sizeof deck, switching_bar, "{pd_region: pd, switch_radius: 2}", "true");
+  static peri_sim s;
+  cr_assert_eq(sim_from_string(&s, deck), 0);
+  s.out.quiet = true;
+  const int32_t pd_at_start = s.coupling->n_pd;
+  cr_assert_eq(pd_at_start, 9, "PD nodes 146..154 at the start, got %d", pd_at_start);
+
+  /* the step: the smaller of the all-FEM rows' (the bar element's dx / c, times the safety
+   * factor) and the all-PD rows' */
+  const double fem = s.solver.safety_factor * 1.0, pd = bar_step("{pd_region: all}", "false");
+  cr_assert_float_eq(s.solver.dt, fmin(fem, pd), 1e-12 * pd, "step %g, all FEM %g, all PD %g", s.solver.dt, fem, pd);
+
+  first_break fb = {0.0, INFINITY, -INFINITY};
+  peri_apply_initial_conditions(&s);
+  cr_assert_eq(peri_solve_explicit(&s, on_break, &fb), 0);
+  const double t_star = 150.0 + 20.0 * atanh(sqrt(0.75));
+  cr_expect(fb.time > 0.0, "no bond broke");
+  cr_expect_leq(fabs(fb.time - t_star), 0.5, "first break at t = %g s, the waves' superposition reaches s0 at %g s",
+                fb.time, t_star);
+  cr_expect(fb.lo >= 150.0 - 6.0 && fb.hi <= 150.0 + 6.0, "the first broken bonds span [%g, %g], not about x = 150",
+            fb.lo, fb.hi);
+
+  /* the switching rule (brute force) */
+  const peri_bonds *b = &s.disc.bonds;
+  const double *x = s.disc.p.x;
+  const int32_t *type = s.coupling->node_type;
+  int32_t pd_count = 0;
+  for (int32_t i = 0; i < s.disc.p.n; ++i) {
+    pd_count += type[i] != 0;
+    bool lost = false;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) lost = lost || b->broken[k];
+    if (!lost) continue;
+    cr_expect_eq(type[i], 1, "node at x = %g lost a bond and is FEM", x[3 * (size_t)i]);
+    for (int32_t j = 0; j < s.disc.p.n; ++j)
+      if (fabs(x[3 * (size_t)j] - x[3 * (size_t)i]) <= 2.0 * 3.0 + 1e-9)
+        cr_expect_eq(type[j], 1, "node at x = %g lies within 2 delta of x = %g, which lost a bond, and is FEM",
+                     x[3 * (size_t)j], x[3 * (size_t)i]);
+  }
+  cr_expect_eq(pd_count, s.coupling->n_pd);
+  cr_expect_gt(pd_count, pd_at_start, "no node switched");
+  peri_sim_free(&s);
 }
