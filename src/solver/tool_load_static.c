@@ -4,7 +4,10 @@
  * at equilibrium of the nodes with the tool held at q (the solver's own solve, warm-started
  * from the previous one). Secant steps inside a bracket, bisection where the secant leaves
  * it; before the first contact the tool advances a tenth of a spacing per solve (a solve
- * without contact converges at once). */
+ * without contact converges at once). A search opens with the compliance dq/dP of the last
+ * secant (the contact's stiffness changes little between load steps and break rounds), and
+ * its trial offsets are solved to a looser tolerance: only the offset that meets the load is
+ * solved to the solver's own, and checked again at it. */
 #include <math.h>
 #include "peri/error.h"
 #include "peri/quasistatic.h"
@@ -14,6 +17,9 @@
  * comparisons it serves (Hertz, friction) and above what a solve at tolerance 1e-6 resolves. */
 #define LOAD_TOLERANCE 1.0e-3
 #define MAX_LOAD_SOLVES 100
+/* The relative residual of the trial solves: the contact force it leaves is accurate to about
+ * this fraction, ten times finer than LOAD_TOLERANCE, so the secant steps are not misled. */
+#define TRIAL_TOLERANCE 1.0e-4
 
 typedef struct {
   double lo, p_lo, hi, p_hi; /* bracket: offsets with P_contact below and above the load */
@@ -29,8 +35,9 @@ static bool load_controlled(const peri_sim *s) {
   return false;
 }
 
-/* The next offset of one tool from its present point (q, P_contact) and the load P. */
-static double next_offset(load_search *ls, double q, double pc, double P, double step_free) {
+/* The next offset of one tool from its present point (q, P_contact) and the load P;
+ * *compliance: dq/dP of the last secant between two points in contact (updated here). */
+static double next_offset(load_search *ls, double q, double pc, double P, double step_free, double *compliance) {
   if (pc < P) {
     if (!ls->has_lo || q > ls->lo) ls->lo = q, ls->p_lo = pc, ls->has_lo = true;
   } else if (!ls->has_hi || q < ls->hi) {
@@ -38,7 +45,11 @@ static double next_offset(load_search *ls, double q, double pc, double P, double
   }
   double next;
   if (!(pc > 0.0)) next = q + step_free; /* no contact yet: move towards the body */
-  else if (ls->has_prev && pc != ls->p_prev) next = q + (P - pc) * (q - ls->q_prev) / (pc - ls->p_prev);
+  else if (ls->has_prev && pc != ls->p_prev) {
+    const double slope = (q - ls->q_prev) / (pc - ls->p_prev);
+    if (ls->p_prev > 0.0 && slope > 0.0) *compliance = slope;
+    next = q + (P - pc) * slope;
+  } else if (*compliance > 0.0) next = q + (P - pc) * *compliance;
   else next = q + (pc < P ? step_free : -step_free);
   if (ls->has_lo && ls->has_hi && !(next > ls->lo && next < ls->hi)) next = 0.5 * (ls->lo + ls->hi);
   else if (ls->has_lo && !(next > ls->lo)) next = ls->lo + step_free;
@@ -54,6 +65,8 @@ peri_qs_status peri_tools_load_equilibrium(peri_sim *s, peri_qs_status (*solve)(
   load_search search[tools->count];
   for (int k = 0; k < tools->count; ++k) search[k] = (load_search){0};
   const double step_free = 0.1 * s->disc.geom.spacing;
+  const double tolerance = s->solver.qs.tolerance, trial = fmax(tolerance, TRIAL_TOLERANCE);
+  bool at_tolerance = true; /* the last solve was to the solver's own tolerance */
   for (int solves = 1;; ++solves) {
     bool done = true;
     for (int k = 0; k < tools->count; ++k) {
@@ -62,19 +75,24 @@ peri_qs_status peri_tools_load_equilibrium(peri_sim *s, peri_qs_status (*solve)(
       const double P = peri_expr_eval(tl->load, 0.0, 0.0, 0.0, s->state.time);
       if (fabs(tl->normal_force - P) > LOAD_TOLERANCE * fabs(P)) done = false;
     }
-    if (done) return PERI_QS_CONVERGED;
+    if (done && at_tolerance) return PERI_QS_CONVERGED;
     if (solves >= MAX_LOAD_SOLVES) {
       peri_error("load control: the tools' contact forces do not reach their loads after %d solves at t = %g",
                  MAX_LOAD_SOLVES, s->state.time);
       return PERI_QS_NOT_CONVERGED;
     }
-    for (int k = 0; k < tools->count; ++k) {
-      peri_tool *tl = &tools->tool[k];
-      if (!tl->load) continue;
-      const double P = peri_expr_eval(tl->load, 0.0, 0.0, 0.0, s->state.time);
-      tl->q = next_offset(&search[k], tl->q, tl->normal_force, P, step_free);
-    }
+    if (!done)
+      for (int k = 0; k < tools->count; ++k) {
+        peri_tool *tl = &tools->tool[k];
+        if (!tl->load) continue;
+        const double P = peri_expr_eval(tl->load, 0.0, 0.0, 0.0, s->state.time);
+        tl->q = next_offset(&search[k], tl->q, tl->normal_force, P, step_free, &tl->load_compliance);
+      }
+    /* a trial offset to the looser tolerance; the offset that met the load to the solver's own */
+    at_tolerance = done;
+    s->solver.qs.tolerance = at_tolerance ? tolerance : trial;
     st = solve(s);
+    s->solver.qs.tolerance = tolerance;
     if (st != PERI_QS_CONVERGED) return st;
   }
 }
