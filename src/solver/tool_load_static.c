@@ -5,9 +5,10 @@
  * from the previous one). Secant steps inside a bracket, bisection where the secant leaves
  * it; before the first contact the tool advances a tenth of a spacing per solve (a solve
  * without contact converges at once). A search opens with the compliance dq/dP of the last
- * secant (the contact's stiffness changes little between load steps and break rounds), and
- * its trial offsets are solved to a looser tolerance: only the offset that meets the load is
- * solved to the solver's own, and checked again at it. */
+ * secant (the contact's stiffness changes little between load steps and break rounds). Every
+ * point is solved to the solver's own tolerance: with trial points solved to 1e-4 the contact
+ * force was not monotone in the offset near the first touch (film 8 of
+ * examples/scratch_wear.yaml), the bracket crossed itself and the search stalled. */
 #include <math.h>
 #include "peri/error.h"
 #include "peri/quasistatic.h"
@@ -17,9 +18,6 @@
  * comparisons it serves (Hertz, friction) and above what a solve at tolerance 1e-6 resolves. */
 #define LOAD_TOLERANCE 1.0e-3
 #define MAX_LOAD_SOLVES 100
-/* The relative residual of the trial solves: the contact force it leaves is accurate to about
- * this fraction, ten times finer than LOAD_TOLERANCE, so the secant steps are not misled. */
-#define TRIAL_TOLERANCE 1.0e-4
 
 typedef struct {
   double lo, p_lo, hi, p_hi; /* bracket: offsets with P_contact below and above the load */
@@ -65,8 +63,6 @@ peri_qs_status peri_tools_load_equilibrium(peri_sim *s, peri_qs_status (*solve)(
   load_search search[tools->count];
   for (int k = 0; k < tools->count; ++k) search[k] = (load_search){0};
   const double step_free = 0.1 * s->disc.geom.spacing;
-  const double tolerance = s->solver.qs.tolerance, trial = fmax(tolerance, TRIAL_TOLERANCE);
-  bool at_tolerance = true; /* the last solve was to the solver's own tolerance */
   for (int solves = 1;; ++solves) {
     bool done = true;
     for (int k = 0; k < tools->count; ++k) {
@@ -75,24 +71,19 @@ peri_qs_status peri_tools_load_equilibrium(peri_sim *s, peri_qs_status (*solve)(
       const double P = peri_expr_eval(tl->load, 0.0, 0.0, 0.0, s->state.time);
       if (fabs(tl->normal_force - P) > LOAD_TOLERANCE * fabs(P)) done = false;
     }
-    if (done && at_tolerance) return PERI_QS_CONVERGED;
+    if (done) return PERI_QS_CONVERGED;
     if (solves >= MAX_LOAD_SOLVES) {
       peri_error("load control: the tools' contact forces do not reach their loads after %d solves at t = %g",
                  MAX_LOAD_SOLVES, s->state.time);
       return PERI_QS_NOT_CONVERGED;
     }
-    if (!done)
-      for (int k = 0; k < tools->count; ++k) {
-        peri_tool *tl = &tools->tool[k];
-        if (!tl->load) continue;
-        const double P = peri_expr_eval(tl->load, 0.0, 0.0, 0.0, s->state.time);
-        tl->q = next_offset(&search[k], tl->q, tl->normal_force, P, step_free, &tl->load_compliance);
-      }
-    /* a trial offset to the looser tolerance; the offset that met the load to the solver's own */
-    at_tolerance = done;
-    s->solver.qs.tolerance = at_tolerance ? tolerance : trial;
+    for (int k = 0; k < tools->count; ++k) {
+      peri_tool *tl = &tools->tool[k];
+      if (!tl->load) continue;
+      const double P = peri_expr_eval(tl->load, 0.0, 0.0, 0.0, s->state.time);
+      tl->q = next_offset(&search[k], tl->q, tl->normal_force, P, step_free, &tl->load_compliance);
+    }
     st = solve(s);
-    s->solver.qs.tolerance = tolerance;
     if (st != PERI_QS_CONVERGED) return st;
   }
 }
