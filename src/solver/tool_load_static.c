@@ -5,10 +5,7 @@
  * from the previous one). Secant steps inside a bracket, bisection where the secant leaves
  * it; before the first contact the tool advances a tenth of a spacing per solve (a solve
  * without contact converges at once). A search opens with the compliance dq/dP of the last
- * secant (the contact's stiffness changes little between load steps and break rounds). Every
- * point is solved to the solver's own tolerance: with trial points solved to 1e-4 the contact
- * force was not monotone in the offset near the first touch (film 8 of
- * examples/scratch_wear.yaml), the bracket crossed itself and the search stalled. */
+ * secant (the contact's stiffness changes little between load steps and break rounds). */
 #include <math.h>
 #include "peri/error.h"
 #include "peri/quasistatic.h"
