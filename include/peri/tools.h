@@ -46,6 +46,7 @@ typedef struct peri_tool {
   peri_expr *load;           /* normal load P(t) (N) pushing the tool along `direction` */
   double mass, damping;      /* the tool's own equation M q'' = P - P_contact - M c q' */
   double q, q_rate;          /* offset along `direction` and its rate, integrated in the run */
+  double load_compliance;    /* dq/dP of the quasi-static load search's last secant (0: none yet) */
   /* state of the last evaluation */
   double at[3], velocity[3]; /* position and velocity */
   double force[3];           /* total force of the nodes on the tool */

@@ -4,7 +4,8 @@
  * at equilibrium of the nodes with the tool held at q (the solver's own solve, warm-started
  * from the previous one). Secant steps inside a bracket, bisection where the secant leaves
  * it; before the first contact the tool advances a tenth of a spacing per solve (a solve
- * without contact converges at once). */
+ * without contact converges at once). A search opens with the compliance dq/dP of the last
+ * secant (the contact's stiffness changes little between load steps and break rounds). */
 #include <math.h>
 #include "peri/error.h"
 #include "peri/quasistatic.h"
@@ -29,8 +30,9 @@ static bool load_controlled(const peri_sim *s) {
   return false;
 }
 
-/* The next offset of one tool from its present point (q, P_contact) and the load P. */
-static double next_offset(load_search *ls, double q, double pc, double P, double step_free) {
+/* The next offset of one tool from its present point (q, P_contact) and the load P;
+ * *compliance: dq/dP of the last secant between two points in contact (updated here). */
+static double next_offset(load_search *ls, double q, double pc, double P, double step_free, double *compliance) {
   if (pc < P) {
     if (!ls->has_lo || q > ls->lo) ls->lo = q, ls->p_lo = pc, ls->has_lo = true;
   } else if (!ls->has_hi || q < ls->hi) {
@@ -38,7 +40,11 @@ static double next_offset(load_search *ls, double q, double pc, double P, double
   }
   double next;
   if (!(pc > 0.0)) next = q + step_free; /* no contact yet: move towards the body */
-  else if (ls->has_prev && pc != ls->p_prev) next = q + (P - pc) * (q - ls->q_prev) / (pc - ls->p_prev);
+  else if (ls->has_prev && pc != ls->p_prev) {
+    const double slope = (q - ls->q_prev) / (pc - ls->p_prev);
+    if (ls->p_prev > 0.0 && slope > 0.0) *compliance = slope;
+    next = q + (P - pc) * slope;
+  } else if (*compliance > 0.0) next = q + (P - pc) * *compliance;
   else next = q + (pc < P ? step_free : -step_free);
   if (ls->has_lo && ls->has_hi && !(next > ls->lo && next < ls->hi)) next = 0.5 * (ls->lo + ls->hi);
   else if (ls->has_lo && !(next > ls->lo)) next = ls->lo + step_free;
@@ -72,7 +78,7 @@ peri_qs_status peri_tools_load_equilibrium(peri_sim *s, peri_qs_status (*solve)(
       peri_tool *tl = &tools->tool[k];
       if (!tl->load) continue;
       const double P = peri_expr_eval(tl->load, 0.0, 0.0, 0.0, s->state.time);
-      tl->q = next_offset(&search[k], tl->q, tl->normal_force, P, step_free);
+      tl->q = next_offset(&search[k], tl->q, tl->normal_force, P, step_free, &tl->load_compliance);
     }
     st = solve(s);
     if (st != PERI_QS_CONVERGED) return st;
