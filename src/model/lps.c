@@ -19,6 +19,8 @@
 
 static int lps_init(peri_sim *s) {
   if (peri_plastic_init(s) != PERI_OK) return PERI_ERR_INPUT; /* sublayer plasticity (docs/plasticity.md) */
+  /* the deviatoric rule's own state (docs/plasticity.md section 8) */
+  if (peri_deviatoric_rule(s) && peri_deviatoric_init(s) != PERI_OK) return PERI_ERR_INPUT;
   peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   for (int m = 0; m < s->mat.n_materials; ++m) {

@@ -43,7 +43,7 @@ int peri_plastic_init(peri_sim *s) {
   const size_t n = (size_t)s->disc.bonds.n_bonds * (size_t)layers;
   s->state.plastic_stretch = peri_calloc(n > 0 ? n : 1, sizeof(double));
   s->state.plastic_layers = layers;
-  return peri_deviatoric_rule(s) ? peri_deviatoric_init(s) : PERI_OK;
+  return PERI_OK;
 }
 
 double peri_plastic_bond_stretch(const peri_sim *s, int32_t i, int64_t k) {
