@@ -69,7 +69,6 @@ typedef struct peri_horizon_field {
                              outside the stencils, a node whose family is too weak) */
   double *lattice_correction; /* [V^2 per row, V = 1, 3, 6 in 1D, 2D, 3D] R_i = C_iso D_i^-1 in Voigt
                              form: nu0 <- nu0 + (R_i - I) : sym nu0 (src/model/partial_stress.c) */
-  int32_t lattice_weak;   /* stencil nodes left without the correction (D_i below 0.1 C_iso) */
   long ps_would_break;    /* bonds of coupled nodes beyond their critical stretch (kept intact) */
   /* the local region (docs/variable_horizon.md "A vanishing horizon"): nodes whose horizon is 0
    * carry no force state; their partial stress is the Cauchy stress of the strain of their

@@ -261,7 +261,6 @@ static int lattice_correction(peri_sim *s, void (*compute_states)(peri_sim *)) {
       }
   }
   free(D);
-  h->lattice_weak = weak;
   if (weak > 0) {
     const double *x = p->x + 3 * (size_t)first_weak;
     peri_warning("partial stress: %d nodes (first at (%g, %g, %g)) have a discrete elasticity below %g of the "
