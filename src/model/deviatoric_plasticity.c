@@ -229,6 +229,15 @@ void peri_deviatoric_force(peri_sim *s) {
   }
 }
 
+/* Bond i-j's deformed length, and its reference length in *r0 (xi + (u_j - u_i), as the energy's
+ * two passes over the family both need). */
+static inline double bond_lengths(const peri_particles *p, int32_t i, int32_t j, double *r0) {
+  double xi[3], dy[3];
+  *r0 = peri_bond_xi(p->x, i, j, xi);
+  for (int d = 0; d < 3; ++d) dy[d] = xi[d] + p->u[3 * j + d] - p->u[3 * i + d];
+  return sqrt(dy[0] * dy[0] + dy[1] * dy[1] + dy[2] * dy[2]);
+}
+
 void peri_deviatoric_energy(peri_sim *s, double *W) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
@@ -243,10 +252,8 @@ void peri_deviatoric_energy(peri_sim *s, double *W) {
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       if (b->broken[k]) continue;
       const int32_t j = b->neighbor[k];
-      double xi[3], dy[3];
-      const double r0 = peri_bond_xi(p->x, i, j, xi);
-      for (int d = 0; d < 3; ++d) dy[d] = xi[d] + p->u[3 * j + d] - p->u[3 * i + d];
-      const double r = sqrt(dy[0] * dy[0] + dy[1] * dy[1] + dy[2] * dy[2]);
+      double r0;
+      const double r = bond_lengths(p, i, j, &r0);
       wq += peri_bonds_omega(b, r0) * r0 * peri_bonds_beta(b, r0) * p->volume[j] * (r - r0 - eth_i * r0);
     }
     const double theta = mat->n_theta * wq / m;
@@ -255,10 +262,8 @@ void peri_deviatoric_energy(peri_sim *s, double *W) {
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       if (b->broken[k]) continue;
       const int32_t j = b->neighbor[k];
-      double xi[3], dy[3];
-      const double r0 = peri_bond_xi(p->x, i, j, xi);
-      for (int d = 0; d < 3; ++d) dy[d] = xi[d] + p->u[3 * j + d] - p->u[3 * i + d];
-      const double r = sqrt(dy[0] * dy[0] + dy[1] * dy[1] + dy[2] * dy[2]);
+      double r0;
+      const double r = bond_lengths(p, i, j, &r0);
       const double sd = (r - r0) / r0 - eth_i - theta / 3.0;
       double e2 = sd * sd;
       if (sl) {

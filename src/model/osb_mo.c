@@ -193,6 +193,21 @@ static inline __attribute__((always_inline)) __m512d mo_bond_v8(const mo_centre_
 
 /* Node i alone over its intact bonds in family order: the bond values by a vector loop, their
  * sums in order (so a node's result depends on neither threads nor ranks). */
+/* Adds a chunk's bond values in family order: the force g (y_j - y_i), or the sum of g. */
+static inline __attribute__((always_inline)) void mo_add_chunk(const double *g, const double *v0, const double *v1,
+                                                               const double *v2, int count, bool force, double *s0,
+                                                               double *s1, double *s2) {
+  if (force) {
+    for (int a = 0; a < count; ++a) {
+      *s0 = fma(g[a], v0[a], *s0);
+      *s1 = fma(g[a], v1[a], *s1);
+      *s2 = fma(g[a], v2[a], *s2);
+    }
+  } else {
+    for (int a = 0; a < count; ++a) *s0 += g[a];
+  }
+}
+
 static inline __attribute__((always_inline)) mo_sums mo_node(const peri_bond_view *w, int32_t i, bool force,
                                                              bool thermal) {
   const size_t n = (size_t)w->n;
@@ -234,15 +249,7 @@ static inline __attribute__((always_inline)) mo_sums mo_node(const peri_bond_vie
         excess_v = _mm512_mask_max_pd(excess_v, m, excess_v, e);
       }
     }
-    if (force) {
-      for (int a = 0; a < count; ++a) {
-        s0 = fma(g[a], v0[a], s0);
-        s1 = fma(g[a], v1[a], s1);
-        s2 = fma(g[a], v2[a], s2);
-      }
-    } else {
-      for (int a = 0; a < count; ++a) s0 += g[a];
-    }
+    mo_add_chunk(g, v0, v1, v2, count, force, &s0, &s1, &s2);
   }
   (void)ci;
   const mo_sums r8 = {{s0, s1, s2}, _mm512_reduce_max_pd(excess_v) > 0.0};
@@ -260,15 +267,7 @@ static inline __attribute__((always_inline)) mo_sums mo_node(const peri_bond_vie
                      &v1[a], &v2[a], &e);
       excess = peri_max(excess, e);
     }
-    if (force) {
-      for (int a = 0; a < count; ++a) {
-        s0 = fma(g[a], v0[a], s0);
-        s1 = fma(g[a], v1[a], s1);
-        s2 = fma(g[a], v2[a], s2);
-      }
-    } else {
-      for (int a = 0; a < count; ++a) s0 += g[a];
-    }
+    mo_add_chunk(g, v0, v1, v2, count, force, &s0, &s1, &s2);
   }
   const mo_sums r = {{s0, s1, s2}, excess > 0.0};
   return r;
