@@ -72,6 +72,11 @@ void peri_deviatoric_curve(double K, int n, const double *strain, const double *
  * given strains. */
 void peri_power_law_stresses(double sigma0, double eps0, double exponent, int n, const double *strain,
                              double *stress);
+/* Breakpoint strains of the same law at the given stresses (sigma >= sigma0, exponent > 0):
+ * eps = eps0 (sigma/sigma0)^(1/exponent). Ebrahimi Table 5.2's sublayers are the chords between
+ * the points of 400, 450, 480 and 495 MPa, whose strains round to its printed breakpoints. */
+void peri_power_law_strains(double sigma0, double eps0, double exponent, int n, const double *stress,
+                            double *strain);
 /* Sublayers fitted to a 2D or 3D family under uniaxial stress (src/model/sublayer_family_fit.c,
  * docs/plasticity.md section 4): bonds at direction cosine c stretch eps (c^2 - nu (1 - c^2)),
  * nu the bar's Poisson ratio; the weights of up to PERI_MAX_SUBLAYERS sublayers on a fixed

@@ -1,6 +1,6 @@
 /* The materials' plasticity keys (docs/deck.md "Plasticity", docs/plasticity.md): the
  * sublayers given as weights and yield stretches, or built from a stress-strain curve (a
- * table of points or a power law at given strains). Run once the elastic constants are
+ * table of points or a power law at given strains or stresses). Run once the elastic constants are
  * resolved (the construction needs E). */
 #include <math.h>
 #include <stdio.h>
@@ -115,6 +115,54 @@ static int parse_yield_rule(const peri_sim *s, const peri_node *pl, const char *
   return PERI_OK;
 }
 
+/* The breakpoints of a uniaxial curve: strains with stresses (a table), or a power law at
+ * the given strains or at the given stresses (docs/plasticity.md section 1). */
+static int parse_curve(const peri_node *pl, const char *section, const peri_node *law, double *strain,
+                       double *stress, int *n, const char **given_points) {
+  const bool has_strains = peri_deck_get(pl, "strains") != NULL, has_stresses = peri_deck_get(pl, "stresses") != NULL;
+  if (!law) {
+    int ns = 0;
+    TRY(peri_deck_vector_range(pl, "strains", true, 1, PERI_MAX_SUBLAYERS, strain, n));
+    TRY(peri_deck_vector_range(pl, "stresses", true, 1, PERI_MAX_SUBLAYERS, stress, &ns));
+    if (ns != *n)
+      return peri_deck_error(peri_deck_get(pl, "stresses"), "%s: %d strains but %d stresses", section, *n, ns);
+    return PERI_OK;
+  }
+  if (has_strains == has_stresses)
+    return peri_deck_error(law, "%s: with power_law give the breakpoints as strains or as stresses (one of them)",
+                           section);
+  static const char *const law_keys[] = {"yield_stress", "yield_strain", "exponent", NULL};
+  double sigma0 = 0.0, eps0 = 0.0, exponent = 0.0;
+  TRY(peri_deck_allow(law, "power_law", law_keys));
+  TRY(peri_deck_double(law, "yield_stress", true, &sigma0));
+  TRY(peri_deck_double(law, "yield_strain", true, &eps0));
+  TRY(peri_deck_double(law, "exponent", true, &exponent));
+  if (!(sigma0 > 0.0) || !(eps0 > 0.0))
+    return peri_deck_error(law, "power_law: yield_stress and yield_strain must be positive");
+  if (!(exponent >= 0.0 && exponent <= 1.0))
+    return peri_deck_error(peri_deck_get(law, "exponent"), "power_law: exponent must be in [0, 1]");
+  if (has_strains) {
+    TRY(peri_deck_vector_range(pl, "strains", true, 1, PERI_MAX_SUBLAYERS, strain, n));
+    for (int k = 0; k < *n; ++k)
+      if (strain[k] < eps0 * (1.0 - 1e-9))
+        return peri_deck_error(item_or(pl, "strains", k), "%s: strain %g is below the power law's yield_strain %g",
+                               section, strain[k], eps0);
+    peri_power_law_stresses(sigma0, eps0, exponent, *n, strain, stress);
+    return PERI_OK;
+  }
+  *given_points = "stresses";
+  if (!(exponent > 0.0))
+    return peri_deck_error(peri_deck_get(law, "exponent"),
+                           "power_law: exponent 0 (perfectly plastic) has no strain at a stress; give strains");
+  TRY(peri_deck_vector_range(pl, "stresses", true, 1, PERI_MAX_SUBLAYERS, stress, n));
+  for (int k = 0; k < *n; ++k)
+    if (stress[k] < sigma0 * (1.0 - 1e-9))
+      return peri_deck_error(item_or(pl, "stresses", k), "%s: stress %g is below the power law's yield_stress %g",
+                             section, stress[k], sigma0);
+  peri_power_law_strains(sigma0, eps0, exponent, *n, stress, strain);
+  return PERI_OK;
+}
+
 static int parse_one(const peri_sim *s, const peri_node *pl, peri_material *mat) {
   static const char *const keys[] = {"weights", "yield_stretches", "strains", "stresses", "power_law",
                                      "critical_plastic_stretch", "critical_bond_energy", "cowper_symonds", "calibration",
@@ -150,40 +198,19 @@ static int parse_one(const peri_sim *s, const peri_node *pl, peri_material *mat)
     }
   } else {
     double strain[PERI_MAX_SUBLAYERS], stress[PERI_MAX_SUBLAYERS];
-    int n = 0, ns = 0;
-    TRY(peri_deck_vector_range(pl, "strains", true, 1, PERI_MAX_SUBLAYERS, strain, &n));
+    int n = 0;
     const peri_node *law = peri_deck_get(pl, "power_law");
-    if (law && peri_deck_get(pl, "stresses"))
-      return peri_deck_error(law, "%s: give stresses or power_law, not both", section);
-    if (law) {
-      static const char *const law_keys[] = {"yield_stress", "yield_strain", "exponent", NULL};
-      double sigma0 = 0.0, eps0 = 0.0, exponent = 0.0;
-      TRY(peri_deck_allow(law, "power_law", law_keys));
-      TRY(peri_deck_double(law, "yield_stress", true, &sigma0));
-      TRY(peri_deck_double(law, "yield_strain", true, &eps0));
-      TRY(peri_deck_double(law, "exponent", true, &exponent));
-      if (!(sigma0 > 0.0) || !(eps0 > 0.0))
-        return peri_deck_error(law, "power_law: yield_stress and yield_strain must be positive");
-      if (!(exponent >= 0.0 && exponent <= 1.0))
-        return peri_deck_error(peri_deck_get(law, "exponent"), "power_law: exponent must be in [0, 1]");
-      for (int k = 0; k < n; ++k)
-        if (strain[k] < eps0 * (1.0 - 1e-9))
-          return peri_deck_error(item_or(pl, "strains", k), "%s: strain %g is below the power law's yield_strain %g",
-                                 section, strain[k], eps0);
-      peri_power_law_stresses(sigma0, eps0, exponent, n, strain, stress);
-    } else {
-      TRY(peri_deck_vector_range(pl, "stresses", true, 1, PERI_MAX_SUBLAYERS, stress, &ns));
-      if (ns != n)
-        return peri_deck_error(peri_deck_get(pl, "stresses"), "%s: %d strains but %d stresses", section, n, ns);
-    }
+    /* the key whose items are the breakpoints the deck gave (errors point at them) */
+    const char *given_points = "strains";
+    TRY(parse_curve(pl, section, law, strain, stress, &n, &given_points));
     if (peri_sublayers_from_curve(mat->E, n, strain, stress, &sl, &bad, why, sizeof why) != 0)
-      return peri_deck_error(item_or(pl, law ? "strains" : "stresses", bad), "%s: %s", section, why);
+      return peri_deck_error(item_or(pl, law ? given_points : "stresses", bad), "%s: %s", section, why);
     TRY(calibrate_to_family(s, pl, section, mat, n, strain, stress, &sl));
     if (sl.deviatoric) { /* the same construction on the deviatoric curve (docs/plasticity.md section 8) */
       double dev_strain[PERI_MAX_SUBLAYERS], dev_stress[PERI_MAX_SUBLAYERS];
       peri_deviatoric_curve(mat->K, n, strain, stress, dev_strain, dev_stress);
       if (peri_sublayers_from_curve(2.0 * mat->mu, n, dev_strain, dev_stress, &sl, &bad, why, sizeof why) != 0)
-        return peri_deck_error(item_or(pl, law ? "strains" : "stresses", bad), "%s: the deviatoric curve: %s", section,
+        return peri_deck_error(item_or(pl, law ? given_points : "stresses", bad), "%s: the deviatoric curve: %s", section,
                                why);
     }
     if (peri_sublayers_check(&sl, &bad, why, sizeof why) != 0) /* (the weights of a curve sum to 1 exactly) */

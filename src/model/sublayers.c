@@ -65,6 +65,11 @@ void peri_power_law_stresses(double sigma0, double eps0, double exponent, int n,
   for (int k = 0; k < n; ++k) stress[k] = sigma0 * pow(strain[k] / eps0, exponent);
 }
 
+void peri_power_law_strains(double sigma0, double eps0, double exponent, int n, const double *stress,
+                            double *strain) {
+  for (int k = 0; k < n; ++k) strain[k] = eps0 * pow(stress[k] / sigma0, 1.0 / exponent);
+}
+
 int peri_sublayers_check(const peri_sublayers *sl, int *bad, char *why, size_t why_size) {
   *bad = -1;
   if (sl->n < 1 || sl->n > PERI_MAX_SUBLAYERS) {

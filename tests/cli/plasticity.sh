@@ -156,6 +156,25 @@ d=$(bad_deck fit_given "weights: [1]" "yield_stretches: [0.002]" "calibration: f
 run_peri check "$d"
 expect_status 2
 expect_stderr_contains "$d:10:7: error: materials.steel.plasticity.calibration: only with a curve"
+# Table 5.2's breakpoints as stresses on the power law: W = 0.944378, 0.030150, 0.008663,
+# 0.016809 at eps0 (sigma/sigma0)^10 = 0.002, 0.0064946, 0.0123835, 0.0168454 (the chords,
+# docs/plasticity.md section 1; they round to the printed 0.9444, 0.0301, 0.0087, 0.0168)
+d=$(bad_deck law_stresses "power_law: {yield_stress: 400e6, yield_strain: 0.002, exponent: 0.1}" \
+  "stresses: [400e6, 450e6, 480e6, 495e6]")
+run_peri check "$d"
+expect_status 0
+expect_stdout_contains "4 sublayers (W, s_y): (0.9444, 0.002) (0.0301, 0.006495) (0.0087, 0.01238) (0.0168, 0.01685)"
+pass "power_law with stresses: Table 5.2's sublayers from the round stresses"
+d=$(bad_deck law_low "power_law: {yield_stress: 400e6, yield_strain: 0.002, exponent: 0.1}" \
+  "stresses: [400e6, 380e6]")
+run_peri check "$d"
+expect_status 2
+expect_stderr_contains "$d:9:25: error: materials.steel.plasticity: stress 3.8e+08 is below the power law's yield_stress 4e+08"
+d=$(bad_deck law_both "power_law: {yield_stress: 400e6, yield_strain: 0.002, exponent: 0.1}" \
+  "stresses: [400e6, 450e6]" "strains: [0.002, 0.004]")
+run_peri check "$d"
+expect_status 2
+expect_stderr_contains "$d:8:18: error: materials.steel.plasticity: with power_law give the breakpoints as strains or as stresses (one of them)"
 d=$(bad_deck fit_1d "strains: [0.002, 0.004]" "stresses: [400e6, 450e6]" "calibration: family")
 run_peri check "$d"
 expect_status 2

@@ -1,10 +1,11 @@
 /* Construction of the mechanical sublayers (model reference 16.1, docs/plasticity.md) and the
  * return mapping of one bond (16.2).
  *  - Ebrahimi 2020 Table 5.2: sigma = sigma0 (eps/eps0)^n with sigma0 = 400 MPa, eps0 = 0.002,
- *    n = 0.1, E = 200 GPa, breakpoints 0.002, 0.0065, 0.0124, 0.0168 give the printed weights
- *    0.9444, 0.0301, 0.0087, 0.0168 to the fourth decimal within one unit (the thesis read its
- *    weights off the graph of the curve, §5.2.1: the exact construction gives 0.94440,
- *    0.03015, 0.00863, 0.01682), and the printed yield stretches exactly.
+ *    n = 0.1, E = 200 GPa: the chords between the curve's points at 400, 450, 480 and 495 MPa
+ *    give the printed weights 0.9444, 0.0301, 0.0087, 0.0168 to four decimals (rounded), and
+ *    those points' strains round to the printed breakpoints 0.002, 0.0065, 0.0124, 0.0168;
+ *    the chords at the printed (rounded) breakpoints give them within one unit of the fourth
+ *    decimal (0.94440, 0.03015, 0.00863, 0.01682).
  *  - The bond curve sum W_k min(eps, s_yk) passes through every breakpoint (sigma_k / E).
  *  - Bad curves and sublayers are refused with the offending point.
  *  - The return mapping: elastic-perfectly-plastic sublayers, kinematic hardening. */
@@ -41,6 +42,29 @@ Test(sublayers, table_5_2_weights) {
   cr_expect(fabs(sum - 1.0) < 1e-12, "weights sum to %.15g", sum);
   /* W_1 = 1 - e_2/E: the first segment after yield, (450.04 - 400) MPa over 0.0045 */
   cr_expect(fabs(sl.weight[0] - (1.0 - 400e6 * (pow(3.25, 0.1) - 1.0) / 0.0045 / E_STEEL)) < 1e-12);
+}
+
+/* Ebrahimi Table 5.2 to its printed digits: the breakpoints are the curve's points at the
+ * round stresses 400, 450, 480, 495 MPa (docs/plasticity.md section 1). */
+Test(sublayers, table_5_2_weights_to_four_digits) {
+  static const double stress[4] = {400e6, 450e6, 480e6, 495e6};
+  static const double printed_W[4] = {0.9444, 0.0301, 0.0087, 0.0168};
+  double strain[4];
+  peri_power_law_strains(400e6, 0.002, 0.1, 4, stress, strain);
+  peri_sublayers sl;
+  int bad;
+  char why[256];
+  cr_assert_eq(peri_sublayers_from_curve(E_STEEL, 4, strain, stress, &sl, &bad, why, sizeof why), 0, "%s", why);
+  for (int k = 0; k < 4; ++k) {
+    cr_log_info("W_%d = %.6f (printed %.4f), eps_%d = %.6f (printed %.4f)", k + 1, sl.weight[k], printed_W[k], k + 1,
+                strain[k], strains[k]);
+    /* rounding to four decimals gives the printed value: within half a unit */
+    cr_expect(fabs(sl.weight[k] - printed_W[k]) < 0.5e-4, "W_%d = %.6f, printed %.4f", k + 1, sl.weight[k],
+              printed_W[k]);
+    cr_expect(fabs(strain[k] - strains[k]) < 0.5e-4, "eps_%d = %.6f, printed %.4f", k + 1, strain[k], strains[k]);
+    /* the law inverted: the point lies on sigma = sigma0 (eps/eps0)^n */
+    cr_expect(fabs(400e6 * pow(strain[k] / 0.002, 0.1) / stress[k] - 1.0) < 1e-13);
+  }
 }
 
 Test(sublayers, curve_through_breakpoints) {
