@@ -269,20 +269,14 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
                                 thermal ? Ej[l] : 0.0, Sj[l], uniform ? 0.0 : Vj[l], multi, thermal, influence,
                                 uniform, two_sided, &y0, &y1, &y2, &s, &e);
       const bool on = on_lanes[l] != 0.0;
-      if (track_smin) { /* (GCC stores a conditional minimum to memory whatever its form) */
-        fx[l] = on ? fma(g, y0, fx[l]) : fx[l];
-        fy[l] = on ? fma(g, y1, fy[l]) : fy[l];
-        fz[l] = on ? fma(g, y2, fz[l]) : fz[l];
-        smin[l] = on ? peri_min(smin[l], s) : smin[l];
-      } else {
-        /* a lane without the bond adds exactly 0 (the sums start at +0, so are never -0):
-         * unconditional updates keep the sums in registers, where conditional ones would
-         * be stored to memory and reloaded at every template entry */
-        const double g_on = on ? g : 0.0;
-        fx[l] = fma(g_on, y0, fx[l]);
-        fy[l] = fma(g_on, y1, fy[l]);
-        fz[l] = fma(g_on, y2, fz[l]);
-      }
+      /* a lane without the bond adds exactly 0 (the sums start at +0, so are never -0) and
+       * takes +inf into its minimum: unconditional updates keep the sums in registers, where
+       * conditional ones would be masked stores to memory reloaded at every template entry */
+      const double g_on = on ? g : 0.0;
+      fx[l] = fma(g_on, y0, fx[l]);
+      fy[l] = fma(g_on, y1, fy[l]);
+      fz[l] = fma(g_on, y2, fz[l]);
+      if (track_smin) smin[l] = peri_min(smin[l], on ? s : INFINITY);
       beyond[l] += on && e > 0.0 ? 1.0 : 0.0; /* the bonds beyond the screening bound */
     }
   }
