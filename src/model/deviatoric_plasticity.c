@@ -21,11 +21,15 @@
  * Each end of a bond keeps its own state. The pair force t_ij + t_ji needs the other end's
  * plastic term alpha_j sum_k W_k s^dp_k,ji: j's return mapping writes it where i's force pass
  * reads it in family order, s->state.plastic_reverse_term at the reverse bond's index
- * s->state.plastic_reverse[k] (each entry has one writer; every neighbour is an owned node:
- * one rank, no periodic images). */
+ * s->state.plastic_reverse[k] (each entry has one writer). On MPI ranks a bond into a ghost
+ * has no local reverse (index -1): the ghost's owner sends the term through the bond halo
+ * (src/parallel/bond_halo.c) after the return. No periodic images (a bond to an image has
+ * no reverse). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/bond_halo.h"
+#include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/plasticity.h"
 #include "bond_kernel.h"
@@ -52,8 +56,8 @@ int peri_deviatoric_init(peri_sim *s) {
     }
   if (missing >= 0) {
     free(reverse);
-    peri_error("plasticity.yield_rule deviatoric: node %d at (%g, %g, %g) has a neighbour that is not an owned node "
-               "(periodic images or another rank's nodes): the rule reads both ends' state of each bond",
+    peri_error("plasticity.yield_rule deviatoric: node %d at (%g, %g, %g) has a neighbour that is not a node of the "
+               "body (a periodic image): the rule reads both ends' state of each bond",
                missing, p->x[3 * missing], p->x[3 * missing + 1], p->x[3 * missing + 2]);
     return PERI_ERR_INPUT;
   }
@@ -113,7 +117,25 @@ static void write_reverse_terms(peri_sim *s, int32_t i) {
   const double alpha = s->disc.p.coef[(size_t)s->disc.p.n + (size_t)i];
   const double *sp = s->state.plastic_stretch;
   for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
-    s->state.plastic_reverse_term[s->state.plastic_reverse[k]] = alpha * mean_plastic(sl, sp + k * L);
+    if (s->state.plastic_reverse[k] >= 0) /* (-1: a ghost's, sent by the bond halo) */
+      s->state.plastic_reverse_term[s->state.plastic_reverse[k]] = alpha * mean_plastic(sl, sp + k * L);
+}
+
+/* The bond halo's values: node i's term alpha_i sum_l W_l s^dp_l,ij of each listed bond i -> j. */
+static void pack_plastic_terms(const void *context, const int64_t *bonds, int64_t n, double *out) {
+  const peri_sim *s = context;
+  const peri_bonds *b = &s->disc.bonds;
+  const int L = s->state.plastic_layers;
+  for (int64_t a = 0; a < n; ++a) {
+    const int64_t k = bonds[a];
+    int32_t lo = 0, hi = b->n_nodes - 1; /* the node whose family holds bond k */
+    while (lo < hi) {
+      const int32_t mid = lo + (hi - lo + 1) / 2;
+      if (b->offset[mid] <= k) lo = mid;
+      else hi = mid - 1;
+    }
+    out[a] = s->disc.p.coef[(size_t)s->disc.p.n + (size_t)lo] * mean_plastic(node_layers(s, lo), s->state.plastic_stretch + k * L);
+  }
 }
 
 /* The return mapping of node i's sublayers (from the committed state in quasi-static load
@@ -188,6 +210,7 @@ void peri_deviatoric_return(peri_sim *s, const double *elastic) {
     }
     free(sd);
   }
+  if (s->par.dd) peri_bond_halo_exchange(s->par.dd->bond_halo, pack_plastic_terms, s, s->state.plastic_reverse_term);
 }
 
 double peri_deviatoric_pair_plastic(const peri_sim *s, int32_t i, int64_t k) {
@@ -207,9 +230,11 @@ void peri_deviatoric_force(peri_sim *s) {
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const int64_t k0 = b->offset[i], k1 = b->offset[i + 1];
+    /* no plastic stretch at i and no plastic term from the other ends (whose yielded flags a
+     * ghost does not have): the plastic part is 0, the elastic force */
     bool near = yielded[i];
-    for (int64_t k = k0; k < k1 && !near; ++k) near = yielded[b->neighbor[k]];
-    if (!near) continue; /* no plastic stretch on either end of any bond: the elastic force */
+    for (int64_t k = k0; k < k1 && !near; ++k) near = reverse_term[k] != 0.0;
+    if (!near) continue;
     const peri_sublayers *sl = node_layers(s, i);
     const double alpha = p->coef[(size_t)p->n + (size_t)i];
     const double *sp = s->state.plastic_stretch;
