@@ -243,6 +243,7 @@ static void localize_reverse(peri_sim *s, peri_decomposition *d) {
   free(s->state.plastic_reverse);
   s->state.plastic_reverse = reverse;
   SLICE(s->state.plastic_reverse_term, sizeof(double), b0, b1 - b0);
+  SLICE(s->state.plastic_bond_weight, sizeof(double), b0, b1 - b0);
 }
 
 int peri_decompose(peri_sim *s) {
