@@ -25,6 +25,9 @@ typedef struct peri_decomposition {
   int64_t *bond_first;     /* [size + 1]: rank r's families are global bonds bond_first[r] .. bond_first[r+1]-1 */
   uint64_t bond_hash;      /* of the global families, for checkpoints (0 without output.checkpoint_every) */
   peri_halo halo;
+  /* the bonds to other ranks' nodes, for the deviatoric yield rule's plastic terms (NULL
+   * without it) */
+  struct peri_bond_halo *bond_halo;
 } peri_decomposition;
 
 /* Splits the built simulation over the ranks (nothing in a single process): keeps this

@@ -228,6 +228,9 @@ typedef struct peri_state {
    * alpha_j sum_l W_l s^dp_l,ji, written by j's return mapping (recomputed at every force
    * evaluation by every node that has a plastic state), NULL for the bond rule */
   double *plastic_reverse_term;
+  /* the deviatoric yield rule: [n_bonds] omega beta V_j of each bond i -> j, its weight in the
+   * family sums (fixed by the reference configuration), NULL for the bond rule */
+  double *plastic_bond_weight;
   struct peri_restart *restart; /* checkpoint to continue from (--restart), NULL otherwise */
 } peri_state;
 

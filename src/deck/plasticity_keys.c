@@ -6,7 +6,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "peri/comm.h"
 #include "peri/deck.h"
 #include "peri/error.h"
 #include "peri/plasticity.h"
@@ -262,14 +261,6 @@ int peri_setup_plasticity_solver(peri_sim *s, const peri_node *root) {
                            "discretization.surface_correction: not available with plastic materials");
   }
   const peri_node *mats = peri_deck_get(root, "materials");
-  for (int m = 0; m < s->mat.n_materials; ++m)
-    if (s->mat.materials[m].sublayers && s->mat.materials[m].sublayers->deviatoric && peri_comm_size() > 1) {
-      const peri_node *pl = mats ? peri_deck_get(mats->items[m], "plasticity") : NULL;
-      return peri_deck_error(pl ? peri_deck_get(pl, "yield_rule") : root,
-                             "materials.%s.plasticity.yield_rule: deviatoric runs on one MPI rank (a node's force "
-                             "reads its neighbours' plastic state of each bond, which ranks do not exchange)",
-                             s->mat.materials[m].name);
-    }
   if (s->solver.kind == PERI_SOLVER_EXPLICIT) return PERI_OK;
   /* the stretch rate is the bonds' rate in time (src/model/plastic_bonds.c) */
   for (int m = 0; m < s->mat.n_materials; ++m)

@@ -21,11 +21,21 @@
  * Each end of a bond keeps its own state. The pair force t_ij + t_ji needs the other end's
  * plastic term alpha_j sum_k W_k s^dp_k,ji: j's return mapping writes it where i's force pass
  * reads it in family order, s->state.plastic_reverse_term at the reverse bond's index
- * s->state.plastic_reverse[k] (each entry has one writer; every neighbour is an owned node:
- * one rank, no periodic images). */
+ * s->state.plastic_reverse[k] (each entry has one writer). On MPI ranks a bond into a ghost
+ * has no local reverse (index -1): the ghost's owner sends the term through the bond halo
+ * (src/parallel/bond_halo.c) after the return. No periodic images (a bond to an image has
+ * no reverse).
+ *
+ * Cost (docs/plasticity.md section 8): the return and the force run a chunk of a node's bonds
+ * at a time in vector loops, with the bond weights omega beta V_j stored (the influence
+ * function's branches and the partial volume's select would keep the loops scalar) and the
+ * layers of a bond unrolled for up to 4; the force of the nodes with a plastic state on either
+ * end of a bond replaces their elastic force pass rather than adding to it. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/bond_halo.h"
+#include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/plasticity.h"
 #include "bond_kernel.h"
@@ -52,13 +62,27 @@ int peri_deviatoric_init(peri_sim *s) {
     }
   if (missing >= 0) {
     free(reverse);
-    peri_error("plasticity.yield_rule deviatoric: node %d at (%g, %g, %g) has a neighbour that is not an owned node "
-               "(periodic images or another rank's nodes): the rule reads both ends' state of each bond",
+    peri_error("plasticity.yield_rule deviatoric: node %d at (%g, %g, %g) has a neighbour that is not a node of the "
+               "body (a periodic image): the rule reads both ends' state of each bond",
                missing, p->x[3 * missing], p->x[3 * missing + 1], p->x[3 * missing + 2]);
     return PERI_ERR_INPUT;
   }
   s->state.plastic_reverse = reverse;
   s->state.plastic_reverse_term = peri_calloc((size_t)(b->n_bonds > 0 ? b->n_bonds : 1), sizeof(double));
+  /* each bond's omega beta V_j, as the loops evaluate it: read from here, the vector loops of
+   * the return and the force have no branch of the influence function or select of the partial
+   * volume, either of which keeps a loop scalar */
+  double *weight = peri_malloc(sizeof(double) * (size_t)(b->n_bonds > 0 ? b->n_bonds : 1));
+  const peri_family_eval fam = peri_family_eval_of(b);
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i)
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      const int32_t j = b->neighbor[k];
+      const double x0 = p->x[3 * j] - p->x[3 * i], x1 = p->x[3 * j + 1] - p->x[3 * i + 1], x2 = p->x[3 * j + 2] - p->x[3 * i + 2];
+      const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+      weight[k] = peri_eval_omega(&fam, fam.influence, r0) * peri_eval_beta(&fam, r0) * p->volume[j];
+    }
+  s->state.plastic_bond_weight = weight;
   return PERI_OK;
 }
 
@@ -67,99 +91,208 @@ static const peri_sublayers *node_layers(const peri_sim *s, int32_t i) {
   return s->mat.materials[s->disc.p.material[i]].sublayers;
 }
 
-/* Node i's deviatoric stretches s^d = (r - |xi|)/|xi| - eth_i - theta_i/3 and weights
- * omega beta V_j |xi|^2 of its bonds into sd[] and wt[] (0 for a broken bond), in family order. */
-static void deviatoric_stretches(const peri_sim *s, const peri_bond_view *w, int32_t i, double *restrict sd,
-                                 double *restrict wt) {
-  const peri_bonds *b = &s->disc.bonds;
-  const peri_influence influence = b->family.influence;
-  const double shift = (w->eth ? w->eth[i] : 0.0) + s->disc.p.theta[i] / 3.0;
-  const int64_t k0 = b->offset[i], n = b->offset[i + 1] - k0;
-  const int32_t *restrict nbr = b->neighbor + k0;
-  const uint8_t *restrict broken = b->broken + k0;
-  const double xi0 = w->x0[i], xi1 = w->x1[i], xi2 = w->x2[i], ui0 = w->u0[i], ui1 = w->u1[i], ui2 = w->u2[i];
-#pragma omp simd
-  for (int64_t a = 0; a < n; ++a) {
-    const int32_t j = nbr[a];
-    const double x0 = w->x0[j] - xi0, x1 = w->x1[j] - xi1, x2 = w->x2[j] - xi2;
-    const double d0 = x0 + (w->u0[j] - ui0), d1 = x1 + (w->u1[j] - ui1), d2 = x2 + (w->u2[j] - ui2);
-    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2), r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-    const double on = broken[a] ? 0.0 : 1.0;
-    sd[a] = on * ((r - r0) / r0 - shift);
-    wt[a] = on * peri_eval_omega(&w->fam, influence, r0) * peri_eval_beta(&w->fam, r0) * w->V[j] * r0 * r0;
-  }
-}
-
 /* A radial return is taken only beyond the bound by this relative margin: the state it leaves
  * sits on the bound to round-off, and a second evaluation at the same displacement (the
  * breaking order, the energy) must change nothing. */
 #define RETURN_MARGIN 1e-10
 /* The screen of pass 1's sum (whose lengths come from other arithmetic) keeps this margin. */
 #define SCREEN_MARGIN 1e-6
+/* Bonds per vector loop of the force */
+#define DEVIATORIC_CHUNK 256
 
-/* sum_l W_l s^dp_l of the bond whose state starts at sp, W those of the node's material. */
-static inline double mean_plastic(const peri_sublayers *sl, const double *sp) {
+/* The weights W_l of node i's material, 0 beyond its sublayers up to L (the storage's layers
+ * per bond), so that loops over the L layers of a bond add nothing for the unused ones. */
+static inline void padded_weights(const peri_sublayers *sl, int L, double *W) {
+  for (int l = 0; l < L; ++l) W[l] = sl && l < sl->n ? sl->weight[l] : 0.0;
+}
+
+/* sum_l W_l s^dp_l of the bond whose L layers start at sp: every path that needs a bond's
+ * plastic term (the return, the bond halo, the force, the pair force) sums it this way, so the
+ * two ends' copies agree bit for bit on any number of ranks. */
+static inline __attribute__((always_inline)) double plastic_sum(const double *W, const double *sp, const int L) {
   double plastic = 0.0;
-  if (sl)
-    for (int l = 0; l < sl->n; ++l) plastic += sl->weight[l] * sp[l];
+  for (int l = 0; l < L; ++l) plastic = fma(W[l], sp[l], plastic);
   return plastic;
 }
 
-/* Node i's plastic terms alpha_i sum_l W_l s^dp_l,ij into the reverse bonds' entries. */
-static void write_reverse_terms(peri_sim *s, int32_t i) {
-  const peri_bonds *b = &s->disc.bonds;
-  const peri_sublayers *sl = node_layers(s, i);
+/* alpha_i sum_l W_l s^dp_l,ij of bond k of node i. */
+static double own_term(const peri_sim *s, int32_t i, int64_t k) {
   const int L = s->state.plastic_layers;
-  const double alpha = s->disc.p.coef[(size_t)s->disc.p.n + (size_t)i];
-  const double *sp = s->state.plastic_stretch;
-  for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
-    s->state.plastic_reverse_term[s->state.plastic_reverse[k]] = alpha * mean_plastic(sl, sp + k * L);
+  double W[PERI_MAX_SUBLAYERS];
+  padded_weights(node_layers(s, i), L, W);
+  return s->disc.p.coef[(size_t)s->disc.p.n + (size_t)i] * plastic_sum(W, s->state.plastic_stretch + k * L, L);
+}
+
+/* The bond halo's values: node i's term alpha_i sum_l W_l s^dp_l,ij of each listed bond i -> j. */
+static void pack_plastic_terms(const void *context, const int64_t *bonds, int64_t n, double *out) {
+  const peri_sim *s = context;
+  const peri_bonds *b = &s->disc.bonds;
+  for (int64_t a = 0; a < n; ++a) {
+    const int64_t k = bonds[a];
+    int32_t lo = 0, hi = b->n_nodes - 1; /* the node whose family holds bond k */
+    while (lo < hi) {
+      const int32_t mid = lo + (hi - lo + 1) / 2;
+      if (b->offset[mid] <= k) lo = mid;
+      else hi = mid - 1;
+    }
+    out[a] = own_term(s, lo, k);
+  }
+}
+
+/* Node i's deviatoric stretches s^d = (r - |xi|)/|xi| - eth_i - theta_i/3, weights
+ * omega beta V_j |xi|^2 and intact flags of its bonds into sd[], wt[] and on[] (0 for a broken
+ * bond), in family order, and each layer's energy S_l = sum wt (s^d - s^dp_l)^2 over the L
+ * layers of the state `base` into S[]: one vector loop for up to 4 layers (the sums in vector
+ * lanes), then a loop of its own for more. */
+static inline __attribute__((always_inline)) void stretches_and_energies(const peri_sim *s, const peri_bond_view *w,
+                                                                         int32_t i, const double *restrict base,
+                                                                         double *restrict sd, double *restrict wt,
+                                                                         double *restrict on, const int L,
+                                                                         double *S) {
+  const peri_bonds *b = &s->disc.bonds;
+  const double shift = (w->eth ? w->eth[i] : 0.0) + s->disc.p.theta[i] / 3.0;
+  const int64_t k0 = b->offset[i], n = b->offset[i + 1] - k0;
+  const int32_t *restrict nbr = b->neighbor + k0;
+  const uint8_t *restrict broken = b->broken + k0;
+  const double *restrict weight = s->state.plastic_bond_weight + k0;
+  const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
+                         *restrict U1 = w->u1, *restrict U2 = w->u2;
+  const double xi0 = X0[i], xi1 = X1[i], xi2 = X2[i], ui0 = U0[i], ui1 = U1[i], ui2 = U2[i];
+  /* the 1-byte flags as doubles first: read in the vector loop they would force 64-lane
+   * vectors and a scalar tail (bond_kernel.h) */
+  for (int64_t a = 0; a < n; ++a) on[a] = broken[a] ? 0.0 : 1.0;
+  double S0 = 0.0, S1 = 0.0, S2 = 0.0, S3 = 0.0;
+#pragma omp simd reduction(+ : S0, S1, S2, S3)
+  for (int64_t a = 0; a < n; ++a) {
+    const int32_t j = nbr[a];
+    const double x0 = X0[j] - xi0, x1 = X1[j] - xi1, x2 = X2[j] - xi2;
+    const double d0 = x0 + (U0[j] - ui0), d1 = x1 + (U1[j] - ui1), d2 = x2 + (U2[j] - ui2);
+    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2), r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+    const double sd_a = on[a] * ((r - r0) / r0 - shift), wt_a = on[a] * weight[a] * r0 * r0;
+    sd[a] = sd_a, wt[a] = wt_a;
+    if (L <= 4) {
+      const double *bs = base + a * L, e0 = sd_a - bs[0];
+      S0 = fma(wt_a, e0 * e0, S0);
+      if (L > 1) S1 = fma(wt_a, (sd_a - bs[1]) * (sd_a - bs[1]), S1);
+      if (L > 2) S2 = fma(wt_a, (sd_a - bs[2]) * (sd_a - bs[2]), S2);
+      if (L > 3) S3 = fma(wt_a, (sd_a - bs[3]) * (sd_a - bs[3]), S3);
+    }
+  }
+  S[0] = S0, S[1] = S1, S[2] = S2, S[3] = S3;
+  if (L > 4)
+    for (int64_t a = 0; a < n; ++a)
+      for (int l = 0; l < L; ++l) {
+        const double e = sd[a] - base[a * L + l];
+        S[l] = fma(wt[a], e * e, S[l]);
+      }
+}
+
+/* The return of a node's bonds from the state `from` into `out` (the same array when mapping in
+ * place: one pointer, so that the vector loop needs no test of overlap): layer l moves to
+ * s^d - factor[l] (s^d - s^dp_l) where take = flows[l] on = 1 (it flows and the bond is intact),
+ * else keeps its value, as take * moved + (1 - take) * kept (exact for take 0 or 1, and
+ * without a select, which would keep the loop scalar); each bond's term alpha sum_l W_l s^dp_l
+ * into term[]. Returns whether a plastic stretch (or, `committed`, one of the state mapped
+ * from) is nonzero: a sum of magnitudes, 0 only when every one is. */
+static inline __attribute__((always_inline)) bool flow_from(const double *from, double *out,
+                                                            const double *restrict sd, double *restrict term,
+                                                            const double *restrict on, const double *restrict factor,
+                                                            const double *restrict flows, const double *restrict W,
+                                                            double alpha, int64_t nb, const bool committed,
+                                                            const int L) {
+  double magnitude = 0.0;
+#pragma omp simd reduction(+ : magnitude)
+  for (int64_t a = 0; a < nb; ++a) {
+    double plastic = 0.0;
+    for (int l = 0; l < L; ++l) {
+      const double f = from[a * L + l], moved = sd[a] - factor[l] * (sd[a] - f), take = on[a] * flows[l];
+      const double v = take * moved + (1.0 - take) * f;
+      out[a * L + l] = v;
+      magnitude += fabs(v) + (committed ? fabs(f) : 0.0);
+      plastic = fma(W[l], v, plastic);
+    }
+    term[a] = alpha * plastic;
+  }
+  return magnitude != 0.0;
+}
+
+/* Without flow: each bond's term into term[]; whether a plastic stretch is nonzero. */
+static inline __attribute__((always_inline)) bool bond_terms(const double *restrict state, double *restrict term,
+                                                             const double *restrict W, double alpha, int64_t nb,
+                                                             const int L) {
+  double magnitude = 0.0;
+#pragma omp simd reduction(+ : magnitude)
+  for (int64_t a = 0; a < nb; ++a) {
+    double plastic = 0.0;
+    for (int l = 0; l < L; ++l) {
+      magnitude += fabs(state[a * L + l]);
+      plastic = fma(W[l], state[a * L + l], plastic);
+    }
+    term[a] = alpha * plastic;
+  }
+  return magnitude != 0.0;
 }
 
 /* The return mapping of node i's sublayers (from the committed state in quasi-static load
- * steps, else in place). Returns whether a plastic stretch of the node (or a committed one)
- * is nonzero. */
-static bool node_return(peri_sim *s, const peri_bond_view *w, int32_t i, double elastic, double *sd, double *wt) {
+ * steps, else in place), L layers stored per bond (a constant for the common counts: the
+ * layers of a bond are then unrolled in vector loops over the bonds). Returns whether a
+ * plastic stretch of the node (or a committed one) is nonzero. Node i's terms alpha_i sum_l
+ * W_l s^dp_l,ij go into the reverse bonds' entries when it has or had a plastic state
+ * (`before`); the others' stay 0. Scratch: sd, wt, on of the longest family. */
+static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const peri_bond_view *w, int32_t i,
+                                                              double elastic, bool before, double *restrict sd,
+                                                              double *restrict wt, double *restrict on,
+                                                              const int L) {
   const peri_sublayers *sl = node_layers(s, i);
   if (!sl) return false;
   const peri_bonds *b = &s->disc.bonds;
   const peri_material *mat = &s->mat.materials[s->disc.p.material[i]];
-  const int L = s->state.plastic_layers, n = sl->n;
+  const int n = sl->n;
   const int64_t k0 = b->offset[i], nb = b->offset[i + 1] - k0;
-  double *out = s->state.plastic_stretch + k0 * L;
+  double *restrict out = s->state.plastic_stretch + k0 * L;
   const bool committed = s->state.plastic_committed != NULL;
   const double *base = committed ? s->state.plastic_committed + k0 * L : out;
   /* the bound of sublayer k is (3 mu / alpha_m) m_i e_yk^2 */
   const double scale = 3.0 * mat->mu / mat->alpha_m * s->disc.p.wvol[i];
   /* every plastic stretch 0 and the elastic deviatoric energy of pass 1 below the first
    * yield (with a margin for that sum's rounding; nearer, the exact sums below decide) */
-  if (!s->state.plastic_nodes[i] && elastic <= scale * sl->yield[0] * sl->yield[0] * (1.0 - SCREEN_MARGIN)) return false;
-  deviatoric_stretches(s, w, i, sd, wt);
-  double S[PERI_MAX_SUBLAYERS] = {0}, factor[PERI_MAX_SUBLAYERS];
-  for (int64_t a = 0; a < nb; ++a)
-    for (int k = 0; k < n; ++k) {
-      const double e = sd[a] - base[a * L + k];
-      S[k] = fma(wt[a], e * e, S[k]);
-    }
+  if (!before && elastic <= scale * sl->yield[0] * sl->yield[0] * (1.0 - SCREEN_MARGIN)) return false;
+  double S[PERI_MAX_SUBLAYERS > 4 ? PERI_MAX_SUBLAYERS : 4] = {0}, factor[PERI_MAX_SUBLAYERS],
+      flows[PERI_MAX_SUBLAYERS], W[PERI_MAX_SUBLAYERS];
+  stretches_and_energies(s, w, i, base, sd, wt, on, L, S);
   bool flow = committed;
-  for (int k = 0; k < n; ++k) {
-    const double bound = scale * sl->yield[k] * sl->yield[k];
-    factor[k] = S[k] > bound * (1.0 + RETURN_MARGIN) ? sqrt(bound / S[k]) : 1.0;
-    flow |= factor[k] < 1.0;
+  for (int l = 0; l < L; ++l) {
+    const double bound = l < n ? scale * sl->yield[l] * sl->yield[l] : INFINITY;
+    factor[l] = S[l] > bound * (1.0 + RETURN_MARGIN) ? sqrt(bound / S[l]) : 1.0;
+    flows[l] = factor[l] < 1.0 ? 1.0 : 0.0;
+    flow |= factor[l] < 1.0;
   }
-  bool yielded = false;
-  if (flow) {
-    for (int64_t a = 0; a < nb; ++a) {
-      if (b->broken[k0 + a]) { /* a broken bond keeps its state */
-        for (int k = 0; k < n; ++k) out[a * L + k] = base[a * L + k];
-        continue;
-      }
-      for (int k = 0; k < n; ++k)
-        out[a * L + k] = factor[k] < 1.0 ? sd[a] - factor[k] * (sd[a] - base[a * L + k]) : base[a * L + k];
-    }
+  padded_weights(sl, L, W);
+  const double alpha = s->disc.p.coef[(size_t)s->disc.p.n + (size_t)i];
+  /* the new state (a broken bond keeps its own) and each bond's term, into wt[] */
+  const bool yielded = !flow      ? bond_terms(out, wt, W, alpha, nb, L)
+                       : committed ? flow_from(base, out, sd, wt, on, factor, flows, W, alpha, nb, true, L)
+                                   : flow_from(out, out, sd, wt, on, factor, flows, W, alpha, nb, false, L);
+  if (before || yielded) {
+    const int64_t *restrict reverse = s->state.plastic_reverse + k0;
+    double *restrict term = s->state.plastic_reverse_term;
+    for (int64_t a = 0; a < nb; ++a)
+      if (reverse[a] >= 0) term[reverse[a]] = wt[a]; /* (-1: a ghost's, sent by the bond halo) */
   }
-  for (int64_t a = 0; a < nb * L && !yielded; ++a) yielded = out[a] != 0.0 || (committed && base[a] != 0.0);
   return yielded;
+}
+
+/* node_return with constant layer counts for the common ones. */
+static bool node_return_any(peri_sim *s, const peri_bond_view *w, int32_t i, double elastic, bool before,
+                            double *scratch, int64_t longest) {
+  double *sd = scratch, *wt = scratch + longest, *on = scratch + 2 * longest;
+  switch (s->state.plastic_layers) {
+  case 1: return node_return(s, w, i, elastic, before, sd, wt, on, 1);
+  case 2: return node_return(s, w, i, elastic, before, sd, wt, on, 2);
+  case 3: return node_return(s, w, i, elastic, before, sd, wt, on, 3);
+  case 4: return node_return(s, w, i, elastic, before, sd, wt, on, 4);
+  default: return node_return(s, w, i, elastic, before, sd, wt, on, s->state.plastic_layers);
+  }
 }
 
 static int64_t longest_family(const peri_bonds *b, int32_t n) {
@@ -177,56 +310,82 @@ void peri_deviatoric_return(peri_sim *s, const double *elastic) {
   uint8_t *yielded = s->state.plastic_nodes;
 #pragma omp parallel
   {
-    double *sd = peri_malloc(sizeof(double) * 2 * (size_t)longest), *wt = sd + longest;
+    double *scratch = peri_malloc(sizeof(double) * 3 * (size_t)longest);
 #pragma omp for schedule(static)
-    for (int32_t i = 0; i < p->n_owned; ++i) {
-      const bool before = yielded[i];
-      yielded[i] = node_return(s, &w, i, elastic[i], sd, wt);
-      /* a node with a plastic state, or that had one (quasi-static iterations), refreshes its
-       * terms on the other ends; the others' stay 0 */
-      if (before || yielded[i]) write_reverse_terms(s, i);
-    }
-    free(sd);
+    for (int32_t i = 0; i < p->n_owned; ++i) yielded[i] = node_return_any(s, &w, i, elastic[i], yielded[i], scratch, longest);
+    free(scratch);
+  }
+  if (s->par.dd) peri_bond_halo_exchange(s->par.dd->bond_halo, pack_plastic_terms, s, s->state.plastic_reverse_term);
+}
+
+bool peri_deviatoric_near(const peri_sim *s, int32_t i) {
+  if (s->state.plastic_nodes[i]) return true;
+  const double *restrict term = s->state.plastic_reverse_term;
+  bool near = false;
+  for (int64_t k = s->disc.bonds.offset[i]; k < s->disc.bonds.offset[i + 1]; ++k) near |= term[k] != 0.0;
+  return near;
+}
+
+/* Node i's force over bonds k0 .. k0+n-1 of its family, L layers per bond: the bond values by a
+ * vector loop, their sums in family order into f. */
+static inline __attribute__((always_inline)) void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i,
+                                                              int64_t k0, int n, const int L, double f[3]) {
+  const size_t nn = (size_t)w->n;
+  const int32_t *restrict nbr = w->neighbor + k0;
+  const uint8_t *restrict broken = w->broken + k0;
+  const double *restrict sp = s->state.plastic_stretch + k0 * L, *restrict term = s->state.plastic_reverse_term + k0,
+                         *restrict weight = s->state.plastic_bond_weight + k0;
+  const double *restrict D = w->coef, *restrict B = w->coef + nn;
+  const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
+                         *restrict U1 = w->u1, *restrict U2 = w->u2;
+  double W[PERI_MAX_SUBLAYERS];
+  padded_weights(node_layers(s, i), L, W);
+  const double xi0 = X0[i], xi1 = X1[i], xi2 = X2[i], ui0 = U0[i], ui1 = U1[i], ui2 = U2[i];
+  const double Di = D[i], Bi = B[i];
+  double g[DEVIATORIC_CHUNK], y0[DEVIATORIC_CHUNK], y1[DEVIATORIC_CHUNK], y2[DEVIATORIC_CHUNK], on[DEVIATORIC_CHUNK];
+  for (int a = 0; a < n; ++a) on[a] = broken[a] ? 0.0 : 1.0; /* (as doubles: see stretches_and_energies) */
+#pragma omp simd
+  for (int a = 0; a < n; ++a) {
+    const int32_t j = nbr[a];
+    const double own = Bi * plastic_sum(W, sp + a * L, L);
+    const double x0 = X0[j] - xi0, x1 = X1[j] - xi1, x2 = X2[j] - xi2;
+    const double d0 = x0 + (U0[j] - ui0), d1 = x1 + (U1[j] - ui1), d2 = x2 + (U2[j] - ui2);
+    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2), r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+    /* t_ij + t_ji = omega (|xi| (D_i + D_j - alpha_i sum W s^dp_ij - alpha_j sum W s^dp_ji) + e (B_i + B_j)) */
+    const double t = fma(r0, (Di + D[j]) - (own + term[a]), (r - r0) * (Bi + B[j]));
+    /* coincident ends have no direction and give no force (arithmetic, not a select, which
+     * would keep the loop scalar) */
+    const double apart = r != 0.0;
+    g[a] = on[a] * apart * weight[a] * t / (r + (1.0 - apart));
+    y0[a] = d0, y1[a] = d1, y2[a] = d2;
+  }
+  for (int a = 0; a < n; ++a) {
+    f[0] = fma(g[a], y0[a], f[0]);
+    f[1] = fma(g[a], y1[a], f[1]);
+    f[2] = fma(g[a], y2[a], f[2]);
+  }
+}
+
+static inline __attribute__((always_inline)) void node_force(const peri_sim *s, const peri_bond_view *w, int32_t i,
+                                                             const int L, double f[3]) {
+  f[0] = f[1] = f[2] = 0.0;
+  const int64_t k1 = w->offset[i + 1];
+  for (int64_t k = w->offset[i]; k < k1; k += DEVIATORIC_CHUNK)
+    force_chunk(s, w, i, k, (int)(k1 - k < DEVIATORIC_CHUNK ? k1 - k : DEVIATORIC_CHUNK), L, f);
+}
+
+void peri_deviatoric_node_force(const peri_sim *s, const peri_bond_view *w, int32_t i, double f[3]) {
+  switch (s->state.plastic_layers) { /* (constant layer counts for the common ones) */
+  case 1: node_force(s, w, i, 1, f); break;
+  case 2: node_force(s, w, i, 2, f); break;
+  case 3: node_force(s, w, i, 3, f); break;
+  case 4: node_force(s, w, i, 4, f); break;
+  default: node_force(s, w, i, s->state.plastic_layers, f); break;
   }
 }
 
 double peri_deviatoric_pair_plastic(const peri_sim *s, int32_t i, int64_t k) {
-  const peri_particles *p = &s->disc.p;
-  return p->coef[(size_t)p->n + (size_t)i] * mean_plastic(node_layers(s, i), s->state.plastic_stretch + k * s->state.plastic_layers) +
-         s->state.plastic_reverse_term[k];
-}
-
-void peri_deviatoric_force(peri_sim *s) {
-  peri_particles *p = &s->disc.p;
-  const peri_bonds *b = &s->disc.bonds;
-  const peri_bond_view w = peri_bond_view_of(s, s->disc.node_blocks->soa);
-  const uint8_t *yielded = s->state.plastic_nodes;
-  const peri_influence influence = b->family.influence;
-  const int L = s->state.plastic_layers;
-  const double *reverse_term = s->state.plastic_reverse_term;
-#pragma omp parallel for schedule(static)
-  for (int32_t i = 0; i < p->n_owned; ++i) {
-    const int64_t k0 = b->offset[i], k1 = b->offset[i + 1];
-    bool near = yielded[i];
-    for (int64_t k = k0; k < k1 && !near; ++k) near = yielded[b->neighbor[k]];
-    if (!near) continue; /* no plastic stretch on either end of any bond: the elastic force */
-    const peri_sublayers *sl = node_layers(s, i);
-    const double alpha = p->coef[(size_t)p->n + (size_t)i];
-    const double *sp = s->state.plastic_stretch;
-    double f0 = 0.0, f1 = 0.0, f2 = 0.0;
-    for (int64_t k = k0; k < k1; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      const double x0 = w.x0[j] - w.x0[i], x1 = w.x1[j] - w.x1[i], x2 = w.x2[j] - w.x2[i];
-      const double d0 = x0 + (w.u0[j] - w.u0[i]), d1 = x1 + (w.u1[j] - w.u1[i]), d2 = x2 + (w.u2[j] - w.u2[i]);
-      const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2), r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-      /* t_ij + t_ji loses omega |xi| (alpha_i sum W s^dp_ij + alpha_j sum W s^dp_ji) */
-      const double plastic = alpha * mean_plastic(sl, sp + k * L) + reverse_term[k];
-      const double g = -peri_eval_omega(&w.fam, influence, r0) * r0 * plastic * peri_eval_beta(&w.fam, r0) * w.V[j] / r;
-      if (r > 0.0) f0 = fma(g, d0, f0), f1 = fma(g, d1, f1), f2 = fma(g, d2, f2);
-    }
-    p->f[3 * (size_t)i] += f0, p->f[3 * (size_t)i + 1] += f1, p->f[3 * (size_t)i + 2] += f2;
-  }
+  return own_term(s, i, k) + s->state.plastic_reverse_term[k];
 }
 
 /* Bond i-j's deformed length, and its reference length in *r0 (xi + (u_j - u_i), as the energy's

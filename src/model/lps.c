@@ -693,11 +693,12 @@ static long lps_plastic_force_pass(peri_sim *s, bool update_s0) {
 }
 
 /* The deviatoric yield rule (src/model/deviatoric_plasticity.c, docs/plasticity.md section
- * 8): the dilatation stays elastic, so both elastic passes run unchanged (pass 1 also sums
- * omega beta V q^2, from which a node that has never yielded knows its elastic deviatoric
- * energy and skips the return unless it passes the first yield); the sublayers then return
- * radially at the nodes' theta, and the nodes that have or neighbour a plastic state get the
- * plastic part of their force. */
+ * 8): the dilatation stays elastic, so pass 1 runs unchanged (it also sums omega beta V q^2,
+ * from which a node that has never yielded knows its elastic deviatoric energy and skips the
+ * return unless it passes the first yield); the sublayers then return radially at the nodes'
+ * theta, and pass 2 runs the elastic loops for the nodes without a plastic state on either
+ * end of a bond and the pair forces with their plastic part for the others (an item whose
+ * nodes all have one skips the elastic loops). */
 static long lps_deviatoric_force_pass(peri_sim *s, bool update_s0) {
   peri_update_s0_bound(s);
   peri_node_blocks *items = peri_node_blocks_refresh(s);
@@ -716,10 +717,32 @@ static long lps_deviatoric_force_pass(peri_sim *s, bool update_s0) {
     elastic[i] = r->sum[2] - (2.0 * theta / 3.0) * r->sum[0] + (theta * theta / 9.0) * r->sum[1];
   })
   if (track_smin && update_s0) peri_update_lammps_s0(s);
-  lps_pair_forces(s);
   peri_deviatoric_return(s, elastic);
-  peri_deviatoric_force(s);
   free(elastic);
+  peri_sim_exchange(s, p->coef, 1); /* pass 2 reads D_j and B_j of ghosts */
+  peri_sim_exchange(s, p->coef + (size_t)p->n, 1);
+  const lps_loops *force_loops = lps_force_loops(s, items);
+#pragma omp parallel
+  PERI_FOR_EACH_ITEM(items, item) {
+    const int32_t i0 = items->first[item], i1 = items->first[item + 1];
+    lps_sums sums[PERI_BLOCK];
+    bool near[PERI_BLOCK], all_near = true;
+    for (int32_t i = i0; i < i1; ++i) all_near &= near[i - i0] = peri_deviatoric_near(s, i);
+    const int64_t t0 = items->tpl[item], entries = peri_item_entries(items, item);
+    if (all_near) {
+      /* (nothing for the elastic loops to do) */
+    } else if (peri_item_is_block(items, item)) {
+      force_loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums);
+    } else {
+      for (int32_t i = i0; i < i1; ++i) sums[i - i0] = force_loops->node(&w, i);
+    }
+    for (int32_t i = i0; i < i1; ++i) {
+      double f[3];
+      if (near[i - i0]) peri_deviatoric_node_force(s, &w, i, f);
+      else f[0] = sums[i - i0].sum[0], f[1] = sums[i - i0].sum[1], f[2] = sums[i - i0].sum[2];
+      for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = f[d];
+    }
+  }
   return n_broken;
 }
 

@@ -74,16 +74,21 @@ void peri_plastic_flag_nodes(peri_sim *s);
 /* The deviatoric yield rule of LPS (src/model/deviatoric_plasticity.c, docs/plasticity.md
  * section 8). Whether the run's plastic materials take it: */
 bool peri_deviatoric_rule(const peri_sim *s);
-/* The reverse index of the bonds (s->state.plastic_reverse); PERI_ERR_INPUT with a message
- * when a neighbour is not an owned node. */
+/* The reverse index of the bonds (s->state.plastic_reverse), their plastic terms and weights;
+ * PERI_ERR_INPUT with a message when a neighbour is not a node of the body. */
 int peri_deviatoric_init(peri_sim *s);
-/* After the elastic LPS passes (theta, D and B of every node, the node blocks' copies of the
- * positions at this displacement): the radial return of every owned node's sublayers, with
- * elastic[i] = sum_j omega beta V_j (e^d_ij)^2 at the total extensions (a node that has never
- * yielded and stays below its first yield skips the return), then the plastic part of the
- * force added to p->f of the nodes that have or neighbour a plastic state. */
+/* After the dilatation pass of LPS (theta and B = alpha of every owned node, the node blocks'
+ * copies of the positions at this displacement): the radial return of every owned node's
+ * sublayers, with elastic[i] = sum_j omega beta V_j (e^d_ij)^2 at the total extensions (a node
+ * that has never yielded and stays below its first yield skips the return), and the plastic
+ * terms of the bonds' other ends (from other ranks through the bond halo). */
 void peri_deviatoric_return(peri_sim *s, const double *elastic);
-void peri_deviatoric_force(peri_sim *s);
+/* After the return: whether node i has a plastic state or a bond with the other end's plastic
+ * term (else its force is the elastic one). */
+bool peri_deviatoric_near(const peri_sim *s, int32_t i);
+/* The force density on node i, with the coefficients D and B of every node in w->coef: the
+ * LPS pair forces with the plastic part of each bond. */
+void peri_deviatoric_node_force(const peri_sim *s, const peri_bond_view *w, int32_t i, double f[3]);
 /* alpha_i sum_l W_l s^dp_l,ij + alpha_j sum_l W_l s^dp_l,ji of bond k = i -> j (alpha the
  * coefficients B of the dilatation pass): the pair force t_ij + t_ji loses omega |xi| times it. */
 double peri_deviatoric_pair_plastic(const peri_sim *s, int32_t i, int64_t k);

@@ -6,6 +6,7 @@
  * bit for bit. */
 #include <stdlib.h>
 #include <string.h>
+#include "peri/bond_halo.h"
 #include "peri/comm.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
@@ -228,6 +229,23 @@ static void localize_thermal(peri_sim *s, const int32_t *ids, int32_t n_local, i
   th->growing_next = next;
 }
 
+/* The deviatoric yield rule (docs/plasticity.md section 8): the reverse bond of each owned
+ * bond as a local index, -1 where the other end is a ghost, whose owner sends its plastic
+ * term through the bond halo. Needs the global families. */
+static void localize_reverse(peri_sim *s, peri_decomposition *d) {
+  const int64_t b0 = d->bond_first[d->rank], b1 = d->bond_first[d->rank + 1];
+  d->bond_halo = peri_bond_halo_build(&s->disc.bonds, s->state.plastic_reverse, d->first, d->bond_first, d->rank, d->size);
+  int64_t *reverse = peri_malloc(sizeof(int64_t) * (size_t)(b1 > b0 ? b1 - b0 : 1));
+  for (int64_t k = b0; k < b1; ++k) {
+    const int64_t r = s->state.plastic_reverse[k];
+    reverse[k - b0] = r >= b0 && r < b1 ? r - b0 : -1;
+  }
+  free(s->state.plastic_reverse);
+  s->state.plastic_reverse = reverse;
+  SLICE(s->state.plastic_reverse_term, sizeof(double), b0, b1 - b0);
+  SLICE(s->state.plastic_bond_weight, sizeof(double), b0, b1 - b0);
+}
+
 int peri_decompose(peri_sim *s) {
   const int size = peri_comm_size(), rank = peri_comm_rank();
   if (size == 1) return PERI_OK;
@@ -271,6 +289,7 @@ int peri_decompose(peri_sim *s) {
 
   s->par.dd = d;
   build_halo(d, b, n_owned, n_local); /* needs the global families */
+  if (s->state.plastic_reverse) localize_reverse(s, d); /* so does this */
 
   const int32_t *ids = d->global_id;
   const int64_t bond_from = b->offset[g0], bond_count = b->offset[g1] - bond_from;
@@ -333,6 +352,7 @@ void peri_exchange_state(peri_sim *s) {
 void peri_decomposition_free(peri_decomposition *d) {
   if (!d) return;
   peri_halo_free(&d->halo);
+  peri_bond_halo_free(d->bond_halo);
   free(d->first);
   free(d->owned);
   free(d->blocks);
