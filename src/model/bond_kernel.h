@@ -62,35 +62,36 @@ static inline double peri_eval_omega(const peri_family_eval *e, peri_influence i
   return 1.0;
 }
 
-#if defined(__AVX512F__)
-#include <immintrin.h>
-/* Eight bonds at a time in 512-bit registers (the PMB and LPS bond functions of pmb.c and
- * lps.c): lengths from reciprocal square roots instead of square roots and divisions, whose
+#include "vector8.h"
+#ifdef PERI_BOND_V8
+/* Eight bonds at a time (vector8.h: one 512-bit register, or two 256-bit ones on AVX2; the
+ * PMB and LPS bond functions of pmb.c and lps.c): lengths from reciprocal square roots instead of square roots and divisions, whose
  * one unit takes 16-32 cycles for a 512-bit vector on Intel Ice Lake. Every path of a model
  * (node blocks and single nodes) evaluates its bonds through the same eight-lane function,
  * so they still agree bit for bit; the numbers differ from the scalar functions at
- * round-off (a few units in the last place of a length). */
-#define PERI_BOND_V8 1
-/* 1/sqrt(x) for positive normal x: vrsqrt14pd's estimate (relative error below 2^-14)
- * refined by two Newton steps, each squaring the error (6.1e-5, 5.6e-9, then round-off). */
-static inline __attribute__((always_inline)) __m512d peri_rsqrt_v8(__m512d x) {
-  const __m512d half = _mm512_set1_pd(0.5), half_x = _mm512_mul_pd(x, half);
-  __m512d y = _mm512_rsqrt14_pd(x);
-  y = _mm512_fmadd_pd(y, _mm512_fnmadd_pd(_mm512_mul_pd(half_x, y), y, half), y);
-  y = _mm512_fmadd_pd(y, _mm512_fnmadd_pd(_mm512_mul_pd(half_x, y), y, half), y);
+ * round-off (a few units in the last place of a length), and between AVX-512 and AVX2 builds
+ * (their first estimates differ). */
+/* 1/sqrt(x) for positive normal x: vrsqrt14pd's estimate (relative error below 2^-14; on AVX2
+ * v8_rsqrt14_pd's, below 2^-23) refined by two Newton steps, each squaring the error
+ * (6.1e-5, 5.6e-9, then round-off). */
+static inline __attribute__((always_inline)) peri_v8d peri_rsqrt_v8(peri_v8d x) {
+  const peri_v8d half = v8_set1_pd(0.5), half_x = v8_mul_pd(x, half);
+  peri_v8d y = v8_rsqrt14_pd(x);
+  y = v8_fmadd_pd(y, v8_fnmadd_pd(v8_mul_pd(half_x, y), y, half), y);
+  y = v8_fmadd_pd(y, v8_fnmadd_pd(v8_mul_pd(half_x, y), y, half), y);
   return y;
 }
 /* a0² + a1² + a2² in the order of the scalar loops */
-static inline __attribute__((always_inline)) __m512d peri_norm2_v8(__m512d a0, __m512d a1, __m512d a2) {
-  return _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(a0, a0), _mm512_mul_pd(a1, a1)), _mm512_mul_pd(a2, a2));
+static inline __attribute__((always_inline)) peri_v8d peri_norm2_v8(peri_v8d a0, peri_v8d a1, peri_v8d a2) {
+  return v8_add_pd(v8_add_pd(v8_mul_pd(a0, a0), v8_mul_pd(a1, a1)), v8_mul_pd(a2, a2));
 }
 /* the partial-volume factor min(1, beta0 - r0 / dx) of peri_eval_beta */
-static inline __attribute__((always_inline)) __m512d peri_beta_v8(const peri_family_eval *e, __m512d r0) {
-  return _mm512_min_pd(_mm512_set1_pd(1.0),
-                       _mm512_sub_pd(_mm512_set1_pd(e->beta0), _mm512_mul_pd(r0, _mm512_set1_pd(e->inv_dx))));
+static inline __attribute__((always_inline)) peri_v8d peri_beta_v8(const peri_family_eval *e, peri_v8d r0) {
+  return v8_min_pd(v8_set1_pd(1.0),
+                       v8_sub_pd(v8_set1_pd(e->beta0), v8_mul_pd(r0, v8_set1_pd(e->inv_dx))));
 }
 /* The lane mask of the first n of eight lanes. */
-static inline __mmask8 peri_first_lanes(int n) { return n >= 8 ? (__mmask8)0xFF : (__mmask8)((1u << n) - 1u); }
+static inline peri_m8 peri_first_lanes(int n) { return n >= 8 ? (peri_m8)0xFF : (peri_m8)((1u << n) - 1u); }
 #endif
 
 /* What the bond loops of the models read, as restrict pointers so that the compiler

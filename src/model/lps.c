@@ -134,7 +134,7 @@ static inline __attribute__((always_inline)) double lps_bond_force(const lps_cen
  * lengths from reciprocal square roots, no division. The node and block loops both use
  * them (Gaussian influence, which needs exp, keeps the scalar functions on both). */
 typedef struct lps_centre_v8 {
-  __m512d x0, x1, x2, u0, u1, u2, eth, bound, V, D, B;
+  peri_v8d x0, x1, x2, u0, u1, u2, eth, bound, V, D, B;
 } lps_centre_v8;
 
 /* The centre i (one value in every lane) or the eight centres i .. i+7. */
@@ -142,8 +142,8 @@ static inline __attribute__((always_inline)) lps_centre_v8 lps_centre_v8_of(cons
                                                                             bool thermal, bool force, bool screen,
                                                                             bool eight) {
   const size_t n = (size_t)w->n;
-  const __m512d zero = _mm512_setzero_pd();
-#define LPS_CENTRE(P) (eight ? _mm512_loadu_pd((P) + i) : _mm512_set1_pd((P)[i]))
+  const peri_v8d zero = v8_setzero_pd();
+#define LPS_CENTRE(P) (eight ? v8_loadu_pd((P) + i) : v8_set1_pd((P)[i]))
   const lps_centre_v8 c = {LPS_CENTRE(w->x0), LPS_CENTRE(w->x1), LPS_CENTRE(w->x2),
                            LPS_CENTRE(w->u0), LPS_CENTRE(w->u1), LPS_CENTRE(w->u2),
                            thermal ? LPS_CENTRE(w->eth) : zero, screen ? LPS_CENTRE(w->s0_bound) : zero,
@@ -156,61 +156,61 @@ static inline __attribute__((always_inline)) lps_centre_v8 lps_centre_v8_of(cons
 /* the lengths |xi| (r0, 1/r0 in *inv_r0) and |y| (r, 1/r in *inv_r) of eight bonds from
  * the reference and relative displacement components; the same function for both, so an
  * undeformed bond has r == r0 */
-static inline __attribute__((always_inline)) void lps_lengths_v8(const lps_centre_v8 *ci, __m512d xj0, __m512d xj1,
-                                                                 __m512d xj2, __m512d uj0, __m512d uj1, __m512d uj2,
-                                                                 __m512d *r0, __m512d *inv_r0, __m512d *r,
-                                                                 __m512d *inv_r, __m512d y[3]) {
-  const __m512d x0 = _mm512_sub_pd(xj0, ci->x0), x1 = _mm512_sub_pd(xj1, ci->x1), x2 = _mm512_sub_pd(xj2, ci->x2);
-  y[0] = _mm512_add_pd(x0, _mm512_sub_pd(uj0, ci->u0));
-  y[1] = _mm512_add_pd(x1, _mm512_sub_pd(uj1, ci->u1));
-  y[2] = _mm512_add_pd(x2, _mm512_sub_pd(uj2, ci->u2));
-  const __m512d r0_sq = _mm512_fmadd_pd(x2, x2, _mm512_fmadd_pd(x1, x1, _mm512_mul_pd(x0, x0)));
-  const __m512d r_sq = _mm512_fmadd_pd(y[2], y[2], _mm512_fmadd_pd(y[1], y[1], _mm512_mul_pd(y[0], y[0])));
+static inline __attribute__((always_inline)) void lps_lengths_v8(const lps_centre_v8 *ci, peri_v8d xj0, peri_v8d xj1,
+                                                                 peri_v8d xj2, peri_v8d uj0, peri_v8d uj1, peri_v8d uj2,
+                                                                 peri_v8d *r0, peri_v8d *inv_r0, peri_v8d *r,
+                                                                 peri_v8d *inv_r, peri_v8d y[3]) {
+  const peri_v8d x0 = v8_sub_pd(xj0, ci->x0), x1 = v8_sub_pd(xj1, ci->x1), x2 = v8_sub_pd(xj2, ci->x2);
+  y[0] = v8_add_pd(x0, v8_sub_pd(uj0, ci->u0));
+  y[1] = v8_add_pd(x1, v8_sub_pd(uj1, ci->u1));
+  y[2] = v8_add_pd(x2, v8_sub_pd(uj2, ci->u2));
+  const peri_v8d r0_sq = v8_fmadd_pd(x2, x2, v8_fmadd_pd(x1, x1, v8_mul_pd(x0, x0)));
+  const peri_v8d r_sq = v8_fmadd_pd(y[2], y[2], v8_fmadd_pd(y[1], y[1], v8_mul_pd(y[0], y[0])));
   *inv_r0 = peri_rsqrt_v8(r0_sq), *inv_r = peri_rsqrt_v8(r_sq);
-  *r0 = _mm512_mul_pd(r0_sq, *inv_r0), *r = _mm512_mul_pd(r_sq, *inv_r);
+  *r0 = v8_mul_pd(r0_sq, *inv_r0), *r = v8_mul_pd(r_sq, *inv_r);
 }
 
 /* Pass 1 (lps_bond_sums): the weight, with q, |xi|, 1/|xi|, the stretch and the excess. */
-static inline __attribute__((always_inline)) __m512d lps_bond_sums_v8(const lps_centre_v8 *ci,
-                                                                      const peri_family_eval *fam, __m512d xj0,
-                                                                      __m512d xj1, __m512d xj2, __m512d uj0,
-                                                                      __m512d uj1, __m512d uj2, __m512d eth_j,
-                                                                      __m512d bound_j, __m512d V_j, bool thermal,
+static inline __attribute__((always_inline)) peri_v8d lps_bond_sums_v8(const lps_centre_v8 *ci,
+                                                                      const peri_family_eval *fam, peri_v8d xj0,
+                                                                      peri_v8d xj1, peri_v8d xj2, peri_v8d uj0,
+                                                                      peri_v8d uj1, peri_v8d uj2, peri_v8d eth_j,
+                                                                      peri_v8d bound_j, peri_v8d V_j, bool thermal,
                                                                       peri_influence influence, bool uniform, bool smin,
-                                                                      bool two_sided, __m512d *q, __m512d *r0_out,
-                                                                      __m512d *inv_r0_out,
-                                                                      __m512d *stretch_out, __m512d *excess_out) {
-  __m512d r0, inv_r0, r, inv_r, y[3];
+                                                                      bool two_sided, peri_v8d *q, peri_v8d *r0_out,
+                                                                      peri_v8d *inv_r0_out,
+                                                                      peri_v8d *stretch_out, peri_v8d *excess_out) {
+  peri_v8d r0, inv_r0, r, inv_r, y[3];
   lps_lengths_v8(ci, xj0, xj1, xj2, uj0, uj1, uj2, &r0, &inv_r0, &r, &inv_r, y);
-  const __m512d e_total = _mm512_sub_pd(r, r0);
-  __m512d e_mech = e_total;
-  if (thermal) e_mech = _mm512_sub_pd(e_mech, _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(0.5), _mm512_add_pd(ci->eth, eth_j)), r0));
-  const __m512d bound = _mm512_sub_pd(_mm512_min_pd(ci->bound, bound_j), _mm512_set1_pd(PERI_S0_SCREEN_MARGIN));
-  *excess_out = _mm512_sub_pd(two_sided ? _mm512_abs_pd(e_mech) : e_mech, _mm512_mul_pd(bound, r0));
-  *stretch_out = smin ? _mm512_mul_pd(e_mech, inv_r0) : _mm512_setzero_pd();
-  *q = thermal ? _mm512_sub_pd(e_total, _mm512_mul_pd(ci->eth, r0)) : e_total;
+  const peri_v8d e_total = v8_sub_pd(r, r0);
+  peri_v8d e_mech = e_total;
+  if (thermal) e_mech = v8_sub_pd(e_mech, v8_mul_pd(v8_mul_pd(v8_set1_pd(0.5), v8_add_pd(ci->eth, eth_j)), r0));
+  const peri_v8d bound = v8_sub_pd(v8_min_pd(ci->bound, bound_j), v8_set1_pd(PERI_S0_SCREEN_MARGIN));
+  *excess_out = v8_sub_pd(two_sided ? v8_abs_pd(e_mech) : e_mech, v8_mul_pd(bound, r0));
+  *stretch_out = smin ? v8_mul_pd(e_mech, inv_r0) : v8_setzero_pd();
+  *q = thermal ? v8_sub_pd(e_total, v8_mul_pd(ci->eth, r0)) : e_total;
   *r0_out = r0, *inv_r0_out = inv_r0;
   /* omega |xi| = 1 for the inverse influence, |xi| for the constant one */
-  const __m512d omega_r0 = influence == PERI_INFLUENCE_INVERSE ? _mm512_set1_pd(1.0) : r0;
-  return _mm512_mul_pd(_mm512_mul_pd(omega_r0, peri_beta_v8(fam, r0)), uniform ? ci->V : V_j);
+  const peri_v8d omega_r0 = influence == PERI_INFLUENCE_INVERSE ? v8_set1_pd(1.0) : r0;
+  return v8_mul_pd(v8_mul_pd(omega_r0, peri_beta_v8(fam, r0)), uniform ? ci->V : V_j);
 }
 
 /* Pass 2 (lps_bond_force): the factor g of the force density g (y_j - y_i), y in y[3]. */
-static inline __attribute__((always_inline)) __m512d lps_bond_force_v8(const lps_centre_v8 *ci,
-                                                                       const peri_family_eval *fam, __m512d xj0,
-                                                                       __m512d xj1, __m512d xj2, __m512d uj0,
-                                                                       __m512d uj1, __m512d uj2, __m512d D_j,
-                                                                       __m512d B_j, __m512d V_j,
+static inline __attribute__((always_inline)) peri_v8d lps_bond_force_v8(const lps_centre_v8 *ci,
+                                                                       const peri_family_eval *fam, peri_v8d xj0,
+                                                                       peri_v8d xj1, peri_v8d xj2, peri_v8d uj0,
+                                                                       peri_v8d uj1, peri_v8d uj2, peri_v8d D_j,
+                                                                       peri_v8d B_j, peri_v8d V_j,
                                                                        peri_influence influence, bool uniform,
-                                                                       __m512d y[3]) {
-  __m512d r0, inv_r0, r, inv_r;
+                                                                       peri_v8d y[3]) {
+  peri_v8d r0, inv_r0, r, inv_r;
   lps_lengths_v8(ci, xj0, xj1, xj2, uj0, uj1, uj2, &r0, &inv_r0, &r, &inv_r, y);
-  const __m512d t = _mm512_fmadd_pd(r0, _mm512_add_pd(ci->D, D_j),
-                                    _mm512_mul_pd(_mm512_sub_pd(r, r0), _mm512_add_pd(ci->B, B_j)));
-  const __m512d bv = _mm512_mul_pd(peri_beta_v8(fam, r0), uniform ? ci->V : V_j);
-  __m512d scale = _mm512_mul_pd(_mm512_mul_pd(t, bv), inv_r);
-  if (influence == PERI_INFLUENCE_INVERSE) scale = _mm512_mul_pd(scale, inv_r0); /* omega = 1/|xi| */
-  return _mm512_maskz_mov_pd(_mm512_cmp_pd_mask(r, _mm512_setzero_pd(), _CMP_GT_OQ), scale);
+  const peri_v8d t = v8_fmadd_pd(r0, v8_add_pd(ci->D, D_j),
+                                    v8_mul_pd(v8_sub_pd(r, r0), v8_add_pd(ci->B, B_j)));
+  const peri_v8d bv = v8_mul_pd(peri_beta_v8(fam, r0), uniform ? ci->V : V_j);
+  peri_v8d scale = v8_mul_pd(v8_mul_pd(t, bv), inv_r);
+  if (influence == PERI_INFLUENCE_INVERSE) scale = v8_mul_pd(scale, inv_r0); /* omega = 1/|xi| */
+  return v8_maskz_mov_pd(v8_cmp_pd_mask(r, v8_setzero_pd(), _CMP_GT_OQ), scale);
 }
 
 /* Whether a specialization runs on the eight-lane functions. */
@@ -245,39 +245,39 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
   double g[PERI_INTACT_CHUNK], v0[PERI_INTACT_CHUNK], v1[PERI_INTACT_CHUNK], v2[PERI_INTACT_CHUNK];
 #ifdef PERI_BOND_V8
   if (LPS_V8(influence)) {
-    const __m512d zero = _mm512_setzero_pd();
+    const peri_v8d zero = v8_setzero_pd();
     const lps_centre_v8 cv = lps_centre_v8_of(w, i, thermal, force, !force && !energy, false);
-    __m512d smin_v = _mm512_set1_pd(INFINITY), excess_v = _mm512_set1_pd(-INFINITY);
+    peri_v8d smin_v = v8_set1_pd(INFINITY), excess_v = v8_set1_pd(-INFINITY);
     for (int64_t k = k0; k < k1;) {
       int n;
       const int32_t *restrict nbr = peri_next_chunk(w, damaged, &k, k1, intact, &n);
       for (int a = 0; a < n; a += 8) {
-        const __mmask8 m = peri_first_lanes(n - a);
-        const __m256i j = _mm256_maskz_loadu_epi32(m, nbr + a);
-#define LPS_GATHER(P) _mm512_mask_i32gather_pd(zero, m, j, (P), 8)
-        const __m512d V_j = uniform ? zero : LPS_GATHER(V);
+        const peri_m8 m = peri_first_lanes(n - a);
+        const peri_v8i j = v8_maskz_loadu_epi32(m, nbr + a);
+#define LPS_GATHER(P) v8_mask_i32gather_pd(m, j, (P))
+        const peri_v8d V_j = uniform ? zero : LPS_GATHER(V);
         if (force) {
-          __m512d y[3];
-          const __m512d gv = lps_bond_force_v8(&cv, &fam, LPS_GATHER(X0), LPS_GATHER(X1), LPS_GATHER(X2),
+          peri_v8d y[3];
+          const peri_v8d gv = lps_bond_force_v8(&cv, &fam, LPS_GATHER(X0), LPS_GATHER(X1), LPS_GATHER(X2),
                                                LPS_GATHER(U0), LPS_GATHER(U1), LPS_GATHER(U2), LPS_GATHER(D),
                                                LPS_GATHER(B), V_j, influence, uniform, y);
-          _mm512_mask_storeu_pd(g + a, m, gv);
-          _mm512_mask_storeu_pd(v0 + a, m, y[0]);
-          _mm512_mask_storeu_pd(v1 + a, m, y[1]);
-          _mm512_mask_storeu_pd(v2 + a, m, y[2]);
+          v8_mask_storeu_pd(g + a, m, gv);
+          v8_mask_storeu_pd(v0 + a, m, y[0]);
+          v8_mask_storeu_pd(v1 + a, m, y[1]);
+          v8_mask_storeu_pd(v2 + a, m, y[2]);
         } else {
-          __m512d q, r0, inv_r0, st, e;
-          const __m512d wt = lps_bond_sums_v8(&cv, &fam, LPS_GATHER(X0), LPS_GATHER(X1), LPS_GATHER(X2),
+          peri_v8d q, r0, inv_r0, st, e;
+          const peri_v8d wt = lps_bond_sums_v8(&cv, &fam, LPS_GATHER(X0), LPS_GATHER(X1), LPS_GATHER(X2),
                                               LPS_GATHER(U0), LPS_GATHER(U1), LPS_GATHER(U2),
                                               thermal ? LPS_GATHER(eth) : zero, energy ? zero : LPS_GATHER(s0_bound),
                                               V_j, thermal, influence, uniform, track_smin, two_sided, &q, &r0, &inv_r0,
                                               &st, &e);
-          _mm512_mask_storeu_pd(g + a, m, wt);
-          _mm512_mask_storeu_pd(v0 + a, m, q);
-          _mm512_mask_storeu_pd(v1 + a, m, r0);
-          if (energy || deviatoric) _mm512_mask_storeu_pd(v2 + a, m, _mm512_mul_pd(_mm512_mul_pd(q, q), inv_r0));
-          if (track_smin) smin_v = _mm512_mask_min_pd(smin_v, m, smin_v, st);
-          excess_v = _mm512_mask_max_pd(excess_v, m, excess_v, e);
+          v8_mask_storeu_pd(g + a, m, wt);
+          v8_mask_storeu_pd(v0 + a, m, q);
+          v8_mask_storeu_pd(v1 + a, m, r0);
+          if (energy || deviatoric) v8_mask_storeu_pd(v2 + a, m, v8_mul_pd(v8_mul_pd(q, q), inv_r0));
+          if (track_smin) smin_v = v8_mask_min_pd(smin_v, m, smin_v, st);
+          excess_v = v8_mask_max_pd(excess_v, m, excess_v, e);
         }
 #undef LPS_GATHER
       }
@@ -287,7 +287,7 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
         if (force || energy || deviatoric) s2 = fma(g[a], v2[a], s2);
       }
     }
-    const lps_sums r = {{s0, s1, s2}, _mm512_reduce_min_pd(smin_v), _mm512_reduce_max_pd(excess_v) > 0.0};
+    const lps_sums r = {{s0, s1, s2}, v8_reduce_min_pd(smin_v), v8_reduce_max_pd(excess_v) > 0.0};
     return r;
   }
 #endif
@@ -345,41 +345,41 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
   const peri_family_eval fam = w->fam;
 #ifdef PERI_BOND_V8
   if (LPS_V8(influence)) {
-    const __m512d zero = _mm512_setzero_pd();
+    const peri_v8d zero = v8_setzero_pd();
     const lps_centre_v8 cv = lps_centre_v8_of(w, i0, thermal, force, !force && !energy, true);
-    __m512d s0 = zero, s1 = zero, s2 = zero, smin = _mm512_set1_pd(INFINITY);
-    __mmask8 beyond = 0;
+    peri_v8d s0 = zero, s1 = zero, s2 = zero, smin = v8_set1_pd(INFINITY);
+    peri_m8 beyond = 0;
     for (int64_t a = 0; a < count; ++a) {
       const int64_t j = tj[a];
-      const __mmask8 on = lanes[a];
+      const peri_m8 on = lanes[a];
       peri_prefetch_next_blocks(w, j);
-      const __m512d V_j = uniform ? zero : _mm512_loadu_pd(V + j);
+      const peri_v8d V_j = uniform ? zero : v8_loadu_pd(V + j);
       if (force) {
-        __m512d y[3];
-        const __m512d g = lps_bond_force_v8(&cv, &fam, _mm512_loadu_pd(X0 + j), _mm512_loadu_pd(X1 + j),
-                                            _mm512_loadu_pd(X2 + j), _mm512_loadu_pd(U0 + j), _mm512_loadu_pd(U1 + j),
-                                            _mm512_loadu_pd(U2 + j), _mm512_loadu_pd(D + j), _mm512_loadu_pd(B + j),
+        peri_v8d y[3];
+        const peri_v8d g = lps_bond_force_v8(&cv, &fam, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j),
+                                            v8_loadu_pd(X2 + j), v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j),
+                                            v8_loadu_pd(U2 + j), v8_loadu_pd(D + j), v8_loadu_pd(B + j),
                                             V_j, influence, uniform, y);
         /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
-        s0 = _mm512_mask3_fmadd_pd(g, y[0], s0, on);
-        s1 = _mm512_mask3_fmadd_pd(g, y[1], s1, on);
-        s2 = _mm512_mask3_fmadd_pd(g, y[2], s2, on);
+        s0 = v8_mask3_fmadd_pd(g, y[0], s0, on);
+        s1 = v8_mask3_fmadd_pd(g, y[1], s1, on);
+        s2 = v8_mask3_fmadd_pd(g, y[2], s2, on);
       } else {
-        __m512d q, r0, inv_r0, st, e;
-        const __m512d wt = lps_bond_sums_v8(
-            &cv, &fam, _mm512_loadu_pd(X0 + j), _mm512_loadu_pd(X1 + j), _mm512_loadu_pd(X2 + j),
-            _mm512_loadu_pd(U0 + j), _mm512_loadu_pd(U1 + j), _mm512_loadu_pd(U2 + j),
-            thermal ? _mm512_loadu_pd(eth + j) : zero, energy ? zero : _mm512_loadu_pd(s0_bound + j), V_j, thermal,
+        peri_v8d q, r0, inv_r0, st, e;
+        const peri_v8d wt = lps_bond_sums_v8(
+            &cv, &fam, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j), v8_loadu_pd(X2 + j),
+            v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j), v8_loadu_pd(U2 + j),
+            thermal ? v8_loadu_pd(eth + j) : zero, energy ? zero : v8_loadu_pd(s0_bound + j), V_j, thermal,
             influence, uniform, track_smin, two_sided, &q, &r0, &inv_r0, &st, &e);
-        s0 = _mm512_mask3_fmadd_pd(wt, q, s0, on);
-        s1 = _mm512_mask3_fmadd_pd(wt, r0, s1, on);
-        if (energy || deviatoric) s2 = _mm512_mask3_fmadd_pd(wt, _mm512_mul_pd(_mm512_mul_pd(q, q), inv_r0), s2, on);
-        if (track_smin) smin = _mm512_mask_min_pd(smin, on, smin, st);
-        beyond |= _mm512_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ); /* bonds beyond the screening bound */
+        s0 = v8_mask3_fmadd_pd(wt, q, s0, on);
+        s1 = v8_mask3_fmadd_pd(wt, r0, s1, on);
+        if (energy || deviatoric) s2 = v8_mask3_fmadd_pd(wt, v8_mul_pd(v8_mul_pd(q, q), inv_r0), s2, on);
+        if (track_smin) smin = v8_mask_min_pd(smin, on, smin, st);
+        beyond |= v8_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ); /* bonds beyond the screening bound */
       }
     }
     double a0[PERI_BLOCK], a1[PERI_BLOCK], a2[PERI_BLOCK], am[PERI_BLOCK];
-    _mm512_storeu_pd(a0, s0), _mm512_storeu_pd(a1, s1), _mm512_storeu_pd(a2, s2), _mm512_storeu_pd(am, smin);
+    v8_storeu_pd(a0, s0), v8_storeu_pd(a1, s1), v8_storeu_pd(a2, s2), v8_storeu_pd(am, smin);
     for (int l = 0; l < PERI_BLOCK; ++l) {
       const lps_sums r = {{a0[l], a1[l], a2[l]}, am[l], (beyond >> l) & 1u};
       out[l] = r;

@@ -138,15 +138,15 @@ static inline __attribute__((always_inline)) double mo_bond(const mo_centre ci_v
  * reciprocals from reciprocal square roots, no division. Both loops use it, so the node and
  * block paths agree bit for bit. */
 typedef struct mo_centre_v8 {
-  __m512d x0, x1, x2, u0, u1, u2, eth, bound, A, B, C;
+  peri_v8d x0, x1, x2, u0, u1, u2, eth, bound, A, B, C;
 } mo_centre_v8;
 
 /* The centre i (one value in every lane) or the eight centres i .. i+7. */
 static inline __attribute__((always_inline)) mo_centre_v8 mo_centre_v8_of(const peri_bond_view *w, int32_t i,
                                                                           bool force, bool thermal, bool eight) {
   const size_t n = (size_t)w->n;
-  const __m512d zero = _mm512_setzero_pd();
-#define MO_CENTRE(P) (eight ? _mm512_loadu_pd((P) + i) : _mm512_set1_pd((P)[i]))
+  const peri_v8d zero = v8_setzero_pd();
+#define MO_CENTRE(P) (eight ? v8_loadu_pd((P) + i) : v8_set1_pd((P)[i]))
   const mo_centre_v8 c = {MO_CENTRE(w->x0), MO_CENTRE(w->x1), MO_CENTRE(w->x2),
                           MO_CENTRE(w->u0), MO_CENTRE(w->u1), MO_CENTRE(w->u2),
                           thermal ? MO_CENTRE(w->eth) : zero, force ? zero : MO_CENTRE(w->s0_bound),
@@ -156,38 +156,38 @@ static inline __attribute__((always_inline)) mo_centre_v8 mo_centre_v8_of(const 
   return c;
 }
 
-static inline __attribute__((always_inline)) __m512d mo_bond_v8(const mo_centre_v8 *ci, const peri_family_eval *fam,
-                                                                __m512d xj0, __m512d xj1, __m512d xj2, __m512d uj0,
-                                                                __m512d uj1, __m512d uj2, __m512d Aj, __m512d Bj,
-                                                                __m512d Cj, __m512d eth_j, __m512d bound_j,
-                                                                __m512d V_j, bool force, bool thermal, __m512d y[3],
-                                                                __m512d *excess) {
-  const __m512d zero = _mm512_setzero_pd();
-  const __m512d x0 = _mm512_sub_pd(xj0, ci->x0), x1 = _mm512_sub_pd(xj1, ci->x1), x2 = _mm512_sub_pd(xj2, ci->x2);
-  y[0] = _mm512_add_pd(x0, _mm512_sub_pd(uj0, ci->u0));
-  y[1] = _mm512_add_pd(x1, _mm512_sub_pd(uj1, ci->u1));
-  y[2] = _mm512_add_pd(x2, _mm512_sub_pd(uj2, ci->u2));
-  const __m512d r0_sq = _mm512_fmadd_pd(x2, x2, _mm512_fmadd_pd(x1, x1, _mm512_mul_pd(x0, x0)));
-  const __m512d r_sq = _mm512_fmadd_pd(y[2], y[2], _mm512_fmadd_pd(y[1], y[1], _mm512_mul_pd(y[0], y[0])));
+static inline __attribute__((always_inline)) peri_v8d mo_bond_v8(const mo_centre_v8 *ci, const peri_family_eval *fam,
+                                                                peri_v8d xj0, peri_v8d xj1, peri_v8d xj2, peri_v8d uj0,
+                                                                peri_v8d uj1, peri_v8d uj2, peri_v8d Aj, peri_v8d Bj,
+                                                                peri_v8d Cj, peri_v8d eth_j, peri_v8d bound_j,
+                                                                peri_v8d V_j, bool force, bool thermal, peri_v8d y[3],
+                                                                peri_v8d *excess) {
+  const peri_v8d zero = v8_setzero_pd();
+  const peri_v8d x0 = v8_sub_pd(xj0, ci->x0), x1 = v8_sub_pd(xj1, ci->x1), x2 = v8_sub_pd(xj2, ci->x2);
+  y[0] = v8_add_pd(x0, v8_sub_pd(uj0, ci->u0));
+  y[1] = v8_add_pd(x1, v8_sub_pd(uj1, ci->u1));
+  y[2] = v8_add_pd(x2, v8_sub_pd(uj2, ci->u2));
+  const peri_v8d r0_sq = v8_fmadd_pd(x2, x2, v8_fmadd_pd(x1, x1, v8_mul_pd(x0, x0)));
+  const peri_v8d r_sq = v8_fmadd_pd(y[2], y[2], v8_fmadd_pd(y[1], y[1], v8_mul_pd(y[0], y[0])));
   /* a bond of zero length carries no force (its lanes of 1/r and r set to 0) */
-  const __mmask8 stretched = _mm512_cmp_pd_mask(r_sq, zero, _CMP_GT_OQ);
-  const __m512d inv_r0 = peri_rsqrt_v8(r0_sq), inv_r = _mm512_maskz_mov_pd(stretched, peri_rsqrt_v8(r_sq));
-  const __m512d r0 = _mm512_mul_pd(r0_sq, inv_r0), r = _mm512_mul_pd(r_sq, inv_r);
-  const __m512d dot = _mm512_fmadd_pd(x2, y[2], _mm512_fmadd_pd(x1, y[1], _mm512_mul_pd(x0, y[0])));
-  const __m512d cos_r0 = _mm512_mul_pd(_mm512_mul_pd(dot, inv_r), _mm512_mul_pd(inv_r0, inv_r0));
-  const __m512d bv = _mm512_mul_pd(peri_beta_v8(fam, r0), V_j);
-  const __m512d extension = _mm512_sub_pd(r, r0), stretch = _mm512_mul_pd(extension, inv_r0);
+  const peri_m8 stretched = v8_cmp_pd_mask(r_sq, zero, _CMP_GT_OQ);
+  const peri_v8d inv_r0 = peri_rsqrt_v8(r0_sq), inv_r = v8_maskz_mov_pd(stretched, peri_rsqrt_v8(r_sq));
+  const peri_v8d r0 = v8_mul_pd(r0_sq, inv_r0), r = v8_mul_pd(r_sq, inv_r);
+  const peri_v8d dot = v8_fmadd_pd(x2, y[2], v8_fmadd_pd(x1, y[1], v8_mul_pd(x0, y[0])));
+  const peri_v8d cos_r0 = v8_mul_pd(v8_mul_pd(dot, inv_r), v8_mul_pd(inv_r0, inv_r0));
+  const peri_v8d bv = v8_mul_pd(peri_beta_v8(fam, r0), V_j);
+  const peri_v8d extension = v8_sub_pd(r, r0), stretch = v8_mul_pd(extension, inv_r0);
   if (force) {
     *excess = zero;
-    const __m512d pair =
-        _mm512_fmadd_pd(_mm512_add_pd(ci->A, Aj), cos_r0,
-                        _mm512_fmsub_pd(_mm512_add_pd(ci->B, Bj), stretch, _mm512_add_pd(ci->C, Cj)));
-    return _mm512_mul_pd(_mm512_mul_pd(pair, bv), inv_r);
+    const peri_v8d pair =
+        v8_fmadd_pd(v8_add_pd(ci->A, Aj), cos_r0,
+                        v8_fmsub_pd(v8_add_pd(ci->B, Bj), stretch, v8_add_pd(ci->C, Cj)));
+    return v8_mul_pd(v8_mul_pd(pair, bv), inv_r);
   }
-  const __m512d st =
-      thermal ? _mm512_sub_pd(stretch, _mm512_mul_pd(_mm512_set1_pd(0.5), _mm512_add_pd(ci->eth, eth_j))) : stretch;
-  *excess = _mm512_sub_pd(st, _mm512_sub_pd(_mm512_min_pd(ci->bound, bound_j), _mm512_set1_pd(PERI_S0_SCREEN_MARGIN)));
-  return _mm512_mul_pd(_mm512_fmsub_pd(extension, cos_r0, ci->eth), bv);
+  const peri_v8d st =
+      thermal ? v8_sub_pd(stretch, v8_mul_pd(v8_set1_pd(0.5), v8_add_pd(ci->eth, eth_j))) : stretch;
+  *excess = v8_sub_pd(st, v8_sub_pd(v8_min_pd(ci->bound, bound_j), v8_set1_pd(PERI_S0_SCREEN_MARGIN)));
+  return v8_mul_pd(v8_fmsub_pd(extension, cos_r0, ci->eth), bv);
 }
 #endif
 
@@ -223,36 +223,36 @@ static inline __attribute__((always_inline)) mo_sums mo_node(const peri_bond_vie
   int32_t intact[PERI_INTACT_CHUNK];
   double g[PERI_INTACT_CHUNK], v0[PERI_INTACT_CHUNK], v1[PERI_INTACT_CHUNK], v2[PERI_INTACT_CHUNK];
 #ifdef PERI_BOND_V8
-  const __m512d zero = _mm512_setzero_pd();
+  const peri_v8d zero = v8_setzero_pd();
   const mo_centre_v8 cv = mo_centre_v8_of(w, i, force, thermal, false);
-  __m512d excess_v = _mm512_set1_pd(-INFINITY);
+  peri_v8d excess_v = v8_set1_pd(-INFINITY);
   for (int64_t k = k0; k < k1;) {
     int count;
     const int32_t *restrict nbr = peri_next_chunk(w, damaged, &k, k1, intact, &count);
     for (int a = 0; a < count; a += 8) {
-      const __mmask8 m = peri_first_lanes(count - a);
-      const __m256i j = _mm256_maskz_loadu_epi32(m, nbr + a);
-#define MO_GATHER(P) _mm512_mask_i32gather_pd(zero, m, j, (P), 8)
-      __m512d y[3], e;
-      const __m512d gv = mo_bond_v8(&cv, &fam, MO_GATHER(X0), MO_GATHER(X1), MO_GATHER(X2), MO_GATHER(U0),
+      const peri_m8 m = peri_first_lanes(count - a);
+      const peri_v8i j = v8_maskz_loadu_epi32(m, nbr + a);
+#define MO_GATHER(P) v8_mask_i32gather_pd(m, j, (P))
+      peri_v8d y[3], e;
+      const peri_v8d gv = mo_bond_v8(&cv, &fam, MO_GATHER(X0), MO_GATHER(X1), MO_GATHER(X2), MO_GATHER(U0),
                                     MO_GATHER(U1), MO_GATHER(U2), force ? MO_GATHER(A) : zero,
                                     force ? MO_GATHER(B) : zero, force ? MO_GATHER(C) : zero,
                                     thermal ? MO_GATHER(eth) : zero, force ? zero : MO_GATHER(bound), MO_GATHER(V),
                                     force, thermal, y, &e);
 #undef MO_GATHER
-      _mm512_mask_storeu_pd(g + a, m, gv);
+      v8_mask_storeu_pd(g + a, m, gv);
       if (force) {
-        _mm512_mask_storeu_pd(v0 + a, m, y[0]);
-        _mm512_mask_storeu_pd(v1 + a, m, y[1]);
-        _mm512_mask_storeu_pd(v2 + a, m, y[2]);
+        v8_mask_storeu_pd(v0 + a, m, y[0]);
+        v8_mask_storeu_pd(v1 + a, m, y[1]);
+        v8_mask_storeu_pd(v2 + a, m, y[2]);
       } else {
-        excess_v = _mm512_mask_max_pd(excess_v, m, excess_v, e);
+        excess_v = v8_mask_max_pd(excess_v, m, excess_v, e);
       }
     }
     mo_add_chunk(g, v0, v1, v2, count, force, &s0, &s1, &s2);
   }
   (void)ci;
-  const mo_sums r8 = {{s0, s1, s2}, _mm512_reduce_max_pd(excess_v) > 0.0};
+  const mo_sums r8 = {{s0, s1, s2}, v8_reduce_max_pd(excess_v) > 0.0};
   return r8;
 #endif
   for (int64_t k = k0; k < k1;) {
@@ -288,34 +288,34 @@ static inline __attribute__((always_inline)) void mo_block(const peri_bond_view 
   const peri_family_eval fam = w->fam;
 #ifdef PERI_BOND_V8
   {
-    const __m512d zero = _mm512_setzero_pd();
+    const peri_v8d zero = v8_setzero_pd();
     const mo_centre_v8 cv = mo_centre_v8_of(w, i0, force, thermal, true);
-    __m512d s0 = zero, s1 = zero, s2 = zero;
-    __mmask8 beyond = 0;
+    peri_v8d s0 = zero, s1 = zero, s2 = zero;
+    peri_m8 beyond = 0;
     for (int64_t a = 0; a < count; ++a) {
       const int64_t j = tj[a];
-      const __mmask8 on = lanes[a];
+      const peri_m8 on = lanes[a];
       peri_prefetch_next_blocks(w, j);
-      __m512d y[3], e;
-      const __m512d g = mo_bond_v8(&cv, &fam, _mm512_loadu_pd(X0 + j), _mm512_loadu_pd(X1 + j),
-                                   _mm512_loadu_pd(X2 + j), _mm512_loadu_pd(U0 + j), _mm512_loadu_pd(U1 + j),
-                                   _mm512_loadu_pd(U2 + j), force ? _mm512_loadu_pd(A + j) : zero,
-                                   force ? _mm512_loadu_pd(B + j) : zero, force ? _mm512_loadu_pd(C + j) : zero,
-                                   thermal ? _mm512_loadu_pd(eth + j) : zero,
-                                   force ? zero : _mm512_loadu_pd(bound + j), _mm512_loadu_pd(V + j), force, thermal,
+      peri_v8d y[3], e;
+      const peri_v8d g = mo_bond_v8(&cv, &fam, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j),
+                                   v8_loadu_pd(X2 + j), v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j),
+                                   v8_loadu_pd(U2 + j), force ? v8_loadu_pd(A + j) : zero,
+                                   force ? v8_loadu_pd(B + j) : zero, force ? v8_loadu_pd(C + j) : zero,
+                                   thermal ? v8_loadu_pd(eth + j) : zero,
+                                   force ? zero : v8_loadu_pd(bound + j), v8_loadu_pd(V + j), force, thermal,
                                    y, &e);
       /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
       if (force) {
-        s0 = _mm512_mask3_fmadd_pd(g, y[0], s0, on);
-        s1 = _mm512_mask3_fmadd_pd(g, y[1], s1, on);
-        s2 = _mm512_mask3_fmadd_pd(g, y[2], s2, on);
+        s0 = v8_mask3_fmadd_pd(g, y[0], s0, on);
+        s1 = v8_mask3_fmadd_pd(g, y[1], s1, on);
+        s2 = v8_mask3_fmadd_pd(g, y[2], s2, on);
       } else {
-        s0 = _mm512_mask_add_pd(s0, on, s0, g);
-        beyond |= _mm512_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ);
+        s0 = v8_mask_add_pd(s0, on, s0, g);
+        beyond |= v8_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ);
       }
     }
     double a0[PERI_BLOCK], a1[PERI_BLOCK], a2[PERI_BLOCK];
-    _mm512_storeu_pd(a0, s0), _mm512_storeu_pd(a1, s1), _mm512_storeu_pd(a2, s2);
+    v8_storeu_pd(a0, s0), v8_storeu_pd(a1, s1), v8_storeu_pd(a2, s2);
     for (int l = 0; l < PERI_BLOCK; ++l) {
       const mo_sums r = {{a0[l], a1[l], a2[l]}, (beyond >> l) & 1u};
       out[l] = r;

@@ -73,36 +73,36 @@ static inline __attribute__((always_inline)) double pmb_bond(const pmb_centre ci
  * square roots, no division. The node and block loops both use it (Gaussian influence,
  * which needs exp, keeps the scalar function on both). */
 typedef struct pmb_centre_v8 {
-  __m512d x0, x1, x2, u0, u1, u2, c, eth, bound, V;
+  peri_v8d x0, x1, x2, u0, u1, u2, c, eth, bound, V;
 } pmb_centre_v8;
 
-static inline __attribute__((always_inline)) __m512d pmb_bond_v8(const pmb_centre_v8 *ci, const peri_family_eval *fam,
-                                                                 __m512d xj0, __m512d xj1, __m512d xj2, __m512d uj0,
-                                                                 __m512d uj1, __m512d uj2, __m512d cj, __m512d eth_j,
-                                                                 __m512d bound_j, __m512d V_j, bool multi,
+static inline __attribute__((always_inline)) peri_v8d pmb_bond_v8(const pmb_centre_v8 *ci, const peri_family_eval *fam,
+                                                                 peri_v8d xj0, peri_v8d xj1, peri_v8d xj2, peri_v8d uj0,
+                                                                 peri_v8d uj1, peri_v8d uj2, peri_v8d cj, peri_v8d eth_j,
+                                                                 peri_v8d bound_j, peri_v8d V_j, bool multi,
                                                                  bool thermal, peri_influence influence, bool uniform,
-                                                                 bool two_sided, __m512d *y0, __m512d *y1,
-                                                                 __m512d *y2, __m512d *stretch_out,
-                                                                 __m512d *excess_out) {
-  const __m512d x0 = _mm512_sub_pd(xj0, ci->x0), x1 = _mm512_sub_pd(xj1, ci->x1), x2 = _mm512_sub_pd(xj2, ci->x2);
-  *y0 = _mm512_add_pd(x0, _mm512_sub_pd(uj0, ci->u0));
-  *y1 = _mm512_add_pd(x1, _mm512_sub_pd(uj1, ci->u1));
-  *y2 = _mm512_add_pd(x2, _mm512_sub_pd(uj2, ci->u2));
-  const __m512d r0_sq = peri_norm2_v8(x0, x1, x2), r_sq = peri_norm2_v8(*y0, *y1, *y2);
+                                                                 bool two_sided, peri_v8d *y0, peri_v8d *y1,
+                                                                 peri_v8d *y2, peri_v8d *stretch_out,
+                                                                 peri_v8d *excess_out) {
+  const peri_v8d x0 = v8_sub_pd(xj0, ci->x0), x1 = v8_sub_pd(xj1, ci->x1), x2 = v8_sub_pd(xj2, ci->x2);
+  *y0 = v8_add_pd(x0, v8_sub_pd(uj0, ci->u0));
+  *y1 = v8_add_pd(x1, v8_sub_pd(uj1, ci->u1));
+  *y2 = v8_add_pd(x2, v8_sub_pd(uj2, ci->u2));
+  const peri_v8d r0_sq = peri_norm2_v8(x0, x1, x2), r_sq = peri_norm2_v8(*y0, *y1, *y2);
   /* the same function for both lengths, so an undeformed bond has r == r0: zero stretch */
-  const __m512d inv_r0 = peri_rsqrt_v8(r0_sq), inv_r = peri_rsqrt_v8(r_sq);
-  const __m512d r0 = _mm512_mul_pd(r0_sq, inv_r0), r = _mm512_mul_pd(r_sq, inv_r);
-  const __m512d half = _mm512_set1_pd(0.5);
-  __m512d stretch = _mm512_mul_pd(_mm512_sub_pd(r, r0), inv_r0);
-  if (thermal) stretch = _mm512_sub_pd(stretch, _mm512_mul_pd(half, _mm512_add_pd(ci->eth, eth_j)));
-  const __m512d bound = _mm512_sub_pd(_mm512_min_pd(ci->bound, bound_j), _mm512_set1_pd(PERI_S0_SCREEN_MARGIN));
-  *excess_out = _mm512_sub_pd(two_sided ? _mm512_abs_pd(stretch) : stretch, bound);
+  const peri_v8d inv_r0 = peri_rsqrt_v8(r0_sq), inv_r = peri_rsqrt_v8(r_sq);
+  const peri_v8d r0 = v8_mul_pd(r0_sq, inv_r0), r = v8_mul_pd(r_sq, inv_r);
+  const peri_v8d half = v8_set1_pd(0.5);
+  peri_v8d stretch = v8_mul_pd(v8_sub_pd(r, r0), inv_r0);
+  if (thermal) stretch = v8_sub_pd(stretch, v8_mul_pd(half, v8_add_pd(ci->eth, eth_j)));
+  const peri_v8d bound = v8_sub_pd(v8_min_pd(ci->bound, bound_j), v8_set1_pd(PERI_S0_SCREEN_MARGIN));
+  *excess_out = v8_sub_pd(two_sided ? v8_abs_pd(stretch) : stretch, bound);
   *stretch_out = stretch;
-  const __m512d c = multi ? _mm512_mul_pd(half, _mm512_add_pd(ci->c, cj)) : ci->c;
-  __m512d scale = _mm512_mul_pd(c, stretch);
-  if (influence == PERI_INFLUENCE_INVERSE) scale = _mm512_mul_pd(scale, inv_r0); /* omega = 1/|xi| */
-  scale = _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(scale, peri_beta_v8(fam, r0)), uniform ? ci->V : V_j), inv_r);
-  return _mm512_maskz_mov_pd(_mm512_cmp_pd_mask(r_sq, _mm512_setzero_pd(), _CMP_GT_OQ), scale);
+  const peri_v8d c = multi ? v8_mul_pd(half, v8_add_pd(ci->c, cj)) : ci->c;
+  peri_v8d scale = v8_mul_pd(c, stretch);
+  if (influence == PERI_INFLUENCE_INVERSE) scale = v8_mul_pd(scale, inv_r0); /* omega = 1/|xi| */
+  scale = v8_mul_pd(v8_mul_pd(v8_mul_pd(scale, peri_beta_v8(fam, r0)), uniform ? ci->V : V_j), inv_r);
+  return v8_maskz_mov_pd(v8_cmp_pd_mask(r_sq, v8_setzero_pd(), _CMP_GT_OQ), scale);
 }
 
 /* Whether a specialization runs on pmb_bond_v8. */
@@ -133,31 +133,31 @@ static inline __attribute__((always_inline)) pmb_sums pmb_node(const peri_bond_v
   double g[PERI_INTACT_CHUNK], y0[PERI_INTACT_CHUNK], y1[PERI_INTACT_CHUNK], y2[PERI_INTACT_CHUNK];
 #ifdef PERI_BOND_V8
   if (PMB_V8(influence)) {
-    const __m512d zero = _mm512_setzero_pd();
-    const pmb_centre_v8 cv = {_mm512_set1_pd(ci.x0), _mm512_set1_pd(ci.x1), _mm512_set1_pd(ci.x2),
-                              _mm512_set1_pd(ci.u0), _mm512_set1_pd(ci.u1), _mm512_set1_pd(ci.u2),
-                              _mm512_set1_pd(ci.c),  _mm512_set1_pd(ci.eth), _mm512_set1_pd(ci.bound),
-                              _mm512_set1_pd(ci.V)};
-    __m512d smin_v = _mm512_set1_pd(INFINITY), excess_v = _mm512_set1_pd(-INFINITY);
+    const peri_v8d zero = v8_setzero_pd();
+    const pmb_centre_v8 cv = {v8_set1_pd(ci.x0), v8_set1_pd(ci.x1), v8_set1_pd(ci.x2),
+                              v8_set1_pd(ci.u0), v8_set1_pd(ci.u1), v8_set1_pd(ci.u2),
+                              v8_set1_pd(ci.c),  v8_set1_pd(ci.eth), v8_set1_pd(ci.bound),
+                              v8_set1_pd(ci.V)};
+    peri_v8d smin_v = v8_set1_pd(INFINITY), excess_v = v8_set1_pd(-INFINITY);
     for (int64_t k = k0; k < k1;) {
       int n;
       const int32_t *restrict nbr = peri_next_chunk(w, damaged, &k, k1, intact, &n);
       for (int a = 0; a < n; a += 8) {
-        const __mmask8 m = peri_first_lanes(n - a);
-        const __m256i j = _mm256_maskz_loadu_epi32(m, nbr + a);
-#define PMB_GATHER(P) _mm512_mask_i32gather_pd(zero, m, j, (P), 8)
-        __m512d gv, yv0, yv1, yv2, s, e;
+        const peri_m8 m = peri_first_lanes(n - a);
+        const peri_v8i j = v8_maskz_loadu_epi32(m, nbr + a);
+#define PMB_GATHER(P) v8_mask_i32gather_pd(m, j, (P))
+        peri_v8d gv, yv0, yv1, yv2, s, e;
         gv = pmb_bond_v8(&cv, &fam, PMB_GATHER(X0), PMB_GATHER(X1), PMB_GATHER(X2), PMB_GATHER(U0), PMB_GATHER(U1),
                          PMB_GATHER(U2), multi ? PMB_GATHER(c_node) : zero, thermal ? PMB_GATHER(eth) : zero,
                          PMB_GATHER(s0_bound), uniform ? zero : PMB_GATHER(V), multi, thermal, influence, uniform,
                          two_sided, &yv0, &yv1, &yv2, &s, &e);
 #undef PMB_GATHER
-        _mm512_mask_storeu_pd(g + a, m, gv);
-        _mm512_mask_storeu_pd(y0 + a, m, yv0);
-        _mm512_mask_storeu_pd(y1 + a, m, yv1);
-        _mm512_mask_storeu_pd(y2 + a, m, yv2);
-        if (track_smin) smin_v = _mm512_mask_min_pd(smin_v, m, smin_v, s);
-        excess_v = _mm512_mask_max_pd(excess_v, m, excess_v, e);
+        v8_mask_storeu_pd(g + a, m, gv);
+        v8_mask_storeu_pd(y0 + a, m, yv0);
+        v8_mask_storeu_pd(y1 + a, m, yv1);
+        v8_mask_storeu_pd(y2 + a, m, yv2);
+        if (track_smin) smin_v = v8_mask_min_pd(smin_v, m, smin_v, s);
+        excess_v = v8_mask_max_pd(excess_v, m, excess_v, e);
       }
       for (int a = 0; a < n; ++a) {
         fx = fma(g[a], y0[a], fx);
@@ -165,7 +165,7 @@ static inline __attribute__((always_inline)) pmb_sums pmb_node(const peri_bond_v
         fz = fma(g[a], y2[a], fz);
       }
     }
-    const pmb_sums r = {{fx, fy, fz}, _mm512_reduce_min_pd(smin_v), _mm512_reduce_max_pd(excess_v) > 0.0};
+    const pmb_sums r = {{fx, fy, fz}, v8_reduce_min_pd(smin_v), v8_reduce_max_pd(excess_v) > 0.0};
     return r;
   }
 #endif
@@ -207,33 +207,33 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
   const peri_family_eval fam = w->fam;
 #ifdef PERI_BOND_V8
   if (PMB_V8(influence)) {
-    const __m512d zero = _mm512_setzero_pd();
-    const pmb_centre_v8 cv = {_mm512_loadu_pd(X0 + i0), _mm512_loadu_pd(X1 + i0), _mm512_loadu_pd(X2 + i0),
-                              _mm512_loadu_pd(U0 + i0), _mm512_loadu_pd(U1 + i0), _mm512_loadu_pd(U2 + i0),
-                              _mm512_loadu_pd(c_node + i0), thermal ? _mm512_loadu_pd(eth + i0) : zero,
-                              _mm512_loadu_pd(s0_bound + i0), _mm512_loadu_pd(V + i0)};
-    __m512d fx = zero, fy = zero, fz = zero, smin = _mm512_set1_pd(INFINITY);
-    __mmask8 beyond = 0;
+    const peri_v8d zero = v8_setzero_pd();
+    const pmb_centre_v8 cv = {v8_loadu_pd(X0 + i0), v8_loadu_pd(X1 + i0), v8_loadu_pd(X2 + i0),
+                              v8_loadu_pd(U0 + i0), v8_loadu_pd(U1 + i0), v8_loadu_pd(U2 + i0),
+                              v8_loadu_pd(c_node + i0), thermal ? v8_loadu_pd(eth + i0) : zero,
+                              v8_loadu_pd(s0_bound + i0), v8_loadu_pd(V + i0)};
+    peri_v8d fx = zero, fy = zero, fz = zero, smin = v8_set1_pd(INFINITY);
+    peri_m8 beyond = 0;
     for (int64_t a = 0; a < count; ++a) {
       const int64_t j = tj[a];
-      const __mmask8 on = lanes[a];
+      const peri_m8 on = lanes[a];
       peri_prefetch_next_blocks(w, j);
-      __m512d y0, y1, y2, s, e;
-      const __m512d g =
-          pmb_bond_v8(&cv, &fam, _mm512_loadu_pd(X0 + j), _mm512_loadu_pd(X1 + j), _mm512_loadu_pd(X2 + j),
-                      _mm512_loadu_pd(U0 + j), _mm512_loadu_pd(U1 + j), _mm512_loadu_pd(U2 + j),
-                      multi ? _mm512_loadu_pd(c_node + j) : zero, thermal ? _mm512_loadu_pd(eth + j) : zero,
-                      _mm512_loadu_pd(s0_bound + j), uniform ? zero : _mm512_loadu_pd(V + j), multi, thermal, influence,
+      peri_v8d y0, y1, y2, s, e;
+      const peri_v8d g =
+          pmb_bond_v8(&cv, &fam, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j), v8_loadu_pd(X2 + j),
+                      v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j), v8_loadu_pd(U2 + j),
+                      multi ? v8_loadu_pd(c_node + j) : zero, thermal ? v8_loadu_pd(eth + j) : zero,
+                      v8_loadu_pd(s0_bound + j), uniform ? zero : v8_loadu_pd(V + j), multi, thermal, influence,
                       uniform, two_sided, &y0, &y1, &y2, &s, &e);
       /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
-      fx = _mm512_mask3_fmadd_pd(g, y0, fx, on);
-      fy = _mm512_mask3_fmadd_pd(g, y1, fy, on);
-      fz = _mm512_mask3_fmadd_pd(g, y2, fz, on);
-      if (track_smin) smin = _mm512_mask_min_pd(smin, on, smin, s);
-      beyond |= _mm512_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ); /* bonds beyond the screening bound */
+      fx = v8_mask3_fmadd_pd(g, y0, fx, on);
+      fy = v8_mask3_fmadd_pd(g, y1, fy, on);
+      fz = v8_mask3_fmadd_pd(g, y2, fz, on);
+      if (track_smin) smin = v8_mask_min_pd(smin, on, smin, s);
+      beyond |= v8_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ); /* bonds beyond the screening bound */
     }
     double sx[PERI_BLOCK], sy[PERI_BLOCK], sz[PERI_BLOCK], sm[PERI_BLOCK];
-    _mm512_storeu_pd(sx, fx), _mm512_storeu_pd(sy, fy), _mm512_storeu_pd(sz, fz), _mm512_storeu_pd(sm, smin);
+    v8_storeu_pd(sx, fx), v8_storeu_pd(sy, fy), v8_storeu_pd(sz, fz), v8_storeu_pd(sm, smin);
     for (int l = 0; l < PERI_BLOCK; ++l) {
       const pmb_sums r = {{sx[l], sy[l], sz[l]}, sm[l], (beyond >> l) & 1u};
       out[l] = r;
@@ -457,28 +457,28 @@ static inline __attribute__((always_inline)) double pmb_bond_energy(const pmb_ce
 #ifdef PERI_BOND_V8
 /* pmb_bond_energy for eight bonds, lengths as in pmb_bond_v8 (no square root or division):
  * the history rows' energy pass then costs about one force pass. Both energy loops use it. */
-static inline __attribute__((always_inline)) __m512d pmb_bond_energy_v8(const pmb_centre_v8 *ci,
-                                                                        const peri_family_eval *fam, __m512d xj0,
-                                                                        __m512d xj1, __m512d xj2, __m512d uj0,
-                                                                        __m512d uj1, __m512d uj2, __m512d cj,
-                                                                        __m512d eth_j, __m512d V_j, bool thermal,
+static inline __attribute__((always_inline)) peri_v8d pmb_bond_energy_v8(const pmb_centre_v8 *ci,
+                                                                        const peri_family_eval *fam, peri_v8d xj0,
+                                                                        peri_v8d xj1, peri_v8d xj2, peri_v8d uj0,
+                                                                        peri_v8d uj1, peri_v8d uj2, peri_v8d cj,
+                                                                        peri_v8d eth_j, peri_v8d V_j, bool thermal,
                                                                         peri_influence influence) {
-  const __m512d x0 = _mm512_sub_pd(xj0, ci->x0), x1 = _mm512_sub_pd(xj1, ci->x1), x2 = _mm512_sub_pd(xj2, ci->x2);
-  const __m512d y0 = _mm512_add_pd(x0, _mm512_sub_pd(uj0, ci->u0)), y1 = _mm512_add_pd(x1, _mm512_sub_pd(uj1, ci->u1)),
-                y2 = _mm512_add_pd(x2, _mm512_sub_pd(uj2, ci->u2));
-  const __m512d r0_sq = peri_norm2_v8(x0, x1, x2), r_sq = peri_norm2_v8(y0, y1, y2);
-  const __m512d inv_r0 = peri_rsqrt_v8(r0_sq);
-  const __m512d r0 = _mm512_mul_pd(r0_sq, inv_r0);
+  const peri_v8d x0 = v8_sub_pd(xj0, ci->x0), x1 = v8_sub_pd(xj1, ci->x1), x2 = v8_sub_pd(xj2, ci->x2);
+  const peri_v8d y0 = v8_add_pd(x0, v8_sub_pd(uj0, ci->u0)), y1 = v8_add_pd(x1, v8_sub_pd(uj1, ci->u1)),
+                y2 = v8_add_pd(x2, v8_sub_pd(uj2, ci->u2));
+  const peri_v8d r0_sq = peri_norm2_v8(x0, x1, x2), r_sq = peri_norm2_v8(y0, y1, y2);
+  const peri_v8d inv_r0 = peri_rsqrt_v8(r0_sq);
+  const peri_v8d r0 = v8_mul_pd(r0_sq, inv_r0);
   /* (a collapsed bond, r = 0, has stretch -1: no 0 * inf) */
-  const __m512d r = _mm512_maskz_mul_pd(_mm512_cmp_pd_mask(r_sq, _mm512_setzero_pd(), _CMP_GT_OQ), r_sq,
+  const peri_v8d r = v8_maskz_mul_pd(v8_cmp_pd_mask(r_sq, v8_setzero_pd(), _CMP_GT_OQ), r_sq,
                                         peri_rsqrt_v8(r_sq));
-  const __m512d half = _mm512_set1_pd(0.5);
-  __m512d stretch = _mm512_mul_pd(_mm512_sub_pd(r, r0), inv_r0);
-  if (thermal) stretch = _mm512_sub_pd(stretch, _mm512_mul_pd(half, _mm512_add_pd(ci->eth, eth_j)));
-  __m512d e = _mm512_mul_pd(_mm512_set1_pd(0.25), _mm512_add_pd(ci->c, cj));
-  if (influence == PERI_INFLUENCE_INVERSE) e = _mm512_mul_pd(e, inv_r0); /* omega = 1/|xi| */
-  e = _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(e, stretch), stretch), r0);
-  return _mm512_mul_pd(_mm512_mul_pd(e, peri_beta_v8(fam, r0)), V_j);
+  const peri_v8d half = v8_set1_pd(0.5);
+  peri_v8d stretch = v8_mul_pd(v8_sub_pd(r, r0), inv_r0);
+  if (thermal) stretch = v8_sub_pd(stretch, v8_mul_pd(half, v8_add_pd(ci->eth, eth_j)));
+  peri_v8d e = v8_mul_pd(v8_set1_pd(0.25), v8_add_pd(ci->c, cj));
+  if (influence == PERI_INFLUENCE_INVERSE) e = v8_mul_pd(e, inv_r0); /* omega = 1/|xi| */
+  e = v8_mul_pd(v8_mul_pd(v8_mul_pd(e, stretch), stretch), r0);
+  return v8_mul_pd(v8_mul_pd(e, peri_beta_v8(fam, r0)), V_j);
 }
 #endif
 
@@ -503,18 +503,18 @@ static inline __attribute__((always_inline)) double pmb_node_energy(const peri_b
   double e[PERI_INTACT_CHUNK], sum = 0.0;
 #ifdef PERI_BOND_V8
   if (PMB_V8(influence)) {
-    const __m512d zero = _mm512_setzero_pd();
-    const pmb_centre_v8 cv = {_mm512_set1_pd(ci.x0), _mm512_set1_pd(ci.x1), _mm512_set1_pd(ci.x2),
-                              _mm512_set1_pd(ci.u0), _mm512_set1_pd(ci.u1), _mm512_set1_pd(ci.u2),
-                              _mm512_set1_pd(ci.c),  _mm512_set1_pd(ci.eth), zero, zero};
+    const peri_v8d zero = v8_setzero_pd();
+    const pmb_centre_v8 cv = {v8_set1_pd(ci.x0), v8_set1_pd(ci.x1), v8_set1_pd(ci.x2),
+                              v8_set1_pd(ci.u0), v8_set1_pd(ci.u1), v8_set1_pd(ci.u2),
+                              v8_set1_pd(ci.c),  v8_set1_pd(ci.eth), zero, zero};
     for (int64_t k = k0; k < k1;) {
       int n;
       const int32_t *restrict nbr = peri_next_chunk(w, damaged, &k, k1, intact, &n);
       for (int a = 0; a < n; a += 8) {
-        const __mmask8 m = peri_first_lanes(n - a);
-        const __m256i j = _mm256_maskz_loadu_epi32(m, nbr + a);
-#define PMB_GATHER(P) _mm512_mask_i32gather_pd(zero, m, j, (P), 8)
-        _mm512_mask_storeu_pd(e + a, m,
+        const peri_m8 m = peri_first_lanes(n - a);
+        const peri_v8i j = v8_maskz_loadu_epi32(m, nbr + a);
+#define PMB_GATHER(P) v8_mask_i32gather_pd(m, j, (P))
+        v8_mask_storeu_pd(e + a, m,
                               pmb_bond_energy_v8(&cv, &fam, PMB_GATHER(X0), PMB_GATHER(X1), PMB_GATHER(X2),
                                                  PMB_GATHER(U0), PMB_GATHER(U1), PMB_GATHER(U2), PMB_GATHER(c_node),
                                                  thermal ? PMB_GATHER(eth) : zero, PMB_GATHER(V), thermal, influence));
@@ -551,22 +551,22 @@ static inline __attribute__((always_inline)) void pmb_block_energy(const peri_bo
   const peri_family_eval fam = w->fam;
 #ifdef PERI_BOND_V8
   if (PMB_V8(influence)) {
-    const __m512d zero = _mm512_setzero_pd();
-    const pmb_centre_v8 cv = {_mm512_loadu_pd(X0 + i0), _mm512_loadu_pd(X1 + i0), _mm512_loadu_pd(X2 + i0),
-                              _mm512_loadu_pd(U0 + i0), _mm512_loadu_pd(U1 + i0), _mm512_loadu_pd(U2 + i0),
-                              _mm512_loadu_pd(c_node + i0), thermal ? _mm512_loadu_pd(eth + i0) : zero, zero, zero};
-    __m512d sum = zero;
+    const peri_v8d zero = v8_setzero_pd();
+    const pmb_centre_v8 cv = {v8_loadu_pd(X0 + i0), v8_loadu_pd(X1 + i0), v8_loadu_pd(X2 + i0),
+                              v8_loadu_pd(U0 + i0), v8_loadu_pd(U1 + i0), v8_loadu_pd(U2 + i0),
+                              v8_loadu_pd(c_node + i0), thermal ? v8_loadu_pd(eth + i0) : zero, zero, zero};
+    peri_v8d sum = zero;
     for (int64_t a = 0; a < count; ++a) {
       const int64_t j = tj[a];
       peri_prefetch_next_blocks(w, j);
-      const __m512d e = pmb_bond_energy_v8(&cv, &fam, _mm512_loadu_pd(X0 + j), _mm512_loadu_pd(X1 + j),
-                                           _mm512_loadu_pd(X2 + j), _mm512_loadu_pd(U0 + j), _mm512_loadu_pd(U1 + j),
-                                           _mm512_loadu_pd(U2 + j), _mm512_loadu_pd(c_node + j),
-                                           thermal ? _mm512_loadu_pd(eth + j) : zero, _mm512_loadu_pd(V + j), thermal,
+      const peri_v8d e = pmb_bond_energy_v8(&cv, &fam, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j),
+                                           v8_loadu_pd(X2 + j), v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j),
+                                           v8_loadu_pd(U2 + j), v8_loadu_pd(c_node + j),
+                                           thermal ? v8_loadu_pd(eth + j) : zero, v8_loadu_pd(V + j), thermal,
                                            influence);
-      sum = _mm512_mask_add_pd(sum, lanes[a], sum, e); /* a lane adds the bond when its bit is set */
+      sum = v8_mask_add_pd(sum, lanes[a], sum, e); /* a lane adds the bond when its bit is set */
     }
-    _mm512_storeu_pd(out, sum);
+    v8_storeu_pd(out, sum);
     return;
   }
 #endif
