@@ -1,11 +1,11 @@
 /* Contact (docs/contact.md): short-range forces between any two nodes closer than their
- * contact distance, bonded or not, within a body and across bodies. */
+ * contact distance, bonded or not, within a body and across bodies. The settings and state;
+ * the functions are in short_range.h. */
 #ifndef PERI_CONTACT_H
 #define PERI_CONTACT_H
 #include <stdbool.h>
+#include "peri/contact_ghosts.h"
 #include "peri/contact_list.h"
-
-struct peri_sim;
 
 /* The LAMMPS form of the short-range force (MODELS.md 17.1; Parks et al. 2008, LAMMPS
  * pair peri/pmb): between nodes closer than d_ij = min(0.9 |x_i - x_j|, 1.35 (r_i + r_j)),
@@ -20,15 +20,11 @@ typedef struct peri_contact {
   double stiffness_factor;      /* c_S / c */
   double skin;                  /* list margin (m) */
   double *c_material;           /* [materials] c of each material (PMB micromodulus of its K, E) */
-  peri_contact_list list;
+  peri_contact_list list;       /* rows: the owned nodes */
+  peri_contact_nodes nodes;     /* the nodes the list was built over: owned and, on MPI ranks, ghosts */
+  peri_contact_ghosts ghosts;   /* their exchange (one process: none) */
+  double min_ratio;             /* smallest |y_i - y_j| / d_ij of this rank's pairs at the last
+                                   evaluation, at most 1 (1: no pair in contact) */
 } peri_contact;
-
-/* The short-range force's constants of each material, once the model's are known. */
-void peri_contact_init(struct peri_sim *s);
-/* The contact distance of the farthest pair, 1.35 dx. */
-double peri_contact_max_reach(const struct peri_sim *s);
-/* Rejects a run on several MPI ranks (the list does not reach across ranks). */
-int peri_contact_check_ranks(const struct peri_sim *s, int ranks);
-void peri_contact_free(peri_contact *c);
 
 #endif

@@ -7,12 +7,12 @@
 #include <stdint.h>
 
 typedef struct peri_contact_list {
-  int32_t n;            /* nodes of the last build */
-  int64_t *offset;      /* [n+1]: the partners of node i are partner[offset[i] .. offset[i+1]-1] */
-  int32_t *partner;     /* sorted by index within each node */
+  int32_t n;            /* rows of the last build (the nodes whose partners are listed) */
+  int64_t *offset;      /* [n+1]: the partners of row i are partner[offset[i] .. offset[i+1]-1] */
+  int32_t *partner;     /* indices among the nodes of the build, sorted within each row */
   double *reach;        /* [entries] contact distance d_ij of each entry */
   int64_t capacity;     /* entries allocated */
-  double *u_built;      /* [3n] displacement at the last build */
+  double *u_built;      /* [3n] displacement of the rows at the last build */
   long builds;          /* number of builds so far */
 } peri_contact_list;
 
@@ -23,14 +23,17 @@ typedef struct peri_contact_reach {
   double skin;          /* list margin: pairs within d_ij + skin are listed */
 } peri_contact_reach;
 
-/* Whether the list must be (re)built for displacements u of nodes 0..n-1: never built, a
- * different node count, or some node moved more than skin/2 since the build. */
+/* Whether the list must be (re)built for displacements u of its rows 0..n-1: never built, a
+ * different row count, or some row moved more than skin/2 since the build (on MPI ranks the
+ * caller combines the ranks' answers: a node's partners on other ranks move too). */
 bool peri_contact_list_stale(const peri_contact_list *l, const double *u, int32_t n, double skin);
-/* Builds the list of every ordered pair (i, j), i != j, with |y_i - y_j| < d_ij + skin,
- * y = x + u, from a cell list; each node's partners in index order (the same list for any
- * thread count). */
-void peri_contact_list_build(peri_contact_list *l, const double *x, const double *u, int32_t n,
-                             const peri_contact_reach *reach);
+/* Builds, over n nodes of reference positions x and deformed positions y, the list of every
+ * pair (i, j), i one of the rows first_row .. first_row + rows - 1 and j != i any of the n
+ * nodes, with |y_i - y_j| < d_ij + skin, from a cell list; each row's partners in index
+ * order (the same list for any thread count). u_rows: the rows' displacements, kept for
+ * peri_contact_list_stale. */
+void peri_contact_list_build(peri_contact_list *l, const double *x, const double *y, int32_t n, int32_t first_row,
+                             int32_t rows, const double *u_rows, const peri_contact_reach *reach);
 void peri_contact_list_free(peri_contact_list *l);
 
 #endif

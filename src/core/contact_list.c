@@ -155,19 +155,16 @@ static void sort_partners(int32_t *partner, double *reach, int64_t m) {
   }
 }
 
-void peri_contact_list_build(peri_contact_list *l, const double *x, const double *u, int32_t n,
-                             const peri_contact_reach *reach) {
-  double *y = peri_malloc(sizeof(double) * 3 * (n > 0 ? (size_t)n : 1));
-#pragma omp parallel for schedule(static)
-  for (size_t c = 0; c < 3 * (size_t)n; ++c) y[c] = x[c] + u[c];
+void peri_contact_list_build(peri_contact_list *l, const double *x, const double *y, int32_t n, int32_t first_row,
+                             int32_t rows, const double *u_rows, const peri_contact_reach *reach) {
   cell_grid g;
   grid_build(&g, y, n, (reach->max_reach + reach->skin) / STENCIL);
-  if (l->n != n || !l->offset) {
+  if (l->n != rows || !l->offset) {
     free(l->offset);
     free(l->u_built);
-    l->offset = peri_malloc(sizeof(int64_t) * ((size_t)n + 1));
-    l->u_built = peri_malloc(sizeof(double) * 3 * (n > 0 ? (size_t)n : 1));
-    l->n = n;
+    l->offset = peri_malloc(sizeof(int64_t) * ((size_t)rows + 1));
+    l->u_built = peri_malloc(sizeof(double) * 3 * (rows > 0 ? (size_t)rows : 1));
+    l->n = rows;
   }
   l->offset[0] = 0;
   /* one pass: each thread scans a contiguous range of nodes into its own buffer, the
@@ -185,17 +182,17 @@ void peri_contact_list_build(peri_contact_list *l, const double *x, const double
     nt = omp_get_num_threads();
 #endif
     if (t == 0) used = nt; /* the team may be smaller than asked */
-    const int32_t i0 = (int32_t)((int64_t)n * t / nt), i1 = (int32_t)((int64_t)n * (t + 1) / nt);
+    const int32_t i0 = (int32_t)((int64_t)rows * t / nt), i1 = (int32_t)((int64_t)rows * (t + 1) / nt);
     entry_buffer *b = &buffers[t];
     for (int32_t i = i0; i < i1; ++i) {
-      const int64_t m = scan_node(&g, x, y, i, reach, b);
+      const int64_t m = scan_node(&g, x, y, first_row + i, reach, b);
       sort_partners(&b->partner[b->size], &b->reach[b->size], m);
       b->size += m;
       l->offset[i + 1] = m;
     }
   }
-  for (int32_t i = 0; i < n; ++i) l->offset[i + 1] += l->offset[i];
-  const int64_t entries = l->offset[n];
+  for (int32_t i = 0; i < rows; ++i) l->offset[i + 1] += l->offset[i];
+  const int64_t entries = l->offset[rows];
   if (entries > l->capacity || !l->partner) {
     free(l->partner);
     free(l->reach);
@@ -205,7 +202,7 @@ void peri_contact_list_build(peri_contact_list *l, const double *x, const double
   }
 #pragma omp parallel for schedule(static, 1) num_threads(used)
   for (int t = 0; t < used; ++t) {
-    const int32_t i0 = (int32_t)((int64_t)n * t / used);
+    const int32_t i0 = (int32_t)((int64_t)rows * t / used);
     if (buffers[t].size > 0) {
       memcpy(&l->partner[l->offset[i0]], buffers[t].partner, sizeof(int32_t) * (size_t)buffers[t].size);
       memcpy(&l->reach[l->offset[i0]], buffers[t].reach, sizeof(double) * (size_t)buffers[t].size);
@@ -216,11 +213,10 @@ void peri_contact_list_build(peri_contact_list *l, const double *x, const double
     free(buffers[t].reach);
   }
   free(buffers);
-  memcpy(l->u_built, u, sizeof(double) * 3 * (size_t)n);
+  memcpy(l->u_built, u_rows, sizeof(double) * 3 * (size_t)rows);
   ++l->builds;
   free(g.start);
   free(g.node);
-  free(y);
 }
 
 void peri_contact_list_free(peri_contact_list *l) {

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <string.h>
 #include "peri/contact.h"
+#include "peri/short_range.h"
 #include "peri/error.h"
 #include "setup_parts.h"
 

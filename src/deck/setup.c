@@ -9,6 +9,7 @@
 #include "peri/checkpoint.h"
 #include "peri/bodies.h"
 #include "peri/contact.h"
+#include "peri/short_range.h"
 #include "peri/tools.h"
 #include "peri/conduction.h"
 #include "peri/coupling.h"

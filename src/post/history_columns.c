@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/bodies.h"
+#include "peri/contact.h"
 #include "peri/error.h"
 #include "peri/heat_quantities.h"
 #include "peri/history.h"
@@ -114,6 +115,7 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
     add(c, buf);
   }
   tool_columns(c, s);
+  if (s->contact && s->contact->short_range) add(c, "short_range_min_ratio"); /* docs/contact.md */
   add_per_region_axis(c, s, "reaction");
   body_columns(c, s);
   const bool qs = peri_is_quasi_static(s);
@@ -220,7 +222,7 @@ const char *peri_history_unit(const char *column) {
       {"damaged_mass_", "kg", false}, {"detached_mass_", "kg", false}, {"max_von_mises_", "Pa", false}, {"mean_stress_", "Pa", false},
       {"strain_energy_", "J", false}, {"broken_interface_bonds", "1", true}, {"max_interface_stress", "Pa", true},
       {"max_interface_traction", "Pa", true},
-      {"wrinkle_amplitude", "m", true}, {"wrinkle_wavelength", "m", true},
+      {"wrinkle_amplitude", "m", true}, {"wrinkle_wavelength", "m", true}, {"short_range_min_ratio", "1", true},
   };
   if (!strncmp(column, "tool_", 5)) { /* tool_NAME_WHAT: the unit of WHAT */
     static const struct {

@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include "peri/bodies.h"
 #include "peri/contact.h"
+#include "peri/short_range.h"
 #include "peri/tools.h"
 #include "peri/wear_depth.h"
 #include "peri/checkpoint_schedule.h"
@@ -116,6 +117,7 @@ static int write_history(peri_sim *s, run_ctx *c) {
     c->log.row[k++] = depth;
   }
   free(phi);
+  if (s->contact && s->contact->short_range) c->log.row[k++] = peri_contact_min_ratio(s); /* every rank's pairs */
   for (int r = 1; r < s->cond.n_regions; ++r) {
     double reaction[3];
     peri_region_reaction(s, r, reaction);
@@ -331,9 +333,13 @@ int peri_run_finish(peri_run_session *r) {
              wall, wall > 0 ? (s->state.step - c.first_step) / wall : 0.0, wall > 0 ? updates / wall : 0.0,
              omp_get_max_threads());
     printf("  broken bonds %ld of %lld\n", broken, (long long)peri_global_bonds(s));
-    if (s->contact && s->contact->short_range) /* the pair list's builds (docs/contact.md) */
-      printf("  contact      short-range forces, pair list built %ld times (skin %g m), %lld pairs in the last\n",
-             s->contact->list.builds, s->contact->skin, (long long)(s->contact->list.offset ? s->contact->list.offset[s->contact->list.n] : 0));
+    if (s->contact && s->contact->short_range) { /* the pair list's builds (docs/contact.md), the same on every rank */
+      const long pairs = peri_contact_pairs(s), ghosts = peri_contact_ghost_count(s);
+      printf("  contact      short-range forces, pair list built %ld times (skin %g m), %ld pairs in the last", s->contact->list.builds,
+             s->contact->skin, pairs);
+      if (peri_comm_size() > 1) printf(", %ld contact ghosts on the ranks", ghosts);
+      printf("\n");
+    }
     double tpl_bytes = 0.0;
     const double in_blocks = peri_node_blocks_share(s, &tpl_bytes);
     if (in_blocks >= 0.0) /* of this rank's bonds (rank 0's on MPI ranks) */

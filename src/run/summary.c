@@ -7,6 +7,7 @@
 #include "peri/checkpoint_schedule.h"
 #include "peri/coupling.h"
 #include "peri/contact.h"
+#include "peri/short_range.h"
 #include "peri/damage.h"
 #include "peri/model.h"
 #include "peri/quasistatic.h"

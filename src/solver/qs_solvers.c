@@ -5,7 +5,6 @@
  * so the solvers and their shared helpers (qs_common.c) never call each other in a loop.
  * A new solver is one file, one line here and its name under solver.type in the deck. */
 #include <stddef.h>
-#include "peri/contact.h"
 #include "peri/coupling.h"
 #include "peri/error.h"
 #include "peri/implicit.h"
@@ -31,7 +30,6 @@ peri_qs_status peri_solve_equilibrium(peri_sim *s) {
 }
 
 int peri_solver_check_ranks(const peri_sim *s, int ranks) {
-  if (peri_contact_check_ranks(s, ranks) != PERI_OK) return PERI_ERR_INPUT;
   if (s->coupling && ranks > 1 && s->solver.kind == PERI_SOLVER_EXPLICIT) {
     peri_error("%s: the PD-FEM coupling runs in one process (docs/coupling.md); run it without mpirun", s->deck_path);
     return PERI_ERR_INPUT;

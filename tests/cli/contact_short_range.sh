@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Short-range contact forces from the command line (docs/contact.md): the summary names them,
 # the end of a run counts the pair-list builds; bad settings (a negative skin, an unknown key,
-# the implicit solver) exit 2 naming file:line:column before any work; a run on several MPI
-# ranks is refused with exit 2 (the pair list does not reach across ranks).
+# the implicit solver) exit 2 naming file:line:column before any work. Runs on several MPI
+# ranks: tests/cli/mpi_contact.sh.
 # Usage: bash tests/cli/contact_short_range.sh PATH_TO_PERI   (from the repository root)
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
@@ -46,16 +46,4 @@ expect_stderr_contains "implicit.yaml:5:"
 expect_stderr_contains "the implicit solver has no tangent of the short-range forces"
 pass "the implicit solver with short-range forces: exit 2"
 
-if "$PERI" --help 2>/dev/null | grep -q 'this build has MPI' && command -v mpirun >/dev/null 2>&1; then
-  export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
-  RUN_CMD="mpirun -np 2 peri run $deck --set contact.short_range=true"
-  timeout 120 mpirun --oversubscribe -np 2 "$PERI" run "$deck" "${small[@]}" --set contact.short_range=true \
-    --output "$TMP/mpi" >"$RUN_STDOUT" 2>"$RUN_STDERR" </dev/null
-  RUN_STATUS=$?
-  expect_status 2
-  expect_stderr_contains "contact.short_range runs in one process (threads), not on 2 MPI ranks"
-  pass "two MPI ranks with short-range forces: exit 2 with the reason"
-else
-  echo "skipped the MPI case: peri built without MPI"
-fi
 echo "PASS: contact_short_range.sh"

@@ -7,6 +7,7 @@
 #include <omp.h>
 #include <string.h>
 #include "peri/contact.h"
+#include "peri/short_range.h"
 #include "peri/contribution.h"
 #include "peri/solver.h"
 #include "support.h"
@@ -75,8 +76,16 @@ static int by_x(const void *a, const void *b) {
   return (ya > yb) - (ya < yb);
 }
 
+/* The smallest ratio over the run, and the largest difference between the state's own
+ * smallest ratio (capped at 1) and the value of the history column short_range_min_ratio,
+ * which the force evaluation finds from the pair list. */
+typedef struct closest {
+  double min_ratio, column_error;
+} closest;
+
 static int track_closest(peri_sim *s, void *ctx) {
-  double *min_ratio = ctx;
+  closest *track = ctx;
+  double now = INFINITY, *min_ratio = &now;
   const peri_particles *p = &s->disc.p;
   const double reach = PERI_SHORT_RANGE_RADIUS * s->disc.geom.spacing;
   double *y = malloc(sizeof(double) * 3 * (size_t)p->n);
@@ -97,6 +106,9 @@ static int track_closest(peri_sim *s, void *ctx) {
     }
   free(order);
   free(y);
+  track->min_ratio = fmin(track->min_ratio, now);
+  if (s->contact && s->contact->short_range)
+    track->column_error = fmax(track->column_error, fabs(fmin(now, 1.0) - peri_contact_min_ratio(s)));
   return 0;
 }
 
@@ -118,13 +130,15 @@ static double acoustic_bound(const peri_sim *s, double v) {
 Test(short_range, fragments_keep_their_distance) {
   peri_sim s;
   fragmentation_deck(&s, true);
-  double min_ratio = INFINITY;
-  cr_assert_eq(peri_solve_explicit(&s, track_closest, &min_ratio), 0);
+  closest track = {INFINITY, 0.0};
+  cr_assert_eq(peri_solve_explicit(&s, track_closest, &track), 0);
   const double bound = acoustic_bound(&s, 100.0);
-  cr_log_info("fragmentation: min |y_i - y_j| / d_ij = %.4f, bound %.4f, %ld of %lld bonds broken", min_ratio, bound,
-              peri_broken_count(&s.disc.bonds), (long long)s.disc.bonds.n_bonds);
+  cr_log_info("fragmentation: min |y_i - y_j| / d_ij = %.4f, bound %.4f, %ld of %lld bonds broken; column off by %.3g",
+              track.min_ratio, bound, peri_broken_count(&s.disc.bonds), (long long)s.disc.bonds.n_bonds, track.column_error);
   cr_assert_gt(peri_broken_count(&s.disc.bonds), s.disc.bonds.n_bonds / 3, "the target fragments");
-  cr_assert_geq(min_ratio, bound);
+  cr_assert_geq(track.min_ratio, bound);
+  /* the same pairs and the same arithmetic: equal but for the order of operations */
+  cr_assert_leq(track.column_error, 1e-12, "short_range_min_ratio differs from the sweep by %g", track.column_error);
   peri_sim_free(&s);
 }
 
@@ -157,12 +171,15 @@ Test(short_range, colliding_halves) {
     cr_assert_eq(peri_sim_from_deck_with(&s, path, with, sets), 0);
     unlink(path);
     peri_apply_initial_conditions(&s);
-    double min_ratio = INFINITY;
-    cr_assert_eq(peri_solve_explicit(&s, track_closest, &min_ratio), 0);
+    closest track = {INFINITY, 0.0};
+    cr_assert_eq(peri_solve_explicit(&s, track_closest, &track), 0);
+    const double min_ratio = track.min_ratio;
     const double bound = acoustic_bound(&s, 30.0);
-    cr_log_info("halves, short-range %s: min |y_i - y_j| / d_ij = %.4f, bound %.4f", with ? "on" : "off", min_ratio, bound);
+    cr_log_info("halves, short-range %s: min |y_i - y_j| / d_ij = %.4f, bound %.4f; column off by %.3g", with ? "on" : "off",
+                min_ratio, bound, track.column_error);
     if (with) {
       cr_assert_geq(min_ratio, bound);
+      cr_assert_leq(track.column_error, 1e-12, "short_range_min_ratio differs from the sweep by %g", track.column_error);
       /* pair forces are opposite: the momentum stays 0 to round-off; the halves rebound */
       const peri_particles *p = &s.disc.p;
       double momentum = 0.0, scale = 0.0, left = 0.0, left_mass = 0.0;
