@@ -1,0 +1,143 @@
+#!/usr/bin/env bash
+# The PD-FEM coupling on MPI ranks (docs/coupling.md, "On MPI ranks"): each rank assembles the
+# rows of its owned nodes (the bonds of its PD nodes, the elements that contain its FEM nodes,
+# whose corners come as ghosts) into the distributed PETSc matrix.
+#   - the point-supported plate of Table 2.1 (load-controlled, MUMPS) on 1, 2 and 3 ranks: the
+#     reactions, net_force_y and the e_r columns equal to 1e-8 (relative), and on 2 ranks the
+#     support reactions sum to Table 2.1's 10.1425 within 1%, as on 1 rank (tests/cli/coupling.sh);
+#     the same with GMRES + GAMG on 2 ranks against MUMPS on 1 (at tolerance 1e-12);
+#   - that plate all FEM and all PD (bond-based and LPS) on 2 ranks: models in balance, so the
+#     support reactions sum to the load 10 (1e-9 relative); the LPS coupled plate on 1 and 2
+#     ranks (its kept rows reach 2 horizons) to 1e-8;
+#   - imposed fields, where nothing is solved and every row sums as in one process: the 1D
+#     cubic curve (Tables 2.11, 2.12) and Case II of §2.6.2 (exact partial volumes, Table 2.16
+#     e_ry = 5.00e-4) on 1, 2 and 3 ranks, history.csv equal to 1e-12;
+#   - the Gmsh plate (elements larger than a horizon, nodes off the PD grid) in uniform tension
+#     on 2 ranks: the right edge's reaction E eps H h = 120 N to 1e-9;
+#   - what still runs in one process is refused on 2 ranks, exit 2 before any output: explicit
+#     coupled dynamics.
+# The out_of_balance_x of the plate is a ratio of two round-off sums (the x forces of a plate
+# loaded in y): it is compared through its numerator, net_force_x, at round-off of the reactions.
+# Skipped when peri was built without MPI or PETSc.
+# Usage: bash tests/cli/mpi_coupling.sh PATH_TO_PERI   (from the repository root)
+set -u
+source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
+source "$(dirname "${BASH_SOURCE[0]}")/lib/mpi.bash"
+cli_init "$@"
+mpi_init
+
+plate=examples/coupling_plate_point_load.yaml
+run_peri check "$plate"
+if [[ "$RUN_STATUS" == 2 ]] && grep -qF "built without PETSc" "$RUN_STDERR"; then
+  echo "SKIP: $CLI_NAME: peri was built without PETSc"
+  exit 0
+fi
+expect_status 0
+
+# value FILE COLUMN: the last row's value of COLUMN
+value() {
+  local col
+  col=$(csv_column "$1" "$2")
+  [[ -n "$col" ]] || fail "$1 has no column $2"
+  tail -n 1 "$1" | cut -d, -f"$col"
+}
+# near GOT WANT RELTOL: |GOT - WANT| <= RELTOL |WANT|
+near() { awk -v g="$1" -v w="$2" -v t="$3" 'BEGIN { d = g - w; if (d < 0) d = -d; exit !(d <= t * (w < 0 ? -w : w)) }'; }
+support_sum() { awk -v a="$(value "$1" reaction_left_y)" -v b="$(value "$1" reaction_right_y)" 'BEGIN { printf "%.12g", a + b }'; }
+
+# same_values REF OUT NAME: the support sum and the coupling columns of OUT equal REF's to 1e-8;
+# net_force_x at round-off of the reactions (1e-12 of the load 10)
+same_values() {
+  local col a b
+  a=$(support_sum "$1") b=$(support_sum "$2")
+  near "$b" "$a" 1e-8 || fail "$3: support reactions sum to $a on 1 rank, $b here"
+  for col in net_force_y out_of_balance_y out_of_balance; do
+    a=$(value "$1" $col) b=$(value "$2" $col)
+    near "$b" "$a" 1e-8 || fail "$3: $col $a on 1 rank, $b here"
+  done
+  b=$(value "$2" net_force_x)
+  awk -v x="$b" 'BEGIN { exit !(x < 1e-11 && x > -1e-11) }' || fail "$3: net_force_x $b, not at round-off"
+}
+
+# (1) Table 2.1, load-controlled, MUMPS (linear_solver direct)
+for np in 1 2 3; do
+  run_peri_mpi "$np" run "$plate" --output "$TMP/plate-np$np" --set output.picture=false
+  expect_status 0
+  hist="$TMP/plate-np$np/history.csv"
+  expect_nonempty_file "$hist"
+  [[ $np -eq 1 ]] && continue
+  expect_stdout_contains "MPI ranks    $np"
+  same_values "$TMP/plate-np1/history.csv" "$hist" "plate on $np ranks"
+  sum=$(support_sum "$hist")
+  near "$sum" 10.1425 0.01 || fail "plate on $np ranks: support reactions sum to $sum, Table 2.1 10.1425 within 1%"
+done
+pass "Table 2.1 plate on 1, 2, 3 ranks (MUMPS): reactions and e_r equal to 1e-8; on 2 and 3 ranks the" \
+  "supports carry $sum (Table 2.1: 10.1425, within 1%), e_ry $(value "$hist" out_of_balance_y)"
+
+run_peri_mpi 2 run "$plate" --output "$TMP/gmres-np2" --set output.picture=false --set solver.linear_solver=gmres \
+  --set solver.petsc_preconditioner=gamg --set solver.tolerance=1e-12
+expect_status 0
+same_values "$TMP/plate-np1/history.csv" "$TMP/gmres-np2/history.csv" "plate by GMRES on 2 ranks"
+pass "Table 2.1 plate by GMRES + GAMG on 2 ranks: the values of MUMPS on 1 rank to 1e-8 ($(support_sum "$TMP/gmres-np2/history.csv"))"
+
+# (2) models in balance: every reaction sums to the load; LPS rows on ranks
+lps=(--set materials.plate.model=lps --set materials.plate.poisson_ratio=0.3)
+for variant in "fem:--set coupling.pd_region=nowhere" "pd:--set coupling.pd_region=all" \
+  "lps_pd:--set coupling.pd_region=all ${lps[*]}"; do
+  name=${variant%%:*}
+  read -r -a args <<<"${variant#*:}"
+  run_peri_mpi 2 run "$plate" --output "$TMP/$name" --set output.picture=false "${args[@]}"
+  expect_status 0
+  sum=$(support_sum "$TMP/$name/history.csv")
+  near "$sum" 10 1e-9 || fail "$name plate on 2 ranks: the supports carry $sum, not the load 10"
+done
+for np in 1 2; do
+  run_peri_mpi "$np" run "$plate" --output "$TMP/lps-np$np" --set output.picture=false "${lps[@]}"
+  expect_status 0
+done
+same_values "$TMP/lps-np1/history.csv" "$TMP/lps-np2/history.csv" "LPS coupled plate on 2 ranks"
+pass "all-FEM, all-PD and all-PD LPS plates on 2 ranks carry the load 10 (1e-9); the LPS coupled plate" \
+  "on 1 and 2 ranks agrees to 1e-8 ($(support_sum "$TMP/lps-np2/history.csv"))"
+
+# (3) imposed fields: F = K u row by row, nothing solved
+imposed() { # NAME DECK: 1, 2, 3 ranks, history.csv equal to 1e-12
+  local np
+  for np in 1 2 3; do
+    run_peri_mpi "$np" run "$2" --output "$TMP/$1-np$np" --set output.picture=false
+    expect_status 0
+    [[ $np -eq 1 ]] && continue
+    report=$(compare_histories "$TMP/$1-np1/history.csv" "$TMP/$1-np$np/history.csv" 1e-12) ||
+      fail "$1: history.csv on 1 and $np ranks differ: $report"
+  done
+}
+imposed bar examples/coupling_bar_cubic.yaml
+net=$(value "$TMP/bar-np2/history.csv" net_force_x) ratio=$(value "$TMP/bar-np2/history.csv" out_of_balance)
+near "$net" -2.31e-7 0.0025 || fail "1D bar on 2 ranks: net_force_x $net, Table 2.12 -2.31e-7"
+near "$ratio" 5.78e-4 0.001 || fail "1D bar on 2 ranks: out_of_balance $ratio, Table 2.11 5.78e-4"
+imposed case2 examples/coupling_plate_case2.yaml
+ery=$(value "$TMP/case2-np2/history.csv" out_of_balance_y)
+near "$ery" 5.00e-4 0.001 || fail "Case II on 2 ranks: out_of_balance_y $ery, Table 2.16 5.00e-4"
+pass "imposed fields on 1, 2, 3 ranks: the same history.csv (1e-12); on 2 ranks the 1D bar's net force $net" \
+  "(Table 2.12: -2.31e-7), e_r $ratio (Table 2.11: 5.78e-4), Case II e_ry $ery (Table 2.16: 5.00e-4)"
+
+# (4) the Gmsh plate: elements wider than a horizon, their corners brought as ghosts
+gmsh=examples/coupling_gmsh_plate.yaml
+run_peri check "$gmsh"
+if [[ "$RUN_STATUS" == 2 ]]; then
+  echo "skip: $gmsh (no Gmsh reader in this build)"
+else
+  run_peri_mpi 2 run "$gmsh" --output "$TMP/gmsh" --set output.picture=false
+  expect_status 0
+  rx=$(value "$TMP/gmsh/history.csv" reaction_right_x)
+  near "$rx" 120 1e-9 || fail "Gmsh plate on 2 ranks: reaction $rx, E eps H h = 120"
+  pass "Gmsh plate in uniform tension on 2 ranks: reaction $rx N (E eps H h = 120 N, 1e-9)"
+fi
+
+# (5) what runs in one process only
+run_peri_mpi 2 run examples/coupling_bar_wave.yaml --output "$TMP/wave"
+expect_status 2
+expect_stdout_empty
+expect_stderr_contains "PD-FEM coupling with solver.type explicit runs in one process, not on 2 MPI ranks"
+expect_no_path "$TMP/wave/history.csv"
+pass "explicit coupled dynamics on 2 ranks: refused (exit 2) before any output"
+echo "PASS: $CLI_NAME"
