@@ -32,11 +32,11 @@ peri_qs_status peri_solve_equilibrium(peri_sim *s) {
 
 int peri_solver_check_ranks(const peri_sim *s, int ranks) {
   if (peri_contact_check_ranks(s, ranks) != PERI_OK) return PERI_ERR_INPUT;
-  /* the coupling's linear solves run on ranks; its dynamics and crack growth in one process */
-  if (s->coupling && ranks > 1 && (s->solver.kind == PERI_SOLVER_EXPLICIT || s->solver.breaking)) {
-    peri_error("%s: PD-FEM coupling with %s runs in one process, not on %d MPI ranks (docs/coupling.md, \"On MPI "
-               "ranks\"); run it without mpirun", s->deck_path,
-               s->solver.kind == PERI_SOLVER_EXPLICIT ? "solver.type explicit" : "solver.breaking (crack growth)", ranks);
+  /* the coupling's statics run on ranks, crack growth with switching included; its dynamics
+   * in one process */
+  if (s->coupling && ranks > 1 && s->solver.kind == PERI_SOLVER_EXPLICIT) {
+    peri_error("%s: PD-FEM coupling with solver.type explicit runs in one process, not on %d MPI ranks "
+               "(docs/coupling.md, \"On MPI ranks\"); run it without mpirun", s->deck_path, ranks);
     return PERI_ERR_INPUT;
   }
   const peri_qs_solver_ops *solver = peri_qs_solver(s->solver.kind);

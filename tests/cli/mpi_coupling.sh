@@ -14,6 +14,8 @@
 #     e_ry = 5.00e-4) on 1, 2 and 3 ranks, history.csv equal to 1e-12;
 #   - the Gmsh plate (elements larger than a horizon, nodes off the PD grid) in uniform tension
 #     on 2 ranks: the right edge's reaction E eps H h = 120 N to 1e-9;
+#   - crack growth with switching (the coarse three-point bending beam) on 1 and 2 ranks: the
+#     same node types and damage at every node, the same broken bonds, history.csv to 1e-8;
 #   - what still runs in one process is refused on 2 ranks, exit 2 before any output: explicit
 #     coupled dynamics.
 # The out_of_balance_x of the plate is a ratio of two round-off sums (the x forces of a plate
@@ -133,7 +135,61 @@ else
   pass "Gmsh plate in uniform tension on 2 ranks: reaction $rx N (E eps H h = 120 N, 1e-9)"
 fi
 
-# (5) what runs in one process only
+# (5) crack growth with switching: the coarse three-point bending beam of
+# tests/verification/test_coupling_3pb.c (dx = 0.25 m, 2,560 nodes, 21 load steps to 8.4 mm,
+# scheme 2) on 1 and 2 ranks. The crack grows from the notch and FEM nodes switch to PD as it
+# goes; the node types and the damage of every node at the end (the switched nodes and the crack
+# path), read from the frames by node_id, must be the same, and so must history.csv (1e-8 of
+# the largest value of each kind: the linear solves differ in round-off) and the broken bonds.
+coarse_3pb=(--set discretization.spacing=0.25 --set 'regions.left_support.max=[0.25, 0.25]'
+  --set 'regions.right_support.min=[19.75, 0]' --set 'regions.right_support.max=[20, 0.25]'
+  --set 'regions.load.min=[9.74, 7.75]' --set 'regions.load.max=[10.26, 8.1]' --set solver.load_steps=21
+  --set 'boundary_conditions.2.y=-8.4e-3*t' --set output.picture=false --set output.frames=1
+  --set 'output.fields=[node_type, damage]' --set output.compress=false)
+# node_states DIR: "node_id node_type damage" of every node in the last frame's pieces, by node_id
+node_states() {
+  python3 - "$1" <<'PY'
+import base64, glob, re, struct, sys
+frames = sorted(glob.glob(sys.argv[1] + "/*_0000[0-9][0-9]*.vtu"))
+last = max(re.search(r"_(\d{6})(_\d+)?\.vtu$", f).group(1) for f in frames)
+rows = {}
+for f in frames:
+    if re.search(r"_(\d{6})(_\d+)?\.vtu$", f).group(1) != last:
+        continue
+    arrays = {}
+    for kind, name, data in re.findall(r'<DataArray type="(\w+)" Name="(\w+)"[^>]*format="binary">\s*(\S+)\s*</DataArray>', open(f).read()):
+        raw = base64.b64decode(data)[8:]  # after the UInt64 byte count
+        code = {"Int32": "i", "Float64": "d"}.get(kind)
+        if code:
+            arrays[name] = struct.unpack("<%d%s" % (len(raw) // struct.calcsize(code), code), raw)
+    for k, node in enumerate(arrays["node_id"]):
+        rows[node] = "%d %d %r" % (node, arrays["node_type"][k], arrays["damage"][k])
+print("\n".join(rows[k] for k in sorted(rows)))
+PY
+}
+for np in 1 2; do
+  run_peri_mpi "$np" run examples/coupling_three_point_bending.yaml --output "$TMP/3pb-np$np" "${coarse_3pb[@]}"
+  expect_status 0
+  node_states "$TMP/3pb-np$np" >"$TMP/3pb-np$np.nodes" || fail "3PB on $np ranks: the frames cannot be read"
+  [[ $np -eq 1 ]] && broken_ref=$(broken_line)
+done
+[[ $(wc -l <"$TMP/3pb-np1.nodes") -eq 2560 ]] || fail "3PB: $(wc -l <"$TMP/3pb-np1.nodes") nodes in the frames, not 2560"
+cmp -s "$TMP/3pb-np1.nodes" "$TMP/3pb-np2.nodes" ||
+  fail "3PB: node types or damage differ on 1 and 2 ranks: $(diff "$TMP/3pb-np1.nodes" "$TMP/3pb-np2.nodes" | head -4)"
+[[ "$(broken_line)" == "$broken_ref" ]] || fail "3PB: '$broken_ref' on 1 rank, '$(broken_line)' on 2"
+# without out_of_balance_x: once the beam has broken its x forces are the solves' residuals
+# (0.07 N, the tolerance 1e-8 times the peak reaction 1.4 MN), whose ratio has no digits to compare
+without_column "$TMP/3pb-np1/history.csv" out_of_balance_x >"$TMP/3pb-np1.csv"
+without_column "$TMP/3pb-np2/history.csv" out_of_balance_x >"$TMP/3pb-np2.csv"
+report=$(compare_scaled "$TMP/3pb-np1.csv" "$TMP/3pb-np2.csv" 1e-8) ||
+  fail "3PB: history.csv on 1 and 2 ranks differ: $report"
+pd=$(value "$TMP/3pb-np2/history.csv" pd_nodes)
+cracked=$(awk '$3 >= 0.3' "$TMP/3pb-np2.nodes" | wc -l)
+[[ $pd -gt 200 && $cracked -gt 20 ]] || fail "3PB: $pd PD nodes, $cracked nodes with damage >= 0.3: the crack did not grow"
+pass "3PB crack growth with switching on 1 and 2 ranks: the same $pd PD nodes (100 at the start) and damage" \
+  "of every node ($cracked nodes with damage >= 0.3), $(echo "$broken_ref" | sed 's/^  *//'), history.csv to 1e-8"
+
+# (6) what runs in one process only
 run_peri_mpi 2 run examples/coupling_bar_wave.yaml --output "$TMP/wave"
 expect_status 2
 expect_stdout_empty
