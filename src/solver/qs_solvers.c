@@ -32,13 +32,6 @@ peri_qs_status peri_solve_equilibrium(peri_sim *s) {
 
 int peri_solver_check_ranks(const peri_sim *s, int ranks) {
   if (peri_contact_check_ranks(s, ranks) != PERI_OK) return PERI_ERR_INPUT;
-  /* the coupling's statics run on ranks, crack growth with switching included; its dynamics
-   * in one process */
-  if (s->coupling && ranks > 1 && s->solver.kind == PERI_SOLVER_EXPLICIT) {
-    peri_error("%s: PD-FEM coupling with solver.type explicit runs in one process, not on %d MPI ranks "
-               "(docs/coupling.md, \"On MPI ranks\"); run it without mpirun", s->deck_path, ranks);
-    return PERI_ERR_INPUT;
-  }
   const peri_qs_solver_ops *solver = peri_qs_solver(s->solver.kind);
   if (ranks <= 1 || !solver || !solver->check_ranks) return PERI_OK;
   return solver->check_ranks(s, ranks);

@@ -16,8 +16,8 @@
 #     on 2 ranks: the right edge's reaction E eps H h = 120 N to 1e-9;
 #   - crack growth with switching (the coarse three-point bending beam) on 1 and 2 ranks: the
 #     same node types and damage at every node, the same broken bonds, history.csv to 1e-8;
-#   - what still runs in one process is refused on 2 ranks, exit 2 before any output: explicit
-#     coupled dynamics.
+#   - explicit coupled dynamics (the pulse through FEM | PD | FEM, the bar pulled apart with
+#     switching) on 1, 2, 3 ranks: history.csv equal to 1e-12; the first break at t* = 176.34 s.
 # The out_of_balance_x of the plate is a ratio of two round-off sums (the x forces of a plate
 # loaded in y): it is compared through its numerator, net_force_x, at round-off of the reactions.
 # Skipped when peri was built without MPI or PETSc.
@@ -102,7 +102,7 @@ pass "all-FEM, all-PD and all-PD LPS plates on 2 ranks carry the load 10 (1e-9);
   "on 1 and 2 ranks agrees to 1e-8 ($(support_sum "$TMP/lps-np2/history.csv"))"
 
 # (3) imposed fields: F = K u row by row, nothing solved
-imposed() { # NAME DECK: 1, 2, 3 ranks, history.csv equal to 1e-12
+same_history() { # NAME DECK: 1, 2, 3 ranks, history.csv equal to 1e-12
   local np
   for np in 1 2 3; do
     run_peri_mpi "$np" run "$2" --output "$TMP/$1-np$np" --set output.picture=false
@@ -112,11 +112,11 @@ imposed() { # NAME DECK: 1, 2, 3 ranks, history.csv equal to 1e-12
       fail "$1: history.csv on 1 and $np ranks differ: $report"
   done
 }
-imposed bar examples/coupling_bar_cubic.yaml
+same_history bar examples/coupling_bar_cubic.yaml
 net=$(value "$TMP/bar-np2/history.csv" net_force_x) ratio=$(value "$TMP/bar-np2/history.csv" out_of_balance)
 near "$net" -2.31e-7 0.0025 || fail "1D bar on 2 ranks: net_force_x $net, Table 2.12 -2.31e-7"
 near "$ratio" 5.78e-4 0.001 || fail "1D bar on 2 ranks: out_of_balance $ratio, Table 2.11 5.78e-4"
-imposed case2 examples/coupling_plate_case2.yaml
+same_history case2 examples/coupling_plate_case2.yaml
 ery=$(value "$TMP/case2-np2/history.csv" out_of_balance_y)
 near "$ery" 5.00e-4 0.001 || fail "Case II on 2 ranks: out_of_balance_y $ery, Table 2.16 5.00e-4"
 pass "imposed fields on 1, 2, 3 ranks: the same history.csv (1e-12); on 2 ranks the 1D bar's net force $net" \
@@ -189,11 +189,19 @@ cracked=$(awk '$3 >= 0.3' "$TMP/3pb-np2.nodes" | wc -l)
 pass "3PB crack growth with switching on 1 and 2 ranks: the same $pd PD nodes (100 at the start) and damage" \
   "of every node ($cracked nodes with damage >= 0.3), $(echo "$broken_ref" | sed 's/^  *//'), history.csv to 1e-8"
 
-# (6) what runs in one process only
-run_peri_mpi 2 run examples/coupling_bar_wave.yaml --output "$TMP/wave"
-expect_status 2
-expect_stdout_empty
-expect_stderr_contains "PD-FEM coupling with solver.type explicit runs in one process, not on 2 MPI ranks"
-expect_no_path "$TMP/wave/history.csv"
-pass "explicit coupled dynamics on 2 ranks: refused (exit 2) before any output"
+# (6) explicit coupled dynamics: velocity-Verlet with f = K u of the owned rows, the same sums as
+# in one process, so history.csv is the same to 1e-12 (in practice byte for byte) on 1, 2, 3 ranks
+same_history wave examples/coupling_bar_wave.yaml
+same_history pull examples/coupling_bar_switching.yaml
+# the bar pulled apart (docs/coupling.md, "Switching during explicit dynamics"): the two fronts
+# meet at x = 150, where the strain 2 (v0/c) tanh^2((t - 150)/tau) reaches s0 = 1.5 v0/c at
+# t* = 150 + tau artanh(sqrt(0.75)) = 176.34 s; the rows are 1 s apart
+first=$(awk -F, -v c="$(csv_column "$TMP/pull-np2/history.csv" broken_bond_fraction)" \
+  'NR > 1 && $c > 0 { print $1; exit }' "$TMP/pull-np2/history.csv")
+awk -v t="$first" 'BEGIN { exit !(t != "" && t >= 176.34 && t <= 176.34 + 1.5) }' ||
+  fail "bar pulled apart on 2 ranks: first broken bond in the row at t = ${first:-never}, t* = 176.34 s"
+pd=$(value "$TMP/pull-np2/history.csv" pd_nodes)
+[[ $pd -gt 9 ]] || fail "bar pulled apart on 2 ranks: $pd PD nodes at the end, no switch from the 9 at the start"
+pass "explicit coupled dynamics on 1, 2, 3 ranks (the pulse through FEM | PD | FEM, the bar pulled apart):" \
+  "the same history.csv; on 2 ranks the first break in the row at t = $first s (t* = 176.34 s), PD nodes 9 -> $pd"
 echo "PASS: $CLI_NAME"
