@@ -13,7 +13,8 @@
 #     cubic curve (Tables 2.11, 2.12) and Case II of §2.6.2 (exact partial volumes, Table 2.16
 #     e_ry = 5.00e-4) on 1, 2 and 3 ranks, history.csv equal to 1e-12;
 #   - the Gmsh plate (elements larger than a horizon, nodes off the PD grid) in uniform tension
-#     on 2 ranks: the right edge's reaction E eps H h = 120 N to 1e-9;
+#     on 2 ranks: the right edge's reaction E eps H h = 120 N to 1e-9; its explicit dynamics
+#     on 1, 2, 3 ranks: history.csv equal to 1e-12;
 #   - crack growth with switching (the coarse three-point bending beam) on 1 and 2 ranks: the
 #     same node types and damage at every node, the same broken bonds, history.csv to 1e-8;
 #   - explicit coupled dynamics (the pulse through FEM | PD | FEM, the bar pulled apart with
@@ -102,14 +103,15 @@ pass "all-FEM, all-PD and all-PD LPS plates on 2 ranks carry the load 10 (1e-9);
   "on 1 and 2 ranks agrees to 1e-8 ($(support_sum "$TMP/lps-np2/history.csv"))"
 
 # (3) imposed fields: F = K u row by row, nothing solved
-same_history() { # NAME DECK: 1, 2, 3 ranks, history.csv equal to 1e-12
-  local np
+same_history() { # NAME DECK [ARGS...]: 1, 2, 3 ranks, history.csv equal to 1e-12
+  local np name=$1 deck=$2
+  shift 2
   for np in 1 2 3; do
-    run_peri_mpi "$np" run "$2" --output "$TMP/$1-np$np" --set output.picture=false
+    run_peri_mpi "$np" run "$deck" --output "$TMP/$name-np$np" --set output.picture=false "$@"
     expect_status 0
     [[ $np -eq 1 ]] && continue
-    report=$(compare_histories "$TMP/$1-np1/history.csv" "$TMP/$1-np$np/history.csv" 1e-12) ||
-      fail "$1: history.csv on 1 and $np ranks differ: $report"
+    report=$(compare_histories "$TMP/$name-np1/history.csv" "$TMP/$name-np$np/history.csv" 1e-12) ||
+      fail "$name: history.csv on 1 and $np ranks differ: $report"
   done
 }
 same_history bar examples/coupling_bar_cubic.yaml
@@ -133,6 +135,8 @@ else
   rx=$(value "$TMP/gmsh/history.csv" reaction_right_x)
   near "$rx" 120 1e-9 || fail "Gmsh plate on 2 ranks: reaction $rx, E eps H h = 120"
   pass "Gmsh plate in uniform tension on 2 ranks: reaction $rx N (E eps H h = 120 N, 1e-9)"
+  same_history gmsh_dynamics "$gmsh" --set 'solver={type: explicit, end_time: 2}'
+  pass "Gmsh plate, explicit dynamics (830 steps): the same history.csv on 1, 2, 3 ranks"
 fi
 
 # (5) crack growth with switching: the coarse three-point bending beam of
