@@ -51,9 +51,11 @@ static int64_t lost_cells(const peri_sim *s, const uint8_t *lost, double **cells
   for (int32_t i = 0; i < c->n_nodes; ++i) mine += lost[i] != 0;
   double *own = peri_malloc(sizeof(double) * 3 * (size_t)(mine > 0 ? mine : 1));
   int64_t k = 0;
-  for (int32_t i = 0; i < c->n_nodes; ++i)
-    if (lost[i])
-      for (int d = 0; d < 3; ++d) own[3 * k + d] = (double)c->lattice->cell[3 * (size_t)i + d], k += d == 2;
+  for (int32_t i = 0; i < c->n_nodes; ++i) {
+    if (!lost[i]) continue;
+    for (int d = 0; d < 3; ++d) own[3 * k + d] = (double)c->lattice->cell[3 * (size_t)i + d];
+    ++k;
+  }
   if (!s->par.dd) {
     *cells = own;
     return mine;

@@ -17,6 +17,8 @@
 #     on 1, 2, 3 ranks: history.csv equal to 1e-12;
 #   - crack growth with switching (the coarse three-point bending beam) on 1 and 2 ranks: the
 #     same node types and damage at every node, the same broken bonds, history.csv to 1e-8;
+#   - a crack that reaches the coarse part of a graded mesh stops the run on 2 ranks (exit 1) with
+#     the message of 1 rank, naming the same node;
 #   - explicit coupled dynamics (the pulse through FEM | PD | FEM, the bar pulled apart with
 #     switching) on 1, 2, 3 ranks: history.csv equal to 1e-12; the first break at t* = 176.34 s.
 # The out_of_balance_x of the plate is a ratio of two round-off sums (the x forces of a plate
@@ -192,6 +194,21 @@ cracked=$(awk '$3 >= 0.3' "$TMP/3pb-np2.nodes" | wc -l)
 [[ $pd -gt 200 && $cracked -gt 20 ]] || fail "3PB: $pd PD nodes, $cracked nodes with damage >= 0.3: the crack did not grow"
 pass "3PB crack growth with switching on 1 and 2 ranks: the same $pd PD nodes (100 at the start) and damage" \
   "of every node ($cracked nodes with damage >= 0.3), $(echo "$broken_ref" | sed 's/^  *//'), history.csv to 1e-8"
+
+# a crack that reaches the coarse part of a graded mesh (tests/cli/coupling.sh): the run stops
+# with exit 1 on 2 ranks too, naming the same node (its global number and position) as on 1
+graded_stop=(--set 'coupling.graded_mesh={levels: 3, fine: [{shape: rectangle, min: [6, -1], max: [14, 5]},
+  {shape: rectangle, min: [-1, -1], max: [1.5, 1.5]}, {shape: rectangle, min: [18.5, -1], max: [21, 1.5]}]}')
+for np in 1 2; do
+  run_peri_mpi "$np" run examples/coupling_three_point_bending.yaml --output "$TMP/stop-np$np" "${coarse_3pb[@]}" \
+    "${graded_stop[@]}"
+  expect_status 1
+  expect_stderr_contains "should become a PD node, but its horizon reaches the coarse part of the graded mesh"
+  grep -F "should become a PD node" "$RUN_STDERR" >"$TMP/stop-np$np.message"
+done
+cmp -s "$TMP/stop-np1.message" "$TMP/stop-np2.message" ||
+  fail "graded stop: '$(cat "$TMP/stop-np1.message")' on 1 rank, '$(cat "$TMP/stop-np2.message")' on 2"
+pass "a crack reaching a graded mesh's coarse part stops the run on 2 ranks with the message of 1 rank"
 
 # (6) explicit coupled dynamics: velocity-Verlet with f = K u of the owned rows, the same sums as
 # in one process, so history.csv is the same to 1e-12 (in practice byte for byte) on 1, 2, 3 ranks
