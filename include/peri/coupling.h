@@ -100,6 +100,12 @@ int peri_coupling_build_on_mesh(peri_sim *s, const struct peri_fem_mesh *mesh, c
  * after a message when a node to switch may not become PD (it reaches the coarse part of a
  * graded mesh: the run stops there). */
 long peri_coupling_break(peri_sim *s);
+/* MPI ranks (src/fem/coupling_ranks.c): before peri_decompose, the nodes each row reads
+ * beyond its bonds (s->par.reach_*), which become ghosts; after it, the coupling in the
+ * rank's local numbering. peri_coupling_localize returns PERI_ERR_RUN, with a message, when a
+ * row would read a node that is not on the rank. */
+void peri_coupling_set_reach(peri_sim *s);
+int peri_coupling_localize(peri_sim *s);
 void peri_coupling_free(peri_coupling *c);
 
 /* Rows of the coupled stiffness in the convention of the model tangents (model.h): blocks

@@ -242,6 +242,12 @@ typedef struct peri_parallel {
   const char *omp_wait;
   /* this rank's part, NULL in a single process */
   struct peri_decomposition *dd;
+  /* the nodes whose values the equations of node g read beyond its bonds, in the built
+   * (global) numbering: reach_node[reach_offset[g] .. reach_offset[g+1]-1] (the corners of its
+   * elements in a PD-FEM coupling). peri_decompose makes them ghosts too, and frees them;
+   * NULL when the bonds are all. */
+  int64_t *reach_offset;
+  int32_t *reach_node;
   /* copies the owners' values of a per-node field (ncomp doubles per node) into the ghost
    * slots; NULL in a single process. Call it through peri_sim_exchange. */
   void (*exchange)(struct peri_sim *s, double *field, int ncomp);

@@ -1053,6 +1053,8 @@ static int from_tree(peri_sim *s, peri_node *root, int n_sets, const char *const
 
 void peri_sim_free(peri_sim *s) {
   peri_decomposition_free(s->par.dd); /* distributed runs (src/parallel/decompose.c) */
+  free(s->par.reach_offset);
+  free(s->par.reach_node);
   peri_particles_free(&s->disc.p);
   peri_bonds_free(&s->disc.bonds);
   peri_horizon_field_free(s->disc.horizon_field);

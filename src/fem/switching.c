@@ -11,7 +11,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "peri/comm.h"
 #include "peri/coupling.h"
+#include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/sim.h"
 #include "lattice_mesh.h"
@@ -33,38 +35,93 @@ static void switch_offsets(peri_coupling *c, int dim, double dx, double reach) {
       }
 }
 
-/* The message for a node that may not switch: it lies near the coarse part of a graded mesh. */
-static void cannot_switch(const peri_sim *s, int32_t j, char *why, size_t n) {
-  const double *x = &s->disc.p.x[3 * (size_t)j];
-  snprintf(why, n, "node %d at (%g, %g, %g) should become a PD node, but its horizon reaches the coarse part of "
-           "the graded mesh: widen coupling.graded_mesh.fine along the crack's path", (int)j, x[0], x[1], x[2]);
+/* The message for a node that may not switch: it lies near the coarse part of a graded mesh
+ * (id: its node number in the built, global order). */
+static void cannot_switch(const double x[3], int64_t id, char *why, size_t n) {
+  snprintf(why, n, "node %lld at (%g, %g, %g) should become a PD node, but its horizon reaches the coarse part of "
+           "the graded mesh: widen coupling.graded_mesh.fine along the crack's path", (long long)id, x[0], x[1], x[2]);
+}
+
+/* The lattice cells (as doubles, exact below 2^53) of the nodes with lost[i] set, of every
+ * rank: the ranks own consecutive runs of the global node order, so the list is in that order
+ * on any number of ranks. Returns the count; *cells is freed by the caller. */
+static int64_t lost_cells(const peri_sim *s, const uint8_t *lost, double **cells) {
+  const peri_coupling *c = s->coupling;
+  int64_t mine = 0;
+  for (int32_t i = 0; i < c->n_nodes; ++i) mine += lost[i] != 0;
+  double *own = peri_malloc(sizeof(double) * 3 * (size_t)(mine > 0 ? mine : 1));
+  int64_t k = 0;
+  for (int32_t i = 0; i < c->n_nodes; ++i) {
+    if (!lost[i]) continue;
+    for (int d = 0; d < 3; ++d) own[3 * k + d] = (double)c->lattice->cell[3 * (size_t)i + d];
+    ++k;
+  }
+  if (!s->par.dd) {
+    *cells = own;
+    return mine;
+  }
+  const int size = s->par.dd->size;
+  int64_t *ones = peri_malloc(sizeof(int64_t) * (size_t)size), *counts = peri_malloc(sizeof(int64_t) * (size_t)size);
+  double *each = peri_malloc(sizeof(double) * (size_t)size), count = 3.0 * (double)mine;
+  for (int r = 0; r < size; ++r) ones[r] = 1;
+  peri_comm_allgather_doubles(&count, 1, ones, each);
+  int64_t total = 0;
+  for (int r = 0; r < size; ++r) counts[r] = (int64_t)each[r], total += counts[r];
+  *cells = peri_malloc(sizeof(double) * (size_t)(total > 0 ? total : 1));
+  peri_comm_allgather_doubles(own, 3 * mine, counts, *cells);
+  free(own), free(ones), free(counts), free(each);
+  return total / 3;
 }
 
 /* Makes PD every FEM node within r delta of a node with lost[i] set (a node with lost[i] set
  * included); returns how many, or -1 with a message in why when one of them may not be PD
- * (graded meshes). */
-static int32_t switch_around(peri_sim *s, const uint8_t *lost, char *why, size_t n) {
+ * (graded meshes). On MPI ranks every rank switches the nodes it holds (owned and ghosts)
+ * about the lost nodes of all ranks, so the ghosts' types follow their owners'; the count and
+ * the node named in the message are those of one process. */
+static int64_t switch_around(peri_sim *s, const uint8_t *lost, char *why, size_t n) {
   peri_coupling *c = s->coupling;
   const peri_lattice *l = c->lattice;
-  int32_t switched = 0;
-  for (int32_t i = 0; i < c->n_nodes; ++i) {
-    if (!lost[i]) continue;
+  double *cells = NULL;
+  const int64_t n_lost = lost_cells(s, lost, &cells);
+  int64_t switched = 0, first_bad = INT64_MAX; /* the position of the first node that may not switch */
+  int32_t bad = -1;
+  for (int64_t a = 0; a < n_lost; ++a)
     for (int32_t q = -1; q < c->n_switch_offsets; ++q) {
-      int32_t j = i;
-      if (q >= 0) {
-        int64_t k[3];
-        for (int d = 0; d < 3; ++d) k[d] = l->cell[3 * (size_t)i + d] + c->switch_offset[3 * (size_t)q + d];
-        j = peri_lattice_node(l, k);
-      }
+      int64_t k[3];
+      for (int d = 0; d < 3; ++d) k[d] = (int64_t)cells[3 * a + d] + (q >= 0 ? c->switch_offset[3 * (size_t)q + d] : 0);
+      const int32_t j = peri_lattice_node(l, k);
       if (j < 0 || c->node_type[j]) continue;
       if (c->fem_only && c->fem_only[j]) {
-        cannot_switch(s, j, why, n);
-        return -1;
+        const int64_t at = a * ((int64_t)c->n_switch_offsets + 1) + q + 1;
+        if (j < c->n_nodes && at < first_bad) first_bad = at, bad = j; /* its owner names it */
+        continue;
       }
-      c->node_type[j] = 1, ++switched;
+      c->node_type[j] = 1;
+      switched += j < c->n_nodes;
     }
+  free(cells);
+  double report[5] = {bad >= 0 ? (double)first_bad : -1.0, 0, 0, 0, 0};
+  if (bad >= 0) {
+    report[1] = s->par.dd ? (double)s->par.dd->global_id[bad] : (double)bad;
+    for (int d = 0; d < 3; ++d) report[2 + d] = s->disc.p.x[3 * (size_t)bad + d];
   }
-  c->n_pd += switched;
+  if (s->par.dd) { /* the first over all ranks, and the global count */
+    const int size = s->par.dd->size;
+    int64_t *fives = peri_malloc(sizeof(int64_t) * (size_t)size);
+    double *all = peri_malloc(sizeof(double) * 5 * (size_t)size);
+    for (int r = 0; r < size; ++r) fives[r] = 5;
+    peri_comm_allgather_doubles(report, 5, fives, all);
+    report[0] = -1.0;
+    for (int r = 0; r < size; ++r)
+      if (all[5 * r] >= 0.0 && (report[0] < 0.0 || all[5 * r] < report[0])) memcpy(report, &all[5 * r], sizeof report);
+    free(fives), free(all);
+    switched = peri_comm_sum_long((long)switched);
+  }
+  if (report[0] >= 0.0) {
+    cannot_switch(&report[2], (int64_t)report[1], why, n);
+    return -1;
+  }
+  c->n_pd += (int32_t)switched;
   return switched;
 }
 
@@ -153,7 +210,7 @@ int peri_coupling_set_switching(peri_sim *s, double radius, char *why, size_t n)
   int32_t switched = 0;
   for (int32_t i = 0; i < c->n_nodes && switched >= 0; ++i) {
     if (!patch[i] || c->node_type[i]) continue;
-    if (c->fem_only && c->fem_only[i]) cannot_switch(s, i, why, n), switched = -1;
+    if (c->fem_only && c->fem_only[i]) cannot_switch(&s->disc.p.x[3 * (size_t)i], i, why, n), switched = -1;
     else c->node_type[i] = 1, ++switched;
   }
   if (switched > 0) c->n_pd += switched;
@@ -189,8 +246,9 @@ long peri_coupling_break(peri_sim *s) {
       }
     }
   }
-  if (broken) {
-    ++b->broken_edits;
+  if (broken) ++b->broken_edits;
+  /* on MPI ranks the switching is collective: every rank takes it when a bond broke anywhere */
+  if (s->par.dd ? peri_comm_sum_long(broken) > 0 : broken > 0) {
     /* the PD nodes that lost a bond (an FEM end lies within delta of its PD end, so it
      * switches with the rest) */
     for (int32_t i = 0; i < c->n_nodes; ++i) lost[i] = lost[i] && type[i];

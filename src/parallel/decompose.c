@@ -79,8 +79,10 @@ static int owner_of(const int64_t *first, int size, int64_t g) {
 }
 
 /* The messages of the halo: ghosts received from each owner, and the owned nodes that each
- * other rank references (found by scanning that rank's families in the global bonds). */
-static void build_halo(peri_decomposition *d, const peri_bonds *global, int32_t n_owned, int32_t n_local) {
+ * other rank references (found by scanning that rank's families in the global bonds, and the
+ * nodes its equations reach beyond them, reach_offset/reach_node, NULL when none). */
+static void build_halo(peri_decomposition *d, const peri_bonds *global, const int64_t *reach_offset,
+                       const int32_t *reach_node, int32_t n_owned, int32_t n_local) {
   peri_halo *h = &d->halo;
   const int64_t g0 = d->first[d->rank], g1 = d->first[d->rank + 1];
   int32_t *recv_count = peri_calloc((size_t)d->size, sizeof(int32_t));
@@ -101,6 +103,10 @@ static void build_halo(peri_decomposition *d, const peri_bonds *global, int32_t 
     memset(mark, 0, (size_t)(n_owned > 0 ? n_owned : 1));
     for (int64_t k = global->offset[d->first[q]]; k < global->offset[d->first[q + 1]]; ++k) {
       const int64_t j = global->neighbor[k];
+      if (j >= g0 && j < g1) mark[j - g0] = 1;
+    }
+    for (int64_t k = reach_offset ? reach_offset[d->first[q]] : 0; reach_offset && k < reach_offset[d->first[q + 1]]; ++k) {
+      const int64_t j = reach_node[k];
       if (j >= g0 && j < g1) mark[j - g0] = 1;
     }
     int64_t before = n_send;
@@ -280,6 +286,11 @@ int peri_decompose(peri_sim *s) {
     const int32_t j = b->neighbor[k];
     if (local_of[j] < 0) local_of[j] = -2; /* a ghost, numbered below */
   }
+  const int64_t *reach_offset = s->par.reach_offset; /* beyond the bonds: the elements of a coupling */
+  for (int64_t k = reach_offset ? reach_offset[g0] : 0; reach_offset && k < reach_offset[g1]; ++k) {
+    const int32_t j = s->par.reach_node[k];
+    if (local_of[j] < 0) local_of[j] = -2;
+  }
   int32_t n_local = n_owned;
   for (int32_t g = 0; g < p->n; ++g)
     if (local_of[g] == -2) local_of[g] = n_local++;
@@ -288,8 +299,10 @@ int peri_decompose(peri_sim *s) {
     if (local_of[g] >= 0) d->global_id[local_of[g]] = g;
 
   s->par.dd = d;
-  build_halo(d, b, n_owned, n_local); /* needs the global families */
+  build_halo(d, b, reach_offset, s->par.reach_node, n_owned, n_local); /* needs the global families */
   if (s->state.plastic_reverse) localize_reverse(s, d); /* so does this */
+  free(s->par.reach_offset), s->par.reach_offset = NULL;
+  free(s->par.reach_node), s->par.reach_node = NULL;
 
   const int32_t *ids = d->global_id;
   const int64_t bond_from = b->offset[g0], bond_count = b->offset[g1] - bond_from;

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include "peri/checkpoint.h"
 #include "peri/comm.h"
+#include "peri/coupling.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/history_log.h"
@@ -22,7 +23,10 @@ int peri_run_prepare(peri_sim *s, const char *restart) {
   if (rc == PERI_OK && restart && !s->out.quiet) peri_restart_print(s, stdout);
   if (rc == PERI_OK) {
     fflush(stdout);
+    /* a PD-FEM coupling's rows read the corners of their elements too (docs/coupling.md) */
+    if (s->coupling && peri_comm_size() > 1) peri_coupling_set_reach(s);
     rc = peri_decompose(s); /* MPI ranks (docs/parallel.md); nothing in one process */
+    if (rc == PERI_OK) rc = peri_coupling_localize(s);
     if (rc == PERI_OK && !s->out.quiet) peri_print_decomposition(s, stdout);
   }
   return rc;

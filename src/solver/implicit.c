@@ -81,11 +81,6 @@ static const char *parallel_lu(void) {
 }
 
 int peri_implicit_check_ranks(const peri_sim *s, int ranks) {
-  if (s->coupling && ranks > 1) {
-    peri_error("%s: the PD-FEM coupling runs in one process (docs/coupling.md); run it without mpirun",
-               s->deck_path);
-    return PERI_ERR_INPUT;
-  }
   const bool lu = s->solver.qs.linear_solver == PERI_LINEAR_DIRECT || s->solver.qs.petsc_preconditioner == PERI_PC_LU;
   if (ranks <= 1 || !lu || parallel_lu()) return PERI_OK;
   const char *what = s->solver.qs.linear_solver == PERI_LINEAR_DIRECT ? "linear_solver direct" : "petsc_preconditioner lu";
@@ -381,7 +376,8 @@ static PetscErrorCode create_matrix(implicit_ctx *c, Mat *A) {
   peri_exchange_state(s); /* the tangent reads the ghosts' displacements */
   c->A = pattern;
   c->error = 0;
-  s->mat.model->tangent(s, add_row, c); /* the indenter adds diagonal blocks only: present already */
+  if (s->coupling) peri_coupling_rows(s, add_row, c); /* FEM rows and PD rows (docs/coupling.md) */
+  else s->mat.model->tangent(s, add_row, c); /* the indenter adds diagonal blocks only: present already */
   PetscCall(c->error);
   PetscCall(MatAssemblyBegin(pattern, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(pattern, MAT_FINAL_ASSEMBLY));

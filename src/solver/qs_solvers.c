@@ -30,10 +30,6 @@ peri_qs_status peri_solve_equilibrium(peri_sim *s) {
 }
 
 int peri_solver_check_ranks(const peri_sim *s, int ranks) {
-  if (s->coupling && ranks > 1 && s->solver.kind == PERI_SOLVER_EXPLICIT) {
-    peri_error("%s: the PD-FEM coupling runs in one process (docs/coupling.md); run it without mpirun", s->deck_path);
-    return PERI_ERR_INPUT;
-  }
   const peri_qs_solver_ops *solver = peri_qs_solver(s->solver.kind);
   if (ranks <= 1 || !solver || !solver->check_ranks) return PERI_OK;
   return solver->check_ranks(s, ranks);

@@ -88,7 +88,10 @@ static double coupled_stable_dt(const peri_sim *s) {
 }
 
 double peri_stable_dt(const peri_sim *s) {
-  if (s->coupling) return coupled_stable_dt(s); /* one process (peri_solver_check_ranks) */
+  if (s->coupling) { /* on MPI ranks the rows of owned nodes: the minimum over the ranks (below) */
+    const double dt = coupled_stable_dt(s);
+    return s->par.dd ? peri_comm_min(dt) : dt;
+  }
   const peri_particles *p = &s->disc.p;
   double dt_bond = INFINITY;
 #pragma omp parallel for schedule(static) reduction(min : dt_bond)

@@ -4,6 +4,7 @@
 #   run_peri_mpi N ARGS...    # mpirun -np N peri ARGS..., like run_peri; fails the test when
 #                             # it runs longer than MPI_TIMEOUT seconds (ranks that hang)
 #   compare_histories A B "$MPI_TOL"  # (lib/assert.bash) every value equal to a relative MPI_TOL
+#   compare_scaled A B TOL    # every value within TOL of the largest of its kind (solver tolerances)
 #
 # The runs may start as root (containers) and on more ranks than cores (--oversubscribe);
 # each rank uses one OpenMP thread. These settings stay here, out of users' way.
@@ -91,4 +92,41 @@ mpi_same_on_ranks() {
       fail "$name: '$MPI_BROKEN' on 1 rank, '$(broken_line)' on $np"
     expect_stdout_contains "MPI ranks    $np"
   done
+}
+
+# compare_scaled A B TOL: same header and rows; |a - b| <= TOL * max(|a|, |b|, S), where S is
+# the largest magnitude in A of the columns of the same kind (the name before its first "_":
+# reaction, displacement, strain, ...). Prints the first difference and returns 1.
+compare_scaled() {
+  awk -F, -v tol="$3" -v fa="$1" -v fb="$2" '
+    function abs(v) { return v < 0 ? -v : v }
+    function kind(name) { sub(/_.*/, "", name); return name }
+    NR == FNR {
+      if (FNR == 1) { header = $0; ncol = split($0, names, ","); next }
+      rows_a = FNR
+      for (c = 1; c <= NF; c++) {
+        a[FNR, c] = $c
+        k = kind(names[c]); if (abs($c) > scale[k]) scale[k] = abs($c)
+      }
+      next
+    }
+    FNR == 1 { if ($0 != header) { printf "headers differ\n"; bad = 1; exit } next }
+    {
+      rows_b = FNR
+      if (NF != ncol) { printf "row %d: %d columns, header %d\n", FNR, NF, ncol; bad = 1; exit }
+      for (c = 1; c <= NF; c++) {
+        x = a[FNR, c] + 0; y = $c + 0
+        s = abs(x) > abs(y) ? abs(x) : abs(y)
+        if (scale[kind(names[c])] > s) s = scale[kind(names[c])]
+        if (abs(x - y) > tol * s) {
+          printf "row %d, column %s: %s vs %s (difference %.3g of the largest %s value)\n",
+                 FNR, names[c], a[FNR, c], $c, abs(x - y) / s, kind(names[c])
+          bad = 1; exit
+        }
+      }
+    }
+    END {
+      if (bad) exit 1
+      if (rows_a != rows_b) { printf "%s has %d rows, %s has %d\n", fa, rows_a, fb, rows_b; exit 1 }
+    }' "$1" "$2"
 }
