@@ -580,6 +580,17 @@ static long lps_dilatation(peri_sim *s) {
   return n_broken;
 }
 
+/* The sums of loops over the nodes i0 .. i1-1 of a work item: its block, or node by node. */
+static inline void lps_item_sums(const peri_node_blocks *items, int32_t item, int32_t i0, int32_t i1,
+                                 const peri_bond_view *w, const lps_loops *loops, lps_sums sums[PERI_BLOCK]) {
+  if (peri_item_is_block(items, item)) {
+    const int64_t t0 = items->tpl[item];
+    loops->block(w, i0, items->tpl_node + t0, items->tpl_lanes + t0, peri_item_entries(items, item), sums);
+  } else {
+    for (int32_t i = i0; i < i1; ++i) sums[i - i0] = loops->node(w, i);
+  }
+}
+
 /* Pass 2's loops for the deck's influence function and volumes. */
 static const lps_loops *lps_force_loops(const peri_sim *s, const peri_node_blocks *items) {
   return s->disc.family.influence == PERI_INFLUENCE_INVERSE    ? &lps_force_inverse
@@ -643,12 +654,7 @@ static long lps_plastic_force_pass(peri_sim *s, bool update_s0) {
     PERI_FOR_EACH_ITEM(items, item) {
       const int32_t i0 = items->first[item], i1 = items->first[item + 1];
       lps_sums sums[PERI_BLOCK];
-      const int64_t t0 = items->tpl[item], entries = peri_item_entries(items, item);
-      if (peri_item_is_block(items, item)) {
-        sums_loops->block(&screened, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums);
-      } else {
-        for (int32_t i = i0; i < i1; ++i) sums[i - i0] = sums_loops->node(&screened, i);
-      }
+      lps_item_sums(items, item, i0, i1, &screened, sums_loops, sums);
       for (int32_t i = i0; i < i1; ++i) {
         lps_sums *r = &sums[i - i0];
         plastic_path[i] = r->candidate || yielded[i];
@@ -670,16 +676,9 @@ static long lps_plastic_force_pass(peri_sim *s, bool update_s0) {
   PERI_FOR_EACH_ITEM(items, item) {
     const int32_t i0 = items->first[item], i1 = items->first[item + 1];
     lps_sums sums[PERI_BLOCK];
-    const int64_t t0 = items->tpl[item], entries = peri_item_entries(items, item);
     bool all_plastic = true;
     for (int32_t i = i0; i < i1; ++i) all_plastic &= plastic_path[i] != 0;
-    if (all_plastic) {
-      /* (nothing for the elastic loops to do) */
-    } else if (peri_item_is_block(items, item)) {
-      force_loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums);
-    } else {
-      for (int32_t i = i0; i < i1; ++i) sums[i - i0] = force_loops->node(&w, i);
-    }
+    if (!all_plastic) lps_item_sums(items, item, i0, i1, &w, force_loops, sums);
     for (int32_t i = i0; i < i1; ++i) {
       double f[3];
       if (plastic_path[i]) peri_plastic_lps_node_force(s, &w, &pass, i, f);
@@ -728,14 +727,7 @@ static long lps_deviatoric_force_pass(peri_sim *s, bool update_s0) {
     lps_sums sums[PERI_BLOCK];
     bool near[PERI_BLOCK], all_near = true;
     for (int32_t i = i0; i < i1; ++i) all_near &= near[i - i0] = peri_deviatoric_near(s, i);
-    const int64_t t0 = items->tpl[item], entries = peri_item_entries(items, item);
-    if (all_near) {
-      /* (nothing for the elastic loops to do) */
-    } else if (peri_item_is_block(items, item)) {
-      force_loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums);
-    } else {
-      for (int32_t i = i0; i < i1; ++i) sums[i - i0] = force_loops->node(&w, i);
-    }
+    if (!all_near) lps_item_sums(items, item, i0, i1, &w, force_loops, sums);
     for (int32_t i = i0; i < i1; ++i) {
       double f[3];
       if (near[i - i0]) peri_deviatoric_node_force(s, &w, i, f);
