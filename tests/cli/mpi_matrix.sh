@@ -15,7 +15,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
 source "$(dirname "${BASH_SOURCE[0]}")/lib/mpi.bash"
 cli_init "$@"
 mpi_init
-MPI_TIMEOUT=60
+MPI_TIMEOUT=240   # a hang never ends; a loaded machine runs the bar's 10 load steps in 100 s and more
 export PERI_CHECK_COLLECTIVES=1
 MPI_RANKS="1 2 3"
 
