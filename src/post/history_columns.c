@@ -178,6 +178,10 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
     }
     add(c, "out_of_balance");
     add(c, "pd_nodes"); /* grows with FEM->PD switching */
+    for (int d = 0; s->coupling->n_balance_regions > 0 && d < s->disc.geom.dim; ++d) {
+      snprintf(name, sizeof name, "out_of_balance_reactions_%c", "xyz"[d]); /* coupling.balance_regions */
+      add(c, name);
+    }
   }
 }
 
