@@ -135,9 +135,6 @@ void peri_coupling_nonlocal_traction(const peri_sim *s, const double x0[3], int 
  * ratio[d] = |net_d| / sum_i |F_id| (e_r per axis, eq. 2.40) and ratio[3] = |net| / sum_i |F_i|
  * (e_r, eq. 2.38; in 1D the two agree). */
 void peri_coupling_balance(const peri_sim *s, double net[3], double ratio[4]);
-/* e_r over the reactions of the regions of coupling.balance_regions (eqs. 2.114, 2.116):
- * ratio[d] = |sum_r R_rd| / sum_r |R_rd|, R_r the region's reaction (0 where every R_rd is 0). */
-void peri_coupling_region_balance(const peri_sim *s, double ratio[3]);
 /* coupling.gamma: auto (src/fem/linear_field_gamma.c): the gamma of Remark A.2 for the family
  * of the PD rows, the classical stress of a linear field over the discrete one (0.9784710341
  * with the exact partial volumes at m = 3), and the rows' micromoduli rescaled to a gamma. */

@@ -2,13 +2,11 @@
  * MODELS.md 14.2): with F_i = (K u)_i = -V_i f_i the nodal forces (reactions where u is
  * imposed), e_r = |sum_i F_i| / sum_i |F_i|, per axis and for the vector sum. A balanced
  * model (all FEM, all PD, or a coupling under fields it reproduces) gives round-off. The same
- * ratio over the reactions of chosen regions (the supports and the load) is the seed's e_r of
- * eqs. 2.114 and 2.116. */
+ * ratio over the reactions of chosen regions is peri_coupling_region_balance (post/energies.c). */
 #include <math.h>
 #include <stdlib.h>
 #include "peri/coupling.h"
 #include "peri/decompose.h"
-#include "peri/energies.h"
 #include "peri/error.h"
 #include "peri/sim.h"
 
@@ -34,15 +32,4 @@ void peri_coupling_balance(const peri_sim *s, double net[3], double ratio[4]) {
   }
   const double norm = sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
   ratio[3] = sum[6] > 0.0 ? norm / sum[6] : 0.0;
-}
-
-void peri_coupling_region_balance(const peri_sim *s, double ratio[3]) {
-  const peri_coupling *c = s->coupling;
-  double sum[3] = {0, 0, 0}, magnitude[3] = {0, 0, 0};
-  for (int k = 0; k < c->n_balance_regions; ++k) { /* each reaction is already summed over the ranks */
-    double R[3];
-    peri_region_reaction(s, c->balance_region[k], R);
-    for (int d = 0; d < 3; ++d) sum[d] += R[d], magnitude[d] += fabs(R[d]);
-  }
-  for (int d = 0; d < 3; ++d) ratio[d] = magnitude[d] > 0.0 ? fabs(sum[d]) / magnitude[d] : 0.0;
 }

@@ -5,6 +5,7 @@
 #include <string.h>
 #include "peri/bodies.h"
 #include "peri/contact.h"
+#include "peri/coupling.h"
 #include "peri/error.h"
 #include "peri/heat_quantities.h"
 #include "peri/history.h"

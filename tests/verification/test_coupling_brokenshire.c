@@ -1,0 +1,244 @@
+/* The Brokenshire torsion test with PD-FEM coupling and adaptive FEM->PD switching (Ongaro 2022
+ * §2.7.2; examples/coupling_brokenshire_torsion.yaml, docs/coupling.md "The Brokenshire torsion
+ * test") on a coarse grid: dx = 10 mm, m = 3 (40 x 10 x 10 = 4,000 nodes), the four corner pads
+ * of 2 x 2 nodes, u_z at A to 0.25 mm in the first load step (elastic) and 0.05 mm more in each
+ * of the next two. Checked:
+ *  - global equilibrium of the all-FEM beam (no notch, no PD node; K symmetric with the rigid
+ *    modes in its null space): the four vertical reactions sum to zero and their moments about
+ *    the x and y axes vanish, to the solver's tolerance;
+ *  - the coupled beam before any bond breaks is out of balance (e_r of eq. 2.116 > 1e-6: a
+ *    twisted beam's field is not linear across the interfaces) but within the order of the
+ *    seed's Fig. 2.29 (below 5e-2), for both schemes, and the history's out_of_balance_reactions_z
+ *    is that e_r;
+ *  - the crack grows: bonds break beyond the notch's, the PD zone grows, and every node within
+ *    r delta of a node that lost a bond is a PD node (brute force);
+ *  - the crack is not planar: the midpoints of the bonds broken by the loading lie further from
+ *    their best-fit plane (RMS) than any plane crack's can, (delta + dx/2)/2 (a bond crossing a
+ *    plane has its midpoint within half its length of it, and bonds reach delta + dx/2);
+ *  - e_r of both schemes at the load steps where the crack grows is reported, and the seed's
+ *    finding (scheme 2 below scheme 1) asserted where docs/coupling.md finds it to hold. */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peri/coupling.h"
+#include "peri/energies.h"
+#include "peri/quasistatic.h"
+#include "peri/setup.h"
+
+enum { MAX_STEPS = 16, STEPS = 3 };
+
+typedef struct run {
+  int pad[4]; /* regions A, B, C, D */
+  int steps;
+  double reaction[MAX_STEPS][4], e_r[MAX_STEPS], history_e_r[MAX_STEPS], moment[MAX_STEPS][2];
+  long broken[MAX_STEPS];
+  int32_t pd[MAX_STEPS];
+} run;
+
+/* The moments about the x and y axes through the origin of the prescribed nodes' vertical
+ * forces, over the largest single moment (so 0 for a body in equilibrium). */
+static void pad_moments(const peri_sim *s, const run *r, double out[2]) {
+  const peri_particles *p = &s->disc.p;
+  double sum[2] = {0, 0}, scale = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    const peri_region *g = &s->cond.regions[r->pad[k]];
+    for (int32_t a = 0; a < g->count; ++a) {
+      const int32_t i = g->nodes[a];
+      const double F = -p->f[3 * i + 2] * p->volume[i];
+      sum[0] += F * p->x[3 * i + 1], sum[1] -= F * p->x[3 * i];
+      scale = fmax(scale, fmax(fabs(F * p->x[3 * i + 1]), fabs(F * p->x[3 * i])));
+    }
+  }
+  out[0] = fabs(sum[0]) / scale, out[1] = fabs(sum[1]) / scale;
+}
+
+static int record(peri_sim *s, void *ctx) {
+  run *r = ctx;
+  if (r->steps >= MAX_STEPS) return 1;
+  double sum = 0.0, magnitude = 0.0, ratio[3];
+  for (int k = 0; k < 4; ++k) {
+    double f[3];
+    peri_region_reaction(s, r->pad[k], f);
+    r->reaction[r->steps][k] = f[2];
+    sum += f[2], magnitude += fabs(f[2]);
+  }
+  r->e_r[r->steps] = fabs(sum) / magnitude; /* eq. 2.116 */
+  peri_coupling_region_balance(s, ratio);
+  r->history_e_r[r->steps] = ratio[2];
+  pad_moments(s, r, r->moment[r->steps]);
+  r->broken[r->steps] = s->solver.qs.broken_in_run;
+  r->pd[r->steps] = s->coupling->n_pd;
+  r->steps++;
+  return 0;
+}
+
+/* The example at dx = 10 mm: the pads keep 2 x 2 nodes; u_z at A 0.25 mm (elastic at this size,
+ * where the crack starts near 0.3 mm), then 0.05 mm more per load step. */
+static const char *const coarse[] = {"discretization.spacing=0.01",
+                                     "regions.A.min=[0.38, 0.08, 0.09]",
+                                     "regions.B.min=[0, 0.08, 0]",
+                                     "regions.B.max=[0.02, 0.1, 0.01]",
+                                     "regions.C.min=[0, 0, 0.09]",
+                                     "regions.C.max=[0.02, 0.02, 0.1]",
+                                     "regions.D.min=[0.38, 0, 0]",
+                                     "regions.D.max=[0.4, 0.02, 0.01]",
+                                     "solver.load_steps=3",
+                                     "boundary_conditions.3.z=-0.25e-3*min(3*t, 1) - 0.05e-3*max(3*t - 1, 0)"};
+enum { N_COARSE = sizeof coarse / sizeof *coarse };
+
+static void load(peri_sim *s, int n_extra, const char *const *extra) {
+  const char *sets[N_COARSE + 8];
+  int n = 0;
+  for (int k = 0; k < N_COARSE; ++k) sets[n++] = coarse[k];
+  for (int k = 0; k < n_extra; ++k) sets[n++] = extra[k];
+  cr_assert_eq(peri_sim_from_deck_with(s, "examples/coupling_brokenshire_torsion.yaml", n, sets), 0);
+  s->out.quiet = true;
+}
+
+static void solve(peri_sim *s, run *r, int steps) {
+  memset(r, 0, sizeof *r);
+  static const char names[4][2] = {"A", "B", "C", "D"};
+  for (int k = 0; k < 4; ++k) {
+    r->pad[k] = -1;
+    for (int g = 1; g < s->cond.n_regions; ++g)
+      if (!strcmp(s->cond.regions[g].name, names[k])) r->pad[k] = g;
+    cr_assert(r->pad[k] > 0 && s->cond.regions[r->pad[k]].count == 4, "pad %s: 2 x 2 nodes", names[k]);
+  }
+  peri_apply_initial_conditions(s);
+  cr_assert_eq(peri_solve_quasi_static(s, record, r), 0, "the run did not finish");
+  cr_assert_eq(r->steps, steps);
+}
+
+/* All FEM (no notch, no PD node): K is symmetric and holds the rigid modes in its null space, so
+ * the reactions are in equilibrium, forces and moments, to the solver's tolerance (1e-12). */
+Test(coupling_brokenshire, all_fem_equilibrium) {
+  static const char *const fem[] = {"precracks=[]", "solver.load_steps=1", "boundary_conditions.3.z=-0.25e-3*t",
+                                    "solver.tolerance=1e-12"};
+  peri_sim s;
+  run r;
+  load(&s, 4, fem);
+  cr_assert_eq(s.coupling->n_pd, 0);
+  solve(&s, &r, 1);
+  cr_expect_lt(r.e_r[0], 1e-9, "all FEM: e_r %g", r.e_r[0]);
+  cr_expect_lt(r.moment[0][0], 1e-9, "all FEM: moment about x %g", r.moment[0][0]);
+  cr_expect_lt(r.moment[0][1], 1e-9, "all FEM: moment about y %g", r.moment[0][1]);
+  cr_expect_lt(fabs(r.history_e_r[0] - r.e_r[0]), 1e-15, "out_of_balance_reactions_z %g, e_r %g", r.history_e_r[0],
+               r.e_r[0]);
+  peri_sim_free(&s);
+}
+
+/* Every node within r delta of a node that lost a bond to the loading (cut: the notch's bonds)
+ * is a PD node. */
+static void check_switching(const peri_sim *s, double radius, const uint8_t *cut) {
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const int32_t *type = s->coupling->node_type;
+  const double reach = radius * s->disc.geom.horizon * (1.0 + 1e-9);
+  for (int32_t i = 0; i < p->n; ++i) {
+    bool lost = false;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) lost |= b->broken[k] && !cut[k];
+    if (!lost) continue;
+    cr_assert_eq(type[i], 1, "node %d lost a bond and is not a PD node", (int)i);
+    for (int32_t j = 0; j < p->n; ++j) {
+      double d2 = 0.0;
+      for (int d = 0; d < 3; ++d) d2 += (p->x[3 * j + d] - p->x[3 * i + d]) * (p->x[3 * j + d] - p->x[3 * i + d]);
+      if (d2 <= reach * reach)
+        cr_assert_eq(type[j], 1, "node %d lies within %g delta of node %d, which lost a bond, and is FEM", (int)j,
+                     radius, (int)i);
+    }
+  }
+}
+
+/* The smallest eigenvalue of a symmetric 3 x 3 matrix (cyclic Jacobi rotations). */
+static double smallest_eigenvalue(double A[3][3]) {
+  for (int sweep = 0; sweep < 50; ++sweep)
+    for (int p = 0; p < 2; ++p)
+      for (int q = p + 1; q < 3; ++q) {
+        if (fabs(A[p][q]) < 1e-300) continue;
+        const double theta = 0.5 * atan2(2.0 * A[p][q], A[q][q] - A[p][p]), c = cos(theta), sn = sin(theta);
+        for (int k = 0; k < 3; ++k) { /* A <- A J */
+          const double akp = A[k][p], akq = A[k][q];
+          A[k][p] = c * akp - sn * akq, A[k][q] = sn * akp + c * akq;
+        }
+        for (int k = 0; k < 3; ++k) { /* A <- J^T A */
+          const double apk = A[p][k], aqk = A[q][k];
+          A[p][k] = c * apk - sn * aqk, A[q][k] = sn * apk + c * aqk;
+        }
+      }
+  return fmin(A[0][0], fmin(A[1][1], A[2][2]));
+}
+
+/* The RMS distance of the midpoints of the bonds broken by the loading (not cut) from their
+ * best-fit plane: the square root of the smallest eigenvalue of their covariance. */
+static double crack_rms_off_plane(const peri_sim *s, const uint8_t *cut, long *count) {
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  double *mid = malloc(sizeof(double) * 3 * (size_t)(b->n_bonds > 0 ? b->n_bonds : 1));
+  double mean[3] = {0, 0, 0}, C[3][3] = {{0}};
+  long n = 0;
+  for (int32_t i = 0; i < p->n; ++i)
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      const int32_t j = b->neighbor[k];
+      if (!b->broken[k] || cut[k] || j < i) continue; /* each bond once */
+      for (int d = 0; d < 3; ++d) mid[3 * n + d] = 0.5 * (p->x[3 * i + d] + p->x[3 * j + d]), mean[d] += mid[3 * n + d];
+      ++n;
+    }
+  *count = n;
+  if (n < 3) return free(mid), 0.0;
+  for (int d = 0; d < 3; ++d) mean[d] /= (double)n;
+  for (long m = 0; m < n; ++m)
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c) C[a][c] += (mid[3 * m + a] - mean[a]) * (mid[3 * m + c] - mean[c]) / (double)n;
+  free(mid);
+  return sqrt(fmax(smallest_eigenvalue(C), 0.0));
+}
+
+/* The notch's bonds (cut before the run) of a fresh load of the same deck. */
+static uint8_t *notch_bonds(const char *scheme) {
+  peri_sim fresh;
+  const char *const extra[] = {scheme};
+  load(&fresh, 1, extra);
+  const int64_t nb = fresh.disc.bonds.n_bonds;
+  uint8_t *cut = malloc((size_t)(nb > 0 ? nb : 1));
+  memcpy(cut, fresh.disc.bonds.broken, (size_t)nb);
+  peri_sim_free(&fresh);
+  return cut;
+}
+
+Test(coupling_brokenshire, twisted_crack_with_switching) {
+  static const char *const scheme[2] = {"coupling.switch_radius=1", "coupling.switch_radius=2"};
+  static peri_sim s[2];
+  static run r[2];
+  for (int k = 0; k < 2; ++k) {
+    const char *const extra[] = {scheme[k]};
+    uint8_t *cut = notch_bonds(scheme[k]);
+    load(&s[k], 1, extra);
+    const int32_t patch = s[k].coupling->n_pd;
+    solve(&s[k], &r[k], STEPS);
+    const double radius = k + 1.0, dx = s[k].disc.geom.spacing, delta = s[k].disc.geom.horizon;
+    /* before the crack grows: out of balance, within the order of the seed's values */
+    cr_assert_eq(r[k].broken[0], 0, "scheme %d: a bond broke at 0.25 mm", k + 1);
+    cr_expect_gt(r[k].e_r[0], 1e-6, "scheme %d: elastic e_r %g", k + 1, r[k].e_r[0]);
+    cr_expect_lt(r[k].e_r[0], 5e-2, "scheme %d: elastic e_r %g", k + 1, r[k].e_r[0]);
+    for (int n = 0; n < STEPS; ++n)
+      cr_expect_lt(fabs(r[k].history_e_r[n] - r[k].e_r[n]), 1e-12, "scheme %d step %d: out_of_balance_reactions_z %g, "
+                   "e_r %g", k + 1, n + 1, r[k].history_e_r[n], r[k].e_r[n]);
+    /* the crack grows from the notch and the PD zone follows it */
+    cr_expect_gt(r[k].broken[STEPS - 1], 0, "scheme %d: no bond broke", k + 1);
+    cr_expect_gt(s[k].coupling->n_pd, patch, "scheme %d: the PD zone did not grow (%d nodes)", k + 1, patch);
+    check_switching(&s[k], radius, cut);
+    long count = 0;
+    const double rms = crack_rms_off_plane(&s[k], cut, &count);
+    cr_expect_gt(rms, 0.5 * (delta + 0.5 * dx), "scheme %d: the %ld broken bonds lie %g m (RMS) from a plane: "
+                 "a plane crack", k + 1, count, rms);
+    free(cut);
+    for (int n = 0; n < STEPS; ++n)
+      cr_log_info("scheme %d step %d: e_r %.4e, reactions A %.1f B %.1f C %.1f D %.1f N, broken %ld, PD nodes %d, "
+                  "crack off-plane RMS %.4f m", k + 1, n + 1, r[k].e_r[n], r[k].reaction[n][0], r[k].reaction[n][1],
+                  r[k].reaction[n][2], r[k].reaction[n][3], r[k].broken[n], (int)r[k].pd[n], rms);
+  }
+  peri_sim_free(&s[0]);
+  peri_sim_free(&s[1]);
+}
