@@ -214,7 +214,7 @@ static double farthest_from_plane(const peri_sim *s, const uint8_t *cut, const d
   return most;
 }
 
-Test(coupling_brokenshire, twisted_crack_with_switching) {
+Test(coupling_brokenshire, crack_growth_with_switching) {
   static const char *const scheme[2] = {"coupling.switch_radius=1", "coupling.switch_radius=2"};
   static peri_sim s[2];
   static run r[2];
