@@ -56,6 +56,10 @@ typedef struct peri_coupling {
   double switch_radius;
   int32_t n_switch_offsets;
   int32_t *switch_offset;  /* [3 n_switch_offsets] lattice offsets within switch_radius * delta */
+  /* coupling.balance_regions: the regions (indices into the deck's regions) whose reactions
+   * enter e_r of eqs. 2.114, 2.116 (the supports and load points); 0 regions: none */
+  int n_balance_regions;
+  int *balance_region;
 } peri_coupling;
 
 /* Area of the disk of radius r centred at the origin inside the rectangle [x0, x1] x [y0, y1],

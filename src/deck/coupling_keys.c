@@ -140,11 +140,38 @@ int peri_setup_graded_mesh(peri_sim *s, const peri_node *root, peri_fem_mesh *m)
   return rc;
 }
 
+/* coupling.balance_regions: the regions whose reactions enter the history's
+ * out_of_balance_reactions_* (e_r of eqs. 2.114, 2.116: the supports and the load points). */
+static int balance_regions(peri_sim *s, const peri_node *root, const peri_node *cp) {
+  const peri_node *list = peri_deck_get(cp, "balance_regions");
+  if (!list) return PERI_OK;
+  if (list->kind != PERI_NODE_SEQUENCE || list->count < 2)
+    return peri_deck_error(list, "key 'balance_regions': expected a list of at least two region names (the "
+                                 "supports and the load)");
+  peri_coupling *c = s->coupling;
+  c->balance_region = peri_calloc((size_t)list->count, sizeof(int));
+  for (int k = 0; k < list->count; ++k) {
+    const peri_node *it = list->items[k];
+    if (!it->scalar)
+      return peri_deck_error(it, "key 'balance_regions': expected a region name, got %s", peri_deck_kind_name(it));
+    const int r = peri_setup_find_region(s, peri_deck_get(root, "regions"), it, it->scalar);
+    if (r < 0) return -r;
+    if (r == 0)
+      return peri_deck_error(it, "key 'balance_regions': region 'all' sums every nodal force (that is "
+                                 "out_of_balance_*); name the supports and the load");
+    for (int j = 0; j < c->n_balance_regions; ++j)
+      if (c->balance_region[j] == r) return peri_deck_error(it, "key 'balance_regions': region '%s' is listed twice", it->scalar);
+    c->balance_region[c->n_balance_regions++] = r;
+  }
+  return PERI_OK;
+}
+
 int peri_setup_coupling(peri_sim *s, const peri_node *root, const peri_fem_mesh *mesh) {
   const peri_node *cp = peri_deck_get(root, "coupling");
   if (!cp) return PERI_OK;
   static const char *const keys[] = {"pd_region", "micromodulus_exponent", "gamma", "partial_volume",
-                                     "switch_radius", "graded_mesh", "mesh", "mesh_material", NULL};
+                                     "switch_radius", "graded_mesh", "mesh", "mesh_material",
+                                     "balance_regions", NULL};
   TRY(peri_deck_allow(cp, "coupling", keys));
   const char *name = NULL;
   TRY(peri_deck_string(cp, "pd_region", false, &name));
@@ -218,5 +245,5 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root, const peri_fem_mesh 
   if (gamma_auto) peri_coupling_set_gamma(s, peri_coupling_linear_field_gamma(s)); /* linear_field_gamma.c */
   if (s->solver.breaking && peri_coupling_set_switching(s, radius, why, sizeof why) != PERI_OK) /* switching.c */
     return peri_deck_error(cp, "coupling: the PD patch around the pre-cracks: %s", why);
-  return PERI_OK;
+  return balance_regions(s, root, cp);
 }

@@ -619,6 +619,8 @@ static int parse_precracks(parse_ctx *c) {
       TRY(peri_deck_vector(it, "from", true, 2, pc->a));
       TRY(peri_deck_vector(it, "to", true, 2, pc->b));
       pc->dim = 2;
+      if (pc->a[0] == pc->b[0] && pc->a[1] == pc->b[1])
+        return peri_deck_error(it, "precracks: 'from' and 'to' are the same point (the crack has no length)");
     } else if (s->disc.geom.dim == 3) {
       static const char *const keys[] = {"corner", "edge1", "edge2", NULL};
       TRY(peri_deck_allow(it, "precracks", keys));
@@ -626,6 +628,14 @@ static int parse_precracks(parse_ctx *c) {
       TRY(peri_deck_vector(it, "edge1", true, 3, pc->e1));
       TRY(peri_deck_vector(it, "edge2", true, 3, pc->e2));
       pc->dim = 3;
+      /* the cut test projects onto the edges, which is the rectangle only for perpendicular ones */
+      double l1 = 0.0, l2 = 0.0, dot = 0.0;
+      for (int d = 0; d < 3; ++d) l1 += pc->e1[d] * pc->e1[d], l2 += pc->e2[d] * pc->e2[d], dot += pc->e1[d] * pc->e2[d];
+      if (l1 == 0.0 || l2 == 0.0)
+        return peri_deck_error(it, "precracks: edge%d has zero length", l1 == 0.0 ? 1 : 2);
+      if (fabs(dot) > 1e-9 * sqrt(l1 * l2))
+        return peri_deck_error(it, "precracks: edge1 and edge2 must be perpendicular (the crack is a rectangle; "
+                               "the angle between them is %g degrees)", acos(dot / sqrt(l1 * l2)) * 180.0 / M_PI);
     } else {
       return peri_deck_error(it, "precracks: not available in 1D (remove nodes instead)");
     }

@@ -45,6 +45,7 @@ void peri_coupling_free(peri_coupling *c) {
   free(c->offset);
   free(c->offset_beta);
   free(c->switch_offset);
+  free(c->balance_region);
   if (c->tangent_cols)
     for (int32_t i = 0; c->tangent_count && i < c->n_nodes; ++i) free(c->tangent_cols[i]), free(c->tangent_blocks[i]);
   free(c->tangent_count);

@@ -1,7 +1,8 @@
 /* The out-of-balance of the coupled model (002_b20c318388227af9.txt eqs. 2.38, 2.40;
  * MODELS.md 14.2): with F_i = (K u)_i = -V_i f_i the nodal forces (reactions where u is
  * imposed), e_r = |sum_i F_i| / sum_i |F_i|, per axis and for the vector sum. A balanced
- * model (all FEM, all PD, or a coupling under fields it reproduces) gives round-off. */
+ * model (all FEM, all PD, or a coupling under fields it reproduces) gives round-off. The same
+ * ratio over the reactions of chosen regions is peri_coupling_region_balance (post/energies.c). */
 #include <math.h>
 #include <stdlib.h>
 #include "peri/coupling.h"

@@ -3,6 +3,7 @@
  * depend on the thread count or on the number of MPI ranks. */
 #include <math.h>
 #include <stdlib.h>
+#include "peri/coupling.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
 
@@ -63,4 +64,15 @@ void peri_region_reaction(const peri_sim *s, int region, double out[3]) {
   }
   peri_sum_owned(s, terms, 3, out);
   free(terms);
+}
+
+void peri_coupling_region_balance(const peri_sim *s, double ratio[3]) {
+  const peri_coupling *c = s->coupling;
+  double sum[3] = {0, 0, 0}, magnitude[3] = {0, 0, 0};
+  for (int k = 0; k < c->n_balance_regions; ++k) { /* each reaction is already summed over the ranks */
+    double R[3];
+    peri_region_reaction(s, c->balance_region[k], R);
+    for (int d = 0; d < 3; ++d) sum[d] += R[d], magnitude[d] += fabs(R[d]);
+  }
+  for (int d = 0; d < 3; ++d) ratio[d] = magnitude[d] > 0.0 ? fabs(sum[d]) / magnitude[d] : 0.0;
 }

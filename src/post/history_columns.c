@@ -5,6 +5,7 @@
 #include <string.h>
 #include "peri/bodies.h"
 #include "peri/contact.h"
+#include "peri/coupling.h"
 #include "peri/error.h"
 #include "peri/heat_quantities.h"
 #include "peri/history.h"
@@ -178,6 +179,10 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
     }
     add(c, "out_of_balance");
     add(c, "pd_nodes"); /* grows with FEM->PD switching */
+    for (int d = 0; s->coupling->n_balance_regions > 0 && d < s->disc.geom.dim; ++d) {
+      snprintf(name, sizeof name, "out_of_balance_reactions_%c", "xyz"[d]); /* coupling.balance_regions */
+      add(c, name);
+    }
   }
 }
 

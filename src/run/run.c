@@ -188,6 +188,11 @@ static int write_history(peri_sim *s, run_ctx *c) {
     for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = ratio[d];
     c->log.row[k++] = ratio[3];
     c->log.row[k++] = (double)s->coupling->n_pd;
+    if (s->coupling->n_balance_regions > 0) { /* e_r of eqs. 2.114, 2.116 over the chosen reactions */
+      double by_region[3];
+      peri_coupling_region_balance(s, by_region);
+      for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = by_region[d];
+    }
   }
   return peri_history_log_record(&c->log);
 }

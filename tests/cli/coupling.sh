@@ -170,3 +170,33 @@ hist="$TMP/output/coupling_three_point_bending/history.csv"
 expect_nonempty_file "$hist"
 (( $(wc -l <"$hist") > 3 )) || fail "the run that stopped kept no load step in $hist"
 pass "a crack that reaches the coarse part of a graded mesh stops the run, naming the node, and keeps its output"
+
+# coupling.balance_regions (e_r of eqs. 2.114, 2.116 over chosen reactions): the column, its value
+# from the history's reactions, and its input errors
+d=$(deck balance -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, balance_regions: [left, right, middle]}/')
+run_peri_in "$TMP" run "$d" -q --output "$TMP/balance"
+expect_status 0
+hist="$TMP/balance/history.csv"
+got=$(value "$hist" out_of_balance_reactions_y)
+want=$(awk -v a="$(value "$hist" reaction_left_y)" -v b="$(value "$hist" reaction_right_y)" \
+  -v c="$(value "$hist" reaction_middle_y)" 'BEGIN { s = a + b + c; m = (a < 0 ? -a : a) + (b < 0 ? -b : b) + (c < 0 ? -c : c);
+  printf "%.12g", (s < 0 ? -s : s) / m }')
+near "$got" "$want" 1e-9 || fail "out_of_balance_reactions_y $got, from the reactions $want"
+pass "out_of_balance_reactions_y is |sum| / sum of |.| of the listed regions' reactions ($got)"
+d=$(deck balance_one -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, balance_regions: [left]}/')
+fails_at "$d" "[left]" "key 'balance_regions': expected a list of at least two region names"
+d=$(deck balance_unknown -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, balance_regions: [left, rigth]}/')
+fails_at "$d" "rigth]" "unknown region 'rigth'; did you mean 'right'?"
+d=$(deck balance_all -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, balance_regions: [left, all]}/')
+fails_at "$d" "all]" "key 'balance_regions': region 'all' sums every nodal force"
+d=$(deck balance_twice -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, balance_regions: [left, left]}/')
+fails_at "$d" "left]}" "key 'balance_regions': region 'left' is listed twice"
+pass "balance_regions: one region, an unknown one, all and a repeated one are positioned errors"
+
+# the Brokenshire deck's inclined notch: a rectangle needs perpendicular, non-zero edges
+torsion=examples/coupling_brokenshire_torsion.yaml
+sed 's/edge2: \[0, 0, 0.03\]/edge2: [0, 0.01, 0.03]/' "$torsion" >"$TMP/skew.yaml"
+fails_at "$TMP/skew.yaml" "{corner" "precracks: edge1 and edge2 must be perpendicular"
+sed 's/edge2: \[0, 0, 0.03\]/edge2: [0, 0, 0]/' "$torsion" >"$TMP/flat.yaml"
+fails_at "$TMP/flat.yaml" "{corner" "precracks: edge2 has zero length"
+pass "a pre-crack with skew or zero edges is a positioned error"
