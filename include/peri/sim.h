@@ -230,10 +230,6 @@ typedef struct peri_state {
    * [2 n_bonds], entry n_bonds + k of a bond into a ghost holding the ghost's term of the
    * bond (the bond halo). NULL for the bond rule */
   double *plastic_bond_term;
-  /* the deviatoric yield rule: [n_bonds] both ends' plastic terms of each bond, the sum
-   * alpha_i sum_l W_l s^dp_l,ij + alpha_j sum_l W_l s^dp_l,ji that the force reads. NULL for the
-   * bond rule */
-  double *plastic_pair_term;
   /* the deviatoric yield rule: [n_bonds] omega beta V_j of each bond i -> j, its weight in the
    * family sums (fixed by the reference configuration), NULL for the bond rule */
   double *plastic_bond_weight;

@@ -73,7 +73,6 @@ int peri_deviatoric_init(peri_sim *s) {
   }
   s->state.plastic_reverse = reverse;
   s->state.plastic_bond_term = peri_calloc((size_t)(b->n_bonds > 0 ? b->n_bonds : 1), sizeof(double));
-  s->state.plastic_pair_term = peri_calloc((size_t)(b->n_bonds > 0 ? b->n_bonds : 1), sizeof(double));
   /* each bond's omega beta V_j, as the loops evaluate it: read from here, the vector loops of
    * the return and the force have no branch of the influence function or select of the partial
    * volume, either of which keeps a loop scalar */
@@ -364,22 +363,20 @@ void peri_deviatoric_return(peri_sim *s, const double *elastic, uint8_t *near) {
   /* the other ends' terms of the bonds into ghosts, past the owned bonds' (their reverse index) */
   if (s->par.dd)
     peri_bond_halo_exchange(s->par.dd->bond_halo, pack_plastic_terms, s, s->state.plastic_bond_term + b->n_bonds);
-  /* each bond's two terms, in the order of the force (a gather of the other end's: the
-   * force's loops then read one number per bond in family order), and whether the node has a
-   * plastic state or a bond with the other end's plastic term (else its force is the
-   * elastic one) */
+  /* whether the node has a plastic state or a bond with the other end's plastic term (else
+   * its force is the elastic one) */
   const double *restrict term = s->state.plastic_bond_term;
   const int64_t *restrict reverse = s->state.plastic_reverse;
-  double *restrict pair = s->state.plastic_pair_term;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n_owned; ++i) {
-    bool other = false;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      const double t = term[reverse[k]];
-      other |= t != 0.0;
-      pair[k] = term[k] + t;
+    if (yielded[i]) {
+      near[i] = 1;
+      continue;
     }
-    near[i] = yielded[i] || other;
+    double other = 0.0; /* (a sum of magnitudes, which keeps the loop a vector one: 0 only when every term is) */
+#pragma omp simd reduction(+ : other)
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) other += fabs(term[reverse[k]]);
+    near[i] = other != 0.0;
   }
 }
 
@@ -389,7 +386,9 @@ static void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i, i
   const size_t nn = (size_t)w->n;
   const int32_t *restrict nbr = w->neighbor + k0;
   const uint8_t *restrict broken = w->broken + k0;
-  const double *restrict pair = s->state.plastic_pair_term + k0, *restrict weight = s->state.plastic_bond_weight + k0;
+  const int64_t *restrict reverse = s->state.plastic_reverse + k0;
+  const double *restrict all_terms = s->state.plastic_bond_term, *restrict term = all_terms + k0,
+                         *restrict weight = s->state.plastic_bond_weight + k0;
   const double *restrict D = w->coef, *restrict B = w->coef + nn;
   const double Di = D[i], Bi = B[i];
   /* (the chunk's own arrays: every eight-lane load stays inside them) */
@@ -397,7 +396,7 @@ static void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i, i
       won[DEVIATORIC_CHUNK], plastic[DEVIATORIC_CHUNK];
   for (int a = 0; a < n; ++a) {
     won[a] = broken[a] ? 0.0 : weight[a]; /* (the flags as doubles: see node_return) */
-    plastic[a] = pair[a];
+    plastic[a] = term[a] + all_terms[reverse[a]]; /* (the other end's: a gather) */
   }
 #ifdef PERI_BOND_V8
   const peri_v8d c[3] = {v8_set1_pd(w->x0[i]), v8_set1_pd(w->x1[i]), v8_set1_pd(w->x2[i])},
@@ -460,7 +459,9 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
   const uint8_t *restrict lanes = items->tpl_lanes + t0, *restrict structure = items->tpl_bonds + t0;
   const size_t nn = (size_t)w->n;
   const double *restrict D = w->coef, *restrict B = w->coef + nn;
-  const double *restrict pair = s->state.plastic_pair_term + base, *restrict weight = s->state.plastic_bond_weight + base;
+  const double *restrict all_terms = s->state.plastic_bond_term, *restrict term = all_terms + base,
+                         *restrict weight = s->state.plastic_bond_weight + base;
+  const int64_t *restrict reverse = s->state.plastic_reverse + base;
   int32_t first[PERI_BLOCK];
   for (int l = 0; l < PERI_BLOCK; ++l) first[l] = (int32_t)(w->offset[i0 + l] - base);
   peri_v8i k = _mm256_loadu_si256((const __m256i *)first);
@@ -477,8 +478,11 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
                    uj[3] = {v8_loadu_pd(w->u0 + j), v8_loadu_pd(w->u1 + j), v8_loadu_pd(w->u2 + j)};
     peri_v8d y[3], r0, inv_r0, r, inv_r;
     bond_lengths_v8(xj, uj, c, cu, y, &r0, &inv_r0, &r, &inv_r);
-    const peri_v8d g = bond_force_v8(r0, r, inv_r, Di, v8_loadu_pd(D + j), Bi, v8_loadu_pd(B + j),
-                                     v8_mask_i32gather_pd(on, k, pair), v8_mask_i32gather_pd(on, k, weight));
+    /* the bond's two plastic terms, the other end's at the reverse bond (as the node path adds them) */
+    const peri_v8d P = v8_add_pd(v8_mask_i32gather_pd(on, k, term),
+                                 v8_mask_i64gather_pd(on, v8_mask_i32gather_epi64(on, k, reverse), all_terms));
+    const peri_v8d g = bond_force_v8(r0, r, inv_r, Di, v8_loadu_pd(D + j), Bi, v8_loadu_pd(B + j), P,
+                                     v8_mask_i32gather_pd(on, k, weight));
     /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
     s0 = v8_mask3_fmadd_pd(g, y[0], s0, on);
     s1 = v8_mask3_fmadd_pd(g, y[1], s1, on);
@@ -501,7 +505,7 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
 
 double peri_deviatoric_pair_plastic(const peri_sim *s, int32_t i, int64_t k) {
   (void)i;
-  return s->state.plastic_pair_term[k];
+  return s->state.plastic_bond_term[k] + s->state.plastic_bond_term[s->state.plastic_reverse[k]];
 }
 
 /* Bond i-j's deformed length, and its reference length in *r0 (xi + (u_j - u_i), as the energy's

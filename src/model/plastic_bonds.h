@@ -81,8 +81,7 @@ int peri_deviatoric_init(peri_sim *s);
  * copies of the positions at this displacement): the radial return of every owned node's
  * sublayers, with elastic[i] = sum_j omega beta V_j (e^d_ij)^2 at the total extensions (a node
  * that has never yielded and stays below its first yield skips the return), the plastic terms
- * of the bonds' other ends (from other ranks through the bond halo) and each bond's sum of its
- * two ends' terms; near[i] (owned nodes) says whether node i has a plastic state or a bond
+ * of the bonds' other ends (from other ranks through the bond halo); near[i] (owned nodes) says whether node i has a plastic state or a bond
  * with the other end's plastic term (else its force is the elastic one). */
 void peri_deviatoric_return(peri_sim *s, const double *elastic, uint8_t *near);
 /* The force density on node i, with the coefficients D and B of every node in w->coef: the
