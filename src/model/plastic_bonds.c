@@ -448,6 +448,17 @@ long peri_plastic_lps_node_sums(peri_sim *s, const peri_bond_view *w, const peri
   return n_broken;
 }
 
+/* sum_l W_l s^p_l of n bonds of L layers each (the padding layers have W = 0) into plastic[]. */
+static inline __attribute__((always_inline)) void plastic_sums(const double *restrict sp, const double *restrict W,
+                                                               int n, const int L, double *restrict plastic) {
+#pragma omp simd
+  for (int a = 0; a < n; ++a) {
+    double sum = 0.0;
+    for (int l = 0; l < L; ++l) sum += W[l] * sp[a * L + l];
+    plastic[a] = sum;
+  }
+}
+
 #ifdef PERI_BOND_V8
 /* Node i's force over bonds k0 .. k0+n-1 of its family (constant or inverse influence), with
  * plastic[] their plastic stretches sum_l W_l s^p_l and on[] their intact flags as doubles
@@ -513,11 +524,17 @@ void peri_plastic_lps_node_force(const peri_sim *s, const peri_bond_view *w, con
     for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PLASTIC_CHUNK) {
       const int n = (int)(b->offset[i + 1] - k0 < PLASTIC_CHUNK ? b->offset[i + 1] - k0 : PLASTIC_CHUNK);
       const double *restrict sp = s->state.plastic_stretch + k0 * L;
-      for (int a = 0; a < n; ++a) {
-        const double *W = pl->W + (row + material[b->neighbor[k0 + a]]) * L;
-        double sum = 0.0; /* sum_l W_l s^p_l (the padding layers have W = 0) */
-        for (int l = 0; l < L; ++l) sum += W[l] * sp[a * L + l];
-        plastic[a] = sum, on[a] = b->broken[k0 + a] ? 0.0 : 1.0;
+      for (int a = 0; a < n; ++a) on[a] = b->broken[k0 + a] ? 0.0 : 1.0;
+      if (pl->nm == 1) {
+        switch (L) { /* (constant layer counts for the common ones: a vector loop over the bonds) */
+        case 1: plastic_sums(sp, pl->W, n, 1, plastic); break;
+        case 2: plastic_sums(sp, pl->W, n, 2, plastic); break;
+        case 3: plastic_sums(sp, pl->W, n, 3, plastic); break;
+        case 4: plastic_sums(sp, pl->W, n, 4, plastic); break;
+        default: plastic_sums(sp, pl->W, n, L, plastic); break;
+        }
+      } else {
+        for (int a = 0; a < n; ++a) plastic_sums(sp + a * L, pl->W + (row + material[b->neighbor[k0 + a]]) * L, 1, L, plastic + a);
       }
       lps_plastic_force_chunk_v8(w, i, k0, n, influence == PERI_INFLUENCE_INVERSE, plastic, on, f);
     }
