@@ -448,6 +448,7 @@ long peri_plastic_lps_node_sums(peri_sim *s, const peri_bond_view *w, const peri
   return n_broken;
 }
 
+#ifdef PERI_BOND_V8
 /* sum_l W_l s^p_l of n bonds of L layers each (the padding layers have W = 0) into plastic[]. */
 static inline __attribute__((always_inline)) void plastic_sums(const double *restrict sp, const double *restrict W,
                                                                int n, const int L, double *restrict plastic) {
@@ -459,7 +460,6 @@ static inline __attribute__((always_inline)) void plastic_sums(const double *res
   }
 }
 
-#ifdef PERI_BOND_V8
 /* Node i's force over bonds k0 .. k0+n-1 of its family (constant or inverse influence), with
  * plastic[] their plastic stretches sum_l W_l s^p_l and on[] their intact flags as doubles
  * (arrays of PLASTIC_CHUNK): the bond values by the eight-lane lengths of the elastic kernels
