@@ -221,13 +221,15 @@ typedef struct peri_state {
   uint8_t *plastic_nodes;
   double plastic_reach;
   /* the deviatoric yield rule (docs/plasticity.md section 8): [n_bonds] the index of bond
-   * j -> i for bond k = i -> j (a node's force reads its neighbours' plastic state of the
-   * bond), NULL for the bond rule */
+   * j -> i for bond k = i -> j (a node's force reads its neighbours' plastic term of the
+   * bond); on MPI ranks, where j is a ghost, n_bonds + k. NULL for the bond rule */
   int64_t *plastic_reverse;
-  /* the deviatoric yield rule: [n_bonds] for bond k = i -> j the other end's plastic term
-   * alpha_j sum_l W_l s^dp_l,ji, written by j's return mapping (recomputed at every force
-   * evaluation by every node that has a plastic state), NULL for the bond rule */
-  double *plastic_reverse_term;
+  /* the deviatoric yield rule: [n_bonds] for bond k = i -> j node i's plastic term
+   * alpha_i sum_l W_l s^dp_l,ij, written by i's return mapping (recomputed at every force
+   * evaluation by every node that has a plastic state, 0 for the others); on MPI ranks
+   * [2 n_bonds], entry n_bonds + k of a bond into a ghost holding the ghost's term of the
+   * bond (the bond halo). NULL for the bond rule */
+  double *plastic_bond_term;
   /* the deviatoric yield rule: [n_bonds] omega beta V_j of each bond i -> j, its weight in the
    * family sums (fixed by the reference configuration), NULL for the bond rule */
   double *plastic_bond_weight;

@@ -19,18 +19,22 @@
  * therefore yield together.
  *
  * Each end of a bond keeps its own state. The pair force t_ij + t_ji needs the other end's
- * plastic term alpha_j sum_k W_k s^dp_k,ji: j's return mapping writes it where i's force pass
- * reads it in family order, s->state.plastic_reverse_term at the reverse bond's index
- * s->state.plastic_reverse[k] (each entry has one writer). On MPI ranks a bond into a ghost
- * has no local reverse (index -1): the ghost's owner sends the term through the bond halo
- * (src/parallel/bond_halo.c) after the return. No periodic images (a bond to an image has
- * no reverse).
+ * plastic term alpha_j sum_k W_k s^dp_k,ji: each node's return writes its own terms in family
+ * order (s->state.plastic_bond_term[k], contiguous), and i's force pass reads j's at the reverse
+ * bond's index s->state.plastic_reverse[k] (a gather: scattered reads, where writing each term
+ * into the other end's entry made the return's scattered stores its largest cost). On MPI
+ * ranks the reverse index of a bond into a ghost points past the owned bonds, where the
+ * ghost's owner sends the term through the bond halo (src/parallel/bond_halo.c) after the
+ * return. No periodic images (a bond to an image has no reverse).
  *
  * Cost (docs/plasticity.md section 8): the return and the force run a chunk of a node's bonds
  * at a time in vector loops, with the bond weights omega beta V_j stored (the influence
  * function's branches and the partial volume's select would keep the loops scalar) and the
- * layers of a bond unrolled for up to 4; the force of the nodes with a plastic state on either
- * end of a bond replaces their elastic force pass rather than adding to it. */
+ * layers of a bond unrolled for up to 4; their lengths come from the eight-lane functions of
+ * the elastic kernels (bond_kernel.h: reciprocal square roots, no square root or division,
+ * which cost 16-32 cycles a vector); the force of the nodes with a plastic state on either
+ * end of a bond replaces their elastic force pass rather than adding to it and reads the
+ * bonds' terms, not their sublayers. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -68,7 +72,7 @@ int peri_deviatoric_init(peri_sim *s) {
     return PERI_ERR_INPUT;
   }
   s->state.plastic_reverse = reverse;
-  s->state.plastic_reverse_term = peri_calloc((size_t)(b->n_bonds > 0 ? b->n_bonds : 1), sizeof(double));
+  s->state.plastic_bond_term = peri_calloc((size_t)(b->n_bonds > 0 ? b->n_bonds : 1), sizeof(double));
   /* each bond's omega beta V_j, as the loops evaluate it: read from here, the vector loops of
    * the return and the force have no branch of the influence function or select of the partial
    * volume, either of which keeps a loop scalar */
@@ -97,8 +101,6 @@ static const peri_sublayers *node_layers(const peri_sim *s, int32_t i) {
 #define RETURN_MARGIN 1e-10
 /* The screen of pass 1's sum (whose lengths come from other arithmetic) keeps this margin. */
 #define SCREEN_MARGIN 1e-6
-/* Bonds per vector loop of the force */
-#define DEVIATORIC_CHUNK 256
 
 /* The weights W_l of node i's material, 0 beyond its sublayers up to L (the storage's layers
  * per bond), so that loops over the L layers of a bond add nothing for the unused ones. */
@@ -106,85 +108,125 @@ static inline void padded_weights(const peri_sublayers *sl, int L, double *W) {
   for (int l = 0; l < L; ++l) W[l] = sl && l < sl->n ? sl->weight[l] : 0.0;
 }
 
-/* sum_l W_l s^dp_l of the bond whose L layers start at sp: every path that needs a bond's
- * plastic term (the return, the bond halo, the force, the pair force) sums it this way, so the
- * two ends' copies agree bit for bit on any number of ranks. */
-static inline __attribute__((always_inline)) double plastic_sum(const double *W, const double *sp, const int L) {
-  double plastic = 0.0;
-  for (int l = 0; l < L; ++l) plastic = fma(W[l], sp[l], plastic);
-  return plastic;
-}
-
-/* alpha_i sum_l W_l s^dp_l,ij of bond k of node i. */
-static double own_term(const peri_sim *s, int32_t i, int64_t k) {
-  const int L = s->state.plastic_layers;
-  double W[PERI_MAX_SUBLAYERS];
-  padded_weights(node_layers(s, i), L, W);
-  return s->disc.p.coef[(size_t)s->disc.p.n + (size_t)i] * plastic_sum(W, s->state.plastic_stretch + k * L, L);
-}
-
-/* The bond halo's values: node i's term alpha_i sum_l W_l s^dp_l,ij of each listed bond i -> j. */
+/* The bond halo's values: node i's term alpha_i sum_l W_l s^dp_l,ij of each listed bond i -> j,
+ * as its return wrote it. */
 static void pack_plastic_terms(const void *context, const int64_t *bonds, int64_t n, double *out) {
   const peri_sim *s = context;
-  const peri_bonds *b = &s->disc.bonds;
-  for (int64_t a = 0; a < n; ++a) {
-    const int64_t k = bonds[a];
-    int32_t lo = 0, hi = b->n_nodes - 1; /* the node whose family holds bond k */
-    while (lo < hi) {
-      const int32_t mid = lo + (hi - lo + 1) / 2;
-      if (b->offset[mid] <= k) lo = mid;
-      else hi = mid - 1;
-    }
-    out[a] = own_term(s, lo, k);
-  }
+  for (int64_t a = 0; a < n; ++a) out[a] = s->state.plastic_bond_term[bonds[a]];
 }
 
-/* Node i's deviatoric stretches s^d = (r - |xi|)/|xi| - eth_i - theta_i/3, weights
- * omega beta V_j |xi|^2 and intact flags of its bonds into sd[], wt[] and on[] (0 for a broken
- * bond), in family order, and each layer's energy S_l = sum wt (s^d - s^dp_l)^2 over the L
- * layers of the state `base` into S[]: one vector loop for up to 4 layers (the sums in vector
- * lanes), then a loop of its own for more. */
-static inline __attribute__((always_inline)) void stretches_and_energies(const peri_sim *s, const peri_bond_view *w,
-                                                                         int32_t i, const double *restrict base,
-                                                                         double *restrict sd, double *restrict wt,
-                                                                         double *restrict on, const int L,
-                                                                         double *S) {
-  const peri_bonds *b = &s->disc.bonds;
+/* Bonds per vector loop of the return and the force (a node's family is one or more chunks) */
+#define DEVIATORIC_CHUNK 256
+
+#ifdef PERI_BOND_V8
+/* The relative vectors y = xi + (u_j - u_i) of eight bonds from the neighbours' positions
+ * xj and displacements uj and the centres' (c, cu), and their reference and deformed lengths
+ * with 1/|xi| and 1/|y| (r 0 for coincident ends), by the reciprocal square root of the
+ * elastic kernels (bond_kernel.h). */
+static inline __attribute__((always_inline)) void bond_lengths_v8(const peri_v8d xj[3], const peri_v8d uj[3],
+                                                                  const peri_v8d c[3], const peri_v8d cu[3],
+                                                                  peri_v8d y[3], peri_v8d *r0, peri_v8d *inv_r0,
+                                                                  peri_v8d *r, peri_v8d *inv_r) {
+  const peri_v8d x0 = v8_sub_pd(xj[0], c[0]), x1 = v8_sub_pd(xj[1], c[1]), x2 = v8_sub_pd(xj[2], c[2]);
+  y[0] = v8_add_pd(x0, v8_sub_pd(uj[0], cu[0]));
+  y[1] = v8_add_pd(x1, v8_sub_pd(uj[1], cu[1]));
+  y[2] = v8_add_pd(x2, v8_sub_pd(uj[2], cu[2]));
+  const peri_v8d r0_sq = v8_fmadd_pd(x2, x2, v8_fmadd_pd(x1, x1, v8_mul_pd(x0, x0)));
+  const peri_v8d r_sq = v8_fmadd_pd(y[2], y[2], v8_fmadd_pd(y[1], y[1], v8_mul_pd(y[0], y[0])));
+  *inv_r0 = peri_rsqrt_v8(r0_sq), *inv_r = peri_rsqrt_v8(r_sq);
+  *r0 = v8_mul_pd(r0_sq, *inv_r0);
+  *r = v8_maskz_mov_pd(v8_cmp_pd_mask(r_sq, v8_setzero_pd(), _CMP_GT_OQ), v8_mul_pd(r_sq, *inv_r));
+}
+
+/* The same for the neighbours j of the lanes in m (gathered). */
+static inline __attribute__((always_inline)) void gathered_lengths_v8(const peri_bond_view *w, peri_m8 m, peri_v8i j,
+                                                                      const peri_v8d c[3], const peri_v8d cu[3],
+                                                                      peri_v8d y[3], peri_v8d *r0, peri_v8d *inv_r0,
+                                                                      peri_v8d *r, peri_v8d *inv_r) {
+  const peri_v8d xj[3] = {v8_mask_i32gather_pd(m, j, w->x0), v8_mask_i32gather_pd(m, j, w->x1),
+                          v8_mask_i32gather_pd(m, j, w->x2)};
+  const peri_v8d uj[3] = {v8_mask_i32gather_pd(m, j, w->u0), v8_mask_i32gather_pd(m, j, w->u1),
+                          v8_mask_i32gather_pd(m, j, w->u2)};
+  bond_lengths_v8(xj, uj, c, cu, y, r0, inv_r0, r, inv_r);
+}
+
+/* t_ij + t_ji = omega (|xi| (D_i + D_j - alpha_i sum W s^dp_ij - alpha_j sum W s^dp_ji) + e (B_i + B_j))
+ * of eight bonds, as the factor g of the force density g y on i (won = omega beta V_j, 0 for a
+ * broken bond, P the bond's two plastic terms): the node and the block paths both use it, so
+ * they agree bit for bit. Coincident ends have no direction and give no force. */
+static inline __attribute__((always_inline)) peri_v8d bond_force_v8(peri_v8d r0, peri_v8d r, peri_v8d inv_r,
+                                                                    peri_v8d Di, peri_v8d Dj, peri_v8d Bi, peri_v8d Bj,
+                                                                    peri_v8d P, peri_v8d won) {
+  const peri_v8d t = v8_fmadd_pd(r0, v8_sub_pd(v8_add_pd(Di, Dj), P), v8_mul_pd(v8_sub_pd(r, r0), v8_add_pd(Bi, Bj)));
+  return v8_maskz_mov_pd(v8_cmp_pd_mask(r, v8_setzero_pd(), _CMP_GT_OQ), v8_mul_pd(v8_mul_pd(won, t), inv_r));
+}
+#endif
+
+/* Node i's deviatoric stretches s^d = (r - |xi|)/|xi| - eth_i - theta_i/3 and weights
+ * omega beta V_j |xi|^2 of its bonds k0 .. k0+n-1 (0 for a broken bond: on[] holds the
+ * intact flags as doubles) into sd[] and wt[], arrays of DEVIATORIC_CHUNK. */
+static inline __attribute__((always_inline)) void deviatoric_stretches(const peri_sim *s, const peri_bond_view *w,
+                                                                       int32_t i, int64_t k0, int n,
+                                                                       const double *restrict on,
+                                                                       double *restrict sd, double *restrict wt) {
   const double shift = (w->eth ? w->eth[i] : 0.0) + s->disc.p.theta[i] / 3.0;
-  const int64_t k0 = b->offset[i], n = b->offset[i + 1] - k0;
-  const int32_t *restrict nbr = b->neighbor + k0;
-  const uint8_t *restrict broken = b->broken + k0;
+  const int32_t *restrict nbr = s->disc.bonds.neighbor + k0;
   const double *restrict weight = s->state.plastic_bond_weight + k0;
+#ifdef PERI_BOND_V8
+  /* (each eight-lane load below stays inside the chunk's arrays) */
+  for (int a = 0; a < n; ++a) wt[a] = on[a] * weight[a];
+  const peri_v8d c[3] = {v8_set1_pd(w->x0[i]), v8_set1_pd(w->x1[i]), v8_set1_pd(w->x2[i])},
+                 cu[3] = {v8_set1_pd(w->u0[i]), v8_set1_pd(w->u1[i]), v8_set1_pd(w->u2[i])};
+  const peri_v8d vshift = v8_set1_pd(shift);
+  for (int a = 0; a < n; a += 8) {
+    const peri_m8 m = peri_first_lanes(n - a);
+    const peri_v8i j = v8_maskz_loadu_epi32(m, nbr + a);
+    peri_v8d y[3], r0, inv_r0, r, inv_r;
+    gathered_lengths_v8(w, m, j, c, cu, y, &r0, &inv_r0, &r, &inv_r);
+    const peri_v8d sd_a = v8_mul_pd(v8_loadu_pd(on + a), v8_fmsub_pd(v8_sub_pd(r, r0), inv_r0, vshift));
+    v8_mask_storeu_pd(sd + a, m, sd_a);
+    v8_mask_storeu_pd(wt + a, m, v8_mul_pd(v8_loadu_pd(wt + a), v8_mul_pd(r0, r0)));
+  }
+#else
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2;
   const double xi0 = X0[i], xi1 = X1[i], xi2 = X2[i], ui0 = U0[i], ui1 = U1[i], ui2 = U2[i];
-  /* the 1-byte flags as doubles first: read in the vector loop they would force 64-lane
-   * vectors and a scalar tail (bond_kernel.h) */
-  for (int64_t a = 0; a < n; ++a) on[a] = broken[a] ? 0.0 : 1.0;
-  double S0 = 0.0, S1 = 0.0, S2 = 0.0, S3 = 0.0;
-#pragma omp simd reduction(+ : S0, S1, S2, S3)
-  for (int64_t a = 0; a < n; ++a) {
+#pragma omp simd
+  for (int a = 0; a < n; ++a) {
     const int32_t j = nbr[a];
     const double x0 = X0[j] - xi0, x1 = X1[j] - xi1, x2 = X2[j] - xi2;
     const double d0 = x0 + (U0[j] - ui0), d1 = x1 + (U1[j] - ui1), d2 = x2 + (U2[j] - ui2);
     const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2), r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
-    const double sd_a = on[a] * ((r - r0) / r0 - shift), wt_a = on[a] * weight[a] * r0 * r0;
-    sd[a] = sd_a, wt[a] = wt_a;
-    if (L <= 4) {
-      const double *bs = base + a * L, e0 = sd_a - bs[0];
+    sd[a] = on[a] * ((r - r0) / r0 - shift), wt[a] = on[a] * weight[a] * r0 * r0;
+  }
+#endif
+}
+
+/* Each layer's energy S_l = sum wt (s^d - s^dp_l)^2 over n bonds of the L layers of the state
+ * `base`, added to S[]: one vector loop for up to 4 layers (the sums in vector lanes), then a
+ * loop of its own for more. */
+static inline __attribute__((always_inline)) void layer_energies(const double *restrict base,
+                                                                 const double *restrict sd,
+                                                                 const double *restrict wt, int n, const int L,
+                                                                 double *S) {
+  double S0 = 0.0, S1 = 0.0, S2 = 0.0, S3 = 0.0;
+  if (L <= 4) {
+#pragma omp simd reduction(+ : S0, S1, S2, S3)
+    for (int a = 0; a < n; ++a) {
+      const double *bs = base + a * L, sd_a = sd[a], wt_a = wt[a], e0 = sd_a - bs[0];
       S0 = fma(wt_a, e0 * e0, S0);
       if (L > 1) S1 = fma(wt_a, (sd_a - bs[1]) * (sd_a - bs[1]), S1);
       if (L > 2) S2 = fma(wt_a, (sd_a - bs[2]) * (sd_a - bs[2]), S2);
       if (L > 3) S3 = fma(wt_a, (sd_a - bs[3]) * (sd_a - bs[3]), S3);
     }
-  }
-  S[0] = S0, S[1] = S1, S[2] = S2, S[3] = S3;
-  if (L > 4)
-    for (int64_t a = 0; a < n; ++a)
+    S[0] += S0, S[1] += S1, S[2] += S2, S[3] += S3;
+  } else {
+    for (int a = 0; a < n; ++a)
       for (int l = 0; l < L; ++l) {
         const double e = sd[a] - base[a * L + l];
         S[l] = fma(wt[a], e * e, S[l]);
       }
+  }
 }
 
 /* The return of a node's bonds from the state `from` into `out` (the same array when mapping in
@@ -237,8 +279,9 @@ static inline __attribute__((always_inline)) bool bond_terms(const double *restr
  * steps, else in place), L layers stored per bond (a constant for the common counts: the
  * layers of a bond are then unrolled in vector loops over the bonds). Returns whether a
  * plastic stretch of the node (or a committed one) is nonzero. Node i's terms alpha_i sum_l
- * W_l s^dp_l,ij go into the reverse bonds' entries when it has or had a plastic state
- * (`before`); the others' stay 0. Scratch: sd, wt, on of the longest family. */
+ * W_l s^dp_l,ij go into its bonds' entries of s->state.plastic_bond_term (0 for a node without
+ * a plastic state; a node that skips the return keeps its zeros). Scratch: sd, wt, on of the
+ * longest family, rounded up to a multiple of 8. */
 static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const peri_bond_view *w, int32_t i,
                                                               double elastic, bool before, double *restrict sd,
                                                               double *restrict wt, double *restrict on,
@@ -259,7 +302,12 @@ static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const
   if (!before && elastic <= scale * sl->yield[0] * sl->yield[0] * (1.0 - SCREEN_MARGIN)) return false;
   double S[PERI_MAX_SUBLAYERS > 4 ? PERI_MAX_SUBLAYERS : 4] = {0}, factor[PERI_MAX_SUBLAYERS],
       flows[PERI_MAX_SUBLAYERS], W[PERI_MAX_SUBLAYERS];
-  stretches_and_energies(s, w, i, base, sd, wt, on, L, S);
+  const uint8_t *restrict broken = b->broken + k0;
+  /* the 1-byte flags as doubles first: read in the vector loops they would force 64-lane
+   * vectors and a scalar tail (bond_kernel.h) */
+  for (int64_t a = 0; a < nb; ++a) on[a] = broken[a] ? 0.0 : 1.0;
+  deviatoric_stretches(s, w, i, k0, (int)nb, on, sd, wt);
+  layer_energies(base, sd, wt, (int)nb, L, S);
   bool flow = committed;
   for (int l = 0; l < L; ++l) {
     const double bound = l < n ? scale * sl->yield[l] * sl->yield[l] : INFINITY;
@@ -269,17 +317,11 @@ static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const
   }
   padded_weights(sl, L, W);
   const double alpha = s->disc.p.coef[(size_t)s->disc.p.n + (size_t)i];
-  /* the new state (a broken bond keeps its own) and each bond's term, into wt[] */
-  const bool yielded = !flow      ? bond_terms(out, wt, W, alpha, nb, L)
-                       : committed ? flow_from(base, out, sd, wt, on, factor, flows, W, alpha, nb, true, L)
-                                   : flow_from(out, out, sd, wt, on, factor, flows, W, alpha, nb, false, L);
-  if (before || yielded) {
-    const int64_t *restrict reverse = s->state.plastic_reverse + k0;
-    double *restrict term = s->state.plastic_reverse_term;
-    for (int64_t a = 0; a < nb; ++a)
-      if (reverse[a] >= 0) term[reverse[a]] = wt[a]; /* (-1: a ghost's, sent by the bond halo) */
-  }
-  return yielded;
+  /* the new state (a broken bond keeps its own) and each bond's term, in family order */
+  double *restrict term = s->state.plastic_bond_term + k0;
+  return !flow      ? bond_terms(out, term, W, alpha, nb, L)
+         : committed ? flow_from(base, out, sd, term, on, factor, flows, W, alpha, nb, true, L)
+                     : flow_from(out, out, sd, term, on, factor, flows, W, alpha, nb, false, L);
 }
 
 /* node_return with constant layer counts for the common ones. */
@@ -295,18 +337,21 @@ static bool node_return_any(peri_sim *s, const peri_bond_view *w, int32_t i, dou
   }
 }
 
+/* The longest family, rounded up to a multiple of 8 (the eight-lane loops' scratch). */
 static int64_t longest_family(const peri_bonds *b, int32_t n) {
   int64_t longest = 1;
   for (int32_t i = 0; i < n; ++i)
     if (b->offset[i + 1] - b->offset[i] > longest) longest = b->offset[i + 1] - b->offset[i];
+  longest = (longest + 7) / 8 * 8;
   return longest;
 }
 
-void peri_deviatoric_return(peri_sim *s, const double *elastic) {
+void peri_deviatoric_return(peri_sim *s, const double *elastic, uint8_t *near) {
   if (!s->state.plastic_nodes) peri_plastic_flag_nodes(s);
   const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
   const peri_bond_view w = peri_bond_view_of(s, s->disc.node_blocks->soa);
-  const int64_t longest = longest_family(&s->disc.bonds, p->n_owned);
+  const int64_t longest = longest_family(b, p->n_owned);
   uint8_t *yielded = s->state.plastic_nodes;
 #pragma omp parallel
   {
@@ -315,50 +360,79 @@ void peri_deviatoric_return(peri_sim *s, const double *elastic) {
     for (int32_t i = 0; i < p->n_owned; ++i) yielded[i] = node_return_any(s, &w, i, elastic[i], yielded[i], scratch, longest);
     free(scratch);
   }
-  if (s->par.dd) peri_bond_halo_exchange(s->par.dd->bond_halo, pack_plastic_terms, s, s->state.plastic_reverse_term);
+  /* the other ends' terms of the bonds into ghosts, past the owned bonds' (their reverse index) */
+  if (s->par.dd)
+    peri_bond_halo_exchange(s->par.dd->bond_halo, pack_plastic_terms, s, s->state.plastic_bond_term + b->n_bonds);
+  /* whether the node has a plastic state or a bond with the other end's plastic term (else
+   * its force is the elastic one) */
+  const double *restrict term = s->state.plastic_bond_term;
+  const int64_t *restrict reverse = s->state.plastic_reverse;
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < p->n_owned; ++i) {
+    if (yielded[i]) {
+      near[i] = 1;
+      continue;
+    }
+    double other = 0.0; /* (a sum of magnitudes, which keeps the loop a vector one: 0 only when every term is) */
+#pragma omp simd reduction(+ : other)
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) other += fabs(term[reverse[k]]);
+    near[i] = other != 0.0;
+  }
 }
 
-bool peri_deviatoric_near(const peri_sim *s, int32_t i) {
-  if (s->state.plastic_nodes[i]) return true;
-  const double *restrict term = s->state.plastic_reverse_term;
-  bool near = false;
-  for (int64_t k = s->disc.bonds.offset[i]; k < s->disc.bonds.offset[i + 1]; ++k) near |= term[k] != 0.0;
-  return near;
-}
-
-/* Node i's force over bonds k0 .. k0+n-1 of its family, L layers per bond: the bond values by a
- * vector loop, their sums in family order into f. */
-static inline __attribute__((always_inline)) void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i,
-                                                              int64_t k0, int n, const int L, double f[3]) {
+/* Node i's force over bonds k0 .. k0+n-1 of its family: the bond values by a vector loop,
+ * their sums in family order into f. */
+static void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i, int64_t k0, int n, double f[3]) {
   const size_t nn = (size_t)w->n;
   const int32_t *restrict nbr = w->neighbor + k0;
   const uint8_t *restrict broken = w->broken + k0;
-  const double *restrict sp = s->state.plastic_stretch + k0 * L, *restrict term = s->state.plastic_reverse_term + k0,
+  const int64_t *restrict reverse = s->state.plastic_reverse + k0;
+  const double *restrict all_terms = s->state.plastic_bond_term, *restrict term = all_terms + k0,
                          *restrict weight = s->state.plastic_bond_weight + k0;
   const double *restrict D = w->coef, *restrict B = w->coef + nn;
+  const double Di = D[i], Bi = B[i];
+  /* (the chunk's own arrays: every eight-lane load stays inside them) */
+  double g[DEVIATORIC_CHUNK], y0[DEVIATORIC_CHUNK], y1[DEVIATORIC_CHUNK], y2[DEVIATORIC_CHUNK],
+      won[DEVIATORIC_CHUNK], plastic[DEVIATORIC_CHUNK];
+  for (int a = 0; a < n; ++a) {
+    won[a] = broken[a] ? 0.0 : weight[a]; /* (the flags as doubles: see node_return) */
+    plastic[a] = term[a] + all_terms[reverse[a]]; /* (the other end's: a gather) */
+  }
+#ifdef PERI_BOND_V8
+  const peri_v8d c[3] = {v8_set1_pd(w->x0[i]), v8_set1_pd(w->x1[i]), v8_set1_pd(w->x2[i])},
+                 cu[3] = {v8_set1_pd(w->u0[i]), v8_set1_pd(w->u1[i]), v8_set1_pd(w->u2[i])};
+  const peri_v8d vDi = v8_set1_pd(Di), vBi = v8_set1_pd(Bi);
+  for (int a = 0; a < n; a += 8) {
+    const peri_m8 m = peri_first_lanes(n - a);
+    const peri_v8i j = v8_maskz_loadu_epi32(m, nbr + a);
+    peri_v8d y[3], r0, inv_r0, r, inv_r;
+    gathered_lengths_v8(w, m, j, c, cu, y, &r0, &inv_r0, &r, &inv_r);
+    const peri_v8d gv = bond_force_v8(r0, r, inv_r, vDi, v8_mask_i32gather_pd(m, j, D), vBi,
+                                      v8_mask_i32gather_pd(m, j, B), v8_loadu_pd(plastic + a), v8_loadu_pd(won + a));
+    v8_mask_storeu_pd(g + a, m, gv);
+    v8_mask_storeu_pd(y0 + a, m, y[0]);
+    v8_mask_storeu_pd(y1 + a, m, y[1]);
+    v8_mask_storeu_pd(y2 + a, m, y[2]);
+  }
+#else
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2;
-  double W[PERI_MAX_SUBLAYERS];
-  padded_weights(node_layers(s, i), L, W);
   const double xi0 = X0[i], xi1 = X1[i], xi2 = X2[i], ui0 = U0[i], ui1 = U1[i], ui2 = U2[i];
-  const double Di = D[i], Bi = B[i];
-  double g[DEVIATORIC_CHUNK], y0[DEVIATORIC_CHUNK], y1[DEVIATORIC_CHUNK], y2[DEVIATORIC_CHUNK], on[DEVIATORIC_CHUNK];
-  for (int a = 0; a < n; ++a) on[a] = broken[a] ? 0.0 : 1.0; /* (as doubles: see stretches_and_energies) */
 #pragma omp simd
   for (int a = 0; a < n; ++a) {
     const int32_t j = nbr[a];
-    const double own = Bi * plastic_sum(W, sp + a * L, L);
     const double x0 = X0[j] - xi0, x1 = X1[j] - xi1, x2 = X2[j] - xi2;
     const double d0 = x0 + (U0[j] - ui0), d1 = x1 + (U1[j] - ui1), d2 = x2 + (U2[j] - ui2);
     const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2), r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
     /* t_ij + t_ji = omega (|xi| (D_i + D_j - alpha_i sum W s^dp_ij - alpha_j sum W s^dp_ji) + e (B_i + B_j)) */
-    const double t = fma(r0, (Di + D[j]) - (own + term[a]), (r - r0) * (Bi + B[j]));
+    const double t = fma(r0, (Di + D[j]) - plastic[a], (r - r0) * (Bi + B[j]));
     /* coincident ends have no direction and give no force (arithmetic, not a select, which
      * would keep the loop scalar) */
     const double apart = r != 0.0;
-    g[a] = on[a] * apart * weight[a] * t / (r + (1.0 - apart));
+    g[a] = apart * won[a] * t / (r + (1.0 - apart));
     y0[a] = d0, y1[a] = d1, y2[a] = d2;
   }
+#endif
   for (int a = 0; a < n; ++a) {
     f[0] = fma(g[a], y0[a], f[0]);
     f[1] = fma(g[a], y1[a], f[1]);
@@ -366,26 +440,72 @@ static inline __attribute__((always_inline)) void force_chunk(const peri_sim *s,
   }
 }
 
-static inline __attribute__((always_inline)) void node_force(const peri_sim *s, const peri_bond_view *w, int32_t i,
-                                                             const int L, double f[3]) {
+void peri_deviatoric_node_force(const peri_sim *s, const peri_bond_view *w, int32_t i, double f[3]) {
   f[0] = f[1] = f[2] = 0.0;
   const int64_t k1 = w->offset[i + 1];
   for (int64_t k = w->offset[i]; k < k1; k += DEVIATORIC_CHUNK)
-    force_chunk(s, w, i, k, (int)(k1 - k < DEVIATORIC_CHUNK ? k1 - k : DEVIATORIC_CHUNK), L, f);
+    force_chunk(s, w, i, k, (int)(k1 - k < DEVIATORIC_CHUNK ? k1 - k : DEVIATORIC_CHUNK), f);
 }
 
-void peri_deviatoric_node_force(const peri_sim *s, const peri_bond_view *w, int32_t i, double f[3]) {
-  switch (s->state.plastic_layers) { /* (constant layer counts for the common ones) */
-  case 1: node_force(s, w, i, 1, f); break;
-  case 2: node_force(s, w, i, 2, f); break;
-  case 3: node_force(s, w, i, 3, f); break;
-  case 4: node_force(s, w, i, 4, f); break;
-  default: node_force(s, w, i, s->state.plastic_layers, f); break;
+#ifdef PERI_BOND_V8
+bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, const peri_node_blocks *items,
+                                 int32_t item, double f[PERI_BLOCK][3]) {
+  /* a lane's bonds are its template entries with its bit of the structure set, in family
+   * order: counting them gives each lane's bond index, unless entries were dropped */
+  if (items->tpl_end[item] != items->tpl[item + 1]) return false;
+  const int32_t i0 = items->first[item];
+  const int64_t t0 = items->tpl[item], count = items->tpl_end[item] - t0, base = w->offset[i0];
+  const int32_t *restrict tj = items->tpl_node + t0;
+  const uint8_t *restrict lanes = items->tpl_lanes + t0, *restrict structure = items->tpl_bonds + t0;
+  const size_t nn = (size_t)w->n;
+  const double *restrict D = w->coef, *restrict B = w->coef + nn;
+  const double *restrict all_terms = s->state.plastic_bond_term, *restrict term = all_terms + base,
+                         *restrict weight = s->state.plastic_bond_weight + base;
+  const int64_t *restrict reverse = s->state.plastic_reverse + base;
+  int32_t first[PERI_BLOCK];
+  for (int l = 0; l < PERI_BLOCK; ++l) first[l] = (int32_t)(w->offset[i0 + l] - base);
+  peri_v8i k = _mm256_loadu_si256((const __m256i *)first);
+  const __m256i lane_shift = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), one = _mm256_set1_epi32(1);
+  const peri_v8d c[3] = {v8_loadu_pd(w->x0 + i0), v8_loadu_pd(w->x1 + i0), v8_loadu_pd(w->x2 + i0)},
+                 cu[3] = {v8_loadu_pd(w->u0 + i0), v8_loadu_pd(w->u1 + i0), v8_loadu_pd(w->u2 + i0)};
+  const peri_v8d Di = v8_loadu_pd(D + i0), Bi = v8_loadu_pd(B + i0);
+  peri_v8d s0 = v8_setzero_pd(), s1 = v8_setzero_pd(), s2 = v8_setzero_pd();
+  for (int64_t a = 0; a < count; ++a) {
+    const int64_t j = tj[a];
+    const peri_m8 on = lanes[a];
+    peri_prefetch_next_blocks(w, j);
+    const peri_v8d xj[3] = {v8_loadu_pd(w->x0 + j), v8_loadu_pd(w->x1 + j), v8_loadu_pd(w->x2 + j)},
+                   uj[3] = {v8_loadu_pd(w->u0 + j), v8_loadu_pd(w->u1 + j), v8_loadu_pd(w->u2 + j)};
+    peri_v8d y[3], r0, inv_r0, r, inv_r;
+    bond_lengths_v8(xj, uj, c, cu, y, &r0, &inv_r0, &r, &inv_r);
+    /* the bond's two plastic terms, the other end's at the reverse bond (as the node path adds them) */
+    const peri_v8d P = v8_add_pd(v8_mask_i32gather_pd(on, k, term),
+                                 v8_mask_i64gather_pd(on, v8_mask_i32gather_epi64(on, k, reverse), all_terms));
+    const peri_v8d g = bond_force_v8(r0, r, inv_r, Di, v8_loadu_pd(D + j), Bi, v8_loadu_pd(B + j), P,
+                                     v8_mask_i32gather_pd(on, k, weight));
+    /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
+    s0 = v8_mask3_fmadd_pd(g, y[0], s0, on);
+    s1 = v8_mask3_fmadd_pd(g, y[1], s1, on);
+    s2 = v8_mask3_fmadd_pd(g, y[2], s2, on);
+    /* the lanes that have the entry's bond (intact or not) move to their next one */
+    k = _mm256_add_epi32(k, _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(structure[a]), lane_shift), one));
   }
+  double a0[PERI_BLOCK], a1[PERI_BLOCK], a2[PERI_BLOCK];
+  v8_storeu_pd(a0, s0), v8_storeu_pd(a1, s1), v8_storeu_pd(a2, s2);
+  for (int l = 0; l < PERI_BLOCK; ++l) f[l][0] = a0[l], f[l][1] = a1[l], f[l][2] = a2[l];
+  return true;
 }
+#else
+bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, const peri_node_blocks *items,
+                                 int32_t item, double f[PERI_BLOCK][3]) {
+  (void)s, (void)w, (void)items, (void)item, (void)f;
+  return false;
+}
+#endif
 
 double peri_deviatoric_pair_plastic(const peri_sim *s, int32_t i, int64_t k) {
-  return own_term(s, i, k) + s->state.plastic_reverse_term[k];
+  (void)i;
+  return s->state.plastic_bond_term[k] + s->state.plastic_bond_term[s->state.plastic_reverse[k]];
 }
 
 /* Bond i-j's deformed length, and its reference length in *r0 (xi + (u_j - u_i), as the energy's

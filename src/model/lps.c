@@ -716,7 +716,8 @@ static long lps_deviatoric_force_pass(peri_sim *s, bool update_s0) {
     elastic[i] = r->sum[2] - (2.0 * theta / 3.0) * r->sum[0] + (theta * theta / 9.0) * r->sum[1];
   })
   if (track_smin && update_s0) peri_update_lammps_s0(s);
-  peri_deviatoric_return(s, elastic);
+  uint8_t *near = peri_malloc((size_t)(p->n_owned > 0 ? p->n_owned : 1));
+  peri_deviatoric_return(s, elastic, near);
   free(elastic);
   peri_sim_exchange(s, p->coef, 1); /* pass 2 reads D_j and B_j of ghosts */
   peri_sim_exchange(s, p->coef + (size_t)p->n, 1);
@@ -725,16 +726,24 @@ static long lps_deviatoric_force_pass(peri_sim *s, bool update_s0) {
   PERI_FOR_EACH_ITEM(items, item) {
     const int32_t i0 = items->first[item], i1 = items->first[item + 1];
     lps_sums sums[PERI_BLOCK];
-    bool near[PERI_BLOCK], all_near = true;
-    for (int32_t i = i0; i < i1; ++i) all_near &= near[i - i0] = peri_deviatoric_near(s, i);
+    bool all_near = true;
+    for (int32_t i = i0; i < i1; ++i) all_near &= near[i] != 0;
+    double block_f[PERI_BLOCK][3];
+    /* a block whose nodes all take the plastic force runs it on its template */
+    if (all_near && peri_item_is_block(items, item) && peri_deviatoric_block_force(s, &w, items, item, block_f)) {
+      for (int32_t i = i0; i < i1; ++i)
+        for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = block_f[i - i0][d];
+      continue;
+    }
     if (!all_near) lps_item_sums(items, item, i0, i1, &w, force_loops, sums);
     for (int32_t i = i0; i < i1; ++i) {
       double f[3];
-      if (near[i - i0]) peri_deviatoric_node_force(s, &w, i, f);
+      if (near[i]) peri_deviatoric_node_force(s, &w, i, f);
       else f[0] = sums[i - i0].sum[0], f[1] = sums[i - i0].sum[1], f[2] = sums[i - i0].sum[2];
       for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = f[d];
     }
   }
+  free(near);
   return n_broken;
 }
 

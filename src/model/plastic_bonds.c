@@ -207,6 +207,27 @@ static inline __attribute__((always_inline)) bool plastic_return_chunk(peri_sim 
   const double *restrict cs = c->s, *restrict on = c->intact, *restrict ys = c->scale;
   const int32_t *restrict cj = c->j;
   double *restrict se = c->se;
+  if (nm == 1) { /* one material: the layers' weights and yield stretches are the node's */
+    const double *restrict W = pl->W, *restrict Y = pl->Y;
+    double magnitude = 0.0; /* (a sum of magnitudes: 0 only when every stretch is) */
+    /* branch-free, so that it is a vector loop: the intact test as take v + (1 - take) b
+     * (exact for take 0 or 1), every layer stored (masked stores where it changes cost more) */
+#pragma omp simd reduction(+ : magnitude)
+    for (int a = 0; a < n; ++a) {
+      const double st = cs[a], take = on[a];
+      double plastic = 0.0;
+      for (int l = 0; l < L; ++l) {
+        const double b = base[a * L + l], y = Y[l] * ys[a];
+        /* clamp to [s - s_y, s + s_y]: the return mapping of an elastic-perfectly-plastic layer */
+        const double v = take * peri_min(peri_max(b, st - y), st + y) + (1.0 - take) * b;
+        out[a * L + l] = v;
+        magnitude += fabs(v) + (committed ? fabs(b) : 0.0);
+        plastic += W[l] * v;
+      }
+      se[a] = st - plastic;
+    }
+    return magnitude != 0.0;
+  }
   bool yielded = false;
   for (int a = 0; a < n; ++a) {
     const int pair = (row + material[cj[a]]) * L;
@@ -427,6 +448,67 @@ long peri_plastic_lps_node_sums(peri_sim *s, const peri_bond_view *w, const peri
   return n_broken;
 }
 
+#ifdef PERI_BOND_V8
+/* sum_l W_l s^p_l of n bonds of L layers each (the padding layers have W = 0) into plastic[]. */
+static inline __attribute__((always_inline)) void plastic_sums(const double *restrict sp, const double *restrict W,
+                                                               int n, const int L, double *restrict plastic) {
+#pragma omp simd
+  for (int a = 0; a < n; ++a) {
+    double sum = 0.0;
+    for (int l = 0; l < L; ++l) sum += W[l] * sp[a * L + l];
+    plastic[a] = sum;
+  }
+}
+
+/* Node i's force over bonds k0 .. k0+n-1 of its family (constant or inverse influence), with
+ * plastic[] their plastic stretches sum_l W_l s^p_l and on[] their intact flags as doubles
+ * (arrays of PLASTIC_CHUNK): the bond values by the eight-lane lengths of the elastic kernels
+ * (bond_kernel.h: reciprocal square roots, no square root or division), their sums in family
+ * order into f. */
+static void lps_plastic_force_chunk_v8(const peri_bond_view *w, int32_t i, int64_t k0, int n, bool inverse,
+                                       const double *restrict plastic, const double *restrict on, double f[3]) {
+  const int32_t *restrict nbr = w->neighbor + k0;
+  const double *D = w->coef, *B = w->coef + w->n;
+  const peri_v8d c0 = v8_set1_pd(w->x0[i]), c1 = v8_set1_pd(w->x1[i]), c2 = v8_set1_pd(w->x2[i]),
+                 cu0 = v8_set1_pd(w->u0[i]), cu1 = v8_set1_pd(w->u1[i]), cu2 = v8_set1_pd(w->u2[i]);
+  const peri_v8d Di = v8_set1_pd(D[i]), Bi = v8_set1_pd(B[i]), zero = v8_setzero_pd();
+  double g[PLASTIC_CHUNK], y0[PLASTIC_CHUNK], y1[PLASTIC_CHUNK], y2[PLASTIC_CHUNK];
+  for (int a = 0; a < n; a += 8) {
+    const peri_m8 m = peri_first_lanes(n - a);
+    const peri_v8i j = v8_maskz_loadu_epi32(m, nbr + a);
+    const peri_v8d x0 = v8_sub_pd(v8_mask_i32gather_pd(m, j, w->x0), c0),
+                   x1 = v8_sub_pd(v8_mask_i32gather_pd(m, j, w->x1), c1),
+                   x2 = v8_sub_pd(v8_mask_i32gather_pd(m, j, w->x2), c2);
+    const peri_v8d d0 = v8_add_pd(x0, v8_sub_pd(v8_mask_i32gather_pd(m, j, w->u0), cu0)),
+                   d1 = v8_add_pd(x1, v8_sub_pd(v8_mask_i32gather_pd(m, j, w->u1), cu1)),
+                   d2 = v8_add_pd(x2, v8_sub_pd(v8_mask_i32gather_pd(m, j, w->u2), cu2));
+    const peri_v8d r0_sq = v8_fmadd_pd(x2, x2, v8_fmadd_pd(x1, x1, v8_mul_pd(x0, x0)));
+    const peri_v8d r_sq = v8_fmadd_pd(d2, d2, v8_fmadd_pd(d1, d1, v8_mul_pd(d0, d0)));
+    const peri_v8d inv_r0 = peri_rsqrt_v8(r0_sq), inv_r = peri_rsqrt_v8(r_sq);
+    const peri_v8d r0 = v8_mul_pd(r0_sq, inv_r0), r = v8_mul_pd(r_sq, inv_r);
+    /* t_ij + t_ji = omega (|xi| (D_i + D_j) + e^e (B_i + B_j)), e^e = r - |xi| - s^p |xi| */
+    const peri_v8d e = v8_fnmadd_pd(v8_loadu_pd(plastic + a), r0, v8_sub_pd(r, r0));
+    const peri_v8d t = v8_fmadd_pd(r0, v8_add_pd(Di, v8_mask_i32gather_pd(m, j, D)),
+                                   v8_mul_pd(e, v8_add_pd(Bi, v8_mask_i32gather_pd(m, j, B))));
+    const peri_v8d bv = v8_mul_pd(v8_mul_pd(peri_beta_v8(&w->fam, r0), v8_mask_i32gather_pd(m, j, w->V)),
+                                  v8_loadu_pd(on + a));
+    peri_v8d gv = v8_mul_pd(v8_mul_pd(t, bv), inv_r);
+    if (inverse) gv = v8_mul_pd(gv, inv_r0); /* omega = 1/|xi| */
+    /* coincident ends have no direction and give no force */
+    gv = v8_maskz_mov_pd(v8_cmp_pd_mask(r_sq, zero, _CMP_GT_OQ), gv);
+    v8_mask_storeu_pd(g + a, m, gv);
+    v8_mask_storeu_pd(y0 + a, m, d0);
+    v8_mask_storeu_pd(y1 + a, m, d1);
+    v8_mask_storeu_pd(y2 + a, m, d2);
+  }
+  for (int a = 0; a < n; ++a) {
+    f[0] = fma(g[a], y0[a], f[0]);
+    f[1] = fma(g[a], y1[a], f[1]);
+    f[2] = fma(g[a], y2[a], f[2]);
+  }
+}
+#endif
+
 void peri_plastic_lps_node_force(const peri_sim *s, const peri_bond_view *w, const peri_plastic_pass *pl, int32_t i,
                                  double f[3]) {
   const peri_bonds *b = &s->disc.bonds;
@@ -435,6 +517,30 @@ void peri_plastic_lps_node_force(const peri_sim *s, const peri_bond_view *w, con
   const int row = material[i] * pl->nm;
   const double *D = w->coef, *B = w->coef + w->n;
   const peri_influence influence = b->family.influence;
+#ifdef PERI_BOND_V8
+  if (influence != PERI_INFLUENCE_GAUSSIAN) { /* (exp has no eight-lane function) */
+    double plastic[PLASTIC_CHUNK], on[PLASTIC_CHUNK];
+    f[0] = f[1] = f[2] = 0.0;
+    for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PLASTIC_CHUNK) {
+      const int n = (int)(b->offset[i + 1] - k0 < PLASTIC_CHUNK ? b->offset[i + 1] - k0 : PLASTIC_CHUNK);
+      const double *restrict sp = s->state.plastic_stretch + k0 * L;
+      for (int a = 0; a < n; ++a) on[a] = b->broken[k0 + a] ? 0.0 : 1.0;
+      if (pl->nm == 1) {
+        switch (L) { /* (constant layer counts for the common ones: a vector loop over the bonds) */
+        case 1: plastic_sums(sp, pl->W, n, 1, plastic); break;
+        case 2: plastic_sums(sp, pl->W, n, 2, plastic); break;
+        case 3: plastic_sums(sp, pl->W, n, 3, plastic); break;
+        case 4: plastic_sums(sp, pl->W, n, 4, plastic); break;
+        default: plastic_sums(sp, pl->W, n, L, plastic); break;
+        }
+      } else {
+        for (int a = 0; a < n; ++a) plastic_sums(sp + a * L, pl->W + (row + material[b->neighbor[k0 + a]]) * L, 1, L, plastic + a);
+      }
+      lps_plastic_force_chunk_v8(w, i, k0, n, influence == PERI_INFLUENCE_INVERSE, plastic, on, f);
+    }
+    return;
+  }
+#endif
   double f0 = 0.0, f1 = 0.0, f2 = 0.0;
   for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
     if (b->broken[k]) continue;

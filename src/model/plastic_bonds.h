@@ -80,15 +80,19 @@ int peri_deviatoric_init(peri_sim *s);
 /* After the dilatation pass of LPS (theta and B = alpha of every owned node, the node blocks'
  * copies of the positions at this displacement): the radial return of every owned node's
  * sublayers, with elastic[i] = sum_j omega beta V_j (e^d_ij)^2 at the total extensions (a node
- * that has never yielded and stays below its first yield skips the return), and the plastic
- * terms of the bonds' other ends (from other ranks through the bond halo). */
-void peri_deviatoric_return(peri_sim *s, const double *elastic);
-/* After the return: whether node i has a plastic state or a bond with the other end's plastic
- * term (else its force is the elastic one). */
-bool peri_deviatoric_near(const peri_sim *s, int32_t i);
+ * that has never yielded and stays below its first yield skips the return), the plastic terms
+ * of the bonds' other ends (from other ranks through the bond halo); near[i] (owned nodes) says whether node i has a plastic state or a bond
+ * with the other end's plastic term (else its force is the elastic one). */
+void peri_deviatoric_return(peri_sim *s, const double *elastic, uint8_t *near);
 /* The force density on node i, with the coefficients D and B of every node in w->coef: the
  * LPS pair forces with the plastic part of each bond. */
 void peri_deviatoric_node_force(const peri_sim *s, const peri_bond_view *w, int32_t i, double f[3]);
+/* The same for the eight nodes of block item `item` (node_blocks.h) at once, into f[lane],
+ * bit for bit as node by node; false (nothing done) where the build has no eight-lane
+ * functions or the block's template lost entries. */
+struct peri_node_blocks;
+bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, const struct peri_node_blocks *items,
+                                 int32_t item, double f[8][3]);
 /* alpha_i sum_l W_l s^dp_l,ij + alpha_j sum_l W_l s^dp_l,ji of bond k = i -> j (alpha the
  * coefficients B of the dilatation pass): the pair force t_ij + t_ji loses omega |xi| times it. */
 double peri_deviatoric_pair_plastic(const peri_sim *s, int32_t i, int64_t k);

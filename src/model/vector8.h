@@ -25,6 +25,7 @@
 typedef __m512d peri_v8d;
 typedef __mmask8 peri_m8;
 typedef __m256i peri_v8i;
+typedef __m512i peri_v8l; /* eight 64-bit integers */
 #define v8_loadu_pd _mm512_loadu_pd
 #define v8_storeu_pd _mm512_storeu_pd
 #define v8_mask_storeu_pd _mm512_mask_storeu_pd
@@ -52,6 +53,11 @@ typedef __m256i peri_v8i;
 #define v8_maskz_loadu_epi32 _mm256_maskz_loadu_epi32
 /* the eight doubles at base[index[l]] of the lanes in m, 0 in the others */
 #define v8_mask_i32gather_pd(m, index, base) _mm512_mask_i32gather_pd(_mm512_setzero_pd(), (m), (index), (base), 8)
+/* the eight 64-bit integers at base[index[l]] (0 in the lanes not in m), and the doubles at
+ * base[index[l]] for 64-bit indices */
+#define v8_mask_i32gather_epi64(m, index, base)                                                                \
+  _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), (m), (index), (base), 8)
+#define v8_mask_i64gather_pd(m, index, base) _mm512_mask_i64gather_pd(_mm512_setzero_pd(), (m), (index), (base), 8)
 
 #else /* AVX2 and FMA: lanes 0-3 in lo, 4-7 in hi */
 typedef struct peri_v8d {
@@ -59,6 +65,9 @@ typedef struct peri_v8d {
 } peri_v8d;
 typedef uint8_t peri_m8;
 typedef __m256i peri_v8i;
+typedef struct peri_v8l {
+  __m256i lo, hi;
+} peri_v8l; /* eight 64-bit integers */
 #define V8_INLINE static inline __attribute__((always_inline))
 
 /* the 64-bit lane masks of four bits */
@@ -149,6 +158,19 @@ V8_INLINE peri_v8d v8_mask_i32gather_pd(peri_m8 m, peri_v8i index, const double 
   const __m256d zero = _mm256_setzero_pd();
   return v8_make(_mm256_mask_i32gather_pd(zero, base, _mm256_castsi256_si128(index), v8_mask_lo(m), 8),
                  _mm256_mask_i32gather_pd(zero, base, _mm256_extracti128_si256(index, 1), v8_mask_hi(m), 8));
+}
+V8_INLINE peri_v8l v8_mask_i32gather_epi64(peri_m8 m, peri_v8i index, const int64_t *base) {
+  const __m256i zero = _mm256_setzero_si256();
+  const long long *b = (const long long *)base;
+  const peri_v8l v = {
+      _mm256_mask_i32gather_epi64(zero, b, _mm256_castsi256_si128(index), _mm256_castpd_si256(v8_mask_lo(m)), 8),
+      _mm256_mask_i32gather_epi64(zero, b, _mm256_extracti128_si256(index, 1), _mm256_castpd_si256(v8_mask_hi(m)), 8)};
+  return v;
+}
+V8_INLINE peri_v8d v8_mask_i64gather_pd(peri_m8 m, peri_v8l index, const double *base) {
+  const __m256d zero = _mm256_setzero_pd();
+  return v8_make(_mm256_mask_i64gather_pd(zero, base, index.lo, v8_mask_lo(m), 8),
+                 _mm256_mask_i64gather_pd(zero, base, index.hi, v8_mask_hi(m), 8));
 }
 #undef V8_INLINE
 #endif

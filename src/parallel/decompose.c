@@ -236,19 +236,21 @@ static void localize_thermal(peri_sim *s, const int32_t *ids, int32_t n_local, i
 }
 
 /* The deviatoric yield rule (docs/plasticity.md section 8): the reverse bond of each owned
- * bond as a local index, -1 where the other end is a ghost, whose owner sends its plastic
- * term through the bond halo. Needs the global families. */
+ * bond as a local index; where the other end is a ghost, the bond's own index past the owned
+ * bonds, the entry of the plastic terms into which the ghost's owner sends its term through
+ * the bond halo. Needs the global families. */
 static void localize_reverse(peri_sim *s, peri_decomposition *d) {
   const int64_t b0 = d->bond_first[d->rank], b1 = d->bond_first[d->rank + 1];
   d->bond_halo = peri_bond_halo_build(&s->disc.bonds, s->state.plastic_reverse, d->first, d->bond_first, d->rank, d->size);
   int64_t *reverse = peri_malloc(sizeof(int64_t) * (size_t)(b1 > b0 ? b1 - b0 : 1));
   for (int64_t k = b0; k < b1; ++k) {
     const int64_t r = s->state.plastic_reverse[k];
-    reverse[k - b0] = r >= b0 && r < b1 ? r - b0 : -1;
+    reverse[k - b0] = r >= b0 && r < b1 ? r - b0 : (b1 - b0) + (k - b0);
   }
   free(s->state.plastic_reverse);
   s->state.plastic_reverse = reverse;
-  SLICE(s->state.plastic_reverse_term, sizeof(double), b0, b1 - b0);
+  free(s->state.plastic_bond_term); /* (zero before the first return) */
+  s->state.plastic_bond_term = peri_calloc((size_t)(b1 > b0 ? 2 * (b1 - b0) : 1), sizeof(double));
   SLICE(s->state.plastic_bond_weight, sizeof(double), b0, b1 - b0);
 }
 
