@@ -81,6 +81,23 @@ static inline __attribute__((always_inline)) peri_v8d peri_rsqrt_v8(peri_v8d x) 
   y = v8_fmadd_pd(y, v8_fnmadd_pd(v8_mul_pd(half_x, y), y, half), y);
   return y;
 }
+/* The relative vectors y = xi + (u_j - u_i) of eight bonds from the neighbours' positions xj
+ * and displacements uj and the centre's (c, cu), their reference and deformed lengths r0, r and
+ * 1/r0, 1/r: one function for both lengths, so an undeformed bond has r == r0, and for every
+ * model's kernels, so their paths agree bit for bit. */
+static inline __attribute__((always_inline)) void peri_bond_lengths_v8(const peri_v8d xj[3], const peri_v8d uj[3],
+                                                                       const peri_v8d c[3], const peri_v8d cu[3],
+                                                                       peri_v8d y[3], peri_v8d *r0, peri_v8d *inv_r0,
+                                                                       peri_v8d *r, peri_v8d *inv_r) {
+  const peri_v8d x0 = v8_sub_pd(xj[0], c[0]), x1 = v8_sub_pd(xj[1], c[1]), x2 = v8_sub_pd(xj[2], c[2]);
+  y[0] = v8_add_pd(x0, v8_sub_pd(uj[0], cu[0]));
+  y[1] = v8_add_pd(x1, v8_sub_pd(uj[1], cu[1]));
+  y[2] = v8_add_pd(x2, v8_sub_pd(uj[2], cu[2]));
+  const peri_v8d r0_sq = v8_fmadd_pd(x2, x2, v8_fmadd_pd(x1, x1, v8_mul_pd(x0, x0)));
+  const peri_v8d r_sq = v8_fmadd_pd(y[2], y[2], v8_fmadd_pd(y[1], y[1], v8_mul_pd(y[0], y[0])));
+  *inv_r0 = peri_rsqrt_v8(r0_sq), *inv_r = peri_rsqrt_v8(r_sq);
+  *r0 = v8_mul_pd(r0_sq, *inv_r0), *r = v8_mul_pd(r_sq, *inv_r);
+}
 /* a0² + a1² + a2² in the order of the scalar loops */
 static inline __attribute__((always_inline)) peri_v8d peri_norm2_v8(peri_v8d a0, peri_v8d a1, peri_v8d a2) {
   return v8_add_pd(v8_add_pd(v8_mul_pd(a0, a0), v8_mul_pd(a1, a1)), v8_mul_pd(a2, a2));

@@ -119,23 +119,14 @@ static void pack_plastic_terms(const void *context, const int64_t *bonds, int64_
 #define DEVIATORIC_CHUNK 256
 
 #ifdef PERI_BOND_V8
-/* The relative vectors y = xi + (u_j - u_i) of eight bonds from the neighbours' positions
- * xj and displacements uj and the centres' (c, cu), and their reference and deformed lengths
- * with 1/|xi| and 1/|y| (r 0 for coincident ends), by the reciprocal square root of the
- * elastic kernels (bond_kernel.h). */
+/* peri_bond_lengths_v8 (bond_kernel.h), with r 0 for coincident ends. */
 static inline __attribute__((always_inline)) void bond_lengths_v8(const peri_v8d xj[3], const peri_v8d uj[3],
                                                                   const peri_v8d c[3], const peri_v8d cu[3],
                                                                   peri_v8d y[3], peri_v8d *r0, peri_v8d *inv_r0,
                                                                   peri_v8d *r, peri_v8d *inv_r) {
-  const peri_v8d x0 = v8_sub_pd(xj[0], c[0]), x1 = v8_sub_pd(xj[1], c[1]), x2 = v8_sub_pd(xj[2], c[2]);
-  y[0] = v8_add_pd(x0, v8_sub_pd(uj[0], cu[0]));
-  y[1] = v8_add_pd(x1, v8_sub_pd(uj[1], cu[1]));
-  y[2] = v8_add_pd(x2, v8_sub_pd(uj[2], cu[2]));
-  const peri_v8d r0_sq = v8_fmadd_pd(x2, x2, v8_fmadd_pd(x1, x1, v8_mul_pd(x0, x0)));
+  peri_bond_lengths_v8(xj, uj, c, cu, y, r0, inv_r0, r, inv_r);
   const peri_v8d r_sq = v8_fmadd_pd(y[2], y[2], v8_fmadd_pd(y[1], y[1], v8_mul_pd(y[0], y[0])));
-  *inv_r0 = peri_rsqrt_v8(r0_sq), *inv_r = peri_rsqrt_v8(r_sq);
-  *r0 = v8_mul_pd(r0_sq, *inv_r0);
-  *r = v8_maskz_mov_pd(v8_cmp_pd_mask(r_sq, v8_setzero_pd(), _CMP_GT_OQ), v8_mul_pd(r_sq, *inv_r));
+  *r = v8_maskz_mov_pd(v8_cmp_pd_mask(r_sq, v8_setzero_pd(), _CMP_GT_OQ), *r);
 }
 
 /* The same for the neighbours j of the lanes in m (gathered). */

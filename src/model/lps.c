@@ -154,20 +154,14 @@ static inline __attribute__((always_inline)) lps_centre_v8 lps_centre_v8_of(cons
 }
 
 /* the lengths |xi| (r0, 1/r0 in *inv_r0) and |y| (r, 1/r in *inv_r) of eight bonds from
- * the reference and relative displacement components; the same function for both, so an
- * undeformed bond has r == r0 */
+ * the reference and relative displacement components (peri_bond_lengths_v8) */
 static inline __attribute__((always_inline)) void lps_lengths_v8(const lps_centre_v8 *ci, peri_v8d xj0, peri_v8d xj1,
                                                                  peri_v8d xj2, peri_v8d uj0, peri_v8d uj1, peri_v8d uj2,
                                                                  peri_v8d *r0, peri_v8d *inv_r0, peri_v8d *r,
                                                                  peri_v8d *inv_r, peri_v8d y[3]) {
-  const peri_v8d x0 = v8_sub_pd(xj0, ci->x0), x1 = v8_sub_pd(xj1, ci->x1), x2 = v8_sub_pd(xj2, ci->x2);
-  y[0] = v8_add_pd(x0, v8_sub_pd(uj0, ci->u0));
-  y[1] = v8_add_pd(x1, v8_sub_pd(uj1, ci->u1));
-  y[2] = v8_add_pd(x2, v8_sub_pd(uj2, ci->u2));
-  const peri_v8d r0_sq = v8_fmadd_pd(x2, x2, v8_fmadd_pd(x1, x1, v8_mul_pd(x0, x0)));
-  const peri_v8d r_sq = v8_fmadd_pd(y[2], y[2], v8_fmadd_pd(y[1], y[1], v8_mul_pd(y[0], y[0])));
-  *inv_r0 = peri_rsqrt_v8(r0_sq), *inv_r = peri_rsqrt_v8(r_sq);
-  *r0 = v8_mul_pd(r0_sq, *inv_r0), *r = v8_mul_pd(r_sq, *inv_r);
+  const peri_v8d xj[3] = {xj0, xj1, xj2}, uj[3] = {uj0, uj1, uj2}, c[3] = {ci->x0, ci->x1, ci->x2},
+                 cu[3] = {ci->u0, ci->u1, ci->u2};
+  peri_bond_lengths_v8(xj, uj, c, cu, y, r0, inv_r0, r, inv_r);
 }
 
 /* Pass 1 (lps_bond_sums): the weight, with q, |xi|, 1/|xi|, the stretch and the excess. */

@@ -469,23 +469,21 @@ static void lps_plastic_force_chunk_v8(const peri_bond_view *w, int32_t i, int64
                                        const double *restrict plastic, const double *restrict on, double f[3]) {
   const int32_t *restrict nbr = w->neighbor + k0;
   const double *D = w->coef, *B = w->coef + w->n;
-  const peri_v8d c0 = v8_set1_pd(w->x0[i]), c1 = v8_set1_pd(w->x1[i]), c2 = v8_set1_pd(w->x2[i]),
-                 cu0 = v8_set1_pd(w->u0[i]), cu1 = v8_set1_pd(w->u1[i]), cu2 = v8_set1_pd(w->u2[i]);
+  const peri_v8d c[3] = {v8_set1_pd(w->x0[i]), v8_set1_pd(w->x1[i]), v8_set1_pd(w->x2[i])},
+                 cu[3] = {v8_set1_pd(w->u0[i]), v8_set1_pd(w->u1[i]), v8_set1_pd(w->u2[i])};
   const peri_v8d Di = v8_set1_pd(D[i]), Bi = v8_set1_pd(B[i]), zero = v8_setzero_pd();
   double g[PLASTIC_CHUNK], y0[PLASTIC_CHUNK], y1[PLASTIC_CHUNK], y2[PLASTIC_CHUNK];
   for (int a = 0; a < n; a += 8) {
     const peri_m8 m = peri_first_lanes(n - a);
     const peri_v8i j = v8_maskz_loadu_epi32(m, nbr + a);
-    const peri_v8d x0 = v8_sub_pd(v8_mask_i32gather_pd(m, j, w->x0), c0),
-                   x1 = v8_sub_pd(v8_mask_i32gather_pd(m, j, w->x1), c1),
-                   x2 = v8_sub_pd(v8_mask_i32gather_pd(m, j, w->x2), c2);
-    const peri_v8d d0 = v8_add_pd(x0, v8_sub_pd(v8_mask_i32gather_pd(m, j, w->u0), cu0)),
-                   d1 = v8_add_pd(x1, v8_sub_pd(v8_mask_i32gather_pd(m, j, w->u1), cu1)),
-                   d2 = v8_add_pd(x2, v8_sub_pd(v8_mask_i32gather_pd(m, j, w->u2), cu2));
-    const peri_v8d r0_sq = v8_fmadd_pd(x2, x2, v8_fmadd_pd(x1, x1, v8_mul_pd(x0, x0)));
+    const peri_v8d xj[3] = {v8_mask_i32gather_pd(m, j, w->x0), v8_mask_i32gather_pd(m, j, w->x1),
+                            v8_mask_i32gather_pd(m, j, w->x2)};
+    const peri_v8d uj[3] = {v8_mask_i32gather_pd(m, j, w->u0), v8_mask_i32gather_pd(m, j, w->u1),
+                            v8_mask_i32gather_pd(m, j, w->u2)};
+    peri_v8d y[3], r0, inv_r0, r, inv_r;
+    peri_bond_lengths_v8(xj, uj, c, cu, y, &r0, &inv_r0, &r, &inv_r);
+    const peri_v8d d0 = y[0], d1 = y[1], d2 = y[2];
     const peri_v8d r_sq = v8_fmadd_pd(d2, d2, v8_fmadd_pd(d1, d1, v8_mul_pd(d0, d0)));
-    const peri_v8d inv_r0 = peri_rsqrt_v8(r0_sq), inv_r = peri_rsqrt_v8(r_sq);
-    const peri_v8d r0 = v8_mul_pd(r0_sq, inv_r0), r = v8_mul_pd(r_sq, inv_r);
     /* t_ij + t_ji = omega (|xi| (D_i + D_j) + e^e (B_i + B_j)), e^e = r - |xi| - s^p |xi| */
     const peri_v8d e = v8_fnmadd_pd(v8_loadu_pd(plastic + a), r0, v8_sub_pd(r, r0));
     const peri_v8d t = v8_fmadd_pd(r0, v8_add_pd(Di, v8_mask_i32gather_pd(m, j, D)),
