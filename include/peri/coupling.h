@@ -17,6 +17,17 @@
 
 typedef struct peri_sim peri_sim;
 
+/* coupling.tractions: a point of a straight interface at which the history reports the
+ * discrete nonlocal traction (eqs. A.15, A.34) and the local one of the FEM side (eq. 2.107
+ * and its 2D/3D form: the stress of the bilinear field of the lattice nodes around the point) */
+typedef struct peri_interface_traction {
+  char *name;
+  double at[3];            /* on a line of nodes, midway between two nodes along the normal */
+  int axis, sign;          /* normal sign e_axis, from the PD side into the FEM side */
+  int material;            /* of the FEM node across the interface: E, nu of the local traction */
+  double reach[3][2];      /* tangential axis d: the nodes at -reach[d][0], +reach[d][1] (0 or dx) */
+} peri_interface_traction;
+
 typedef struct peri_coupling {
   int32_t n_nodes;         /* owned nodes */
   int32_t *node_type;      /* [n] 1: PD node, 0: FEM node (the output field node_type) */
@@ -60,6 +71,8 @@ typedef struct peri_coupling {
    * enter e_r of eqs. 2.114, 2.116 (the supports and load points); 0 regions: none */
   int n_balance_regions;
   int *balance_region;
+  int n_tractions;
+  peri_interface_traction *traction;
 } peri_coupling;
 
 /* Area of the disk of radius r centred at the origin inside the rectangle [x0, x1] x [y0, y1],
@@ -131,6 +144,16 @@ void peri_coupling_force(peri_sim *s);
  * area of the interface (1D: per cross-section A; 2D: per dx h; 3D: per dx^2), at the current
  * displacement. */
 void peri_coupling_nonlocal_traction(const peri_sim *s, const double x0[3], int axis, int sign, double out[3]);
+/* The local traction t(x0, -n) = -sigma n of the FEM side at tr->at (n = sign e_axis): the
+ * stress of the lattice nodes' bilinear field there, its normal derivative (u+ - u-)/dx from
+ * the two nodes that straddle the point (eq. 2.107), its tangential ones by central
+ * differences over the two rows of nodes (one-sided at a body's edge), with Hooke's law of the
+ * material (1D E, 2D plane stress or strain, 3D isotropic). */
+void peri_coupling_local_traction(const peri_sim *s, const peri_interface_traction *tr, double out[3]);
+/* Checks that tr->at lies on a line of nodes midway between two nodes along the normal and
+ * fills its material and reach from the nodes (global numbering, before any decomposition).
+ * PERI_ERR_INPUT with a message in why (size n) otherwise. */
+int peri_coupling_traction_locate(const peri_sim *s, peri_interface_traction *tr, char *why, size_t n);
 /* The balance of the nodal forces F_i = -V_i f_i (= (K u)_i): net[d] = sum_i F_id,
  * ratio[d] = |net_d| / sum_i |F_id| (e_r per axis, eq. 2.40) and ratio[3] = |net| / sum_i |F_i|
  * (e_r, eq. 2.38; in 1D the two agree). */

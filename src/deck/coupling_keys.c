@@ -166,12 +166,47 @@ static int balance_regions(peri_sim *s, const peri_node *root, const peri_node *
   return PERI_OK;
 }
 
+/* coupling.tractions: named points of a straight interface where the history reports the
+ * nonlocal and the local traction (eqs. A.15, A.34, 2.107): {at: point, normal: +x ...}, the
+ * normal pointing from the PD side into the FEM side. */
+static int tractions(peri_sim *s, const peri_node *cp) {
+  const peri_node *map = peri_deck_get(cp, "tractions");
+  if (!map) return PERI_OK;
+  if (map->kind != PERI_NODE_MAPPING || map->count < 1)
+    return peri_deck_error(map, "key 'tractions': expected a mapping of names to {at: point, normal: +x|-x|+y|...}");
+  const int dim = s->disc.geom.dim;
+  peri_coupling *c = s->coupling;
+  c->traction = peri_calloc((size_t)map->count, sizeof *c->traction);
+  static const char *const keys[] = {"at", "normal", NULL};
+  static const char *const normals[] = {"+x", "-x", "+y", "-y", "+z", "-z", NULL};
+  for (int k = 0; k < map->count; ++k) {
+    const peri_node *def = map->items[k];
+    peri_interface_traction *tr = &c->traction[c->n_tractions];
+    if (def->kind != PERI_NODE_MAPPING)
+      return peri_deck_error(def, "coupling.tractions.%s: expected {at: point, normal: +x|-x|+y|...}", map->keys[k]->scalar);
+    TRY(peri_deck_allow(def, "coupling.tractions", keys));
+    TRY(peri_deck_vector(def, "at", true, dim, tr->at));
+    int normal = 0;
+    TRY(peri_deck_choice(def, "normal", true, normals, &normal));
+    tr->axis = normal / 2, tr->sign = normal % 2 ? -1 : 1;
+    if (tr->axis >= dim)
+      return peri_deck_error(peri_deck_get(def, "normal"), "key 'normal': %s is not an axis of a %dD deck",
+                             normals[normal], dim);
+    tr->name = peri_strdup(map->keys[k]->scalar);
+    c->n_tractions++;
+    char why[256];
+    if (peri_coupling_traction_locate(s, tr, why, sizeof why) != PERI_OK)
+      return peri_deck_error(peri_deck_get(def, "at"), "coupling.tractions.%s: %s", tr->name, why);
+  }
+  return PERI_OK;
+}
+
 int peri_setup_coupling(peri_sim *s, const peri_node *root, const peri_fem_mesh *mesh) {
   const peri_node *cp = peri_deck_get(root, "coupling");
   if (!cp) return PERI_OK;
   static const char *const keys[] = {"pd_region", "micromodulus_exponent", "gamma", "partial_volume",
                                      "switch_radius", "graded_mesh", "mesh", "mesh_material",
-                                     "balance_regions", NULL};
+                                     "balance_regions", "tractions", NULL};
   TRY(peri_deck_allow(cp, "coupling", keys));
   const char *name = NULL;
   TRY(peri_deck_string(cp, "pd_region", false, &name));
@@ -245,5 +280,6 @@ int peri_setup_coupling(peri_sim *s, const peri_node *root, const peri_fem_mesh 
   if (gamma_auto) peri_coupling_set_gamma(s, peri_coupling_linear_field_gamma(s)); /* linear_field_gamma.c */
   if (s->solver.breaking && peri_coupling_set_switching(s, radius, why, sizeof why) != PERI_OK) /* switching.c */
     return peri_deck_error(cp, "coupling: the PD patch around the pre-cracks: %s", why);
-  return balance_regions(s, root, cp);
+  TRY(balance_regions(s, root, cp));
+  return tractions(s, cp);
 }

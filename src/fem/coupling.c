@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/coupling.h"
+#include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/fem.h"
 #include "peri/fem_mesh.h"
@@ -46,6 +47,8 @@ void peri_coupling_free(peri_coupling *c) {
   free(c->offset_beta);
   free(c->switch_offset);
   free(c->balance_region);
+  for (int k = 0; k < c->n_tractions; ++k) free(c->traction[k].name);
+  free(c->traction);
   if (c->tangent_cols)
     for (int32_t i = 0; c->tangent_count && i < c->n_nodes; ++i) free(c->tangent_cols[i]), free(c->tangent_blocks[i]);
   free(c->tangent_count);
@@ -470,7 +473,8 @@ void peri_coupling_nonlocal_traction(const peri_sim *s, const double x0[3], int 
   const int64_t longest = longest_row(s);
   int32_t *cols = peri_malloc(sizeof(int32_t) * (size_t)longest);
   double *blocks = peri_malloc(sizeof(double) * 9 * (size_t)longest);
-  out[0] = out[1] = out[2] = 0.0;
+  /* each PD node's share, summed in the fixed blocks of peri_sum_owned: any thread and rank count */
+  double *terms = peri_calloc(3 * (size_t)(p->n_owned > 0 ? p->n_owned : 1), sizeof(double));
   /* the cross-section of the line of PD nodes */
   const double section = dim == 1 ? g->cross_section : dim == 2 ? dx * g->thickness : dx * dx;
   for (int32_t i = 0; i < p->n_owned; ++i) {
@@ -482,15 +486,18 @@ void peri_coupling_nonlocal_traction(const peri_sim *s, const double x0[3], int 
     const double depth = sign * (x0[axis] - xi[axis]); /* into the PD side */
     if (!on_line || !(depth > 0.0) || depth > g->horizon) continue;
     const int32_t count = pd_row(s, i, cols, blocks);
+    double *t = &terms[3 * (size_t)i];
     for (int32_t k = 0; k < count; ++k) {
       const int32_t j = cols[k];
       if (j == i || s->coupling->node_type[j] || sign * (p->x[3 * (size_t)j + axis] - x0[axis]) <= 0.0) continue;
       const double *K = &blocks[9 * (size_t)k];
       for (int r = 0; r < 3; ++r)
         for (int q = 0; q < 3; ++q)
-          out[r] += p->volume[i] / section * K[3 * r + q] * (p->u[3 * (size_t)j + q] - p->u[3 * (size_t)i + q]);
+          t[r] += p->volume[i] / section * K[3 * r + q] * (p->u[3 * (size_t)j + q] - p->u[3 * (size_t)i + q]);
     }
   }
+  peri_sum_owned(s, terms, 3, out);
+  free(terms);
   free(cols);
   free(blocks);
 }

@@ -183,6 +183,13 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
       snprintf(name, sizeof name, "out_of_balance_reactions_%c", "xyz"[d]); /* coupling.balance_regions */
       add(c, name);
     }
+    for (int k = 0; k < s->coupling->n_tractions; ++k) /* coupling.tractions */
+      for (int kind = 0; kind < 2; ++kind)
+        for (int d = 0; d < s->disc.geom.dim; ++d) {
+          snprintf(name, sizeof name, "%s_traction_%s_%c", kind ? "local" : "nonlocal", s->coupling->traction[k].name,
+                   "xyz"[d]);
+          add(c, name);
+        }
   }
 }
 
@@ -226,7 +233,7 @@ const char *peri_history_unit(const char *column) {
       {"mass_", "kg", false}, {"kinetic_energy_", "J", false}, {"mean_velocity_", "m/s", false},
       {"damaged_mass_", "kg", false}, {"detached_mass_", "kg", false}, {"max_von_mises_", "Pa", false}, {"mean_stress_", "Pa", false},
       {"strain_energy_", "J", false}, {"broken_interface_bonds", "1", true}, {"max_interface_stress", "Pa", true},
-      {"max_interface_traction", "Pa", true},
+      {"max_interface_traction", "Pa", true}, {"nonlocal_traction_", "Pa", false}, {"local_traction_", "Pa", false},
       {"wrinkle_amplitude", "m", true}, {"wrinkle_wavelength", "m", true}, {"short_range_min_ratio", "1", true},
   };
   if (!strncmp(column, "tool_", 5)) { /* tool_NAME_WHAT: the unit of WHAT */

@@ -193,6 +193,14 @@ static int write_history(peri_sim *s, run_ctx *c) {
       peri_coupling_region_balance(s, by_region);
       for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = by_region[d];
     }
+    for (int t = 0; t < s->coupling->n_tractions; ++t) { /* eqs. A.15, A.34 and 2.107 at each point */
+      const peri_interface_traction *tr = &s->coupling->traction[t];
+      double tau[3], local[3];
+      peri_coupling_nonlocal_traction(s, tr->at, tr->axis, tr->sign, tau);
+      peri_coupling_local_traction(s, tr, local);
+      for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = tau[d];
+      for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = local[d];
+    }
   }
   return peri_history_log_record(&c->log);
 }

@@ -50,6 +50,15 @@ near "$ratio" 5.78e-4 0.005e-4 || fail "out_of_balance $ratio, Table 2.11 5.78e-
 grep -q 'Name="node_type"' "$TMP/output/coupling_bar_cubic/coupling_bar_cubic_000001.vtu" ||
   fail "the frame has no node_type field"
 pass "1D cubic curve over the interface: net force $net, e_r $ratio (Tables 2.11, 2.12)"
+# coupling.tractions: the nonlocal plus the local traction at the right interface balances the
+# reactions (eq. 2.108, Table 2.12's 2.31e-7); at the left interface the field is linear: they cancel
+right=$(awk -v a="$(value "$hist" nonlocal_traction_right_x)" -v b="$(value "$hist" local_traction_right_x)" 'BEGIN { printf "%.10g", a + b }')
+left=$(awk -v a="$(value "$hist" nonlocal_traction_left_x)" -v b="$(value "$hist" local_traction_left_x)" 'BEGIN { printf "%.10g", a + b }')
+# (history.csv prints 10 digits: each traction, 1.5e-4, to half a unit of 1e-13)
+near "$right" "$(awk -v n="$net" 'BEGIN { printf "%.12g", -n }')" 1.1e-13 || fail "tau + t at the right interface $right, -net force ${net#-}"
+near "$right" 2.31e-7 0.005e-7 || fail "tau + t at the right interface $right, Table 2.12 2.31e-7"
+near "$left" 0 1e-15 || fail "tau + t at the left interface $left, 0 for a linear field"
+pass "interface tractions: tau + t = $right at the right interface (Table 2.12 2.31e-7), $left at the left"
 
 plate=examples/coupling_plate_point_load.yaml
 run_peri_in "$TMP" run "$(pwd)/$plate" -q
@@ -192,6 +201,13 @@ fails_at "$d" "all]" "key 'balance_regions': region 'all' sums every nodal force
 d=$(deck balance_twice -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, balance_regions: [left, left]}/')
 fails_at "$d" "left]}" "key 'balance_regions': region 'left' is listed twice"
 pass "balance_regions: one region, an unknown one, all and a repeated one are positioned errors"
+d=$(deck traction_off -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, tractions: {top: {at: [0, 5.2], normal: +y}}}/')
+fails_at "$d" "[0, 5.2]" "coupling.tractions.top: no node at (0, 4.7): 'at' must lie on a line of nodes, half a spacing"
+d=$(deck traction_axis -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, tractions: {top: {at: [0, 5.5], normal: +z}}}/')
+fails_at "$d" "+z}" "key 'normal': +z is not an axis of a 2D deck"
+d=$(deck traction_key -e 's/coupling: {pd_region: pd}/coupling: {pd_region: pd, tractions: {top: {at: [0, 5.5], normal: +y, side: 1}}}/')
+fails_at "$d" "side" "unknown key 'side'"
+pass "tractions: a point off the midway of two nodes, a normal off the deck's axes and an unknown key are positioned errors"
 
 # the Brokenshire deck's inclined notch: a rectangle needs perpendicular, non-zero edges
 torsion=examples/coupling_brokenshire_torsion.yaml

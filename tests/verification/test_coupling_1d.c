@@ -13,6 +13,9 @@
  *    one has the error dx^2 u'''/24), to the round-off 1e-12 sum |F|; and e_r and sum F match Tables 2.11
  *    and 2.12 to their printed 3 digits (half a unit of the last digit) for m = 3, 6, 12 and
  *    delta = 3, 1.5, 0.5.
+ *  - The tractions of coupling.tractions at both interfaces for the same curve: the nonlocal
+ *    (eq. A.15) plus the local one (eq. 2.107) is -sum F (eq. 2.108) to round-off and Table 2.12's
+ *    last column to its 3 digits (m = 3, 6, 12); the local one is eq. 2.110's, exactly.
  *  - Quartic curve over the right interface: sum F / delta^2 and e_r of Table 2.4 (cases (e) to
  *    (i)) to their printed digits, which shows the delta^2 convergence of the imbalance.
  *  - The discrete nonlocal traction at x0 = 20.5 (eq. A.15, Table A.2) for the linear, quadratic
@@ -37,13 +40,14 @@ static void build_bar(peri_sim *s, double delta, double m) {
            "discretization: {spacing: %.17g, m: %.17g, cross_section: 1, partial_volume: lammps,\n"
            "                 fill: [{shape: interval, min: [%.17g], max: [%.17g]}]}\n"
            "regions: {pd: {shape: interval, min: [%.17g], max: [%.17g]}}\n"
-           "coupling: {pd_region: pd}\n"
+           "coupling: {pd_region: pd, tractions: {left: {at: [%.17g], normal: -x}, right: {at: [%.17g], normal: +x}}}\n"
            "solver: {type: implicit, load_steps: 1}\n"
            "output: {picture: false}\n",
-           dx, m, -0.5 * dx, 30.0 + 0.5 * dx, 10.0 - 0.25 * dx, 20.0 + 0.25 * dx);
+           dx, m, -0.5 * dx, 30.0 + 0.5 * dx, 10.0 - 0.25 * dx, 20.0 + 0.25 * dx, 10.0 - 0.5 * dx, 20.0 + 0.5 * dx);
   cr_assert_eq(sim_from_string(s, deck), 0, "deck:\n%s", deck);
   cr_assert_not_null(s->coupling);
   cr_assert_eq(s->disc.p.n, (int32_t)lround(30.0 / dx) + 1);
+  cr_assert_eq(s->coupling->n_tractions, 2);
 }
 
 typedef enum { QUARTIC, CUBIC, LINEAR } curve;
@@ -124,6 +128,42 @@ Test(coupling_1d, cubic_over_the_interface_tables_2_11_2_12) {
       snprintf(what, sizeof what, "delta %g m %g sum F", delta, m);
       expect_printed(sum, table[k].sum, what);
     }
+  }
+}
+
+/* Table 2.12's last column: the sum of the discrete nonlocal traction (eq. A.15) and the local
+ * one (eq. 2.107) at the right interface, read at the points of coupling.tractions. The local
+ * one is -E u'(x_IR) - E dx^2 u'''(x_IR)/24 (eq. 2.110, exact for the cubic); the sum balances
+ * the reactions, sum F = -(tau + t) (eq. 2.108), to round-off; at the left interface the field
+ * is linear and the two cancel. */
+Test(coupling_1d, interface_tractions_table_2_12) {
+  static const struct {
+    double m, printed;
+  } table[] = {{3, 2.31e-7}, {6, 2.52e-7}, {12, 2.58e-7}};
+  const double X1 = 17, X2 = 24, E = 1.0, delta = 3.0;
+  for (size_t k = 0; k < sizeof table / sizeof table[0]; ++k) {
+    const double m = table[k].m, dx = delta / m, x_ir = 20.0 + 0.5 * dx;
+    peri_sim s;
+    build_bar(&s, delta, m);
+    for (int32_t i = 0; i < s.disc.p.n; ++i) s.disc.p.u[3 * (size_t)i] = field(CUBIC, s.disc.p.x[3 * (size_t)i], X1, X2);
+    peri_coupling_force(&s);
+    double net[3], ratio[4], tau[2][3], t[2][3];
+    peri_coupling_balance(&s, net, ratio);
+    for (int side = 0; side < 2; ++side) {
+      const peri_interface_traction *tr = &s.coupling->traction[side];
+      peri_coupling_nonlocal_traction(&s, tr->at, tr->axis, tr->sign, tau[side]);
+      peri_coupling_local_traction(&s, tr, t[side]);
+    }
+    const double du = 1e-4 * x_ir * x_ir / (X1 * X1), d3u = 2e-4 / (X1 * X1);
+    const double local = -E * (du + dx * dx * d3u / 24.0);
+    cr_expect(fabs(t[1][0] - local) <= 1e-12 * fabs(local), "m %g: t_num %.12e, eq. 2.110 %.12e", m, t[1][0], local);
+    const double sum = tau[1][0] + t[1][0];
+    cr_expect(fabs(sum + net[0]) <= 1e-12 * fabs(net[0]) / ratio[0], "m %g: tau + t %.10e, -sum F %.10e", m, sum,
+              -net[0]);
+    expect_printed(sum, table[k].printed, "tau_num + t_num (Table 2.12)");
+    cr_expect(fabs(tau[0][0] + t[0][0]) <= 1e-15, "m %g: left interface tau %.6e + t %.6e", m, tau[0][0], t[0][0]);
+    cr_expect(fabs(t[0][0] - 1e-4 * E) <= 1e-15, "m %g: left t(x_IL, +1) = E u' = 1e-4: %.12e", m, t[0][0]);
+    peri_sim_free(&s);
   }
 }
 

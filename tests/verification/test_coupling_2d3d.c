@@ -28,6 +28,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include "peri/coupling.h"
 #include "peri/energies.h"
 #include "peri/quasistatic.h"
@@ -177,7 +178,7 @@ static void table_a3_quadratic(const double *x, double *u) {
  * with the discretization's partial-volume rule `rule` and the coupling options `options`
  * (partial volumes, gamma); *gamma: the rows' gamma */
 static void traction_with(double m, const char *rule, const char *options, field_fn f, double tau[3],
-                          double *gamma) {
+                          double *gamma, double local[3]) {
   const double delta = 0.75, dx = delta / m, x0 = 11.5, y0 = 24.125;
   const int K = (int)m + 3;
   char deck[1024];
@@ -188,21 +189,22 @@ static void traction_with(double m, const char *rule, const char *options, field
            "discretization: {spacing: %.17g, horizon: %.17g, thickness: 1, partial_volume: %s,\n"
            "  fill: [{shape: rectangle, min: [%.17g, %.17g], max: [%.17g, %.17g]}]}\n"
            "regions: {pd: {shape: rectangle, min: [0, 0], max: [100, %.17g]}}\n"
-           "coupling: {pd_region: pd, %s}\n"
+           "coupling: {pd_region: pd, %s, tractions: {x0: {at: [%.17g, %.17g], normal: +y}}}\n"
            "solver: {type: implicit, load_steps: 1}\n"
            "output: {picture: false}\n",
-           dx, delta, rule, x0 - (K + 0.5) * dx, y0 - K * dx, x0 + (K + 0.5) * dx, y0 + K * dx, y0, options);
+           dx, delta, rule, x0 - (K + 0.5) * dx, y0 - K * dx, x0 + (K + 0.5) * dx, y0 + K * dx, y0, options, x0, y0);
   peri_sim s;
   build(&s, deck);
   for (int32_t i = 0; i < s.disc.p.n; ++i) f(&s.disc.p.x[3 * (size_t)i], &s.disc.p.u[3 * (size_t)i]);
   const double at[3] = {x0, y0, 0};
   peri_coupling_nonlocal_traction(&s, at, 1, +1, tau);
   if (gamma) *gamma = s.coupling->gamma;
+  if (local) peri_coupling_local_traction(&s, &s.coupling->traction[0], local);
   peri_sim_free(&s);
 }
 
-static void traction_a34(double m, field_fn f, double tau[3]) {
-  traction_with(m, "linear", "partial_volume: exact", f, tau, NULL);
+static void traction_a34(double m, field_fn f, double tau[3], double local[3]) {
+  traction_with(m, "linear", "partial_volume: exact", f, tau, NULL, local);
 }
 
 Test(coupling_2d3d, correction_factor_and_tractions_table_a_4) {
@@ -210,14 +212,20 @@ Test(coupling_2d3d, correction_factor_and_tractions_table_a_4) {
     double m, gamma, linear, quadratic;
   } table[] = {{3, 0.9784710341, 2.56e-1, -1.22e-2}, {8, 0.9974762599, 2.51e-1, -1.19e-2}};
   for (int k = 0; k < 2; ++k) {
-    double tau[3];
-    traction_a34(table[k].m, table_a3_linear, tau);
+    double tau[3], t[3];
+    traction_a34(table[k].m, table_a3_linear, tau, t);
+    /* Table A.4's local traction t(x0, e2) = sigma e2 = -t(x0, -e2): 0 and E/(1 - nu^2) u2,y */
+    cr_expect(fabs(t[0]) <= 1e-15 && fabs(-t[1] - 0.25) <= 1e-13, "m %g: linear t = (%.3e, %.15f), Table A.4 (0, 0.25)",
+              table[k].m, -t[0], -t[1]);
     const double gamma = 0.25 / tau[1];
     cr_expect(fabs(gamma - table[k].gamma) <= 1e-10 * table[k].gamma, "m %g: gamma %.12f, Remark A.2 %.10f",
               table[k].m, gamma, table[k].gamma);
     cr_expect(fabs(tau[0]) <= 1e-15, "m %g: tau1 %.3e", table[k].m, tau[0]);
     expect_printed(tau[1], table[k].linear, "linear tau2_num (Table A.4)");
-    traction_a34(table[k].m, table_a3_quadratic, tau);
+    traction_a34(table[k].m, table_a3_quadratic, tau, t);
+    /* the stencil's differences are exact for the quadratic: u2,y = -2 (1.125) / 15^2, u2,x = 0 */
+    cr_expect(fabs(t[0]) <= 1e-15 && fabs(-t[1] + 0.01125) <= 1e-14,
+              "m %g: quadratic t = (%.3e, %.15f), analytic (0, -1.125e-2) (Table A.4 -1.12e-2)", table[k].m, -t[0], -t[1]);
     cr_expect(fabs(tau[0]) <= 1e-15, "m %g: quadratic tau1 %.3e", table[k].m, tau[0]);
     expect_printed(tau[1], table[k].quadratic, "quadratic tau2_num (Table A.4)");
   }
@@ -234,7 +242,7 @@ Test(coupling_2d3d, gamma_auto_is_remark_a2) {
   } printed[] = {{3, 0.9784710341}, {8, 0.9974762599}};
   for (int k = 0; k < 2; ++k) {
     double tau[3], gamma;
-    traction_with(printed[k].m, "linear", "partial_volume: exact, gamma: auto", table_a3_linear, tau, &gamma);
+    traction_with(printed[k].m, "linear", "partial_volume: exact, gamma: auto", table_a3_linear, tau, &gamma, NULL);
     cr_expect(fabs(gamma - printed[k].gamma) <= 1e-10 * printed[k].gamma, "m %g: gamma auto %.12f, Remark A.2 %.10f",
               printed[k].m, gamma, printed[k].gamma);
     cr_expect(fabs(tau[1] - 0.25) <= 1e-9, "m %g, exact volumes: traction %.12f with gamma auto", printed[k].m, tau[1]);
@@ -243,13 +251,78 @@ Test(coupling_2d3d, gamma_auto_is_remark_a2) {
   for (int k = 0; k < 2; ++k)
     for (double m = 3; m <= 4; ++m) {
       double tau[3], untouched[3], gamma;
-      traction_with(m, rules[k], "gamma: auto", table_a3_linear, tau, &gamma);
-      traction_with(m, rules[k], "gamma: 1", table_a3_linear, untouched, NULL);
+      traction_with(m, rules[k], "gamma: auto", table_a3_linear, tau, &gamma, NULL);
+      traction_with(m, rules[k], "gamma: 1", table_a3_linear, untouched, NULL, NULL);
       cr_expect(fabs(tau[1] - 0.25) <= 1e-12, "m %g, %s: traction %.15f with gamma auto %.10f", m, rules[k], tau[1],
                 gamma);
       cr_expect(fabs(untouched[1] - 0.25) > 0.01 * 0.25, "m %g, %s: gamma = 1 gives the classical traction %.6f", m,
                 rules[k], untouched[1]);
     }
+}
+
+/* The local traction of coupling.tractions (eq. 2.107's stencil in 2D and 3D) under a linear
+ * field u = a + H x is -sigma n with sigma Hooke's stress of H, to round-off: plane strain
+ * (nu = 1/4) at an interior point and at one on the body's edge (one-sided tangential
+ * differences); 3D (nu = 1/4) at an interior point and at a corner of the body's faces. */
+static void expect_hooke(const peri_sim *s, const double sigma[3][3], const char *what) {
+  for (int k = 0; k < s->coupling->n_tractions; ++k) {
+    const peri_interface_traction *tr = &s->coupling->traction[k];
+    double t[3];
+    peri_coupling_local_traction(s, tr, t);
+    for (int r = 0; r < s->disc.geom.dim; ++r) {
+      const double want = -tr->sign * sigma[r][tr->axis];
+      cr_expect(fabs(t[r] - want) <= 1e-15, "%s, point %s: t_%d %.15e, Hooke %.15e", what, tr->name, r + 1, t[r], want);
+    }
+  }
+}
+
+Test(coupling_2d3d, local_traction_of_a_linear_field_is_hookes) {
+  const double E = 1.0, nu = 0.25; /* PMB: nu = 1/4 in plane strain and 3D */
+  char deck[1024];
+  snprintf(deck, sizeof deck, plate2d, "strain", "linear");
+  char *at = strstr(deck, "coupling: {pd_region: pd}");
+  cr_assert_not_null(at);
+  snprintf(at, sizeof deck - (size_t)(at - deck),
+           "coupling: {pd_region: pd, tractions: {inside: {at: [4.5, 1], normal: +x}, edge: {at: [8, 5.5], "
+           "normal: +y}}}\n"
+           "solver: {type: implicit, load_steps: 1}\n"
+           "output: {picture: false}\n");
+  peri_sim s;
+  build(&s, deck);
+  cr_assert_eq(s.coupling->n_tractions, 2);
+  cr_expect(s.coupling->traction[1].reach[0][0] > 0.0 && s.coupling->traction[1].reach[0][1] == 0.0,
+            "the edge point is one-sided along x");
+  for (int32_t i = 0; i < s.disc.p.n; ++i) linear2(&s.disc.p.x[3 * (size_t)i], &s.disc.p.u[3 * (size_t)i]);
+  /* linear2: H = [[0.01, -0.02], [0.005, 0.013]]; plane strain */
+  const double f = E / ((1 + nu) * (1 - 2 * nu)), exx = 0.01, eyy = 0.013, gxy = -0.02 + 0.005;
+  const double sigma2[3][3] = {{f * ((1 - nu) * exx + nu * eyy), f * (1 - 2 * nu) / 2 * gxy, 0},
+                               {f * (1 - 2 * nu) / 2 * gxy, f * (nu * exx + (1 - nu) * eyy), 0},
+                               {0, 0, 0}};
+  expect_hooke(&s, sigma2, "plane strain");
+  peri_sim_free(&s);
+
+  const char *deck3 =
+      "dimension: 3\n"
+      "materials: {block: {model: pmb, density: 1, youngs_modulus: 1}}\n"
+      "discretization: {spacing: 1, m: 3, fill: [{shape: box, min: [-6.5, -6.5, -6.5], max: [6.5, 6.5, 6.5]}]}\n"
+      "regions: {pd: {shape: box, min: [-2.25, -1.25, -2.25], max: [2.25, 3.25, 1.25]}}\n"
+      "coupling: {pd_region: pd, tractions: {inside: {at: [0, 3.5, 0], normal: +y}, corner: {at: [-6, 5.5, 6],\n"
+      "           normal: -y}}}\n"
+      "solver: {type: implicit, load_steps: 1}\n"
+      "output: {picture: false}\n";
+  build(&s, deck3);
+  const peri_interface_traction *corner = &s.coupling->traction[1];
+  cr_expect(corner->reach[0][0] == 0.0 && corner->reach[0][1] > 0.0 && corner->reach[2][0] > 0.0 &&
+                corner->reach[2][1] == 0.0,
+            "the corner point is one-sided along x and z");
+  for (int32_t i = 0; i < s.disc.p.n; ++i) linear3(&s.disc.p.x[3 * (size_t)i], &s.disc.p.u[3 * (size_t)i]);
+  const double H[3][3] = {{0.01, -0.02, 0.003}, {0.005, 0.013, -0.007}, {-0.004, 0.002, 0.011}};
+  const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu)), trace = 0.01 + 0.013 + 0.011;
+  double sigma3[3][3];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) sigma3[r][c] = mu * (H[r][c] + H[c][r]) + (r == c ? lambda * trace : 0.0);
+  expect_hooke(&s, sigma3, "3D");
+  peri_sim_free(&s);
 }
 
 static const char *plate_2_6_2 =
