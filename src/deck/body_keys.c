@@ -17,11 +17,11 @@
 #define NO_BODY PERI_NO_BODY
 
 /* The body of list `bodies` named by the scalar `at`, or -(error) naming the bodies. */
-static int find_body(const peri_node *bodies, const peri_node *at) {
+static int find_body(const peri_node *bodies, const peri_node *at, const char *section) {
   if (at->kind == PERI_NODE_SCALAR)
     for (int k = 0; k < bodies->count; ++k)
       if (bodies->items[k]->kind == PERI_NODE_SCALAR && !strcmp(bodies->items[k]->scalar, at->scalar)) return k;
-  return -peri_deck_error(at, "body_interfaces: '%s' is not a body; the bodies are the regions listed in 'bodies'",
+  return -peri_deck_error(at, "%s: '%s' is not a body; the bodies are the regions listed in 'bodies'", section,
                           at->kind == PERI_NODE_SCALAR ? at->scalar : peri_deck_kind_name(at));
 }
 
@@ -71,9 +71,9 @@ static int parse_body_interfaces(peri_sim *s, const peri_node *root, const peri_
     if (!pair) return peri_deck_error(it, "missing key 'bodies' in body_interfaces");
     if (pair->kind != PERI_NODE_SEQUENCE || pair->count != 2)
       return peri_deck_error(pair, "key 'bodies': expected two body names, e.g. [plate, backing]");
-    const int a = find_body(bodies, pair->items[0]);
+    const int a = find_body(bodies, pair->items[0], "body_interfaces");
     if (a < 0) return -a;
-    const int b = find_body(bodies, pair->items[1]);
+    const int b = find_body(bodies, pair->items[1], "body_interfaces");
     if (b < 0) return -b;
     if (a == b) return peri_deck_error(pair, "body_interfaces: a body is bonded to itself; name two bodies");
     const int from = group[b], to = group[a]; /* merge b's group into a's */
@@ -174,7 +174,79 @@ int peri_setup_bodies(peri_sim *s, const peri_node *root) {
   free(group);
   /* kept for the body output field and the per-body sums of history.csv */
   peri_bodies *bodies = peri_calloc(1, sizeof *bodies);
-  *bodies = (peri_bodies){.count = list->count, .region = first, .label = label};
+  *bodies = (peri_bodies){.count = list->count, .region = first, .label = label,
+                          .penetration = peri_calloc((size_t)list->count, sizeof(peri_penetration))};
   s->bodies = bodies;
+  return PERI_OK;
+}
+
+/* x - c split along the unit e and across it: returns (x - c) . e, lateral the rest. */
+static double axis_offset(const double *x, const double c[3], const double e[3], double lateral[3]) {
+  double along = 0.0;
+  for (int d = 0; d < 3; ++d) along += (x[d] - c[d]) * e[d];
+  for (int d = 0; d < 3; ++d) lateral[d] = x[d] - c[d] - along * e[d];
+  return along;
+}
+
+/* output.penetration: {BODY: direction}. The face is the smallest X . e (e the unit direction)
+ * over the nodes of everything else that lie ahead of the body's foremost node and within its
+ * path: at most the body's own largest distance from its axis (the line along e through its
+ * centroid), plus half a spacing, from that axis. */
+int peri_setup_penetration(peri_sim *s, const peri_node *root) {
+  const peri_node *map = peri_deck_get(peri_deck_get(root, "output"), "penetration");
+  if (!map) return PERI_OK;
+  if (!s->bodies)
+    return peri_deck_error(map, "key 'penetration': needs 'bodies' (the penetration depth is that of a body)");
+  if (map->kind != PERI_NODE_MAPPING || map->count < 1)
+    return peri_deck_error(map, "key 'penetration': expected a mapping of body names to directions of travel, "
+                                "e.g. {projectile: [0, 0, -1]}");
+  const peri_particles *p = &s->disc.p;
+  const int dim = s->disc.geom.dim;
+  const peri_node *bodies = peri_deck_get(root, "bodies");
+  for (int k = 0; k < map->count; ++k) {
+    const int b = find_body(bodies, map->keys[k], "output.penetration");
+    if (b < 0) return -b;
+    peri_penetration *pen = &s->bodies->penetration[b];
+    double e[3] = {0, 0, 0}, norm = 0.0;
+    const peri_node *v = map->items[k];
+    if (v->kind != PERI_NODE_SEQUENCE || v->count != dim)
+      return peri_deck_error(v, "output.penetration.%s: expected a direction of %d components", map->keys[k]->scalar, dim);
+    for (int d = 0; d < dim; ++d) TRY(peri_deck_node_double(v->items[d], "output.penetration", &e[d]));
+    for (int d = 0; d < 3; ++d) norm += e[d] * e[d];
+    if (!(norm > 0.0) || !isfinite(norm))
+      return peri_deck_error(v, "output.penetration.%s: the direction is zero", map->keys[k]->scalar);
+    for (int d = 0; d < 3; ++d) e[d] /= sqrt(norm);
+    double centroid[3] = {0, 0, 0}, front = -INFINITY, radius = 0.0;
+    int32_t count = 0;
+    for (int32_t i = 0; i < p->n; ++i)
+      if (s->bodies->label[i] == b) {
+        for (int d = 0; d < 3; ++d) centroid[d] += p->x[3 * (size_t)i + d];
+        ++count;
+      }
+    for (int d = 0; d < 3; ++d) centroid[d] /= count;
+    for (int32_t i = 0; i < p->n; ++i) {
+      if (s->bodies->label[i] != b) continue;
+      double lateral[3];
+      const double at = axis_offset(&p->x[3 * (size_t)i], centroid, e, lateral);
+      radius = fmax(radius, sqrt(lateral[0] * lateral[0] + lateral[1] * lateral[1] + lateral[2] * lateral[2]));
+      front = fmax(front, at);
+    }
+    radius += 0.5 * s->disc.geom.spacing;
+    double face = INFINITY;
+    for (int32_t i = 0; i < p->n; ++i) {
+      if (s->bodies->label[i] == b) continue;
+      double lateral[3];
+      const double at = axis_offset(&p->x[3 * (size_t)i], centroid, e, lateral);
+      if (at > front && at < face &&
+          lateral[0] * lateral[0] + lateral[1] * lateral[1] + lateral[2] * lateral[2] <= radius * radius)
+        face = at;
+    }
+    if (face == INFINITY)
+      return peri_deck_error(v, "output.penetration.%s: no node of another body lies ahead of it in its path along "
+                                "this direction", map->keys[k]->scalar);
+    double c_along = 0.0; /* face and front relative to the centroid above: back to X . e */
+    for (int d = 0; d < 3; ++d) c_along += centroid[d] * e[d];
+    *pen = (peri_penetration){.on = true, .direction = {e[0], e[1], e[2]}, .face = face + c_along};
+  }
   return PERI_OK;
 }

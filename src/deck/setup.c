@@ -780,7 +780,7 @@ static int parse_output(parse_ctx *c) {
   static const char *const keys[] = {"directory", "every", "frames", "fields", "compress",
                                      "history_every", "picture", "plot", "checkpoint_every",
                                      "checkpoint_file", "format", "phase_stress",
-                                     "interface_history", "region_energy", "wrinkles", "dataset", NULL};
+                                     "interface_history", "region_energy", "wrinkles", "dataset", "penetration", NULL};
   /* defaults */
   const char *base = strrchr(s->deck_path, '/');
   base = base ? base + 1 : s->deck_path;
@@ -977,6 +977,7 @@ static int build(parse_ctx *c) {
   TRY(peri_setup_plasticity_solver(s, root));
   TRY(peri_setup_j_integral(s, root)); /* J-integral columns (j_integral_keys.c, docs/plasticity.md) */
   TRY(parse_output(c));
+  TRY(peri_setup_penetration(s, root)); /* output.penetration of bodies (body_keys.c, docs/contact.md) */
   TRY(peri_setup_thermal(s, root)); /* heat conduction, thermal strain (docs/heat.md) */
   TRY(peri_plot_check(s, peri_deck_get(root, "output"))); /* the columns, thermal ones included */
 

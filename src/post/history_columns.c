@@ -51,7 +51,8 @@ static void heat_columns(column_list *c, const peri_sim *s) {
 }
 
 /* Per body (docs/contact.md "Bodies"), named by its region: mass, momentum, kinetic energy,
- * mean velocity, mass of the damaged nodes (phi > 0) and of the detached ones (phi = 1). */
+ * mean velocity, mass of the damaged nodes (phi > 0) and of the detached ones (phi = 1), and
+ * with output.penetration its penetration depth. */
 static void body_columns(column_list *c, const peri_sim *s) {
   char buf[300];
   for (int b = 0; s->bodies && b < s->bodies->count; ++b) {
@@ -72,6 +73,10 @@ static void body_columns(column_list *c, const peri_sim *s) {
     add(c, buf);
     snprintf(buf, sizeof buf, "detached_mass_%s", name);
     add(c, buf);
+    if (s->bodies->penetration[b].on) { /* output.penetration */
+      snprintf(buf, sizeof buf, "penetration_%s", name);
+      add(c, buf);
+    }
   }
 }
 
@@ -231,7 +236,7 @@ const char *peri_history_unit(const char *column) {
       {"net_force_", "N", false},   {"j_integral_", "J/m^2", false}, {"crack_extension", "m", true},   {"out_of_balance", "1", false}, {"pd_nodes", "1", true},
       {"max_von_mises_at_", "m", false},
       {"mass_", "kg", false}, {"kinetic_energy_", "J", false}, {"mean_velocity_", "m/s", false},
-      {"damaged_mass_", "kg", false}, {"detached_mass_", "kg", false}, {"max_von_mises_", "Pa", false}, {"mean_stress_", "Pa", false},
+      {"damaged_mass_", "kg", false}, {"detached_mass_", "kg", false}, {"penetration_", "m", false}, {"max_von_mises_", "Pa", false}, {"mean_stress_", "Pa", false},
       {"strain_energy_", "J", false}, {"broken_interface_bonds", "1", true}, {"max_interface_stress", "Pa", true},
       {"max_interface_traction", "Pa", true}, {"nonlocal_traction_", "Pa", false}, {"local_traction_", "Pa", false},
       {"wrinkle_amplitude", "m", true}, {"wrinkle_wavelength", "m", true}, {"short_range_min_ratio", "1", true},

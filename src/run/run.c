@@ -134,6 +134,7 @@ static int write_history(peri_sim *s, run_ctx *c) {
       for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = o->mass > 0.0 ? o->momentum[d] / o->mass : 0.0;
       c->log.row[k++] = o->damaged_mass;
       c->log.row[k++] = o->detached_mass;
+      if (s->bodies->penetration[b].on) c->log.row[k++] = o->penetration;
     }
     free(sums);
   }
