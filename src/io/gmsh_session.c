@@ -17,7 +17,11 @@ int peri_gmsh_failed(const char *path, const char *what) {
 
 int peri_gmsh_open(const char *path, int dim) {
   int ierr = 0;
-  char *argv[] = {"peri", NULL};
+  char *argv[] = {"peri", NULL}, why[512];
+  if (peri_gmsh_load(why, sizeof why) != 0) {
+    peri_error("%s: %s", path, why);
+    return PERI_ERR_INPUT;
+  }
   gmshInitialize(1, argv, 0, &ierr);
   if (ierr) {
     peri_error("%s: the Gmsh library failed to start", path);

@@ -3,6 +3,11 @@
 #ifndef PERI_IO_GMSH_SESSION_H
 #define PERI_IO_GMSH_SESSION_H
 
+/* Opens the Gmsh library (gmsh_library.c: loaded on first use, not linked). 0, or -1 with a
+ * message in why (size n). */
+#include <stddef.h>
+int peri_gmsh_load(char *why, size_t n);
+
 /* Reports "PATH: WHAT: <Gmsh's last logged error>" and returns PERI_ERR_INPUT. */
 int peri_gmsh_failed(const char *path, const char *what);
 
