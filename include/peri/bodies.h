@@ -37,9 +37,5 @@ typedef struct peri_body_sums {
  * thread count). */
 void peri_body_sums_now(const struct peri_sim *s, peri_body_sums *out);
 void peri_bodies_free(peri_bodies *b);
-/* output.penetration (src/deck/body_keys.c): a mapping of body names to directions of travel;
- * the face is set from the reference positions. */
-struct peri_node;
-int peri_setup_penetration(struct peri_sim *s, const struct peri_node *root);
 
 #endif

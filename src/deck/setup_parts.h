@@ -112,6 +112,9 @@ int peri_setup_plasticity_solver(peri_sim *s, const peri_node *root);
  * each node in at most one; the bonds between two bodies are removed. After the regions and
  * the bonds, before pre-cracks and the model's constants. */
 int peri_setup_bodies(peri_sim *s, const peri_node *root);
+/* output.penetration (body_keys.c): a mapping of body names to directions of travel; the face
+ * of each from the reference positions (docs/contact.md "Bodies"). */
+int peri_setup_penetration(peri_sim *s, const peri_node *root);
 /* The tools key (tool_keys.c, docs/contact.md "Rigid tools"): rigid tools, after the solver
  * section (load control needs the explicit solver) and the initial displacements. */
 int peri_setup_tools(peri_sim *s, const peri_node *root);
