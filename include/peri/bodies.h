@@ -28,7 +28,7 @@ typedef struct peri_bodies {
 /* Per-body sums of history.csv: mass, momentum, kinetic energy, the mass of the damaged
  * (damage index > 0) and of the detached (damage index 1) nodes, and with output.penetration
  * the penetration depth: the largest (x + u) . direction over the body's attached nodes
- * (damage index below 1) minus the face. */
+ * (damage index below 1; all its nodes once every one is detached) minus the face. */
 typedef struct peri_body_sums {
   double mass, momentum[3], kinetic_energy, damaged_mass, detached_mass, penetration;
 } peri_body_sums;

@@ -13,7 +13,9 @@ void peri_body_sums_now(const peri_sim *s, peri_body_sums *out) {
   const peri_bodies *bodies = s->bodies;
   const peri_particles *p = &s->disc.p;
   memset(out, 0, sizeof *out * (size_t)bodies->count);
-  for (int b = 0; b < bodies->count; ++b) out[b].penetration = -INFINITY;
+  /* the front of each body's attached nodes, and of all its nodes for a body turned to debris */
+  double *debris_front = peri_malloc(sizeof(double) * (size_t)bodies->count);
+  for (int b = 0; b < bodies->count; ++b) out[b].penetration = debris_front[b] = -INFINITY;
   const int32_t n = p->n_owned;
   double *phi = peri_malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
   peri_damage_index(s, phi);
@@ -29,15 +31,18 @@ void peri_body_sums_now(const peri_sim *s, peri_body_sums *out) {
     if (phi[i] > 0.0) o->damaged_mass += m;
     if (phi[i] >= 1.0) o->detached_mass += m; /* every bond broken: the node has left its body */
     const peri_penetration *pen = &bodies->penetration[b];
-    if (pen->on && phi[i] < 1.0) { /* debris ahead of the body is not the body's front */
+    if (pen->on) { /* debris ahead of the body is not the body's front while it has one */
       double along = 0.0;
       for (int d = 0; d < 3; ++d) along += (p->x[3 * (size_t)i + d] + p->u[3 * (size_t)i + d]) * pen->direction[d];
-      if (along - pen->face > o->penetration) o->penetration = along - pen->face;
+      if (phi[i] < 1.0) o->penetration = fmax(o->penetration, along - pen->face);
+      debris_front[b] = fmax(debris_front[b], along - pen->face);
     }
   }
   free(phi);
   for (int b = 0; b < bodies->count; ++b)
-    if (out[b].penetration == -INFINITY) out[b].penetration = NAN; /* no attached node left, or not asked */
+    if (out[b].penetration == -INFINITY) /* every node detached: the debris' front; not asked: NaN */
+      out[b].penetration = bodies->penetration[b].on ? debris_front[b] : NAN;
+  free(debris_front);
 }
 
 void peri_bodies_free(peri_bodies *b) {
