@@ -194,30 +194,17 @@ static inline __attribute__((always_inline)) void deviatoric_stretches(const per
 }
 
 /* Each layer's energy S_l = sum wt (s^d - s^dp_l)^2 over n bonds of the L layers of the state
- * `base`, added to S[]: one vector loop for up to 4 layers (the sums in vector lanes), then a
- * loop of its own for more. */
+ * `base`, added to S[] bond by bond in family order (the block path's lanes add them in the
+ * same order, so the two agree bit for bit; the layers' sums are independent chains). */
 static inline __attribute__((always_inline)) void layer_energies(const double *restrict base,
                                                                  const double *restrict sd,
                                                                  const double *restrict wt, int n, const int L,
                                                                  double *S) {
-  double S0 = 0.0, S1 = 0.0, S2 = 0.0, S3 = 0.0;
-  if (L <= 4) {
-#pragma omp simd reduction(+ : S0, S1, S2, S3)
-    for (int a = 0; a < n; ++a) {
-      const double *bs = base + a * L, sd_a = sd[a], wt_a = wt[a], e0 = sd_a - bs[0];
-      S0 = fma(wt_a, e0 * e0, S0);
-      if (L > 1) S1 = fma(wt_a, (sd_a - bs[1]) * (sd_a - bs[1]), S1);
-      if (L > 2) S2 = fma(wt_a, (sd_a - bs[2]) * (sd_a - bs[2]), S2);
-      if (L > 3) S3 = fma(wt_a, (sd_a - bs[3]) * (sd_a - bs[3]), S3);
+  for (int a = 0; a < n; ++a)
+    for (int l = 0; l < L; ++l) {
+      const double e = sd[a] - base[a * L + l];
+      S[l] = fma(wt[a], e * e, S[l]);
     }
-    S[0] += S0, S[1] += S1, S[2] += S2, S[3] += S3;
-  } else {
-    for (int a = 0; a < n; ++a)
-      for (int l = 0; l < L; ++l) {
-        const double e = sd[a] - base[a * L + l];
-        S[l] = fma(wt[a], e * e, S[l]);
-      }
-  }
 }
 
 /* The return of a node's bonds from the state `from` into `out` (the same array when mapping in
@@ -238,8 +225,9 @@ static inline __attribute__((always_inline)) bool flow_from(const double *from, 
   for (int64_t a = 0; a < nb; ++a) {
     double plastic = 0.0;
     for (int l = 0; l < L; ++l) {
-      const double f = from[a * L + l], moved = sd[a] - factor[l] * (sd[a] - f), take = on[a] * flows[l];
-      const double v = take * moved + (1.0 - take) * f;
+      /* (explicit fused operations, as the block path's lanes evaluate them) */
+      const double f = from[a * L + l], moved = fma(-factor[l], sd[a] - f, sd[a]), take = on[a] * flows[l];
+      const double v = fma(take, moved, (1.0 - take) * f);
       out[a * L + l] = v;
       magnitude += fabs(v) + (committed ? fabs(f) : 0.0);
       plastic = fma(W[l], v, plastic);
@@ -266,6 +254,21 @@ static inline __attribute__((always_inline)) bool bond_terms(const double *restr
   return magnitude != 0.0;
 }
 
+/* Each layer's radial factor sqrt(bound / S_l) beyond its bound (else 1) and whether it flows
+ * (1.0 or 0.0) from the energies S[] of a node whose bounds are scale e_yl^2; returns whether
+ * a layer flows. */
+static inline bool layer_factors(const peri_sublayers *sl, double scale, const double *S, int L, double *factor,
+                                 double *flows) {
+  bool flow = false;
+  for (int l = 0; l < L; ++l) {
+    const double bound = l < sl->n ? scale * sl->yield[l] * sl->yield[l] : INFINITY;
+    factor[l] = S[l] > bound * (1.0 + RETURN_MARGIN) ? sqrt(bound / S[l]) : 1.0;
+    flows[l] = factor[l] < 1.0 ? 1.0 : 0.0;
+    flow |= factor[l] < 1.0;
+  }
+  return flow;
+}
+
 /* The return mapping of node i's sublayers (from the committed state in quasi-static load
  * steps, else in place), L layers stored per bond (a constant for the common counts: the
  * layers of a bond are then unrolled in vector loops over the bonds). Returns whether a
@@ -281,7 +284,6 @@ static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const
   if (!sl) return false;
   const peri_bonds *b = &s->disc.bonds;
   const peri_material *mat = &s->mat.materials[s->disc.p.material[i]];
-  const int n = sl->n;
   const int64_t k0 = b->offset[i], nb = b->offset[i + 1] - k0;
   double *restrict out = s->state.plastic_stretch + k0 * L;
   const bool committed = s->state.plastic_committed != NULL;
@@ -299,13 +301,7 @@ static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const
   for (int64_t a = 0; a < nb; ++a) on[a] = broken[a] ? 0.0 : 1.0;
   deviatoric_stretches(s, w, i, k0, (int)nb, on, sd, wt);
   layer_energies(base, sd, wt, (int)nb, L, S);
-  bool flow = committed;
-  for (int l = 0; l < L; ++l) {
-    const double bound = l < n ? scale * sl->yield[l] * sl->yield[l] : INFINITY;
-    factor[l] = S[l] > bound * (1.0 + RETURN_MARGIN) ? sqrt(bound / S[l]) : 1.0;
-    flows[l] = factor[l] < 1.0 ? 1.0 : 0.0;
-    flow |= factor[l] < 1.0;
-  }
+  const bool flow = layer_factors(sl, scale, S, L, factor, flows) || committed;
   padded_weights(sl, L, W);
   const double alpha = s->disc.p.coef[(size_t)s->disc.p.n + (size_t)i];
   /* the new state (a broken bond keeps its own) and each bond's term, in family order */
@@ -328,6 +324,148 @@ static bool node_return_any(peri_sim *s, const peri_bond_view *w, int32_t i, dou
   }
 }
 
+#ifdef PERI_BOND_V8
+/* The return of a block of eight nodes of one material (node_blocks.h) on its template, the
+ * nodes in vector lanes: contiguous loads of the neighbours (the node path gathers them), each
+ * lane's bond index counted along the template (its bit of the structure) to reach its state,
+ * weight and term in family order. Each lane evaluates node_return's operations in its order
+ * (the energies bond by bond, the factors by layer_factors), so both paths agree bit for bit.
+ * Returns false, having changed nothing, where the block cannot take it (entries dropped from
+ * its template, nodes of different materials, more than 4 layers); else sets yielded[] of its
+ * nodes. Scratch: 8 doubles per template entry (the lanes' deviatoric stretches). */
+static inline __attribute__((always_inline)) bool block_return(peri_sim *s, const peri_bond_view *w,
+                                                               const peri_node_blocks *items, int32_t item,
+                                                               const double *elastic, uint8_t *yielded,
+                                                               double *restrict sd_of, const int L) {
+  if (L > 4 || items->tpl_end[item] != items->tpl[item + 1]) return false;
+  const peri_particles *p = &s->disc.p;
+  const int32_t i0 = items->first[item];
+  for (int l = 1; l < PERI_BLOCK; ++l)
+    if (p->material[i0 + l] != p->material[i0]) return false;
+  const peri_sublayers *sl = node_layers(s, i0);
+  if (!sl) {
+    memset(yielded + i0, 0, PERI_BLOCK);
+    return true;
+  }
+  const peri_material *mat = &s->mat.materials[p->material[i0]];
+  const bool committed = s->state.plastic_committed != NULL;
+  const int64_t t0 = items->tpl[item], count = items->tpl_end[item] - t0, base = w->offset[i0];
+  double *restrict out = s->state.plastic_stretch + base * L;
+  const double *from = committed ? s->state.plastic_committed + base * L : out;
+  const double *restrict weight = s->state.plastic_bond_weight + base;
+  double *restrict term = s->state.plastic_bond_term + base;
+  double scale[PERI_BLOCK], shift[PERI_BLOCK], alpha[PERI_BLOCK];
+  int32_t first[PERI_BLOCK];
+  unsigned act = 0;
+  for (int l = 0; l < PERI_BLOCK; ++l) {
+    const int32_t i = i0 + l;
+    scale[l] = 3.0 * mat->mu / mat->alpha_m * p->wvol[i];
+    /* node_return's screen: a lane that skips the return keeps its state and terms */
+    if (yielded[i] || !(elastic[i] <= scale[l] * sl->yield[0] * sl->yield[0] * (1.0 - SCREEN_MARGIN))) act |= 1u << l;
+    else yielded[i] = 0;
+    shift[l] = (w->eth ? w->eth[i] : 0.0) + p->theta[i] / 3.0;
+    alpha[l] = p->coef[(size_t)p->n + (size_t)i];
+    first[l] = (int32_t)(w->offset[i] - base);
+  }
+  if (!act) return true;
+  const peri_m8 active = (peri_m8)act;
+  const int32_t *restrict tj = items->tpl_node + t0;
+  const uint8_t *restrict lanes = items->tpl_lanes + t0, *restrict structure = items->tpl_bonds + t0;
+  const __m256i lane_shift = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), one_i = _mm256_set1_epi32(1),
+                first_k = _mm256_loadu_si256((const __m256i *)first), layers = _mm256_set1_epi32(L);
+  const peri_v8d c[3] = {v8_loadu_pd(w->x0 + i0), v8_loadu_pd(w->x1 + i0), v8_loadu_pd(w->x2 + i0)},
+                 cu[3] = {v8_loadu_pd(w->u0 + i0), v8_loadu_pd(w->u1 + i0), v8_loadu_pd(w->u2 + i0)};
+  const peri_v8d vshift = v8_loadu_pd(shift), one = v8_set1_pd(1.0);
+  /* 1. the lanes' deviatoric stretches and each layer's energy */
+  peri_v8d S[4] = {v8_setzero_pd(), v8_setzero_pd(), v8_setzero_pd(), v8_setzero_pd()};
+  peri_v8i k = first_k;
+  for (int64_t a = 0; a < count; ++a) {
+    const int64_t j = tj[a];
+    const peri_m8 m = structure[a] & active;
+    peri_prefetch_next_blocks(w, j);
+    const peri_v8d xj[3] = {v8_loadu_pd(w->x0 + j), v8_loadu_pd(w->x1 + j), v8_loadu_pd(w->x2 + j)},
+                   uj[3] = {v8_loadu_pd(w->u0 + j), v8_loadu_pd(w->u1 + j), v8_loadu_pd(w->u2 + j)};
+    peri_v8d y[3], r0, inv_r0, r, inv_r;
+    bond_lengths_v8(xj, uj, c, cu, y, &r0, &inv_r0, &r, &inv_r);
+    /* (deviatoric_stretches' operations: the intact flags as 1.0 or 0.0) */
+    const peri_v8d on = v8_maskz_mov_pd(lanes[a], one);
+    const peri_v8d wt = v8_mul_pd(v8_mul_pd(on, v8_mask_i32gather_pd(m, k, weight)), v8_mul_pd(r0, r0));
+    const peri_v8d sd = v8_mul_pd(on, v8_fmsub_pd(v8_sub_pd(r, r0), inv_r0, vshift));
+    v8_storeu_pd(sd_of + 8 * a, sd);
+    const __m256i kL = _mm256_mullo_epi32(k, layers);
+    for (int l = 0; l < L; ++l) {
+      const peri_v8d e = v8_sub_pd(sd, v8_mask_i32gather_pd(m, _mm256_add_epi32(kL, _mm256_set1_epi32(l)), from));
+      S[l] = v8_mask3_fmadd_pd(wt, v8_mul_pd(e, e), S[l], m);
+    }
+    k = _mm256_add_epi32(k, _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(structure[a]), lane_shift), one_i));
+  }
+  /* 2. each lane's factors */
+  double S_of[4][PERI_BLOCK], factor_of[4][PERI_BLOCK], flows_of[4][PERI_BLOCK];
+  for (int l = 0; l < L; ++l) v8_storeu_pd(S_of[l], S[l]);
+  unsigned flowing = 0;
+  for (int lane = 0; lane < PERI_BLOCK; ++lane) {
+    double S_lane[4], factor[4] = {1.0, 1.0, 1.0, 1.0}, flows[4] = {0.0, 0.0, 0.0, 0.0};
+    for (int l = 0; l < L; ++l) S_lane[l] = S_of[l][lane];
+    if (act >> lane & 1u)
+      if (layer_factors(sl, scale[lane], S_lane, L, factor, flows) || committed) flowing |= 1u << lane;
+    for (int l = 0; l < L; ++l) factor_of[l][lane] = factor[l], flows_of[l][lane] = flows[l];
+  }
+  /* 3. the new state of the lanes that flow (node_return's flow_from; the others keep theirs, as
+   * its bond_terms) and every lane's terms */
+  double W[PERI_MAX_SUBLAYERS];
+  padded_weights(sl, L, W);
+  peri_v8d vfactor[4], vflows[4];
+  for (int l = 0; l < L; ++l) vfactor[l] = v8_loadu_pd(factor_of[l]), vflows[l] = v8_loadu_pd(flows_of[l]);
+  const peri_v8d valpha = v8_loadu_pd(alpha);
+  const peri_m8 moving = (peri_m8)flowing;
+  peri_v8d magnitude = v8_setzero_pd();
+  k = first_k;
+  for (int64_t a = 0; a < count; ++a) {
+    const peri_m8 m = structure[a] & active;
+    const peri_v8d on = v8_maskz_mov_pd(lanes[a], one), sd = v8_loadu_pd(sd_of + 8 * a);
+    const __m256i kL = _mm256_mullo_epi32(k, layers);
+    peri_v8d plastic = v8_setzero_pd();
+    double v_of[4][PERI_BLOCK], t_of[PERI_BLOCK];
+    int32_t k_of[PERI_BLOCK];
+    for (int l = 0; l < L; ++l) {
+      const peri_v8d f = v8_mask_i32gather_pd(m, _mm256_add_epi32(kL, _mm256_set1_epi32(l)), from);
+      const peri_v8d take = v8_mul_pd(on, vflows[l]), moved = v8_fnmadd_pd(vfactor[l], v8_sub_pd(sd, f), sd);
+      const peri_v8d v = v8_mask_mov_pd(f, moving, v8_fmadd_pd(take, moved, v8_mul_pd(v8_sub_pd(one, take), f)));
+      magnitude = v8_mask_add_pd(magnitude, m, magnitude, committed ? v8_add_pd(v8_abs_pd(v), v8_abs_pd(f)) : v8_abs_pd(v));
+      plastic = v8_fmadd_pd(v8_set1_pd(W[l]), v, plastic);
+      v8_storeu_pd(v_of[l], v);
+    }
+    v8_storeu_pd(t_of, v8_mul_pd(valpha, plastic));
+    _mm256_storeu_si256((__m256i *)k_of, k);
+    for (unsigned bits = m; bits; bits &= bits - 1) {
+      const int lane = __builtin_ctz(bits);
+      const int64_t kb = k_of[lane];
+      if (moving >> lane & 1u)
+        for (int l = 0; l < L; ++l) out[kb * L + l] = v_of[l][lane];
+      term[kb] = t_of[lane];
+    }
+    k = _mm256_add_epi32(k, _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(structure[a]), lane_shift), one_i));
+  }
+  double mag_of[PERI_BLOCK];
+  v8_storeu_pd(mag_of, magnitude);
+  for (int lane = 0; lane < PERI_BLOCK; ++lane)
+    if (act >> lane & 1u) yielded[i0 + lane] = mag_of[lane] != 0.0;
+  return true;
+}
+
+/* block_return with constant layer counts. */
+static bool block_return_any(peri_sim *s, const peri_bond_view *w, const peri_node_blocks *items, int32_t item,
+                             const double *elastic, uint8_t *yielded, double *sd_of) {
+  switch (s->state.plastic_layers) {
+  case 1: return block_return(s, w, items, item, elastic, yielded, sd_of, 1);
+  case 2: return block_return(s, w, items, item, elastic, yielded, sd_of, 2);
+  case 3: return block_return(s, w, items, item, elastic, yielded, sd_of, 3);
+  case 4: return block_return(s, w, items, item, elastic, yielded, sd_of, 4);
+  default: return false;
+  }
+}
+#endif
+
 /* The longest family, rounded up to a multiple of 8 (the eight-lane loops' scratch). */
 static int64_t longest_family(const peri_bonds *b, int32_t n) {
   int64_t longest = 1;
@@ -344,11 +482,21 @@ void peri_deviatoric_return(peri_sim *s, const double *elastic, uint8_t *near) {
   const peri_bond_view w = peri_bond_view_of(s, s->disc.node_blocks->soa);
   const int64_t longest = longest_family(b, p->n_owned);
   uint8_t *yielded = s->state.plastic_nodes;
+  const peri_node_blocks *items = s->disc.node_blocks;
 #pragma omp parallel
   {
-    double *scratch = peri_malloc(sizeof(double) * 3 * (size_t)longest);
-#pragma omp for schedule(static)
-    for (int32_t i = 0; i < p->n_owned; ++i) yielded[i] = node_return_any(s, &w, i, elastic[i], yielded[i], scratch, longest);
+    /* the node path's sd, wt, on, then the block path's stretches (a template has at most
+     * 1.5 times the entries of its largest family, node_blocks.c) */
+    double *scratch = peri_malloc(sizeof(double) * (3 + 8 * 2) * (size_t)longest);
+    PERI_FOR_EACH_ITEM(items, item) {
+#ifdef PERI_BOND_V8
+      if (peri_item_is_block(items, item) &&
+          block_return_any(s, &w, items, item, elastic, yielded, scratch + 3 * longest))
+        continue;
+#endif
+      for (int32_t i = items->first[item]; i < items->first[item + 1]; ++i)
+        yielded[i] = node_return_any(s, &w, i, elastic[i], yielded[i], scratch, longest);
+    }
     free(scratch);
   }
   /* the other ends' terms of the bonds into ghosts, past the owned bonds' (their reverse index) */
