@@ -609,6 +609,7 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
                  cu[3] = {v8_loadu_pd(w->u0 + i0), v8_loadu_pd(w->u1 + i0), v8_loadu_pd(w->u2 + i0)};
   const peri_v8d Di = v8_loadu_pd(D + i0), Bi = v8_loadu_pd(B + i0);
   peri_v8d s0 = v8_setzero_pd(), s1 = v8_setzero_pd(), s2 = v8_setzero_pd();
+  peri_v8l rev = v8_mask_i32gather_epi64(count > 0 ? lanes[0] : 0, k, reverse);
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 on = lanes[a];
@@ -618,16 +619,19 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
     peri_v8d y[3], r0, inv_r0, r, inv_r;
     bond_lengths_v8(xj, uj, c, cu, y, &r0, &inv_r0, &r, &inv_r);
     /* the bond's two plastic terms, the other end's at the reverse bond (as the node path adds them) */
-    const peri_v8d P = v8_add_pd(v8_mask_i32gather_pd(on, k, term),
-                                 v8_mask_i64gather_pd(on, v8_mask_i32gather_epi64(on, k, reverse), all_terms));
+    /* the lanes that have the entry's bond (intact or not) move to their next one, whose reverse
+     * bonds are gathered an entry ahead: the gather of the other ends' terms waits on them */
+    const peri_v8i k_next =
+        _mm256_add_epi32(k, _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(structure[a]), lane_shift), one));
+    const peri_v8l rev_next = v8_mask_i32gather_epi64(a + 1 < count ? lanes[a + 1] : 0, k_next, reverse);
+    const peri_v8d P = v8_add_pd(v8_mask_i32gather_pd(on, k, term), v8_mask_i64gather_pd(on, rev, all_terms));
     const peri_v8d g = bond_force_v8(r0, r, inv_r, Di, v8_loadu_pd(D + j), Bi, v8_loadu_pd(B + j), P,
                                      v8_mask_i32gather_pd(on, k, weight));
     /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
     s0 = v8_mask3_fmadd_pd(g, y[0], s0, on);
     s1 = v8_mask3_fmadd_pd(g, y[1], s1, on);
     s2 = v8_mask3_fmadd_pd(g, y[2], s2, on);
-    /* the lanes that have the entry's bond (intact or not) move to their next one */
-    k = _mm256_add_epi32(k, _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(structure[a]), lane_shift), one));
+    k = k_next, rev = rev_next;
   }
   double a0[PERI_BLOCK], a1[PERI_BLOCK], a2[PERI_BLOCK];
   v8_storeu_pd(a0, s0), v8_storeu_pd(a1, s1), v8_storeu_pd(a2, s2);
