@@ -210,8 +210,7 @@ static inline __attribute__((always_inline)) void layer_energies(const double *r
 /* The return of a node's bonds from the state `from` into `out` (the same array when mapping in
  * place: one pointer, so that the vector loop needs no test of overlap): layer l moves to
  * s^d - factor[l] (s^d - s^dp_l) where take = flows[l] on = 1 (it flows and the bond is intact),
- * else keeps its value, as take * moved + (1 - take) * kept (exact for take 0 or 1, and
- * without a select, which would keep the loop scalar); each bond's term alpha sum_l W_l s^dp_l
+ * else keeps its value (a select, as the block path's lanes take it); each bond's term alpha sum_l W_l s^dp_l
  * into term[]. Returns whether a plastic stretch (or, `committed`, one of the state mapped
  * from) is nonzero: a sum of magnitudes, 0 only when every one is. */
 static inline __attribute__((always_inline)) bool flow_from(const double *from, double *out,
@@ -227,7 +226,7 @@ static inline __attribute__((always_inline)) bool flow_from(const double *from, 
     for (int l = 0; l < L; ++l) {
       /* (explicit fused operations, as the block path's lanes evaluate them) */
       const double f = from[a * L + l], moved = fma(-factor[l], sd[a] - f, sd[a]), take = on[a] * flows[l];
-      const double v = fma(take, moved, (1.0 - take) * f);
+      const double v = take != 0.0 ? moved : f;
       out[a * L + l] = v;
       magnitude += fabs(v) + (committed ? fabs(f) : 0.0);
       plastic = fma(W[l], v, plastic);
@@ -325,6 +324,52 @@ static bool node_return_any(peri_sim *s, const peri_bond_view *w, int32_t i, dou
 }
 
 #ifdef PERI_BOND_V8
+#if defined(__AVX512F__)
+/* row_mask[m][l]: the mask of a bond's four layers (a 256-bit row) for lane l of the lanes in m,
+ * as a table: computed per lane it costs more instructions than the load or store it masks */
+#define ROW4(m, l) (((m) >> (l) & 1) ? 15 : 0)
+#define ROWS_1(m) {ROW4(m, 0), ROW4(m, 1), ROW4(m, 2), ROW4(m, 3), ROW4(m, 4), ROW4(m, 5), ROW4(m, 6), ROW4(m, 7)}
+#define ROWS_4(m) ROWS_1(m), ROWS_1((m) + 1), ROWS_1((m) + 2), ROWS_1((m) + 3)
+#define ROWS_16(m) ROWS_4(m), ROWS_4((m) + 4), ROWS_4((m) + 8), ROWS_4((m) + 12)
+#define ROWS_64(m) ROWS_16(m), ROWS_16((m) + 16), ROWS_16((m) + 32), ROWS_16((m) + 48)
+static const uint8_t row_mask[256][PERI_BLOCK] = {ROWS_64(0), ROWS_64(64), ROWS_64(128), ROWS_64(192)};
+
+/* Four layers of eight lanes' bonds, each bond's layers contiguous at state + at[lane] (the
+ * lanes not in m read nothing and give 0): eight 256-bit loads transposed into a vector per
+ * layer, where a gather per layer costs about twice as much. */
+static inline __attribute__((always_inline)) void load_layers4(const double *state, const int64_t at[PERI_BLOCK],
+                                                                unsigned m, __m512d col[4]) {
+  __m256d r[PERI_BLOCK];
+  for (int l = 0; l < PERI_BLOCK; ++l) r[l] = _mm256_maskz_loadu_pd(row_mask[m][l], state + at[l]);
+  const __m512d z0 = _mm512_insertf64x4(_mm512_castpd256_pd512(r[0]), r[4], 1),
+                z1 = _mm512_insertf64x4(_mm512_castpd256_pd512(r[1]), r[5], 1),
+                z2 = _mm512_insertf64x4(_mm512_castpd256_pd512(r[2]), r[6], 1),
+                z3 = _mm512_insertf64x4(_mm512_castpd256_pd512(r[3]), r[7], 1);
+  const __m512d t0 = _mm512_unpacklo_pd(z0, z1), t1 = _mm512_unpackhi_pd(z0, z1), t2 = _mm512_unpacklo_pd(z2, z3),
+                t3 = _mm512_unpackhi_pd(z2, z3);
+  const __m512i lo = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13), hi = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15);
+  col[0] = _mm512_permutex2var_pd(t0, lo, t2), col[1] = _mm512_permutex2var_pd(t1, lo, t3);
+  col[2] = _mm512_permutex2var_pd(t0, hi, t2), col[3] = _mm512_permutex2var_pd(t1, hi, t3);
+}
+
+/* The inverse: the layers of the lanes in m stored at state + at[lane]. */
+static inline __attribute__((always_inline)) void store_layers4(double *state, const int64_t at[PERI_BLOCK],
+                                                                 unsigned m, const __m512d col[4]) {
+  const __m512i lo = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13), hi = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15);
+  const __m512d t0 = _mm512_permutex2var_pd(col[0], lo, col[2]), t2 = _mm512_permutex2var_pd(col[0], hi, col[2]),
+                t1 = _mm512_permutex2var_pd(col[1], lo, col[3]), t3 = _mm512_permutex2var_pd(col[1], hi, col[3]);
+  const __m512d z[4] = {_mm512_unpacklo_pd(t0, t1), _mm512_unpackhi_pd(t0, t1), _mm512_unpacklo_pd(t2, t3),
+                        _mm512_unpackhi_pd(t2, t3)};
+  for (int l = 0; l < 4; ++l) {
+    _mm256_mask_storeu_pd(state + at[l], row_mask[m][l], _mm512_castpd512_pd256(z[l]));
+    _mm256_mask_storeu_pd(state + at[l + 4], row_mask[m][l + 4], _mm512_extractf64x4_pd(z[l], 1));
+  }
+}
+#define LAYERS4_ROWS 1
+#else
+#define LAYERS4_ROWS 0
+#endif
+
 /* The return of a block of eight nodes of one material (node_blocks.h) on its template, the
  * nodes in vector lanes: contiguous loads of the neighbours (the node path gathers them), each
  * lane's bond index counted along the template (its bit of the structure) to reach its state,
@@ -332,11 +377,12 @@ static bool node_return_any(peri_sim *s, const peri_bond_view *w, int32_t i, dou
  * (the energies bond by bond, the factors by layer_factors), so both paths agree bit for bit.
  * Returns false, having changed nothing, where the block cannot take it (entries dropped from
  * its template, nodes of different materials, more than 4 layers); else sets yielded[] of its
- * nodes. Scratch: 8 doubles per template entry (the lanes' deviatoric stretches). */
+ * nodes. Scratch: 48 doubles per template entry (the lanes' stretches, states and indices, which
+ * the second loop reads instead of gathering again). */
 static inline __attribute__((always_inline)) bool block_return(peri_sim *s, const peri_bond_view *w,
                                                                const peri_node_blocks *items, int32_t item,
                                                                const double *elastic, uint8_t *yielded,
-                                                               double *restrict sd_of, const int L) {
+                                                               double *restrict scratch, const int L) {
   if (L > 4 || items->tpl_end[item] != items->tpl[item + 1]) return false;
   const peri_particles *p = &s->disc.p;
   const int32_t i0 = items->first[item];
@@ -350,6 +396,8 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   const peri_material *mat = &s->mat.materials[p->material[i0]];
   const bool committed = s->state.plastic_committed != NULL;
   const int64_t t0 = items->tpl[item], count = items->tpl_end[item] - t0, base = w->offset[i0];
+  double *restrict sd_of = scratch, *restrict f_of = scratch + 8 * count;
+  int64_t *restrict at_of = (int64_t *)(scratch + 40 * count);
   double *restrict out = s->state.plastic_stretch + base * L;
   const double *from = committed ? s->state.plastic_committed + base * L : out;
   const double *restrict weight = s->state.plastic_bond_weight + base;
@@ -371,14 +419,13 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   const peri_m8 active = (peri_m8)act;
   const int32_t *restrict tj = items->tpl_node + t0;
   const uint8_t *restrict lanes = items->tpl_lanes + t0, *restrict structure = items->tpl_bonds + t0;
-  const __m256i lane_shift = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), one_i = _mm256_set1_epi32(1),
-                first_k = _mm256_loadu_si256((const __m256i *)first), layers = _mm256_set1_epi32(L);
+  const __m256i lane_shift = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), one_i = _mm256_set1_epi32(1);
   const peri_v8d c[3] = {v8_loadu_pd(w->x0 + i0), v8_loadu_pd(w->x1 + i0), v8_loadu_pd(w->x2 + i0)},
                  cu[3] = {v8_loadu_pd(w->u0 + i0), v8_loadu_pd(w->u1 + i0), v8_loadu_pd(w->u2 + i0)};
-  const peri_v8d vshift = v8_loadu_pd(shift), one = v8_set1_pd(1.0);
+  const peri_v8d vshift = v8_loadu_pd(shift), one = v8_set1_pd(1.0), zero = v8_setzero_pd();
   /* 1. the lanes' deviatoric stretches and each layer's energy */
-  peri_v8d S[4] = {v8_setzero_pd(), v8_setzero_pd(), v8_setzero_pd(), v8_setzero_pd()};
-  peri_v8i k = first_k;
+  peri_v8d S[4] = {zero, zero, zero, zero};
+  peri_v8i k = _mm256_loadu_si256((const __m256i *)first);
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 m = structure[a] & active;
@@ -392,75 +439,95 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
     const peri_v8d wt = v8_mul_pd(v8_mul_pd(on, v8_mask_i32gather_pd(m, k, weight)), v8_mul_pd(r0, r0));
     const peri_v8d sd = v8_mul_pd(on, v8_fmsub_pd(v8_sub_pd(r, r0), inv_r0, vshift));
     v8_storeu_pd(sd_of + 8 * a, sd);
-    const __m256i kL = _mm256_mullo_epi32(k, layers);
+    /* each lane's bond's first layer, at[] (the next loop's too) */
+    int64_t *restrict at = at_of + 8 * a;
+    int32_t k_of[PERI_BLOCK];
+    _mm256_storeu_si256((__m256i *)k_of, k);
+    for (int l = 0; l < PERI_BLOCK; ++l) at[l] = (int64_t)k_of[l] * L;
+    peri_v8d f[4];
+#if LAYERS4_ROWS
+    if (L == 4) load_layers4(from, at, m, f);
+    else
+#endif
+    {
+      const __m256i kL = _mm256_mullo_epi32(k, _mm256_set1_epi32(L));
+      for (int l = 0; l < L; ++l) f[l] = v8_mask_i32gather_pd(m, _mm256_add_epi32(kL, _mm256_set1_epi32(l)), from);
+    }
     for (int l = 0; l < L; ++l) {
-      const peri_v8d e = v8_sub_pd(sd, v8_mask_i32gather_pd(m, _mm256_add_epi32(kL, _mm256_set1_epi32(l)), from));
+      v8_storeu_pd(f_of + 32 * a + 8 * l, f[l]);
+      const peri_v8d e = v8_sub_pd(sd, f[l]);
       S[l] = v8_mask3_fmadd_pd(wt, v8_mul_pd(e, e), S[l], m);
     }
     k = _mm256_add_epi32(k, _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(structure[a]), lane_shift), one_i));
   }
-  /* 2. each lane's factors */
-  double S_of[4][PERI_BLOCK], factor_of[4][PERI_BLOCK], flows_of[4][PERI_BLOCK];
+  /* 2. each lane's factors; the lanes whose layer l flows in flows[l] */
+  double S_of[4][PERI_BLOCK], factor_of[4][PERI_BLOCK];
   for (int l = 0; l < L; ++l) v8_storeu_pd(S_of[l], S[l]);
-  unsigned flowing = 0;
+  unsigned flowing = 0, flows[4] = {0, 0, 0, 0};
   for (int lane = 0; lane < PERI_BLOCK; ++lane) {
-    double S_lane[4], factor[4] = {1.0, 1.0, 1.0, 1.0}, flows[4] = {0.0, 0.0, 0.0, 0.0};
+    double S_lane[4], factor[4] = {1.0, 1.0, 1.0, 1.0}, flows_lane[4] = {0.0, 0.0, 0.0, 0.0};
     for (int l = 0; l < L; ++l) S_lane[l] = S_of[l][lane];
     if (act >> lane & 1u)
-      if (layer_factors(sl, scale[lane], S_lane, L, factor, flows) || committed) flowing |= 1u << lane;
-    for (int l = 0; l < L; ++l) factor_of[l][lane] = factor[l], flows_of[l][lane] = flows[l];
+      if (layer_factors(sl, scale[lane], S_lane, L, factor, flows_lane) || committed) flowing |= 1u << lane;
+    for (int l = 0; l < L; ++l) {
+      factor_of[l][lane] = factor[l];
+      if (flows_lane[l] != 0.0) flows[l] |= 1u << lane;
+    }
   }
   /* 3. the new state of the lanes that flow (node_return's flow_from; the others keep theirs, as
-   * its bond_terms) and every lane's terms */
+   * its bond_terms) and every lane's terms; whether a lane's state is nonzero from the bits of
+   * its values or'ed together (a sum of magnitudes in the node path: the same test) */
   double W[PERI_MAX_SUBLAYERS];
   padded_weights(sl, L, W);
-  peri_v8d vfactor[4], vflows[4];
-  for (int l = 0; l < L; ++l) vfactor[l] = v8_loadu_pd(factor_of[l]), vflows[l] = v8_loadu_pd(flows_of[l]);
+  peri_v8d vfactor[4];
+  for (int l = 0; l < L; ++l) vfactor[l] = v8_loadu_pd(factor_of[l]);
   const peri_v8d valpha = v8_loadu_pd(alpha);
-  const peri_m8 moving = (peri_m8)flowing;
-  peri_v8d magnitude = v8_setzero_pd();
-  k = first_k;
+  const unsigned moving = flowing;
+  peri_v8d bits = zero;
   for (int64_t a = 0; a < count; ++a) {
     const peri_m8 m = structure[a] & active;
-    const peri_v8d on = v8_maskz_mov_pd(lanes[a], one), sd = v8_loadu_pd(sd_of + 8 * a);
-    const __m256i kL = _mm256_mullo_epi32(k, layers);
-    peri_v8d plastic = v8_setzero_pd();
-    double v_of[4][PERI_BLOCK], t_of[PERI_BLOCK];
-    int32_t k_of[PERI_BLOCK];
+    const peri_v8d sd = v8_loadu_pd(sd_of + 8 * a);
+    const int64_t *restrict at = at_of + 8 * a;
+    peri_v8d plastic = zero, v[4];
     for (int l = 0; l < L; ++l) {
-      const peri_v8d f = v8_mask_i32gather_pd(m, _mm256_add_epi32(kL, _mm256_set1_epi32(l)), from);
-      const peri_v8d take = v8_mul_pd(on, vflows[l]), moved = v8_fnmadd_pd(vfactor[l], v8_sub_pd(sd, f), sd);
-      const peri_v8d v = v8_mask_mov_pd(f, moving, v8_fmadd_pd(take, moved, v8_mul_pd(v8_sub_pd(one, take), f)));
-      magnitude = v8_mask_add_pd(magnitude, m, magnitude, committed ? v8_add_pd(v8_abs_pd(v), v8_abs_pd(f)) : v8_abs_pd(v));
-      plastic = v8_fmadd_pd(v8_set1_pd(W[l]), v, plastic);
-      v8_storeu_pd(v_of[l], v);
+      const peri_v8d f = v8_loadu_pd(f_of + 32 * a + 8 * l);
+      const peri_v8d moved = v8_fnmadd_pd(vfactor[l], v8_sub_pd(sd, f), sd);
+      v[l] = v8_mask_mov_pd(f, (peri_m8)(flows[l] & lanes[a]), moved);
+      bits = v8_mask_mov_pd(bits, m, v8_or_pd(bits, committed ? v8_or_pd(v[l], f) : v[l]));
+      plastic = v8_fmadd_pd(v8_set1_pd(W[l]), v[l], plastic);
     }
-    v8_storeu_pd(t_of, v8_mul_pd(valpha, plastic));
-    _mm256_storeu_si256((__m256i *)k_of, k);
-    for (unsigned bits = m; bits; bits &= bits - 1) {
-      const int lane = __builtin_ctz(bits);
-      const int64_t kb = k_of[lane];
+    const peri_v8d tv = v8_mul_pd(valpha, plastic);
+#if LAYERS4_ROWS
+    if (L == 4) {
+      store_layers4(out, at, m & moving, v);
+      _mm512_mask_i64scatter_pd(term, m, _mm512_srli_epi64(_mm512_loadu_si512(at), 2), tv, 8);
+      continue;
+    }
+#endif
+    double v_of[4][PERI_BLOCK], t_of[PERI_BLOCK];
+    for (int l = 0; l < L; ++l) v8_storeu_pd(v_of[l], v[l]);
+    v8_storeu_pd(t_of, tv);
+    for (unsigned lanes_left = m; lanes_left; lanes_left &= lanes_left - 1) {
+      const int lane = __builtin_ctz(lanes_left);
       if (moving >> lane & 1u)
-        for (int l = 0; l < L; ++l) out[kb * L + l] = v_of[l][lane];
-      term[kb] = t_of[lane];
+        for (int l = 0; l < L; ++l) out[at[lane] + l] = v_of[l][lane];
+      term[at[lane] / L] = t_of[lane];
     }
-    k = _mm256_add_epi32(k, _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(structure[a]), lane_shift), one_i));
   }
-  double mag_of[PERI_BLOCK];
-  v8_storeu_pd(mag_of, magnitude);
+  const peri_m8 nonzero = v8_cmp_pd_mask(v8_abs_pd(bits), zero, _CMP_NEQ_UQ);
   for (int lane = 0; lane < PERI_BLOCK; ++lane)
-    if (act >> lane & 1u) yielded[i0 + lane] = mag_of[lane] != 0.0;
+    if (act >> lane & 1u) yielded[i0 + lane] = nonzero >> lane & 1u;
   return true;
 }
 
 /* block_return with constant layer counts. */
 static bool block_return_any(peri_sim *s, const peri_bond_view *w, const peri_node_blocks *items, int32_t item,
-                             const double *elastic, uint8_t *yielded, double *sd_of) {
+                             const double *elastic, uint8_t *yielded, double *scratch) {
   switch (s->state.plastic_layers) {
-  case 1: return block_return(s, w, items, item, elastic, yielded, sd_of, 1);
-  case 2: return block_return(s, w, items, item, elastic, yielded, sd_of, 2);
-  case 3: return block_return(s, w, items, item, elastic, yielded, sd_of, 3);
-  case 4: return block_return(s, w, items, item, elastic, yielded, sd_of, 4);
+  case 1: return block_return(s, w, items, item, elastic, yielded, scratch, 1);
+  case 2: return block_return(s, w, items, item, elastic, yielded, scratch, 2);
+  case 3: return block_return(s, w, items, item, elastic, yielded, scratch, 3);
+  case 4: return block_return(s, w, items, item, elastic, yielded, scratch, 4);
   default: return false;
   }
 }
@@ -487,7 +554,7 @@ void peri_deviatoric_return(peri_sim *s, const double *elastic, uint8_t *near) {
   {
     /* the node path's sd, wt, on, then the block path's stretches (a template has at most
      * 1.5 times the entries of its largest family, node_blocks.c) */
-    double *scratch = peri_malloc(sizeof(double) * (3 + 8 * 2) * (size_t)longest);
+    double *scratch = peri_malloc(sizeof(double) * (3 + 48 * 2) * (size_t)longest);
     PERI_FOR_EACH_ITEM(items, item) {
 #ifdef PERI_BOND_V8
       if (peri_item_is_block(items, item) &&
