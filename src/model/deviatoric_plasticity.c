@@ -73,9 +73,13 @@ int peri_deviatoric_init(peri_sim *s) {
   }
   s->state.plastic_reverse = reverse;
   s->state.plastic_bond_term = peri_calloc((size_t)(b->n_bonds > 0 ? b->n_bonds : 1), sizeof(double));
-  /* each bond's omega beta V_j, as the loops evaluate it: read from here, the vector loops of
-   * the return and the force have no branch of the influence function or select of the partial
-   * volume, either of which keeps a loop scalar */
+  /* each bond's omega beta V_j, stored where the eight-lane kernels cannot evaluate it (a
+   * Gaussian influence needs exp; the scalar loops have no branch-free form of the influence
+   * and the partial volume): they evaluate it from |xi| otherwise (bond_weight_v8), which
+   * saves the 8 bytes a bond and their stream, twice a step */
+#ifdef PERI_BOND_V8
+  if (b->family.influence != PERI_INFLUENCE_GAUSSIAN) return PERI_OK;
+#endif
   double *weight = peri_malloc(sizeof(double) * (size_t)(b->n_bonds > 0 ? b->n_bonds : 1));
   const peri_family_eval fam = peri_family_eval_of(b);
 #pragma omp parallel for schedule(static)
@@ -151,6 +155,17 @@ static inline __attribute__((always_inline)) peri_v8d bond_force_v8(peri_v8d r0,
   const peri_v8d t = v8_fmadd_pd(r0, v8_sub_pd(v8_add_pd(Di, Dj), P), v8_mul_pd(v8_sub_pd(r, r0), v8_add_pd(Bi, Bj)));
   return v8_maskz_mov_pd(v8_cmp_pd_mask(r, v8_setzero_pd(), _CMP_GT_OQ), v8_mul_pd(v8_mul_pd(won, t), inv_r));
 }
+
+/* The weights omega beta V_j of eight bonds of lengths r0 (1/r0 in inv_r0), the stored ones
+ * (at the bonds' indices k, 0 outside m) where the rule keeps them (peri_deviatoric_init); the
+ * node and block paths both take them from here. */
+static inline __attribute__((always_inline)) peri_v8d bond_weight_v8(const peri_bond_view *w, const double *weight,
+                                                                     peri_m8 m, peri_v8i k, peri_v8d r0,
+                                                                     peri_v8d inv_r0, peri_v8d V_j) {
+  if (weight) return v8_mask_i32gather_pd(m, k, weight);
+  const peri_v8d beta_V = v8_mul_pd(peri_beta_v8(&w->fam, r0), V_j);
+  return v8_maskz_mov_pd(m, w->fam.influence == PERI_INFLUENCE_INVERSE ? v8_mul_pd(inv_r0, beta_V) : beta_V);
+}
 #endif
 
 /* Node i's deviatoric stretches s^d = (r - |xi|)/|xi| - eth_i - theta_i/3 and weights
@@ -162,10 +177,10 @@ static inline __attribute__((always_inline)) void deviatoric_stretches(const per
                                                                        double *restrict sd, double *restrict wt) {
   const double shift = (w->eth ? w->eth[i] : 0.0) + s->disc.p.theta[i] / 3.0;
   const int32_t *restrict nbr = s->disc.bonds.neighbor + k0;
-  const double *restrict weight = s->state.plastic_bond_weight + k0;
+  const double *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + k0 : NULL;
 #ifdef PERI_BOND_V8
   /* (each eight-lane load below stays inside the chunk's arrays) */
-  for (int a = 0; a < n; ++a) wt[a] = on[a] * weight[a];
+  const __m256i lane_index = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const peri_v8d c[3] = {v8_set1_pd(w->x0[i]), v8_set1_pd(w->x1[i]), v8_set1_pd(w->x2[i])},
                  cu[3] = {v8_set1_pd(w->u0[i]), v8_set1_pd(w->u1[i]), v8_set1_pd(w->u2[i])};
   const peri_v8d vshift = v8_set1_pd(shift);
@@ -174,9 +189,12 @@ static inline __attribute__((always_inline)) void deviatoric_stretches(const per
     const peri_v8i j = v8_maskz_loadu_epi32(m, nbr + a);
     peri_v8d y[3], r0, inv_r0, r, inv_r;
     gathered_lengths_v8(w, m, j, c, cu, y, &r0, &inv_r0, &r, &inv_r);
-    const peri_v8d sd_a = v8_mul_pd(v8_loadu_pd(on + a), v8_fmsub_pd(v8_sub_pd(r, r0), inv_r0, vshift));
+    const peri_v8d on_a = v8_loadu_pd(on + a);
+    const peri_v8d weight_a = bond_weight_v8(w, weight, m, _mm256_add_epi32(_mm256_set1_epi32(a), lane_index), r0,
+                                             inv_r0, v8_mask_i32gather_pd(m, j, w->V));
+    const peri_v8d sd_a = v8_mul_pd(on_a, v8_fmsub_pd(v8_sub_pd(r, r0), inv_r0, vshift));
     v8_mask_storeu_pd(sd + a, m, sd_a);
-    v8_mask_storeu_pd(wt + a, m, v8_mul_pd(v8_loadu_pd(wt + a), v8_mul_pd(r0, r0)));
+    v8_mask_storeu_pd(wt + a, m, v8_mul_pd(v8_mul_pd(on_a, weight_a), v8_mul_pd(r0, r0)));
   }
 #else
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
@@ -400,7 +418,7 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   int64_t *restrict at_of = (int64_t *)(scratch + 40 * count);
   double *restrict out = s->state.plastic_stretch + base * L;
   const double *from = committed ? s->state.plastic_committed + base * L : out;
-  const double *restrict weight = s->state.plastic_bond_weight + base;
+  const double *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + base : NULL;
   double *restrict term = s->state.plastic_bond_term + base;
   double scale[PERI_BLOCK], shift[PERI_BLOCK], alpha[PERI_BLOCK];
   int32_t first[PERI_BLOCK];
@@ -436,7 +454,8 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
     bond_lengths_v8(xj, uj, c, cu, y, &r0, &inv_r0, &r, &inv_r);
     /* (deviatoric_stretches' operations: the intact flags as 1.0 or 0.0) */
     const peri_v8d on = v8_maskz_mov_pd(lanes[a], one);
-    const peri_v8d wt = v8_mul_pd(v8_mul_pd(on, v8_mask_i32gather_pd(m, k, weight)), v8_mul_pd(r0, r0));
+    const peri_v8d wt =
+        v8_mul_pd(v8_mul_pd(on, bond_weight_v8(w, weight, m, k, r0, inv_r0, v8_loadu_pd(w->V + j))), v8_mul_pd(r0, r0));
     const peri_v8d sd = v8_mul_pd(on, v8_fmsub_pd(v8_sub_pd(r, r0), inv_r0, vshift));
     v8_storeu_pd(sd_of + 8 * a, sd);
     /* each lane's bond's first layer, at[] (the next loop's too) */
@@ -594,17 +613,18 @@ static void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i, i
   const uint8_t *restrict broken = w->broken + k0;
   const int64_t *restrict reverse = s->state.plastic_reverse + k0;
   const double *restrict all_terms = s->state.plastic_bond_term, *restrict term = all_terms + k0,
-                         *restrict weight = s->state.plastic_bond_weight + k0;
+                         *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + k0 : NULL;
   const double *restrict D = w->coef, *restrict B = w->coef + nn;
   const double Di = D[i], Bi = B[i];
   /* (the chunk's own arrays: every eight-lane load stays inside them) */
   double g[DEVIATORIC_CHUNK], y0[DEVIATORIC_CHUNK], y1[DEVIATORIC_CHUNK], y2[DEVIATORIC_CHUNK],
       won[DEVIATORIC_CHUNK], plastic[DEVIATORIC_CHUNK];
   for (int a = 0; a < n; ++a) {
-    won[a] = broken[a] ? 0.0 : weight[a]; /* (the flags as doubles: see node_return) */
+    won[a] = broken[a] ? 0.0 : 1.0; /* (the flags as doubles: see node_return) */
     plastic[a] = term[a] + all_terms[reverse[a]]; /* (the other end's: a gather) */
   }
 #ifdef PERI_BOND_V8
+  const __m256i lane_index = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const peri_v8d c[3] = {v8_set1_pd(w->x0[i]), v8_set1_pd(w->x1[i]), v8_set1_pd(w->x2[i])},
                  cu[3] = {v8_set1_pd(w->u0[i]), v8_set1_pd(w->u1[i]), v8_set1_pd(w->u2[i])};
   const peri_v8d vDi = v8_set1_pd(Di), vBi = v8_set1_pd(Bi);
@@ -613,8 +633,12 @@ static void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i, i
     const peri_v8i j = v8_maskz_loadu_epi32(m, nbr + a);
     peri_v8d y[3], r0, inv_r0, r, inv_r;
     gathered_lengths_v8(w, m, j, c, cu, y, &r0, &inv_r0, &r, &inv_r);
+    /* the weights of the intact bonds, 0 for the broken ones (as the block path masks them) */
+    const peri_m8 intact = v8_mask_cmp_pd_mask(m, v8_loadu_pd(won + a), v8_setzero_pd(), _CMP_NEQ_OQ);
+    const peri_v8d wv = bond_weight_v8(w, weight, intact, _mm256_add_epi32(_mm256_set1_epi32(a), lane_index), r0, inv_r0,
+                                       v8_mask_i32gather_pd(m, j, w->V));
     const peri_v8d gv = bond_force_v8(r0, r, inv_r, vDi, v8_mask_i32gather_pd(m, j, D), vBi,
-                                      v8_mask_i32gather_pd(m, j, B), v8_loadu_pd(plastic + a), v8_loadu_pd(won + a));
+                                      v8_mask_i32gather_pd(m, j, B), v8_loadu_pd(plastic + a), wv);
     v8_mask_storeu_pd(g + a, m, gv);
     v8_mask_storeu_pd(y0 + a, m, y[0]);
     v8_mask_storeu_pd(y1 + a, m, y[1]);
@@ -635,7 +659,7 @@ static void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i, i
     /* coincident ends have no direction and give no force (arithmetic, not a select, which
      * would keep the loop scalar) */
     const double apart = r != 0.0;
-    g[a] = apart * won[a] * t / (r + (1.0 - apart));
+    g[a] = apart * (won[a] * weight[a]) * t / (r + (1.0 - apart)); /* (the weights are stored here) */
     y0[a] = d0, y1[a] = d1, y2[a] = d2;
   }
 #endif
@@ -666,7 +690,7 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
   const size_t nn = (size_t)w->n;
   const double *restrict D = w->coef, *restrict B = w->coef + nn;
   const double *restrict all_terms = s->state.plastic_bond_term, *restrict term = all_terms + base,
-                         *restrict weight = s->state.plastic_bond_weight + base;
+                         *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + base : NULL;
   const int64_t *restrict reverse = s->state.plastic_reverse + base;
   int32_t first[PERI_BLOCK];
   for (int l = 0; l < PERI_BLOCK; ++l) first[l] = (int32_t)(w->offset[i0 + l] - base);
@@ -693,7 +717,7 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
     const peri_v8l rev_next = v8_mask_i32gather_epi64(a + 1 < count ? lanes[a + 1] : 0, k_next, reverse);
     const peri_v8d P = v8_add_pd(v8_mask_i32gather_pd(on, k, term), v8_mask_i64gather_pd(on, rev, all_terms));
     const peri_v8d g = bond_force_v8(r0, r, inv_r, Di, v8_loadu_pd(D + j), Bi, v8_loadu_pd(B + j), P,
-                                     v8_mask_i32gather_pd(on, k, weight));
+                                     bond_weight_v8(w, weight, on, k, r0, inv_r0, v8_loadu_pd(w->V + j)));
     /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
     s0 = v8_mask3_fmadd_pd(g, y[0], s0, on);
     s1 = v8_mask3_fmadd_pd(g, y[1], s1, on);
