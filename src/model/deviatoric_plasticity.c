@@ -27,14 +27,15 @@
  * ghost's owner sends the term through the bond halo (src/parallel/bond_halo.c) after the
  * return. No periodic images (a bond to an image has no reverse).
  *
- * Cost (docs/plasticity.md section 8): the return and the force run a chunk of a node's bonds
- * at a time in vector loops, with the bond weights omega beta V_j stored (the influence
- * function's branches and the partial volume's select would keep the loops scalar) and the
- * layers of a bond unrolled for up to 4; their lengths come from the eight-lane functions of
- * the elastic kernels (bond_kernel.h: reciprocal square roots, no square root or division,
- * which cost 16-32 cycles a vector); the force of the nodes with a plastic state on either
+ * Cost (docs/plasticity.md section 8): a block of eight nodes (node_blocks.h) runs the return
+ * and the force on its template, the nodes in vector lanes; other nodes run a chunk of their
+ * bonds at a time in vector loops. The lengths come from the eight-lane functions of the
+ * elastic kernels (bond_kernel.h: reciprocal square roots, no square root or division, which
+ * cost 16-32 cycles a vector) and so do the bond weights omega beta V_j (stored only where
+ * those functions cannot evaluate them); the force of the nodes with a plastic state on either
  * end of a bond replaces their elastic force pass rather than adding to it and reads the
- * bonds' terms, not their sublayers. */
+ * bonds' terms, not their sublayers. The return is bound by the stream of the state (32 bytes
+ * a bond read and written per step with 4 sublayers). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
