@@ -384,8 +384,9 @@ Test(kernel_paths, lps_3d_deviatoric) {
 /* The deviatoric rule's return on both paths from the same state: a block of eight nodes runs
  * it on its template, the other nodes one by one, and the two map the plastic state, the
  * bonds' plastic terms and the yield flags bit for bit, from the state before the first yield
- * and from a yielded one further sheared (the same block, with broken bonds, as above). */
-Test(kernel_paths, lps_3d_deviatoric_return) {
+ * and from a yielded one further sheared (the same block, with broken bonds, as above); with the
+ * weights evaluated by the kernels (constant and inverse influence) and stored (Gaussian). */
+static void check_deviatoric_return(const char *influence) {
   const double h = 0.5 * N_SIDE * DX;
   char deck[1024];
   snprintf(deck, sizeof deck,
@@ -394,10 +395,11 @@ Test(kernel_paths, lps_3d_deviatoric_return) {
            "  steel: {model: lps, density: 7800, youngs_modulus: 200e9, poisson_ratio: 0.25,\n"
            "          plasticity: {strains: [0.002, 0.0065, 0.0124, 0.0168], power_law: {yield_stress: 400e6,\n"
            "                       yield_strain: 0.002, exponent: 0.1}, yield_rule: deviatoric}}\n"
-           "discretization: {spacing: %g, m: 3, fill: [{shape: box, min: [%g, %g, %g], max: [%g, %g, %g]}]}\n"
+           "discretization: {spacing: %g, m: 3, influence: %s,\n"
+           "                 fill: [{shape: box, min: [%g, %g, %g], max: [%g, %g, %g]}]}\n"
            "solver: {type: explicit, steps: 1, breaking: false}\n"
            "output: {picture: false}\n",
-           DX, -h, -h, -0.3 * h, h, h, 0.3 * h);
+           DX, influence, -h, -h, -0.3 * h, h, h, 0.3 * h);
   peri_sim s;
   cr_assert_eq(sim_from_string(&s, deck), 0, "deck:\n%s", deck);
   damage_and_deform(&s);
@@ -437,7 +439,8 @@ Test(kernel_paths, lps_3d_deviatoric_return) {
     s.disc.generic_bond_loops = false;
     int32_t yielded = 0;
     for (size_t i = 0; i < owned; ++i) yielded += s.state.plastic_nodes[i] != 0;
-    cr_log_info("lps 3D deviatoric return, round %d: %d of %zu nodes yielded", round, yielded, owned);
+    cr_log_info("lps 3D deviatoric return, %s influence, round %d: %d of %zu nodes yielded", influence, round, yielded,
+                owned);
     cr_assert_gt(yielded, (int32_t)(owned / 2), "the test needs yielded nodes");
     cr_expect(memcmp(block, node, state_bytes) == 0, "round %d: the plastic states of the two paths differ", round);
     cr_expect(memcmp(block + state_bytes, node + state_bytes, term_bytes) == 0,
@@ -453,3 +456,7 @@ Test(kernel_paths, lps_3d_deviatoric_return) {
   free(node);
   peri_sim_free(&s);
 }
+
+Test(kernel_paths, lps_3d_deviatoric_return) { check_deviatoric_return("constant"); }
+Test(kernel_paths, lps_3d_deviatoric_return_inverse) { check_deviatoric_return("inverse"); }
+Test(kernel_paths, lps_3d_deviatoric_return_gaussian) { check_deviatoric_return("gaussian"); }
