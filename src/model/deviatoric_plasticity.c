@@ -229,8 +229,8 @@ static inline __attribute__((always_inline)) void layer_energies(const double *r
 /* The return of a node's bonds from the state `from` into `out` (the same array when mapping in
  * place: one pointer, so that the vector loop needs no test of overlap): layer l moves to
  * s^d - factor[l] (s^d - s^dp_l) where take = flows[l] on = 1 (it flows and the bond is intact),
- * else keeps its value (a select, as the block path's lanes take it); each bond's term alpha sum_l W_l s^dp_l
- * into term[]. Returns whether a plastic stretch (or, `committed`, one of the state mapped
+ * else keeps its value (a select, as the block path's lanes take it); each bond's term
+ * alpha sum_l W_l s^dp_l into term[]. Returns whether a plastic stretch (or, `committed`, one of the state mapped
  * from) is nonzero: a sum of magnitudes, 0 only when every one is. */
 static inline __attribute__((always_inline)) bool flow_from(const double *from, double *out,
                                                             const double *restrict sd, double *restrict term,
@@ -355,7 +355,7 @@ static const uint8_t row_mask[256][PERI_BLOCK] = {ROWS_64(0), ROWS_64(64), ROWS_
 
 /* Four layers of eight lanes' bonds, each bond's layers contiguous at state + at[lane] (the
  * lanes not in m read nothing and give 0): eight 256-bit loads transposed into a vector per
- * layer, where a gather per layer costs about twice as much. */
+ * layer, in place of a gather per layer. */
 static inline __attribute__((always_inline)) void load_layers4(const double *state, const int64_t at[PERI_BLOCK],
                                                                 unsigned m, __m512d col[4]) {
   __m256d r[PERI_BLOCK];
