@@ -636,8 +636,8 @@ static void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i, i
     gathered_lengths_v8(w, m, j, c, cu, y, &r0, &inv_r0, &r, &inv_r);
     /* the weights of the intact bonds, 0 for the broken ones (as the block path masks them) */
     const peri_m8 intact = v8_mask_cmp_pd_mask(m, v8_loadu_pd(won + a), v8_setzero_pd(), _CMP_NEQ_OQ);
-    const peri_v8d wv = bond_weight_v8(w, weight, intact, _mm256_add_epi32(_mm256_set1_epi32(a), lane_index), r0, inv_r0,
-                                       v8_mask_i32gather_pd(m, j, w->V));
+    const peri_v8d wv = bond_weight_v8(w, weight, intact, _mm256_add_epi32(_mm256_set1_epi32(a), lane_index), r0,
+                                       inv_r0, v8_mask_i32gather_pd(m, j, w->V));
     const peri_v8d gv = bond_force_v8(r0, r, inv_r, vDi, v8_mask_i32gather_pd(m, j, D), vBi,
                                       v8_mask_i32gather_pd(m, j, B), v8_loadu_pd(plastic + a), wv);
     v8_mask_storeu_pd(g + a, m, gv);
