@@ -231,7 +231,8 @@ typedef struct peri_state {
    * bond (the bond halo). NULL for the bond rule */
   double *plastic_bond_term;
   /* the deviatoric yield rule: [n_bonds] omega beta V_j of each bond i -> j, its weight in the
-   * family sums (fixed by the reference configuration), NULL for the bond rule */
+   * family sums (fixed by the reference configuration), where the eight-lane kernels do not
+   * evaluate it (Gaussian influence, builds without them); NULL otherwise and for the bond rule */
   double *plastic_bond_weight;
   struct peri_restart *restart; /* checkpoint to continue from (--restart), NULL otherwise */
 } peri_state;

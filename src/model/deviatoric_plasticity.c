@@ -27,14 +27,15 @@
  * ghost's owner sends the term through the bond halo (src/parallel/bond_halo.c) after the
  * return. No periodic images (a bond to an image has no reverse).
  *
- * Cost (docs/plasticity.md section 8): the return and the force run a chunk of a node's bonds
- * at a time in vector loops, with the bond weights omega beta V_j stored (the influence
- * function's branches and the partial volume's select would keep the loops scalar) and the
- * layers of a bond unrolled for up to 4; their lengths come from the eight-lane functions of
- * the elastic kernels (bond_kernel.h: reciprocal square roots, no square root or division,
- * which cost 16-32 cycles a vector); the force of the nodes with a plastic state on either
+ * Cost (docs/plasticity.md section 8): a block of eight nodes (node_blocks.h) runs the return
+ * and the force on its template, the nodes in vector lanes; other nodes run a chunk of their
+ * bonds at a time in vector loops. The lengths come from the eight-lane functions of the
+ * elastic kernels (bond_kernel.h: reciprocal square roots, no square root or division, which
+ * cost 16-32 cycles a vector) and so do the bond weights omega beta V_j (stored only where
+ * those functions cannot evaluate them); the force of the nodes with a plastic state on either
  * end of a bond replaces their elastic force pass rather than adding to it and reads the
- * bonds' terms, not their sublayers. */
+ * bonds' terms, not their sublayers. The return is bound by the stream of the state (32 bytes
+ * a bond read and written per step with 4 sublayers). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -73,9 +74,13 @@ int peri_deviatoric_init(peri_sim *s) {
   }
   s->state.plastic_reverse = reverse;
   s->state.plastic_bond_term = peri_calloc((size_t)(b->n_bonds > 0 ? b->n_bonds : 1), sizeof(double));
-  /* each bond's omega beta V_j, as the loops evaluate it: read from here, the vector loops of
-   * the return and the force have no branch of the influence function or select of the partial
-   * volume, either of which keeps a loop scalar */
+  /* each bond's omega beta V_j, stored where the eight-lane kernels cannot evaluate it (a
+   * Gaussian influence needs exp; the scalar loops have no branch-free form of the influence
+   * and the partial volume): they evaluate it from |xi| otherwise (bond_weight_v8), which
+   * saves the 8 bytes a bond and their stream, twice a step */
+#ifdef PERI_BOND_V8
+  if (b->family.influence != PERI_INFLUENCE_GAUSSIAN) return PERI_OK;
+#endif
   double *weight = peri_malloc(sizeof(double) * (size_t)(b->n_bonds > 0 ? b->n_bonds : 1));
   const peri_family_eval fam = peri_family_eval_of(b);
 #pragma omp parallel for schedule(static)
@@ -151,6 +156,17 @@ static inline __attribute__((always_inline)) peri_v8d bond_force_v8(peri_v8d r0,
   const peri_v8d t = v8_fmadd_pd(r0, v8_sub_pd(v8_add_pd(Di, Dj), P), v8_mul_pd(v8_sub_pd(r, r0), v8_add_pd(Bi, Bj)));
   return v8_maskz_mov_pd(v8_cmp_pd_mask(r, v8_setzero_pd(), _CMP_GT_OQ), v8_mul_pd(v8_mul_pd(won, t), inv_r));
 }
+
+/* The weights omega beta V_j of eight bonds of lengths r0 (1/r0 in inv_r0), the stored ones
+ * (at the bonds' indices k, 0 outside m) where the rule keeps them (peri_deviatoric_init); the
+ * node and block paths both take them from here. */
+static inline __attribute__((always_inline)) peri_v8d bond_weight_v8(const peri_bond_view *w, const double *weight,
+                                                                     peri_m8 m, peri_v8i k, peri_v8d r0,
+                                                                     peri_v8d inv_r0, peri_v8d V_j) {
+  if (weight) return v8_mask_i32gather_pd(m, k, weight);
+  const peri_v8d beta_V = v8_mul_pd(peri_beta_v8(&w->fam, r0), V_j);
+  return v8_maskz_mov_pd(m, w->fam.influence == PERI_INFLUENCE_INVERSE ? v8_mul_pd(inv_r0, beta_V) : beta_V);
+}
 #endif
 
 /* Node i's deviatoric stretches s^d = (r - |xi|)/|xi| - eth_i - theta_i/3 and weights
@@ -162,10 +178,10 @@ static inline __attribute__((always_inline)) void deviatoric_stretches(const per
                                                                        double *restrict sd, double *restrict wt) {
   const double shift = (w->eth ? w->eth[i] : 0.0) + s->disc.p.theta[i] / 3.0;
   const int32_t *restrict nbr = s->disc.bonds.neighbor + k0;
-  const double *restrict weight = s->state.plastic_bond_weight + k0;
+  const double *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + k0 : NULL;
 #ifdef PERI_BOND_V8
   /* (each eight-lane load below stays inside the chunk's arrays) */
-  for (int a = 0; a < n; ++a) wt[a] = on[a] * weight[a];
+  const __m256i lane_index = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const peri_v8d c[3] = {v8_set1_pd(w->x0[i]), v8_set1_pd(w->x1[i]), v8_set1_pd(w->x2[i])},
                  cu[3] = {v8_set1_pd(w->u0[i]), v8_set1_pd(w->u1[i]), v8_set1_pd(w->u2[i])};
   const peri_v8d vshift = v8_set1_pd(shift);
@@ -174,9 +190,12 @@ static inline __attribute__((always_inline)) void deviatoric_stretches(const per
     const peri_v8i j = v8_maskz_loadu_epi32(m, nbr + a);
     peri_v8d y[3], r0, inv_r0, r, inv_r;
     gathered_lengths_v8(w, m, j, c, cu, y, &r0, &inv_r0, &r, &inv_r);
-    const peri_v8d sd_a = v8_mul_pd(v8_loadu_pd(on + a), v8_fmsub_pd(v8_sub_pd(r, r0), inv_r0, vshift));
+    const peri_v8d on_a = v8_loadu_pd(on + a);
+    const peri_v8d weight_a = bond_weight_v8(w, weight, m, _mm256_add_epi32(_mm256_set1_epi32(a), lane_index), r0,
+                                             inv_r0, v8_mask_i32gather_pd(m, j, w->V));
+    const peri_v8d sd_a = v8_mul_pd(on_a, v8_fmsub_pd(v8_sub_pd(r, r0), inv_r0, vshift));
     v8_mask_storeu_pd(sd + a, m, sd_a);
-    v8_mask_storeu_pd(wt + a, m, v8_mul_pd(v8_loadu_pd(wt + a), v8_mul_pd(r0, r0)));
+    v8_mask_storeu_pd(wt + a, m, v8_mul_pd(v8_mul_pd(on_a, weight_a), v8_mul_pd(r0, r0)));
   }
 #else
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
@@ -194,38 +213,24 @@ static inline __attribute__((always_inline)) void deviatoric_stretches(const per
 }
 
 /* Each layer's energy S_l = sum wt (s^d - s^dp_l)^2 over n bonds of the L layers of the state
- * `base`, added to S[]: one vector loop for up to 4 layers (the sums in vector lanes), then a
- * loop of its own for more. */
+ * `base`, added to S[] bond by bond in family order (the block path's lanes add them in the
+ * same order, so the two agree bit for bit; the layers' sums are independent chains). */
 static inline __attribute__((always_inline)) void layer_energies(const double *restrict base,
                                                                  const double *restrict sd,
                                                                  const double *restrict wt, int n, const int L,
                                                                  double *S) {
-  double S0 = 0.0, S1 = 0.0, S2 = 0.0, S3 = 0.0;
-  if (L <= 4) {
-#pragma omp simd reduction(+ : S0, S1, S2, S3)
-    for (int a = 0; a < n; ++a) {
-      const double *bs = base + a * L, sd_a = sd[a], wt_a = wt[a], e0 = sd_a - bs[0];
-      S0 = fma(wt_a, e0 * e0, S0);
-      if (L > 1) S1 = fma(wt_a, (sd_a - bs[1]) * (sd_a - bs[1]), S1);
-      if (L > 2) S2 = fma(wt_a, (sd_a - bs[2]) * (sd_a - bs[2]), S2);
-      if (L > 3) S3 = fma(wt_a, (sd_a - bs[3]) * (sd_a - bs[3]), S3);
+  for (int a = 0; a < n; ++a)
+    for (int l = 0; l < L; ++l) {
+      const double e = sd[a] - base[a * L + l];
+      S[l] = fma(wt[a], e * e, S[l]);
     }
-    S[0] += S0, S[1] += S1, S[2] += S2, S[3] += S3;
-  } else {
-    for (int a = 0; a < n; ++a)
-      for (int l = 0; l < L; ++l) {
-        const double e = sd[a] - base[a * L + l];
-        S[l] = fma(wt[a], e * e, S[l]);
-      }
-  }
 }
 
 /* The return of a node's bonds from the state `from` into `out` (the same array when mapping in
  * place: one pointer, so that the vector loop needs no test of overlap): layer l moves to
  * s^d - factor[l] (s^d - s^dp_l) where take = flows[l] on = 1 (it flows and the bond is intact),
- * else keeps its value, as take * moved + (1 - take) * kept (exact for take 0 or 1, and
- * without a select, which would keep the loop scalar); each bond's term alpha sum_l W_l s^dp_l
- * into term[]. Returns whether a plastic stretch (or, `committed`, one of the state mapped
+ * else keeps its value (a select, as the block path's lanes take it); each bond's term
+ * alpha sum_l W_l s^dp_l into term[]. Returns whether a plastic stretch (or, `committed`, one of the state mapped
  * from) is nonzero: a sum of magnitudes, 0 only when every one is. */
 static inline __attribute__((always_inline)) bool flow_from(const double *from, double *out,
                                                             const double *restrict sd, double *restrict term,
@@ -238,8 +243,9 @@ static inline __attribute__((always_inline)) bool flow_from(const double *from, 
   for (int64_t a = 0; a < nb; ++a) {
     double plastic = 0.0;
     for (int l = 0; l < L; ++l) {
-      const double f = from[a * L + l], moved = sd[a] - factor[l] * (sd[a] - f), take = on[a] * flows[l];
-      const double v = take * moved + (1.0 - take) * f;
+      /* (explicit fused operations, as the block path's lanes evaluate them) */
+      const double f = from[a * L + l], moved = fma(-factor[l], sd[a] - f, sd[a]), take = on[a] * flows[l];
+      const double v = take != 0.0 ? moved : f;
       out[a * L + l] = v;
       magnitude += fabs(v) + (committed ? fabs(f) : 0.0);
       plastic = fma(W[l], v, plastic);
@@ -266,6 +272,21 @@ static inline __attribute__((always_inline)) bool bond_terms(const double *restr
   return magnitude != 0.0;
 }
 
+/* Each layer's radial factor sqrt(bound / S_l) beyond its bound (else 1) and whether it flows
+ * (1.0 or 0.0) from the energies S[] of a node whose bounds are scale e_yl^2; returns whether
+ * a layer flows. */
+static inline bool layer_factors(const peri_sublayers *sl, double scale, const double *S, int L, double *factor,
+                                 double *flows) {
+  bool flow = false;
+  for (int l = 0; l < L; ++l) {
+    const double bound = l < sl->n ? scale * sl->yield[l] * sl->yield[l] : INFINITY;
+    factor[l] = S[l] > bound * (1.0 + RETURN_MARGIN) ? sqrt(bound / S[l]) : 1.0;
+    flows[l] = factor[l] < 1.0 ? 1.0 : 0.0;
+    flow |= factor[l] < 1.0;
+  }
+  return flow;
+}
+
 /* The return mapping of node i's sublayers (from the committed state in quasi-static load
  * steps, else in place), L layers stored per bond (a constant for the common counts: the
  * layers of a bond are then unrolled in vector loops over the bonds). Returns whether a
@@ -281,7 +302,6 @@ static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const
   if (!sl) return false;
   const peri_bonds *b = &s->disc.bonds;
   const peri_material *mat = &s->mat.materials[s->disc.p.material[i]];
-  const int n = sl->n;
   const int64_t k0 = b->offset[i], nb = b->offset[i + 1] - k0;
   double *restrict out = s->state.plastic_stretch + k0 * L;
   const bool committed = s->state.plastic_committed != NULL;
@@ -299,13 +319,7 @@ static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const
   for (int64_t a = 0; a < nb; ++a) on[a] = broken[a] ? 0.0 : 1.0;
   deviatoric_stretches(s, w, i, k0, (int)nb, on, sd, wt);
   layer_energies(base, sd, wt, (int)nb, L, S);
-  bool flow = committed;
-  for (int l = 0; l < L; ++l) {
-    const double bound = l < n ? scale * sl->yield[l] * sl->yield[l] : INFINITY;
-    factor[l] = S[l] > bound * (1.0 + RETURN_MARGIN) ? sqrt(bound / S[l]) : 1.0;
-    flows[l] = factor[l] < 1.0 ? 1.0 : 0.0;
-    flow |= factor[l] < 1.0;
-  }
+  const bool flow = layer_factors(sl, scale, S, L, factor, flows) || committed;
   padded_weights(sl, L, W);
   const double alpha = s->disc.p.coef[(size_t)s->disc.p.n + (size_t)i];
   /* the new state (a broken bond keeps its own) and each bond's term, in family order */
@@ -328,6 +342,217 @@ static bool node_return_any(peri_sim *s, const peri_bond_view *w, int32_t i, dou
   }
 }
 
+#ifdef PERI_BOND_V8
+#if defined(__AVX512F__)
+/* row_mask[m][l]: the mask of a bond's four layers (a 256-bit row) for lane l of the lanes in m,
+ * as a table: computed per lane it costs more instructions than the load or store it masks */
+#define ROW4(m, l) (((m) >> (l) & 1) ? 15 : 0)
+#define ROWS_1(m) {ROW4(m, 0), ROW4(m, 1), ROW4(m, 2), ROW4(m, 3), ROW4(m, 4), ROW4(m, 5), ROW4(m, 6), ROW4(m, 7)}
+#define ROWS_4(m) ROWS_1(m), ROWS_1((m) + 1), ROWS_1((m) + 2), ROWS_1((m) + 3)
+#define ROWS_16(m) ROWS_4(m), ROWS_4((m) + 4), ROWS_4((m) + 8), ROWS_4((m) + 12)
+#define ROWS_64(m) ROWS_16(m), ROWS_16((m) + 16), ROWS_16((m) + 32), ROWS_16((m) + 48)
+static const uint8_t row_mask[256][PERI_BLOCK] = {ROWS_64(0), ROWS_64(64), ROWS_64(128), ROWS_64(192)};
+
+/* Four layers of eight lanes' bonds, each bond's layers contiguous at state + at[lane] (the
+ * lanes not in m read nothing and give 0): eight 256-bit loads transposed into a vector per
+ * layer, in place of a gather per layer. */
+static inline __attribute__((always_inline)) void load_layers4(const double *state, const int64_t at[PERI_BLOCK],
+                                                                unsigned m, __m512d col[4]) {
+  __m256d r[PERI_BLOCK];
+  for (int l = 0; l < PERI_BLOCK; ++l) r[l] = _mm256_maskz_loadu_pd(row_mask[m][l], state + at[l]);
+  const __m512d z0 = _mm512_insertf64x4(_mm512_castpd256_pd512(r[0]), r[4], 1),
+                z1 = _mm512_insertf64x4(_mm512_castpd256_pd512(r[1]), r[5], 1),
+                z2 = _mm512_insertf64x4(_mm512_castpd256_pd512(r[2]), r[6], 1),
+                z3 = _mm512_insertf64x4(_mm512_castpd256_pd512(r[3]), r[7], 1);
+  const __m512d t0 = _mm512_unpacklo_pd(z0, z1), t1 = _mm512_unpackhi_pd(z0, z1), t2 = _mm512_unpacklo_pd(z2, z3),
+                t3 = _mm512_unpackhi_pd(z2, z3);
+  const __m512i lo = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13), hi = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15);
+  col[0] = _mm512_permutex2var_pd(t0, lo, t2), col[1] = _mm512_permutex2var_pd(t1, lo, t3);
+  col[2] = _mm512_permutex2var_pd(t0, hi, t2), col[3] = _mm512_permutex2var_pd(t1, hi, t3);
+}
+
+/* The inverse: the layers of the lanes in m stored at state + at[lane]. */
+static inline __attribute__((always_inline)) void store_layers4(double *state, const int64_t at[PERI_BLOCK],
+                                                                 unsigned m, const __m512d col[4]) {
+  const __m512i lo = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13), hi = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15);
+  const __m512d t0 = _mm512_permutex2var_pd(col[0], lo, col[2]), t2 = _mm512_permutex2var_pd(col[0], hi, col[2]),
+                t1 = _mm512_permutex2var_pd(col[1], lo, col[3]), t3 = _mm512_permutex2var_pd(col[1], hi, col[3]);
+  const __m512d z[4] = {_mm512_unpacklo_pd(t0, t1), _mm512_unpackhi_pd(t0, t1), _mm512_unpacklo_pd(t2, t3),
+                        _mm512_unpackhi_pd(t2, t3)};
+  for (int l = 0; l < 4; ++l) {
+    _mm256_mask_storeu_pd(state + at[l], row_mask[m][l], _mm512_castpd512_pd256(z[l]));
+    _mm256_mask_storeu_pd(state + at[l + 4], row_mask[m][l + 4], _mm512_extractf64x4_pd(z[l], 1));
+  }
+}
+#define LAYERS4_ROWS 1
+#else
+#define LAYERS4_ROWS 0
+#endif
+
+/* The return of a block of eight nodes of one material (node_blocks.h) on its template, the
+ * nodes in vector lanes: contiguous loads of the neighbours (the node path gathers them), each
+ * lane's bond index counted along the template (its bit of the structure) to reach its state,
+ * weight and term in family order. Each lane evaluates node_return's operations in its order
+ * (the energies bond by bond, the factors by layer_factors), so both paths agree bit for bit.
+ * Returns false, having changed nothing, where the block cannot take it (entries dropped from
+ * its template, nodes of different materials, more than 4 layers); else sets yielded[] of its
+ * nodes. Scratch: 48 doubles per template entry (the lanes' stretches, states and indices, which
+ * the second loop reads instead of gathering again). */
+static inline __attribute__((always_inline)) bool block_return(peri_sim *s, const peri_bond_view *w,
+                                                               const peri_node_blocks *items, int32_t item,
+                                                               const double *elastic, uint8_t *yielded,
+                                                               double *restrict scratch, const int L) {
+  if (L > 4 || items->tpl_end[item] != items->tpl[item + 1]) return false;
+  const peri_particles *p = &s->disc.p;
+  const int32_t i0 = items->first[item];
+  for (int l = 1; l < PERI_BLOCK; ++l)
+    if (p->material[i0 + l] != p->material[i0]) return false;
+  const peri_sublayers *sl = node_layers(s, i0);
+  if (!sl) {
+    memset(yielded + i0, 0, PERI_BLOCK);
+    return true;
+  }
+  const peri_material *mat = &s->mat.materials[p->material[i0]];
+  const bool committed = s->state.plastic_committed != NULL;
+  const int64_t t0 = items->tpl[item], count = items->tpl_end[item] - t0, base = w->offset[i0];
+  double *restrict sd_of = scratch, *restrict f_of = scratch + 8 * count;
+  int64_t *restrict at_of = (int64_t *)(scratch + 40 * count);
+  double *restrict out = s->state.plastic_stretch + base * L;
+  const double *from = committed ? s->state.plastic_committed + base * L : out;
+  const double *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + base : NULL;
+  double *restrict term = s->state.plastic_bond_term + base;
+  double scale[PERI_BLOCK], shift[PERI_BLOCK], alpha[PERI_BLOCK];
+  int32_t first[PERI_BLOCK];
+  unsigned act = 0;
+  for (int l = 0; l < PERI_BLOCK; ++l) {
+    const int32_t i = i0 + l;
+    scale[l] = 3.0 * mat->mu / mat->alpha_m * p->wvol[i];
+    /* node_return's screen: a lane that skips the return keeps its state and terms */
+    if (yielded[i] || !(elastic[i] <= scale[l] * sl->yield[0] * sl->yield[0] * (1.0 - SCREEN_MARGIN))) act |= 1u << l;
+    else yielded[i] = 0;
+    shift[l] = (w->eth ? w->eth[i] : 0.0) + p->theta[i] / 3.0;
+    alpha[l] = p->coef[(size_t)p->n + (size_t)i];
+    first[l] = (int32_t)(w->offset[i] - base);
+  }
+  if (!act) return true;
+  const peri_m8 active = (peri_m8)act;
+  const int32_t *restrict tj = items->tpl_node + t0;
+  const uint8_t *restrict lanes = items->tpl_lanes + t0, *restrict structure = items->tpl_bonds + t0;
+  const __m256i lane_shift = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), one_i = _mm256_set1_epi32(1);
+  const peri_v8d c[3] = {v8_loadu_pd(w->x0 + i0), v8_loadu_pd(w->x1 + i0), v8_loadu_pd(w->x2 + i0)},
+                 cu[3] = {v8_loadu_pd(w->u0 + i0), v8_loadu_pd(w->u1 + i0), v8_loadu_pd(w->u2 + i0)};
+  const peri_v8d vshift = v8_loadu_pd(shift), one = v8_set1_pd(1.0), zero = v8_setzero_pd();
+  /* 1. the lanes' deviatoric stretches and each layer's energy */
+  peri_v8d S[4] = {zero, zero, zero, zero};
+  peri_v8i k = _mm256_loadu_si256((const __m256i *)first);
+  for (int64_t a = 0; a < count; ++a) {
+    const int64_t j = tj[a];
+    const peri_m8 m = structure[a] & active;
+    peri_prefetch_next_blocks(w, j);
+    const peri_v8d xj[3] = {v8_loadu_pd(w->x0 + j), v8_loadu_pd(w->x1 + j), v8_loadu_pd(w->x2 + j)},
+                   uj[3] = {v8_loadu_pd(w->u0 + j), v8_loadu_pd(w->u1 + j), v8_loadu_pd(w->u2 + j)};
+    peri_v8d y[3], r0, inv_r0, r, inv_r;
+    bond_lengths_v8(xj, uj, c, cu, y, &r0, &inv_r0, &r, &inv_r);
+    /* (deviatoric_stretches' operations: the intact flags as 1.0 or 0.0) */
+    const peri_v8d on = v8_maskz_mov_pd(lanes[a], one);
+    const peri_v8d wt =
+        v8_mul_pd(v8_mul_pd(on, bond_weight_v8(w, weight, m, k, r0, inv_r0, v8_loadu_pd(w->V + j))), v8_mul_pd(r0, r0));
+    const peri_v8d sd = v8_mul_pd(on, v8_fmsub_pd(v8_sub_pd(r, r0), inv_r0, vshift));
+    v8_storeu_pd(sd_of + 8 * a, sd);
+    /* each lane's bond's first layer, at[] (the next loop's too) */
+    int64_t *restrict at = at_of + 8 * a;
+    int32_t k_of[PERI_BLOCK];
+    _mm256_storeu_si256((__m256i *)k_of, k);
+    for (int l = 0; l < PERI_BLOCK; ++l) at[l] = (int64_t)k_of[l] * L;
+    peri_v8d f[4];
+#if LAYERS4_ROWS
+    if (L == 4) load_layers4(from, at, m, f);
+    else
+#endif
+    {
+      const __m256i kL = _mm256_mullo_epi32(k, _mm256_set1_epi32(L));
+      for (int l = 0; l < L; ++l) f[l] = v8_mask_i32gather_pd(m, _mm256_add_epi32(kL, _mm256_set1_epi32(l)), from);
+    }
+    for (int l = 0; l < L; ++l) {
+      v8_storeu_pd(f_of + 32 * a + 8 * l, f[l]);
+      const peri_v8d e = v8_sub_pd(sd, f[l]);
+      S[l] = v8_mask3_fmadd_pd(wt, v8_mul_pd(e, e), S[l], m);
+    }
+    k = _mm256_add_epi32(k, _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(structure[a]), lane_shift), one_i));
+  }
+  /* 2. each lane's factors; the lanes whose layer l flows in flows[l] */
+  double S_of[4][PERI_BLOCK], factor_of[4][PERI_BLOCK];
+  for (int l = 0; l < L; ++l) v8_storeu_pd(S_of[l], S[l]);
+  unsigned flowing = 0, flows[4] = {0, 0, 0, 0};
+  for (int lane = 0; lane < PERI_BLOCK; ++lane) {
+    double S_lane[4], factor[4] = {1.0, 1.0, 1.0, 1.0}, flows_lane[4] = {0.0, 0.0, 0.0, 0.0};
+    for (int l = 0; l < L; ++l) S_lane[l] = S_of[l][lane];
+    if (act >> lane & 1u)
+      if (layer_factors(sl, scale[lane], S_lane, L, factor, flows_lane) || committed) flowing |= 1u << lane;
+    for (int l = 0; l < L; ++l) {
+      factor_of[l][lane] = factor[l];
+      if (flows_lane[l] != 0.0) flows[l] |= 1u << lane;
+    }
+  }
+  /* 3. the new state of the lanes that flow (node_return's flow_from; the others keep theirs, as
+   * its bond_terms) and every lane's terms; whether a lane's state is nonzero from the bits of
+   * its values or'ed together (a sum of magnitudes in the node path: the same test) */
+  double W[PERI_MAX_SUBLAYERS];
+  padded_weights(sl, L, W);
+  peri_v8d vfactor[4];
+  for (int l = 0; l < L; ++l) vfactor[l] = v8_loadu_pd(factor_of[l]);
+  const peri_v8d valpha = v8_loadu_pd(alpha);
+  const unsigned moving = flowing;
+  peri_v8d bits = zero;
+  for (int64_t a = 0; a < count; ++a) {
+    const peri_m8 m = structure[a] & active;
+    const peri_v8d sd = v8_loadu_pd(sd_of + 8 * a);
+    const int64_t *restrict at = at_of + 8 * a;
+    peri_v8d plastic = zero, v[4];
+    for (int l = 0; l < L; ++l) {
+      const peri_v8d f = v8_loadu_pd(f_of + 32 * a + 8 * l);
+      const peri_v8d moved = v8_fnmadd_pd(vfactor[l], v8_sub_pd(sd, f), sd);
+      v[l] = v8_mask_mov_pd(f, (peri_m8)(flows[l] & lanes[a]), moved);
+      bits = v8_mask_mov_pd(bits, m, v8_or_pd(bits, committed ? v8_or_pd(v[l], f) : v[l]));
+      plastic = v8_fmadd_pd(v8_set1_pd(W[l]), v[l], plastic);
+    }
+    const peri_v8d tv = v8_mul_pd(valpha, plastic);
+#if LAYERS4_ROWS
+    if (L == 4) {
+      store_layers4(out, at, m & moving, v);
+      _mm512_mask_i64scatter_pd(term, m, _mm512_srli_epi64(_mm512_loadu_si512(at), 2), tv, 8);
+      continue;
+    }
+#endif
+    double v_of[4][PERI_BLOCK], t_of[PERI_BLOCK];
+    for (int l = 0; l < L; ++l) v8_storeu_pd(v_of[l], v[l]);
+    v8_storeu_pd(t_of, tv);
+    for (unsigned lanes_left = m; lanes_left; lanes_left &= lanes_left - 1) {
+      const int lane = __builtin_ctz(lanes_left);
+      if (moving >> lane & 1u)
+        for (int l = 0; l < L; ++l) out[at[lane] + l] = v_of[l][lane];
+      term[at[lane] / L] = t_of[lane];
+    }
+  }
+  const peri_m8 nonzero = v8_cmp_pd_mask(v8_abs_pd(bits), zero, _CMP_NEQ_UQ);
+  for (int lane = 0; lane < PERI_BLOCK; ++lane)
+    if (act >> lane & 1u) yielded[i0 + lane] = nonzero >> lane & 1u;
+  return true;
+}
+
+/* block_return with constant layer counts. */
+static bool block_return_any(peri_sim *s, const peri_bond_view *w, const peri_node_blocks *items, int32_t item,
+                             const double *elastic, uint8_t *yielded, double *scratch) {
+  switch (s->state.plastic_layers) {
+  case 1: return block_return(s, w, items, item, elastic, yielded, scratch, 1);
+  case 2: return block_return(s, w, items, item, elastic, yielded, scratch, 2);
+  case 3: return block_return(s, w, items, item, elastic, yielded, scratch, 3);
+  case 4: return block_return(s, w, items, item, elastic, yielded, scratch, 4);
+  default: return false;
+  }
+}
+#endif
+
 /* The longest family, rounded up to a multiple of 8 (the eight-lane loops' scratch). */
 static int64_t longest_family(const peri_bonds *b, int32_t n) {
   int64_t longest = 1;
@@ -344,11 +569,21 @@ void peri_deviatoric_return(peri_sim *s, const double *elastic, uint8_t *near) {
   const peri_bond_view w = peri_bond_view_of(s, s->disc.node_blocks->soa);
   const int64_t longest = longest_family(b, p->n_owned);
   uint8_t *yielded = s->state.plastic_nodes;
+  const peri_node_blocks *items = s->disc.node_blocks;
 #pragma omp parallel
   {
-    double *scratch = peri_malloc(sizeof(double) * 3 * (size_t)longest);
-#pragma omp for schedule(static)
-    for (int32_t i = 0; i < p->n_owned; ++i) yielded[i] = node_return_any(s, &w, i, elastic[i], yielded[i], scratch, longest);
+    /* the node path's sd, wt, on, then the block path's stretches (a template has at most
+     * 1.5 times the entries of its largest family, node_blocks.c) */
+    double *scratch = peri_malloc(sizeof(double) * (3 + 48 * 2) * (size_t)longest);
+    PERI_FOR_EACH_ITEM(items, item) {
+#ifdef PERI_BOND_V8
+      if (peri_item_is_block(items, item) &&
+          block_return_any(s, &w, items, item, elastic, yielded, scratch + 3 * longest))
+        continue;
+#endif
+      for (int32_t i = items->first[item]; i < items->first[item + 1]; ++i)
+        yielded[i] = node_return_any(s, &w, i, elastic[i], yielded[i], scratch, longest);
+    }
     free(scratch);
   }
   /* the other ends' terms of the bonds into ghosts, past the owned bonds' (their reverse index) */
@@ -379,17 +614,18 @@ static void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i, i
   const uint8_t *restrict broken = w->broken + k0;
   const int64_t *restrict reverse = s->state.plastic_reverse + k0;
   const double *restrict all_terms = s->state.plastic_bond_term, *restrict term = all_terms + k0,
-                         *restrict weight = s->state.plastic_bond_weight + k0;
+                         *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + k0 : NULL;
   const double *restrict D = w->coef, *restrict B = w->coef + nn;
   const double Di = D[i], Bi = B[i];
   /* (the chunk's own arrays: every eight-lane load stays inside them) */
   double g[DEVIATORIC_CHUNK], y0[DEVIATORIC_CHUNK], y1[DEVIATORIC_CHUNK], y2[DEVIATORIC_CHUNK],
       won[DEVIATORIC_CHUNK], plastic[DEVIATORIC_CHUNK];
   for (int a = 0; a < n; ++a) {
-    won[a] = broken[a] ? 0.0 : weight[a]; /* (the flags as doubles: see node_return) */
+    won[a] = broken[a] ? 0.0 : 1.0; /* (the flags as doubles: see node_return) */
     plastic[a] = term[a] + all_terms[reverse[a]]; /* (the other end's: a gather) */
   }
 #ifdef PERI_BOND_V8
+  const __m256i lane_index = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const peri_v8d c[3] = {v8_set1_pd(w->x0[i]), v8_set1_pd(w->x1[i]), v8_set1_pd(w->x2[i])},
                  cu[3] = {v8_set1_pd(w->u0[i]), v8_set1_pd(w->u1[i]), v8_set1_pd(w->u2[i])};
   const peri_v8d vDi = v8_set1_pd(Di), vBi = v8_set1_pd(Bi);
@@ -398,8 +634,12 @@ static void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i, i
     const peri_v8i j = v8_maskz_loadu_epi32(m, nbr + a);
     peri_v8d y[3], r0, inv_r0, r, inv_r;
     gathered_lengths_v8(w, m, j, c, cu, y, &r0, &inv_r0, &r, &inv_r);
+    /* the weights of the intact bonds, 0 for the broken ones (as the block path masks them) */
+    const peri_m8 intact = v8_mask_cmp_pd_mask(m, v8_loadu_pd(won + a), v8_setzero_pd(), _CMP_NEQ_OQ);
+    const peri_v8d wv = bond_weight_v8(w, weight, intact, _mm256_add_epi32(_mm256_set1_epi32(a), lane_index), r0,
+                                       inv_r0, v8_mask_i32gather_pd(m, j, w->V));
     const peri_v8d gv = bond_force_v8(r0, r, inv_r, vDi, v8_mask_i32gather_pd(m, j, D), vBi,
-                                      v8_mask_i32gather_pd(m, j, B), v8_loadu_pd(plastic + a), v8_loadu_pd(won + a));
+                                      v8_mask_i32gather_pd(m, j, B), v8_loadu_pd(plastic + a), wv);
     v8_mask_storeu_pd(g + a, m, gv);
     v8_mask_storeu_pd(y0 + a, m, y[0]);
     v8_mask_storeu_pd(y1 + a, m, y[1]);
@@ -420,7 +660,7 @@ static void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i, i
     /* coincident ends have no direction and give no force (arithmetic, not a select, which
      * would keep the loop scalar) */
     const double apart = r != 0.0;
-    g[a] = apart * won[a] * t / (r + (1.0 - apart));
+    g[a] = apart * (won[a] * weight[a]) * t / (r + (1.0 - apart)); /* (the weights are stored here) */
     y0[a] = d0, y1[a] = d1, y2[a] = d2;
   }
 #endif
@@ -451,7 +691,7 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
   const size_t nn = (size_t)w->n;
   const double *restrict D = w->coef, *restrict B = w->coef + nn;
   const double *restrict all_terms = s->state.plastic_bond_term, *restrict term = all_terms + base,
-                         *restrict weight = s->state.plastic_bond_weight + base;
+                         *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + base : NULL;
   const int64_t *restrict reverse = s->state.plastic_reverse + base;
   int32_t first[PERI_BLOCK];
   for (int l = 0; l < PERI_BLOCK; ++l) first[l] = (int32_t)(w->offset[i0 + l] - base);
@@ -461,6 +701,7 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
                  cu[3] = {v8_loadu_pd(w->u0 + i0), v8_loadu_pd(w->u1 + i0), v8_loadu_pd(w->u2 + i0)};
   const peri_v8d Di = v8_loadu_pd(D + i0), Bi = v8_loadu_pd(B + i0);
   peri_v8d s0 = v8_setzero_pd(), s1 = v8_setzero_pd(), s2 = v8_setzero_pd();
+  peri_v8l rev = v8_mask_i32gather_epi64(count > 0 ? lanes[0] : 0, k, reverse);
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 on = lanes[a];
@@ -470,16 +711,19 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
     peri_v8d y[3], r0, inv_r0, r, inv_r;
     bond_lengths_v8(xj, uj, c, cu, y, &r0, &inv_r0, &r, &inv_r);
     /* the bond's two plastic terms, the other end's at the reverse bond (as the node path adds them) */
-    const peri_v8d P = v8_add_pd(v8_mask_i32gather_pd(on, k, term),
-                                 v8_mask_i64gather_pd(on, v8_mask_i32gather_epi64(on, k, reverse), all_terms));
+    /* the lanes that have the entry's bond (intact or not) move to their next one, whose reverse
+     * bonds are gathered an entry ahead: the gather of the other ends' terms waits on them */
+    const peri_v8i k_next =
+        _mm256_add_epi32(k, _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(structure[a]), lane_shift), one));
+    const peri_v8l rev_next = v8_mask_i32gather_epi64(a + 1 < count ? lanes[a + 1] : 0, k_next, reverse);
+    const peri_v8d P = v8_add_pd(v8_mask_i32gather_pd(on, k, term), v8_mask_i64gather_pd(on, rev, all_terms));
     const peri_v8d g = bond_force_v8(r0, r, inv_r, Di, v8_loadu_pd(D + j), Bi, v8_loadu_pd(B + j), P,
-                                     v8_mask_i32gather_pd(on, k, weight));
+                                     bond_weight_v8(w, weight, on, k, r0, inv_r0, v8_loadu_pd(w->V + j)));
     /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
     s0 = v8_mask3_fmadd_pd(g, y[0], s0, on);
     s1 = v8_mask3_fmadd_pd(g, y[1], s1, on);
     s2 = v8_mask3_fmadd_pd(g, y[2], s2, on);
-    /* the lanes that have the entry's bond (intact or not) move to their next one */
-    k = _mm256_add_epi32(k, _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(structure[a]), lane_shift), one));
+    k = k_next, rev = rev_next;
   }
   double a0[PERI_BLOCK], a1[PERI_BLOCK], a2[PERI_BLOCK];
   v8_storeu_pd(a0, s0), v8_storeu_pd(a1, s1), v8_storeu_pd(a2, s2);

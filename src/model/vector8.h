@@ -44,6 +44,9 @@ typedef __m512i peri_v8l; /* eight 64-bit integers */
 #define v8_mask_add_pd _mm512_mask_add_pd
 #define v8_mask3_fmadd_pd _mm512_mask3_fmadd_pd
 #define v8_maskz_mov_pd _mm512_maskz_mov_pd
+#define v8_mask_mov_pd _mm512_mask_mov_pd
+/* the bits of a and b or'ed (AVX512F has no or of doubles) */
+#define v8_or_pd(a, b) _mm512_castsi512_pd(_mm512_or_si512(_mm512_castpd_si512(a), _mm512_castpd_si512(b)))
 #define v8_maskz_mul_pd _mm512_maskz_mul_pd
 #define v8_cmp_pd_mask _mm512_cmp_pd_mask
 #define v8_mask_cmp_pd_mask _mm512_mask_cmp_pd_mask
@@ -113,6 +116,8 @@ V8_INLINE peri_v8d v8_abs_pd(peri_v8d a) {
 V8_INLINE peri_v8d v8_select(peri_v8d src, peri_m8 m, peri_v8d value) {
   return v8_make(_mm256_blendv_pd(src.lo, value.lo, v8_mask_lo(m)), _mm256_blendv_pd(src.hi, value.hi, v8_mask_hi(m)));
 }
+V8_INLINE peri_v8d v8_or_pd(peri_v8d a, peri_v8d b) { return v8_make(_mm256_or_pd(a.lo, b.lo), _mm256_or_pd(a.hi, b.hi)); }
+V8_INLINE peri_v8d v8_mask_mov_pd(peri_v8d src, peri_m8 m, peri_v8d a) { return v8_select(src, m, a); }
 V8_INLINE peri_v8d v8_mask_min_pd(peri_v8d src, peri_m8 m, peri_v8d a, peri_v8d b) {
   return v8_select(src, m, v8_min_pd(a, b));
 }

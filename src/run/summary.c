@@ -59,8 +59,9 @@ double peri_memory_estimate(const peri_sim *s) {
   if (s->mat.s0_node) per_node += 2 * 8;
   per_node += 6 * 8; /* the bond loops' copies of x and u (src/model/node_blocks.c) */
   /* sublayer plastic stretches and, for the deviatoric rule, the reverse bond's index, the
-   * plastic term and the bond's weight (docs/plasticity.md) */
-  const double plastic = 8.0 * s->state.plastic_layers + (s->state.plastic_reverse ? 24.0 : 0.0);
+   * plastic term and, where it is stored, the bond's weight (docs/plasticity.md) */
+  const double plastic = 8.0 * s->state.plastic_layers +
+                         (s->state.plastic_reverse ? (s->state.plastic_bond_weight ? 24.0 : 16.0) : 0.0);
   return n * per_node + (n + 1) * 8 +
          nb * (peri_bonds_bytes_per_bond(&s->disc.bonds) + peri_node_blocks_bytes_bound() + plastic);
 }
@@ -129,8 +130,9 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
     fprintf(out, "\n");
   }
   if (s->state.plastic_reverse)
-    fprintf(out, "  plastic state %d bytes per directed bond (%d plastic deviatoric stretches, the reverse bond's index, "
-            "plastic term and weight)\n", 8 * s->state.plastic_layers + 24, s->state.plastic_layers);
+    fprintf(out, "  plastic state %d bytes per directed bond (%d plastic deviatoric stretches, the reverse bond's index%s)\n",
+            8 * s->state.plastic_layers + (s->state.plastic_bond_weight ? 24 : 16), s->state.plastic_layers,
+            s->state.plastic_bond_weight ? ", plastic term and weight" : " and plastic term");
   else if (s->state.plastic_stretch)
     fprintf(out, "  plastic state %d bytes per directed bond (%d plastic stretches)\n", 8 * s->state.plastic_layers,
             s->state.plastic_layers);

@@ -287,7 +287,7 @@ block="$DECKS/plastic_block3d.yaml"
 run_peri check "$block"
 expect_status 0
 expect_stdout_contains "plasticity   steel: deviatoric yield rule, 4 sublayers (W, e_y): (0.9532, 0.001667)"
-expect_stdout_contains "plastic state 56 bytes per directed bond (4 plastic deviatoric stretches, the reverse bond's index, plastic term and weight)"
+expect_stdout_contains "plastic state 48 bytes per directed bond (4 plastic deviatoric stretches, the reverse bond's index and plastic term)"
 for threads in 1 3; do
   run_peri run "$block" --quiet --threads "$threads" --output "$TMP/block$threads"
   expect_status 0
@@ -306,6 +306,6 @@ sed 's|      yield_rule: deviatoric|&\n      critical_plastic_stretch: 0.01|' "$
 run_peri check "$TMP/dev_ductile.yaml"
 expect_status 2
 expect_stderr_contains "$TMP/dev_ductile.yaml:16:7: error: materials.steel.plasticity.critical_plastic_stretch: not with yield_rule deviatoric"
-pass "deviatoric rule: peri check (56 bytes per bond), threads 1 and 3 bitwise (mean yield index $psi), bad input exit 2"
+pass "deviatoric rule: peri check (48 bytes per bond), threads 1 and 3 bitwise (mean yield index $psi), bad input exit 2"
 
 echo "PASS: $CLI_NAME"

@@ -380,3 +380,83 @@ Test(kernel_paths, lps_3d_deviatoric) {
   free(b);
   peri_sim_free(&s);
 }
+
+/* The deviatoric rule's return on both paths from the same state: a block of eight nodes runs
+ * it on its template, the other nodes one by one, and the two map the plastic state, the
+ * bonds' plastic terms and the yield flags bit for bit, from the state before the first yield
+ * and from a yielded one further sheared (the same block, with broken bonds, as above); with the
+ * weights evaluated by the kernels (constant and inverse influence) and stored (Gaussian). */
+static void check_deviatoric_return(const char *influence) {
+  const double h = 0.5 * N_SIDE * DX;
+  char deck[1024];
+  snprintf(deck, sizeof deck,
+           "dimension: 3\n"
+           "materials:\n"
+           "  steel: {model: lps, density: 7800, youngs_modulus: 200e9, poisson_ratio: 0.25,\n"
+           "          plasticity: {strains: [0.002, 0.0065, 0.0124, 0.0168], power_law: {yield_stress: 400e6,\n"
+           "                       yield_strain: 0.002, exponent: 0.1}, yield_rule: deviatoric}}\n"
+           "discretization: {spacing: %g, m: 3, influence: %s,\n"
+           "                 fill: [{shape: box, min: [%g, %g, %g], max: [%g, %g, %g]}]}\n"
+           "solver: {type: explicit, steps: 1, breaking: false}\n"
+           "output: {picture: false}\n",
+           DX, influence, -h, -h, -0.3 * h, h, h, 0.3 * h);
+  peri_sim s;
+  cr_assert_eq(sim_from_string(&s, deck), 0, "deck:\n%s", deck);
+  damage_and_deform(&s);
+  const size_t n3 = 3 * (size_t)s.disc.p.n;
+  double *u = malloc(sizeof(double) * n3);
+  memcpy(u, s.disc.p.u, sizeof(double) * n3);
+  /* (an evaluation at rest first: the flags and the node blocks exist, nothing yields) */
+  memset(s.disc.p.u, 0, sizeof(double) * n3);
+  s.mat.model->force(&s);
+  memcpy(s.disc.p.u, u, sizeof(double) * n3);
+  const size_t n_bonds = (size_t)s.disc.bonds.offset[s.disc.p.n_owned], owned = (size_t)s.disc.p.n_owned;
+  const size_t state_bytes = sizeof(double) * n_bonds * (size_t)s.state.plastic_layers,
+               term_bytes = sizeof(double) * n_bonds, f_bytes = sizeof(double) * 3 * owned;
+  char *start = malloc(state_bytes + term_bytes + owned), *block = malloc(state_bytes + term_bytes + owned + f_bytes),
+       *node = malloc(state_bytes + term_bytes + owned + f_bytes);
+  for (int round = 0; round < 2; ++round) {
+    /* round 0: a shear of 3 first-yield strains; round 1: 2 more, from the yielded state */
+    for (int32_t i = 0; i < s.disc.p.n; ++i)
+      s.disc.p.u[3 * (size_t)i] += (round ? 0.004 : 0.006) * s.disc.p.x[3 * (size_t)i + 1];
+    memcpy(start, s.state.plastic_stretch, state_bytes);
+    memcpy(start + state_bytes, s.state.plastic_bond_term, term_bytes);
+    memcpy(start + state_bytes + term_bytes, s.state.plastic_nodes, owned);
+    for (int path = 0; path < 2; ++path) {
+      char *out = path ? node : block;
+      memcpy(s.state.plastic_stretch, start, state_bytes);
+      memcpy(s.state.plastic_bond_term, start + state_bytes, term_bytes);
+      memcpy(s.state.plastic_nodes, start + state_bytes + term_bytes, owned);
+      s.disc.generic_bond_loops = path == 1;
+      s.mat.model->force(&s);
+      memcpy(out, s.state.plastic_stretch, state_bytes);
+      memcpy(out + state_bytes, s.state.plastic_bond_term, term_bytes);
+      memcpy(out + state_bytes + term_bytes, s.state.plastic_nodes, owned);
+      memcpy(out + state_bytes + term_bytes + owned, s.disc.p.f, f_bytes);
+      if (path == 0)
+        cr_assert_gt((double)s.disc.node_blocks->block_bonds / (double)n_bonds, 0.5, "the test needs node blocks");
+    }
+    s.disc.generic_bond_loops = false;
+    int32_t yielded = 0;
+    for (size_t i = 0; i < owned; ++i) yielded += s.state.plastic_nodes[i] != 0;
+    cr_log_info("lps 3D deviatoric return, %s influence, round %d: %d of %zu nodes yielded", influence, round, yielded,
+                owned);
+    cr_assert_gt(yielded, (int32_t)(owned / 2), "the test needs yielded nodes");
+    cr_expect(memcmp(block, node, state_bytes) == 0, "round %d: the plastic states of the two paths differ", round);
+    cr_expect(memcmp(block + state_bytes, node + state_bytes, term_bytes) == 0,
+              "round %d: the plastic terms of the two paths differ", round);
+    cr_expect(memcmp(block + state_bytes + term_bytes, node + state_bytes + term_bytes, owned) == 0,
+              "round %d: the yield flags of the two paths differ", round);
+    cr_expect(memcmp(block + state_bytes + term_bytes + owned, node + state_bytes + term_bytes + owned, f_bytes) == 0,
+              "round %d: the forces of the two paths differ", round);
+  }
+  free(u);
+  free(start);
+  free(block);
+  free(node);
+  peri_sim_free(&s);
+}
+
+Test(kernel_paths, lps_3d_deviatoric_return) { check_deviatoric_return("constant"); }
+Test(kernel_paths, lps_3d_deviatoric_return_inverse) { check_deviatoric_return("inverse"); }
+Test(kernel_paths, lps_3d_deviatoric_return_gaussian) { check_deviatoric_return("gaussian"); }
