@@ -348,21 +348,28 @@ Test(kernel_paths, lps_3d_gaussian) { check_paths(3, "lps", "gaussian", "lammps"
  * on the block's template and the other nodes one by one: both paths agree bit for bit (the
  * return maps in place and is idempotent at a fixed displacement, so the second evaluation
  * sees the state of the first). */
-Test(kernel_paths, lps_3d_deviatoric) {
+/* The sheared 3D LPS block of the deviatoric cases below: the deviatoric rule with the
+ * hardening curve `curve`, the influence `influence`, broken bonds and a random field. */
+static void deviatoric_block(peri_sim *s, const char *curve, const char *influence) {
   const double h = 0.5 * N_SIDE * DX;
   char deck[1024];
   snprintf(deck, sizeof deck,
            "dimension: 3\n"
            "materials:\n"
            "  steel: {model: lps, density: 7800, youngs_modulus: 200e9, poisson_ratio: 0.25,\n"
-           "          plasticity: {strains: [0.002, 0.0065], stresses: [400e6, 450e6], yield_rule: deviatoric}}\n"
-           "discretization: {spacing: %g, m: 3, fill: [{shape: box, min: [%g, %g, %g], max: [%g, %g, %g]}]}\n"
+           "          plasticity: {%s, yield_rule: deviatoric}}\n"
+           "discretization: {spacing: %g, m: 3, influence: %s,\n"
+           "                 fill: [{shape: box, min: [%g, %g, %g], max: [%g, %g, %g]}]}\n"
            "solver: {type: explicit, steps: 1, breaking: false}\n"
            "output: {picture: false}\n",
-           DX, -h, -h, -0.3 * h, h, h, 0.3 * h);
+           curve, DX, influence, -h, -h, -0.3 * h, h, h, 0.3 * h);
+  cr_assert_eq(sim_from_string(s, deck), 0, "deck:\n%s", deck);
+  damage_and_deform(s);
+}
+
+Test(kernel_paths, lps_3d_deviatoric) {
   peri_sim s;
-  cr_assert_eq(sim_from_string(&s, deck), 0, "deck:\n%s", deck);
-  damage_and_deform(&s);
+  deviatoric_block(&s, "strains: [0.002, 0.0065], stresses: [400e6, 450e6]", "constant");
   /* a shear of 3 first-yield strains on top of the random field: every node yields */
   for (int32_t i = 0; i < s.disc.p.n; ++i) s.disc.p.u[3 * (size_t)i] += 0.006 * s.disc.p.x[3 * (size_t)i + 1];
   const size_t bytes = sizeof(double) * 3 * (size_t)s.disc.p.n_owned;
@@ -387,22 +394,11 @@ Test(kernel_paths, lps_3d_deviatoric) {
  * and from a yielded one further sheared (the same block, with broken bonds, as above); with the
  * weights evaluated by the kernels (constant and inverse influence) and stored (Gaussian). */
 static void check_deviatoric_return(const char *influence) {
-  const double h = 0.5 * N_SIDE * DX;
-  char deck[1024];
-  snprintf(deck, sizeof deck,
-           "dimension: 3\n"
-           "materials:\n"
-           "  steel: {model: lps, density: 7800, youngs_modulus: 200e9, poisson_ratio: 0.25,\n"
-           "          plasticity: {strains: [0.002, 0.0065, 0.0124, 0.0168], power_law: {yield_stress: 400e6,\n"
-           "                       yield_strain: 0.002, exponent: 0.1}, yield_rule: deviatoric}}\n"
-           "discretization: {spacing: %g, m: 3, influence: %s,\n"
-           "                 fill: [{shape: box, min: [%g, %g, %g], max: [%g, %g, %g]}]}\n"
-           "solver: {type: explicit, steps: 1, breaking: false}\n"
-           "output: {picture: false}\n",
-           DX, influence, -h, -h, -0.3 * h, h, h, 0.3 * h);
   peri_sim s;
-  cr_assert_eq(sim_from_string(&s, deck), 0, "deck:\n%s", deck);
-  damage_and_deform(&s);
+  deviatoric_block(&s,
+                   "strains: [0.002, 0.0065, 0.0124, 0.0168], power_law: {yield_stress: 400e6, yield_strain: 0.002, "
+                   "exponent: 0.1}",
+                   influence);
   const size_t n3 = 3 * (size_t)s.disc.p.n;
   double *u = malloc(sizeof(double) * n3);
   memcpy(u, s.disc.p.u, sizeof(double) * n3);
