@@ -153,11 +153,6 @@ int peri_setup_tools(peri_sim *s, const peri_node *root) {
     return peri_deck_error(list, "key 'tools': not with solver.type %s (%s)",
                            s->solver.kind == PERI_SOLVER_HEAT ? "heat" : "implicit",
                            s->solver.kind == PERI_SOLVER_HEAT ? "a heat run has no forces" : "no tangent of the tools");
-  /* a checkpoint does not hold a tool's state (its load-controlled offset, the distance slid) */
-  const peri_node *every = peri_deck_get(peri_deck_get(root, "output"), "checkpoint_every");
-  if (every)
-    return peri_deck_error(every, "key 'checkpoint_every': a checkpoint does not keep the state of the tools "
-                                  "(load-controlled position, sliding distance); run a deck with tools without checkpoints");
   peri_tools *tools = peri_calloc(1, sizeof *tools);
   tools->tool = peri_calloc((size_t)list->count, sizeof(peri_tool));
   s->tools = tools;

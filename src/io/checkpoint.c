@@ -13,6 +13,8 @@
  *   /bonds/plastic_stretch [n_bonds][layers] doubles, the sublayers' plastic stretches
  *                     (docs/plasticity.md), when a material is plastic
  *   /indenter/force   [3]
+ *   /tools/K          (a deck with tools: one group per tool, K = 0, 1, ... in the deck's order)
+ *                     attribute name; state [TOOL_STATE] doubles (tool_state_pack)
  *   /quasi_static     attributes reference, last_reference, residual, iterations, solves,
  *                     force_evaluations, cutbacks, dynamic_time, dynamic_phases, dynamic_steps
  *   /thermal          attributes time, growing_next, every, substeps; T [n]; cut [n_bonds]
@@ -37,6 +39,7 @@
 #include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/thermal.h"
+#include "peri/tools.h"
 
 /* What a restart carries from the checkpoint to the run (filled by peri_restart_load). */
 struct peri_restart {
@@ -50,6 +53,7 @@ struct peri_restart {
   uint8_t *broken;
   double *plastic; /* [n_bonds * plastic_layers] */
   double indenter_force[3];
+  double *tools; /* [count * TOOL_STATE]: each tool's state (tool_state_pack) */
   peri_quasi_static qs;
   bool thermal;
   double thermal_time;
@@ -66,6 +70,35 @@ struct peri_restart {
   double *frame_times;
   char **frame_files;
 };
+
+/* A tool's state between evaluations, as doubles in a fixed order: its load-controlled offset
+ * and rate, the load search's compliance, the contact force of the last evaluation (which
+ * an explicit step's load control reads), the sliding distance and where it counts from,
+ * the first contact, and the flags. What a tool evaluates afresh (block sums) is left out. */
+enum { TOOL_STATE = 29 };
+
+static void tool_state_pack(const peri_tool *tl, double out[TOOL_STATE]) {
+  double *o = out;
+  *o++ = tl->q, *o++ = tl->q_rate, *o++ = tl->load_compliance;
+  *o++ = tl->normal_force, *o++ = tl->tangential_force, *o++ = tl->contact_area;
+  *o++ = tl->sliding, *o++ = tl->last_t;
+  *o++ = tl->touched ? 1.0 : 0.0, *o++ = tl->started ? 1.0 : 0.0;
+  const double *vectors[] = {tl->at, tl->velocity, tl->force, tl->last_at, tl->start, tl->contact_at};
+  for (int k = 0; k < 6; ++k)
+    for (int d = 0; d < 3; ++d) *o++ = vectors[k][d];
+  *o++ = 0.0; /* reserved */
+}
+
+static void tool_state_unpack(peri_tool *tl, const double in[TOOL_STATE]) {
+  const double *i = in;
+  tl->q = *i++, tl->q_rate = *i++, tl->load_compliance = *i++;
+  tl->normal_force = *i++, tl->tangential_force = *i++, tl->contact_area = *i++;
+  tl->sliding = *i++, tl->last_t = *i++;
+  tl->touched = *i++ != 0.0, tl->started = *i++ != 0.0;
+  double *vectors[] = {tl->at, tl->velocity, tl->force, tl->last_at, tl->start, tl->contact_at};
+  for (int k = 0; k < 6; ++k)
+    for (int d = 0; d < 3; ++d) vectors[k][d] = *i++;
+}
 
 void peri_restart_free(struct peri_restart *r) {
   if (!r) return;
@@ -156,6 +189,8 @@ static void release_arrays(struct peri_restart *r) {
   free(r->broken);
   free(r->plastic);
   r->plastic = NULL;
+  free(r->tools);
+  r->tools = NULL;
   free(r->cut);
   free(r->growing_cut);
   r->broken = r->cut = NULL;
@@ -197,6 +232,8 @@ void peri_restart_apply(peri_sim *s) {
     free(s->state.plastic_nodes), s->state.plastic_nodes = NULL; /* (rebuilt from the state) */
   }
   memcpy(s->cond.indenter.force, r->indenter_force, sizeof r->indenter_force);
+  if (r->tools)
+    for (int k = 0; k < s->tools->count; ++k) tool_state_unpack(&s->tools->tool[k], r->tools + (size_t)k * TOOL_STATE);
   peri_quasi_static *q = &s->solver.qs;
   q->reference = r->qs.reference;
   q->last_reference = r->qs.last_reference;
@@ -502,6 +539,21 @@ static void write_contents(writer *w, const peri_sim *s, const state_view *v, co
   g = group_create(w, root, "indenter");
   doubles_put(w, g, "force", 3, 1, s->cond.indenter.force);
   group_close(g);
+
+  if (s->tools) { /* the same on every rank: the tools' forces are summed over all of them */
+    g = group_create(w, root, "tools");
+    for (int k = 0; k < s->tools->count; ++k) {
+      char name[32];
+      snprintf(name, sizeof name, "%d", k);
+      hid_t t = group_create(w, g, name);
+      attr_string(w, t, "name", s->tools->tool[k].name);
+      double state[TOOL_STATE];
+      tool_state_pack(&s->tools->tool[k], state);
+      doubles_put(w, t, "state", TOOL_STATE, 1, state);
+      group_close(t);
+    }
+    group_close(g);
+  }
 
   g = group_create(w, root, "quasi_static");
   const peri_quasi_static *q = &s->solver.qs;
@@ -896,6 +948,44 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
   double *force = get_doubles(r, g, "force", 3, 1, true);
   if (force) memcpy(out->indenter_force, force, sizeof out->indenter_force);
   free(force);
+  group_close(g);
+
+  g = group_open(r, "tools", false);
+  if (!r->failed && (g >= 0) != (s->tools != NULL))
+    bad(r, "%s", g >= 0 ? "it has the state of rigid tools, but the deck has no tools"
+                        : "it has no state of rigid tools, but the deck has tools");
+  if (g >= 0 && s->tools) {
+    out->tools = peri_calloc((size_t)s->tools->count * TOOL_STATE, sizeof(double));
+    for (int k = 0; k < s->tools->count && !r->failed; ++k) {
+      char name[32];
+      snprintf(name, sizeof name, "%d", k);
+      hid_t t = H5Lexists(g, name, H5P_DEFAULT) > 0 ? H5Gopen2(g, name, H5P_DEFAULT) : -1;
+      if (t < 0) {
+        char what[160];
+        snprintf(what, sizeof what, "it holds %d rigid tools, the deck has %d", k, s->tools->count);
+        bad(r, "%s", what);
+        break;
+      }
+      char *tool_name = get_string(r, t, "name", false);
+      if (tool_name && strcmp(tool_name, s->tools->tool[k].name) != 0) {
+        char what[256];
+        snprintf(what, sizeof what, "its tool %d is '%.100s', the deck's is '%.100s'", k + 1, tool_name,
+                 s->tools->tool[k].name);
+        bad(r, "%s", what);
+      }
+      free(tool_name);
+      double *state = get_doubles(r, t, "state", TOOL_STATE, 1, true);
+      char where[48];
+      snprintf(where, sizeof where, "/tools/%d/state", k);
+      for (int j = 0; state && j < TOOL_STATE; ++j) check_finite(r, where, state[j]);
+      if (state) memcpy(out->tools + (size_t)k * TOOL_STATE, state, sizeof(double) * TOOL_STATE);
+      free(state);
+      H5Gclose(t);
+    }
+    char extra[32];
+    snprintf(extra, sizeof extra, "%d", s->tools->count);
+    if (!r->failed && H5Lexists(g, extra, H5P_DEFAULT) > 0) bad(r, "%s", "it holds more rigid tools than the deck has");
+  }
   group_close(g);
 
   g = group_open(r, "quasi_static", true);

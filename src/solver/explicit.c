@@ -167,12 +167,15 @@ int peri_solve_explicit_hooked(peri_sim *s, peri_step_hook hook, peri_step_quiet
     s->state.time += dt;
     s->state.step = step + 1;
     peri_apply_prescribed_motion(s, s->state.time, dt);
-    peri_apply_loads(s, s->state.time);
-    /* what the force depends on besides u: the thermal strain of thermomechanics (docs/heat.md) */
+    /* what the force and the loads depend on besides u: the thermal strain of thermomechanics
+     * (docs/heat.md), the offset of a load-controlled tool from the contact force of the step
+     * before; then the loads, so that a tool's force is that of its position at t (a restart,
+     * which evaluates the loads at the checkpoint's state, gets the same) */
     if (peri_contributions_before_force(s, s->state.step, s->state.time) != PERI_OK) {
       status = PERI_ERR_RUN;
       break;
     }
+    peri_apply_loads(s, s->state.time);
     peri_exchange_state(s);
     if (internal_force(s) != PERI_OK) {
       status = PERI_ERR_RUN;

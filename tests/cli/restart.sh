@@ -10,7 +10,8 @@
 # the compression-dependent critical stretch (per-node s0 carried over), the PMB plate with
 # sublayer plasticity (the plastic stretches of every bond carried over), a heat deck with
 # a growing crack, a two-way thermomechanical quench, and a 1D quasi-static bar restarted
-# before it breaks through in a dynamic phase. Then a truncated or damaged checkpoint, one
+# before it breaks through in a dynamic phase, a punch under load control (explicit) and a plane
+# under load slid with friction (adr). Then a truncated or damaged checkpoint, one
 # of another discretization, one of another model and one beyond the deck's end are refused
 # with exit status 2 before anything is written (a missing file and one that is not HDF5:
 # tests/unit/test_checkpoint.c).
@@ -123,6 +124,19 @@ restart_case thermal_shock "$DECKS/restart_thermal_shock.yaml" 240 512 broken_bo
 restart_case quasi_static "$DECKS/qs_bar.yaml" 14 40 broken_bond_fraction \
   --set output.checkpoint_every=7 --set 'output.checkpoint_file=checkpoint_{step}.h5' \
   --set 'solver.dynamic_switch={when_broken_exceeds: 10, damping: 1.0e5, history_every: 5}'
+# rigid tools (docs/contact.md): the punch's load-controlled offset, its rate and the contact
+# force its next step reads (explicit), and the load search's compliance and the distance slid
+# by a plane under load with friction (adr), carried over
+restart_case tools_explicit "$DECKS/tool_load_control.yaml" 200 548 tool_punch_normal_force \
+  --set output.checkpoint_every=100 --set 'output.checkpoint_file=checkpoint_{step}.h5'
+restart_case tools_quasi_static "$DECKS/tool_load_sliding.yaml" 2 4 tool_slider_sliding_distance \
+  --set output.checkpoint_every=1 --set 'output.checkpoint_file=checkpoint_{step}.h5'
+sed '/^tools:/,/^solver:/{/^solver:/!d}' "$DECKS/tool_load_control.yaml" >"$TMP/no_tools.yaml"
+run_peri run "$TMP/no_tools.yaml" --quiet --output "$TMP/e7" --restart "$TMP/tools_explicit/full/checkpoint_000200.h5"
+expect_status 2
+expect_stderr_contains "it has the state of rigid tools, but the deck has no tools"
+expect_no_path "$TMP/e7"
+pass "a checkpoint with tools for the deck without them: exit 2"
 
 # Refused checkpoints: exit 2, a message naming the file, and no output written.
 ck="$TMP/pmb/full/checkpoint_000100.h5"
