@@ -26,61 +26,53 @@ static peri_qs_status law_solve(peri_sim *s) {
   return PERI_QS_CONVERGED;
 }
 
-/* A simulation with one tool under the load P and nothing else the search reads. */
-static void one_tool(peri_sim *s, peri_tools *tools, peri_tool *tl, double P) {
-  memset(s, 0, sizeof *s);
+/* The search for one tool under the load P along `given`, from the offset q0: the tool as
+ * the search left it (its load freed), and the search's status. */
+static peri_qs_status search(double (*given)(double), double P, double q0, peri_tool *tl) {
+  peri_sim s;
+  peri_tools tools;
+  memset(&s, 0, sizeof s);
   memset(tl, 0, sizeof *tl);
   tl->name = "tip";
   tl->load = peri_expr_constant(P);
-  tl->q = -spacing; /* a spacing before the first contact */
-  tools->count = 1, tools->tool = tl;
-  s->tools = tools;
-  s->disc.geom.spacing = spacing;
+  tl->q = q0;
+  tools.count = 1, tools.tool = tl;
+  s.tools = &tools;
+  s.disc.geom.spacing = spacing;
+  law = given;
   solves = 0;
+  const peri_qs_status st = peri_tools_load_equilibrium(&s, law_solve);
+  peri_expr_free(tl->load);
+  tl->load = NULL;
+  return st;
 }
 
 Test(tool_load_search, hertz_law_meets_the_load) {
-  peri_sim s;
-  peri_tools tools;
   peri_tool tl;
-  law = hertz;
   for (double P = 0.5; P <= 8.0; P *= 2.0) {
-    one_tool(&s, &tools, &tl, P);
-    cr_assert_eq(peri_tools_load_equilibrium(&s, law_solve), PERI_QS_CONVERGED);
+    /* from a spacing before the first contact */
+    cr_assert_eq(search(hertz, P, -spacing, &tl), PERI_QS_CONVERGED);
     cr_expect(fabs(tl.normal_force - P) <= 1e-3 * P, "P = %g: P_contact %g", P, tl.normal_force);
     cr_expect(fabs(tl.q - pow(P / hertz_k, 2.0 / 3.0)) <= 1e-3 * pow(P / hertz_k, 2.0 / 3.0), "P = %g: q %g", P, tl.q);
     /* ten free steps of a tenth of a spacing reach the body, then a few secant steps */
     cr_expect(solves <= 10 + 20, "P = %g: %d solves", P, solves);
-    peri_expr_free(tl.load);
   }
 }
 
 Test(tool_load_search, a_jump_across_the_load_ends_at_the_jump) {
-  peri_sim s;
-  peri_tools tools;
   peri_tool tl;
-  law = jumping;
-  one_tool(&s, &tools, &tl, 5.0);
-  tl.q = 0.0;
-  cr_assert_eq(peri_tools_load_equilibrium(&s, law_solve), PERI_QS_CONVERGED);
+  cr_assert_eq(search(jumping, 5.0, 0.0, &tl), PERI_QS_CONVERGED);
   /* the search stops within its bracket width (1e-6 spacings) of the jump, on either side */
   cr_expect(fabs(tl.q - jump_at) <= 1.0e-6 * spacing, "q %.12g against the jump at %g", tl.q, jump_at);
   cr_expect(tl.normal_force == jumping(tl.q), "the last point is a solved one");
   /* bisection from a bracket of about a tenth of a spacing: log2(1e-1 / 1e-6) = 17 halvings */
   cr_expect(solves <= 40, "%d solves", solves);
-  peri_expr_free(tl.load);
 }
 
 Test(tool_load_search, below_the_jump_the_secant_meets_the_load) {
-  peri_sim s;
-  peri_tools tools;
   peri_tool tl;
-  law = jumping;
   /* 2 N lies on the linear part: q = 2e-4 m, found by the secant in a few points */
-  one_tool(&s, &tools, &tl, 2.0);
-  tl.q = 0.0;
-  cr_assert_eq(peri_tools_load_equilibrium(&s, law_solve), PERI_QS_CONVERGED);
+  cr_assert_eq(search(jumping, 2.0, 0.0, &tl), PERI_QS_CONVERGED);
   cr_expect(fabs(tl.normal_force - 2.0) <= 2e-3, "P_contact %g", tl.normal_force);
   cr_expect(solves <= 20, "%d solves", solves);
-  peri_expr_free(tl.load);
 }
