@@ -11,7 +11,8 @@
 # sublayer plasticity (the plastic stretches of every bond carried over), a heat deck with
 # a growing crack, a two-way thermomechanical quench, and a 1D quasi-static bar restarted
 # before it breaks through in a dynamic phase, a punch under load control (explicit) and a plane
-# under load slid with friction (adr). Then a truncated or damaged checkpoint, one
+# under load slid with friction (adr), and a projectile striking a target through short-range
+# forces. Then a truncated or damaged checkpoint, one
 # of another discretization, one of another model and one beyond the deck's end are refused
 # with exit status 2 before anything is written (a missing file and one that is not HDF5:
 # tests/unit/test_checkpoint.c).
@@ -131,6 +132,10 @@ restart_case tools_explicit "$DECKS/tool_load_control.yaml" 200 548 tool_punch_n
   --set output.checkpoint_every=100 --set 'output.checkpoint_file=checkpoint_{step}.h5'
 restart_case tools_quasi_static "$DECKS/tool_load_sliding.yaml" 2 4 tool_slider_sliding_distance \
   --set output.checkpoint_every=1 --set 'output.checkpoint_file=checkpoint_{step}.h5'
+# short-range forces between two bodies (docs/contact.md): a projectile restarted while it
+# strikes the target (the pair list is rebuilt from the positions)
+restart_case short_range "$DECKS/projectile_penetration.yaml" 270 833 momentum_target_x \
+  --set output.checkpoint_every=270 --set 'output.checkpoint_file=checkpoint_{step}.h5'
 sed '/^tools:/,/^solver:/{/^solver:/!d}' "$DECKS/tool_load_control.yaml" >"$TMP/no_tools.yaml"
 run_peri run "$TMP/no_tools.yaml" --quiet --output "$TMP/e7" --restart "$TMP/tools_explicit/full/checkpoint_000200.h5"
 expect_status 2
