@@ -167,6 +167,14 @@ static inline __attribute__((always_inline)) peri_v8d bond_weight_v8(const peri_
   const peri_v8d beta_V = v8_mul_pd(peri_beta_v8(&w->fam, r0), V_j);
   return v8_maskz_mov_pd(m, w->fam.influence == PERI_INFLUENCE_INVERSE ? v8_mul_pd(inv_r0, beta_V) : beta_V);
 }
+
+/* Each lane's next bond index along a template: the lanes whose bit of the entry's structure
+ * (the bonds intact or broken) is set move on by one. */
+static inline __attribute__((always_inline)) peri_v8i lanes_next_bond(peri_v8i k, uint8_t structure) {
+  const __m256i lane_shift = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  return _mm256_add_epi32(k, _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(structure), lane_shift),
+                                              _mm256_set1_epi32(1)));
+}
 #endif
 
 /* Node i's deviatoric stretches s^d = (r - |xi|)/|xi| - eth_i - theta_i/3 and weights
@@ -438,7 +446,6 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   const peri_m8 active = (peri_m8)act;
   const int32_t *restrict tj = items->tpl_node + t0;
   const uint8_t *restrict lanes = items->tpl_lanes + t0, *restrict structure = items->tpl_bonds + t0;
-  const __m256i lane_shift = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), one_i = _mm256_set1_epi32(1);
   const peri_v8d c[3] = {v8_loadu_pd(w->x0 + i0), v8_loadu_pd(w->x1 + i0), v8_loadu_pd(w->x2 + i0)},
                  cu[3] = {v8_loadu_pd(w->u0 + i0), v8_loadu_pd(w->u1 + i0), v8_loadu_pd(w->u2 + i0)};
   const peri_v8d vshift = v8_loadu_pd(shift), one = v8_set1_pd(1.0), zero = v8_setzero_pd();
@@ -478,7 +485,7 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
       const peri_v8d e = v8_sub_pd(sd, f[l]);
       S[l] = v8_mask3_fmadd_pd(wt, v8_mul_pd(e, e), S[l], m);
     }
-    k = _mm256_add_epi32(k, _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(structure[a]), lane_shift), one_i));
+    k = lanes_next_bond(k, structure[a]);
   }
   /* 2. each lane's factors; the lanes whose layer l flows in flows[l] */
   double S_of[4][PERI_BLOCK], factor_of[4][PERI_BLOCK];
@@ -502,7 +509,6 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   peri_v8d vfactor[4];
   for (int l = 0; l < L; ++l) vfactor[l] = v8_loadu_pd(factor_of[l]);
   const peri_v8d valpha = v8_loadu_pd(alpha);
-  const unsigned moving = flowing;
   peri_v8d bits = zero;
   for (int64_t a = 0; a < count; ++a) {
     const peri_m8 m = structure[a] & active;
@@ -519,7 +525,7 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
     const peri_v8d tv = v8_mul_pd(valpha, plastic);
 #if LAYERS4_ROWS
     if (L == 4) {
-      store_layers4(out, at, m & moving, v);
+      store_layers4(out, at, m & flowing, v);
       _mm512_mask_i64scatter_pd(term, m, _mm512_srli_epi64(_mm512_loadu_si512(at), 2), tv, 8);
       continue;
     }
@@ -529,7 +535,7 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
     v8_storeu_pd(t_of, tv);
     for (unsigned lanes_left = m; lanes_left; lanes_left &= lanes_left - 1) {
       const int lane = __builtin_ctz(lanes_left);
-      if (moving >> lane & 1u)
+      if (flowing >> lane & 1u)
         for (int l = 0; l < L; ++l) out[at[lane] + l] = v_of[l][lane];
       term[at[lane] / L] = t_of[lane];
     }
@@ -696,7 +702,6 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
   int32_t first[PERI_BLOCK];
   for (int l = 0; l < PERI_BLOCK; ++l) first[l] = (int32_t)(w->offset[i0 + l] - base);
   peri_v8i k = _mm256_loadu_si256((const __m256i *)first);
-  const __m256i lane_shift = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), one = _mm256_set1_epi32(1);
   const peri_v8d c[3] = {v8_loadu_pd(w->x0 + i0), v8_loadu_pd(w->x1 + i0), v8_loadu_pd(w->x2 + i0)},
                  cu[3] = {v8_loadu_pd(w->u0 + i0), v8_loadu_pd(w->u1 + i0), v8_loadu_pd(w->u2 + i0)};
   const peri_v8d Di = v8_loadu_pd(D + i0), Bi = v8_loadu_pd(B + i0);
@@ -713,8 +718,7 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
     /* the bond's two plastic terms, the other end's at the reverse bond (as the node path adds them) */
     /* the lanes that have the entry's bond (intact or not) move to their next one, whose reverse
      * bonds are gathered an entry ahead: the gather of the other ends' terms waits on them */
-    const peri_v8i k_next =
-        _mm256_add_epi32(k, _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(structure[a]), lane_shift), one));
+    const peri_v8i k_next = lanes_next_bond(k, structure[a]);
     const peri_v8l rev_next = v8_mask_i32gather_epi64(a + 1 < count ? lanes[a + 1] : 0, k_next, reverse);
     const peri_v8d P = v8_add_pd(v8_mask_i32gather_pd(on, k, term), v8_mask_i64gather_pd(on, rev, all_terms));
     const peri_v8d g = bond_force_v8(r0, r, inv_r, Di, v8_loadu_pd(D + j), Bi, v8_loadu_pd(B + j), P,

@@ -272,7 +272,8 @@ peri_run_session *peri_run_open(peri_sim *s, bool keep_history) {
   peri_apply_loads(s, s->state.time);
   peri_exchange_state(s); /* ghost displacements (MPI ranks, docs/parallel.md) */
   int rc = PERI_OK;
-  if (s->state.restart) { /* continue from a checkpoint (docs/restart.md) */
+  const bool restarted = s->state.restart != NULL;
+  if (restarted) { /* continue from a checkpoint (docs/restart.md) */
     rc = peri_history_log_resume(&c.log, s, c.frames);
     if (rc == PERI_OK) rc = peri_dataset_begin(s); /* (refuses: docs/datasets.md) */
   } else {
@@ -285,6 +286,9 @@ peri_run_session *peri_run_open(peri_sim *s, bool keep_history) {
     s->state.forces_current = !peri_is_quasi_static(s);
   }
   rc = peri_comm_max_int(rc);
+  /* a restart: the loads again, at the state just read (collective: the tools sum over ranks);
+   * a quasi-static run's external work starts from them */
+  if (rc == PERI_OK && restarted) peri_apply_loads(s, s->state.time);
   c.t_start = peri_seconds();
   c.first_step = s->state.step;
   c.stop_at = LONG_MAX;

@@ -51,6 +51,12 @@ void peri_thermal_print_summary(const peri_sim *s, FILE *out) {
   }
 }
 
+/* The deviatoric rule's bytes per directed bond beside the sublayers: the reverse bond's index,
+ * the plastic term and, where it is stored, the bond's weight (docs/plasticity.md). */
+static int deviatoric_bytes(const peri_sim *s) {
+  return s->state.plastic_reverse ? (s->state.plastic_bond_weight ? 24 : 16) : 0;
+}
+
 double peri_memory_estimate(const peri_sim *s) {
   const double n = s->disc.p.n, nb = (double)s->disc.bonds.n_bonds;
   /* x u v f b (5 x 3 doubles), volume, damage, material, block, flags, + model arrays */
@@ -60,8 +66,7 @@ double peri_memory_estimate(const peri_sim *s) {
   per_node += 6 * 8; /* the bond loops' copies of x and u (src/model/node_blocks.c) */
   /* sublayer plastic stretches and, for the deviatoric rule, the reverse bond's index, the
    * plastic term and, where it is stored, the bond's weight (docs/plasticity.md) */
-  const double plastic = 8.0 * s->state.plastic_layers +
-                         (s->state.plastic_reverse ? (s->state.plastic_bond_weight ? 24.0 : 16.0) : 0.0);
+  const double plastic = 8.0 * s->state.plastic_layers + deviatoric_bytes(s);
   return n * per_node + (n + 1) * 8 +
          nb * (peri_bonds_bytes_per_bond(&s->disc.bonds) + peri_node_blocks_bytes_bound() + plastic);
 }
@@ -131,7 +136,7 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
   }
   if (s->state.plastic_reverse)
     fprintf(out, "  plastic state %d bytes per directed bond (%d plastic deviatoric stretches, the reverse bond's index%s)\n",
-            8 * s->state.plastic_layers + (s->state.plastic_bond_weight ? 24 : 16), s->state.plastic_layers,
+            8 * s->state.plastic_layers + deviatoric_bytes(s), s->state.plastic_layers,
             s->state.plastic_bond_weight ? ", plastic term and weight" : " and plastic term");
   else if (s->state.plastic_stretch)
     fprintf(out, "  plastic state %d bytes per directed bond (%d plastic stretches)\n", 8 * s->state.plastic_layers,

@@ -114,9 +114,6 @@ int peri_solve_quasi_static(peri_sim *s, peri_step_hook hook, void *ctx) {
   double t_done = s->state.time;
   int rc = PERI_OK;
   bool stop = false; /* the hook asked to stop (during a dynamic phase) */
-  /* a restart: the loads at the checkpoint's state, which the work below starts from (the
-   * run's start evaluated them at t = 0, before the state was read) */
-  if (s->state.step > 0) peri_apply_loads(s, s->state.time);
   peri_qs_work work; /* external work over the accepted states (history column external_work) */
   peri_qs_work_begin(&work, s);
   /* from the load step reached: 0, or a checkpoint's (docs/restart.md) */

@@ -83,7 +83,12 @@ peri_qs_status peri_tools_load_equilibrium(peri_sim *s, peri_qs_status (*solve)(
   peri_tools *tools = s->tools;
   load_search search[tools->count];
   bool held[tools->count]; /* tools whose search ended on a jump: they keep their offset */
-  for (int k = 0; k < tools->count; ++k) search[k] = (load_search){0}, held[k] = false;
+  double load[tools->count]; /* P(t) of each load-controlled tool */
+  for (int k = 0; k < tools->count; ++k) {
+    search[k] = (load_search){0}, held[k] = false;
+    const peri_tool *tl = &tools->tool[k];
+    load[k] = tl->load ? peri_expr_eval(tl->load, 0.0, 0.0, 0.0, s->state.time) : 0.0;
+  }
   const double step_free = 0.1 * s->disc.geom.spacing;
   const double width = BRACKET_WIDTH * s->disc.geom.spacing;
   for (int solves = 1;; ++solves) {
@@ -91,7 +96,7 @@ peri_qs_status peri_tools_load_equilibrium(peri_sim *s, peri_qs_status (*solve)(
     for (int k = 0; k < tools->count; ++k) {
       peri_tool *tl = &tools->tool[k];
       if (!tl->load || held[k]) continue;
-      const double P = peri_expr_eval(tl->load, 0.0, 0.0, 0.0, s->state.time);
+      const double P = load[k];
       if (fabs(tl->normal_force - P) <= LOAD_TOLERANCE * fabs(P)) continue;
       bracket_update(&search[k], tl->q, tl->normal_force, P);
       if (bracket_closed(&search[k], width)) {
@@ -113,8 +118,7 @@ peri_qs_status peri_tools_load_equilibrium(peri_sim *s, peri_qs_status (*solve)(
     for (int k = 0; k < tools->count; ++k) {
       peri_tool *tl = &tools->tool[k];
       if (!tl->load || held[k]) continue;
-      const double P = peri_expr_eval(tl->load, 0.0, 0.0, 0.0, s->state.time);
-      tl->q = next_offset(&search[k], tl->q, tl->normal_force, P, step_free, &tl->load_compliance);
+      tl->q = next_offset(&search[k], tl->q, tl->normal_force, load[k], step_free, &tl->load_compliance);
     }
     st = solve(s);
     if (st != PERI_QS_CONVERGED) return st;
