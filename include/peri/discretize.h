@@ -44,6 +44,23 @@ typedef struct peri_grid_params {
  * shape is unbounded (PERI_SHAPE_ALL) or the grid would exceed 2^31 nodes. */
 int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g);
 
+/* One axis of a uniform grid, x_k = o + (k + off) dx, and the same coordinates exactly:
+ * origin + (2k + 2 off) half with origin and half = dx/2 rounded to multiples of one power
+ * of two q (src/core/grid.c, peri_exact_coordinate); half = 0: no exact form. */
+typedef struct peri_exact_axis {
+  double o, dx, off, origin, half;
+} peri_exact_axis;
+
+/* The exact axes (peri_exact_axis) of a uniform grid g whose nodes are p; false for a graded
+ * grid. */
+bool peri_grid_exact_axes(const peri_grid_params *g, const peri_particles *p, peri_exact_axis axis[3]);
+
+/* x at exact lattice coordinates: on axis a the coordinate o + (k + off) dx nearest x, as
+ * origin + (2k + 2 off) half, exact in floating point, so that x_{k+n} - x_k is one number for
+ * every k; x itself when it is off the axis by more than 1e-6 dx or the axis has no exact
+ * form. */
+double peri_exact_coordinate(const peri_exact_axis *a, double x);
+
 /* An upper bound of the nodes the grid can have, before generating it: the grid points
  * in the bounding boxes of the fill shapes, each with one or two spacings of margin (0
  * when a fill shape is unbounded). Cheap: no point is tested. */

@@ -2,6 +2,7 @@
 #ifndef PERI_MATERIAL_H
 #define PERI_MATERIAL_H
 #include <stdbool.h>
+#include "peri/discretize.h"
 #include "peri/plasticity.h"
 
 typedef enum { PERI_PLANE_NONE = 0, PERI_PLANE_STRESS = 1, PERI_PLANE_STRAIN = 2 } peri_plane;
@@ -14,6 +15,10 @@ typedef struct peri_geometry {
   double spacing;      /* dx */
   double thickness;    /* 2D: h */
   double cross_section;/* 1D: A */
+  /* the nodes of a uniform fill grid: its axes, whose exact coordinates the bond loops read
+   * (node_blocks.h); lattice false for node files, meshes and graded grids */
+  bool lattice;
+  peri_exact_axis lattice_axis[3];
 } peri_geometry;
 
 typedef struct peri_material {

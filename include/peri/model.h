@@ -57,9 +57,11 @@ void peri_lps_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx);
 /* Frees the bond loops' work items (peri_sim.disc.node_blocks). */
 struct peri_node_blocks;
 void peri_node_blocks_free(struct peri_node_blocks *nb);
-/* Share of the owned directed bonds that the bond loops run eight nodes at a time, and the
- * bytes per directed bond of the blocks' templates; -1 before the first force evaluation. */
-double peri_node_blocks_share(const peri_sim *s, double *template_bytes_per_bond);
+/* Share of the owned directed bonds that the bond loops run eight nodes at a time, the
+ * bytes per directed bond of the blocks' templates and the share of the bonds in blocks that
+ * read their offsets from the lattice's table (node_blocks.h); -1 before the first force
+ * evaluation. */
+double peri_node_blocks_share(const peri_sim *s, double *template_bytes_per_bond, double *lattice_share);
 /* Upper bound of the template bytes per directed bond (for estimates before any is built). */
 double peri_node_blocks_bytes_bound(void);
 

@@ -229,3 +229,40 @@ int64_t peri_grid_generate(peri_particles *p, const peri_grid_params *g) {
   free(points);
   return count;
 }
+
+/* The exact form of the coordinates o + (k + off) dx, |k| <= kmax_abs: o and dx/2 rounded to
+ * multiples of a power of two q small enough that every coordinate is a multiple of q below
+ * 2^52 q, so that each product and sum is exact. dx/2 is rounded down (no lattice distance
+ * grows past the horizon), by less than q, about 2^-51 of the axis' extent; an axis whose
+ * rounding exceeds 1e-12 of dx/2 (a grid far from its origin) gets none (half = 0). */
+static peri_exact_axis exact_axis_of(double o, double dx, double off, int64_t kmax_abs) {
+  peri_exact_axis a = {o, dx, off, o, 0.0};
+  const double extent = fabs(o) + ((double)kmax_abs + 1.0 + off) * dx;
+  if (!(extent > 0) || !isfinite(extent)) return a;
+  const double q = ldexp(1.0, ilogb(extent) - 51);
+  const double half = floor(0.5 * dx / q) * q;
+  if (!(half > 0) || (0.5 * dx - half) > 1e-12 * 0.5 * dx) return a;
+  a.origin = nearbyint(o / q) * q, a.half = half;
+  return a;
+}
+
+double peri_exact_coordinate(const peri_exact_axis *a, double x) {
+  if (a->half == 0.0) return x;
+  const double t = (x - a->o) / a->dx - a->off, k = nearbyint(t);
+  if (!(fabs(t - k) <= 1e-6)) return x;
+  return a->origin + (2.0 * k + (a->off != 0.0 ? 1.0 : 0.0)) * a->half;
+}
+
+bool peri_grid_exact_axes(const peri_grid_params *g, const peri_particles *p, peri_exact_axis axis[3]) {
+  double origin[3];
+  if (peri_grid_is_graded(g) || !grid_origin(g, false, origin)) return false;
+  const double off = g->placement == PERI_PLACE_CENTERS ? 0.5 : 0.0;
+  for (int d = 0; d < 3; d++) {
+    double kmax = 0.0;
+    for (int32_t i = 0; d < g->dim && i < p->n; i++)
+      kmax = fmax(kmax, fabs(nearbyint((p->x[3 * (size_t)i + d] - origin[d]) / g->spacing - off)));
+    axis[d] = d < g->dim ? exact_axis_of(origin[d], g->spacing, off, (int64_t)kmax)
+                         : (peri_exact_axis){0.0, g->spacing, 0.0, 0.0, 0.0};
+  }
+  return true;
+}

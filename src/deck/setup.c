@@ -540,6 +540,7 @@ static int parse_discretization(parse_ctx *c) {
     for (int k = 0; k < gp.n_fill && rc == PERI_OK; ++k) /* the finest zone's: ordering, partial volumes */
       if (gp.fill[k].spacing > 0.0) g->spacing = fmin(g->spacing, gp.fill[k].spacing);
     if (rc == PERI_OK && peri_grid_generate(p, &gp) < 0) rc = PERI_ERR_INPUT;
+    if (rc == PERI_OK) g->lattice = peri_grid_exact_axes(&gp, p, g->lattice_axis);
     for (int k = 0; k < gp.n_fill; ++k) {
       peri_shape_free(&gp.fill[k].shape);
       peri_phase_map_free(gp.fill[k].phases);

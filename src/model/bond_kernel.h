@@ -3,6 +3,7 @@
 #define PERI_BOND_KERNEL_H
 #include <math.h>
 #include "peri/sim.h"
+#include "node_blocks.h"
 
 /* Deformed bond vector y_j - y_i and its length. Computed identically from both ends up
  * to sign, so the stretch (and so every breaking decision) is symmetric in i and j. */
@@ -123,6 +124,11 @@ typedef struct peri_bond_view {
   const uint8_t *restrict broken;
   peri_family_eval fam;
   int32_t n; /* nodes (owned and ghosts): the stride of per-node fields with several parts */
+  /* the blocks' offsets (node_blocks.h): a block's entries tj have theirs at
+   * tpl_geom[tj - tpl_node] in geom; NULL before the blocks are built */
+  const int32_t *tpl_node;
+  const uint16_t *tpl_geom;
+  const double *geom;
 } peri_bond_view;
 
 /* The view of s with the copies in `soa` (6 n doubles: x0 x1 x2 u0 u1 u2). */
@@ -131,7 +137,10 @@ static inline peri_bond_view peri_bond_view_of(const peri_sim *s, const double *
   const peri_bond_view w = {soa, soa + n, soa + 2 * n, soa + 3 * n, soa + 4 * n, soa + 5 * n,
                             s->disc.p.volume, s->disc.p.coef, s->state.thermal_strain, s->disc.p.s0_bound,
                             s->disc.bonds.offset, s->disc.bonds.neighbor, s->disc.bonds.broken, peri_family_eval_of(&s->disc.bonds),
-                            s->disc.p.n};
+                            s->disc.p.n,
+                            s->disc.node_blocks ? s->disc.node_blocks->tpl_node : NULL,
+                            s->disc.node_blocks ? s->disc.node_blocks->tpl_geom : NULL,
+                            s->disc.node_blocks ? s->disc.node_blocks->geom : NULL};
   return w;
 }
 

@@ -1,5 +1,6 @@
 /* Work items of the bond loops (see node_blocks.h). */
 #include <stdlib.h>
+#include "peri/discretize.h"
 #include "peri/error.h"
 #include "peri/model.h"
 #include "bond_kernel.h"
@@ -100,6 +101,7 @@ static void compact_template(peri_node_blocks *nb, int32_t item) {
     if (nb->tpl_lanes[a]) {
       nb->tpl_node[kept] = nb->tpl_node[a];
       nb->tpl_lanes[kept] = nb->tpl_lanes[a];
+      nb->tpl_geom[kept] = nb->tpl_geom[a];
       nb->tpl_bonds[kept++] = nb->tpl_bonds[a];
     }
   nb->tpl_end[item] = kept;
@@ -184,12 +186,103 @@ static void sync_broken(peri_node_blocks *nb, const peri_bonds *b) {
   nb->broken_edits = b->broken_edits;
 }
 
+/* The distinct offsets, by their bits: an open-addressing table of indices into geom. */
+typedef struct geom_map {
+  int32_t *slot; /* -1: empty */
+  uint32_t mask;
+} geom_map;
+
+static uint32_t geom_hash(const double xi[3]) {
+  uint64_t h = 0x9e3779b97f4a7c15u, bits;
+  for (int c = 0; c < 3; ++c) {
+    memcpy(&bits, &xi[c], sizeof bits);
+    h = (h ^ bits) * 0xff51afd7ed558ccdu;
+    h ^= h >> 33;
+  }
+  return (uint32_t)h;
+}
+
+/* The index of offset xi in nb->geom, added with its lengths if new; PERI_GEOM_NONE when the
+ * table is full. */
+static uint16_t geom_index(peri_node_blocks *nb, geom_map *map, const double xi[3]) {
+  for (uint32_t h = geom_hash(xi) & map->mask;; h = (h + 1) & map->mask) {
+    const int32_t k = map->slot[h];
+    if (k < 0) break;
+    const double *g = nb->geom + (size_t)k * PERI_GEOM_STRIDE;
+    if (memcmp(g, xi, 3 * sizeof(double)) == 0) return (uint16_t)k;
+  }
+  if (nb->n_geom >= PERI_GEOM_NONE) return PERI_GEOM_NONE;
+  const int32_t k = nb->n_geom++;
+  nb->geom = peri_realloc(nb->geom, sizeof(double) * PERI_GEOM_STRIDE * (size_t)nb->n_geom);
+  double *g = nb->geom + (size_t)k * PERI_GEOM_STRIDE;
+  memset(g, 0, sizeof(double) * PERI_GEOM_STRIDE);
+  memcpy(g, xi, 3 * sizeof(double));
+#ifdef PERI_BOND_V8
+  /* the lengths by the kernels' own functions, so that they are each lane's to the bit */
+  const peri_v8d x0 = v8_set1_pd(xi[0]), x1 = v8_set1_pd(xi[1]), x2 = v8_set1_pd(xi[2]);
+  const peri_v8d sq_norm2 = peri_norm2_v8(x0, x1, x2), inv_norm2 = peri_rsqrt_v8(sq_norm2);
+  const peri_v8d zero = v8_setzero_pd(), c[3] = {zero, zero, zero}, xj[3] = {x0, x1, x2};
+  peri_v8d y[3], r0, inv_r0, r, inv_r;
+  peri_bond_lengths_v8(xj, c, c, c, y, &r0, &inv_r0, &r, &inv_r);
+  double lanes[PERI_BLOCK];
+  v8_storeu_pd(lanes, v8_mul_pd(sq_norm2, inv_norm2)), g[PERI_GEOM_R0_NORM2] = lanes[0];
+  v8_storeu_pd(lanes, inv_norm2), g[PERI_GEOM_INV_R0_NORM2] = lanes[0];
+  v8_storeu_pd(lanes, r0), g[PERI_GEOM_R0_FMA] = lanes[0];
+  v8_storeu_pd(lanes, inv_r0), g[PERI_GEOM_INV_R0_FMA] = lanes[0];
+#endif
+  uint32_t h = geom_hash(xi) & map->mask;
+  while (map->slot[h] >= 0) h = (h + 1) & map->mask;
+  map->slot[h] = k;
+  return (uint16_t)k;
+}
+
+/* The offsets of every block's entries (tpl_geom), on the positions' copies: a block keeps
+ * them when each entry's offset is one number for all lanes with the bond, else it is marked
+ * PERI_GEOM_NONE and its loops compute the offsets lane by lane. */
+static void build_geometry(peri_node_blocks *nb) {
+  free(nb->geom);
+  nb->geom = NULL;
+  nb->n_geom = 0;
+  nb->lattice_bonds = 0;
+  const size_t n = (size_t)nb->n;
+  const double *X[3] = {nb->soa, nb->soa + n, nb->soa + 2 * n};
+  geom_map map = {NULL, 2u * PERI_GEOM_NONE + 1}; /* 2^17 slots: at most half full */
+  map.slot = peri_malloc(sizeof(int32_t) * ((size_t)map.mask + 1));
+  for (uint32_t h = 0; h <= map.mask; ++h) map.slot[h] = -1;
+  for (int32_t item = 0; item < nb->n_items; ++item) {
+    const int64_t a0 = nb->tpl[item], a1 = nb->tpl_end[item];
+    const int32_t i0 = nb->first[item];
+    bool lattice = a1 > a0;
+#ifndef PERI_BOND_V8
+    lattice = false;
+#endif
+    for (int64_t a = a0; a < a1 && lattice; ++a) {
+      const unsigned lanes = nb->tpl_bonds[a];
+      const int first = lanes ? __builtin_ctz(lanes) : 0;
+      const int32_t j = nb->tpl_node[a];
+      double xi[3];
+      for (int c = 0; c < 3; ++c) xi[c] = X[c][j + first] - X[c][i0 + first];
+      for (int l = first + 1; l < PERI_BLOCK && lattice; ++l)
+        if (lanes >> l & 1u)
+          for (int c = 0; c < 3; ++c) lattice = lattice && X[c][j + l] - X[c][i0 + l] == xi[c];
+      if (lattice) nb->tpl_geom[a] = geom_index(nb, &map, xi);
+      lattice = lattice && nb->tpl_geom[a] != PERI_GEOM_NONE;
+    }
+    if (!lattice)
+      for (int64_t a = a0; a < nb->tpl[item + 1]; ++a) nb->tpl_geom[a] = PERI_GEOM_NONE;
+    else
+      nb->lattice_bonds += nb->offset[nb->first[item + 1]] - nb->offset[i0];
+  }
+  free(map.slot);
+}
+
 static void build(peri_node_blocks *nb, const peri_sim *s) {
   const peri_bonds *b = &s->disc.bonds;
   const int32_t n_owned = s->disc.p.n_owned, n = s->disc.p.n;
   free(nb->first);
   free(nb->tpl);
   free(nb->tpl_node);
+  free(nb->tpl_geom);
   free(nb->tpl_lanes);
   free(nb->tpl_bonds);
   free(nb->tpl_end);
@@ -236,6 +329,7 @@ static void build(peri_node_blocks *nb, const peri_sim *s) {
   if (!nb->share) nb->share = peri_work_share_new();
   nb->tpl_bonds = peri_malloc((size_t)(used > 0 ? used : 1));
   memcpy(nb->tpl_bonds, nb->tpl_lanes, (size_t)used);
+  nb->tpl_geom = peri_malloc(sizeof(uint16_t) * (size_t)(used > 0 ? used : 1));
   nb->tpl_end = peri_malloc(sizeof(int64_t) * ((size_t)items + 1));
   for (int32_t k = 0; k < items; ++k) nb->tpl_end[k] = nb->tpl[k + 1];
   nb->emptied = peri_calloc((size_t)items + 1, 1);
@@ -248,14 +342,15 @@ static void build(peri_node_blocks *nb, const peri_sim *s) {
   nb->generic = s->disc.generic_bond_loops;
 }
 
-/* a template entry: the neighbour (int32) and two lane masks */
-#define TEMPLATE_ENTRY_BYTES (sizeof(int32_t) + 2)
+/* a template entry: the neighbour (int32), two lane masks and the offset's index */
+#define TEMPLATE_ENTRY_BYTES (sizeof(int32_t) + 2 + sizeof(uint16_t))
 
-double peri_node_blocks_share(const peri_sim *s, double *template_bytes_per_bond) {
+double peri_node_blocks_share(const peri_sim *s, double *template_bytes_per_bond, double *lattice_share) {
   const peri_node_blocks *nb = s->disc.node_blocks;
   if (!nb || !nb->offset) return -1.0;
   const double bonds = (double)(nb->offset[nb->n_owned] > 0 ? nb->offset[nb->n_owned] : 1);
   if (template_bytes_per_bond) *template_bytes_per_bond = (double)nb->tpl_entries * TEMPLATE_ENTRY_BYTES / bonds;
+  if (lattice_share) *lattice_share = nb->block_bonds > 0 ? (double)nb->lattice_bonds / (double)nb->block_bonds : 0.0;
   return (double)nb->block_bonds / bonds;
 }
 
@@ -275,12 +370,19 @@ peri_node_blocks *peri_node_blocks_refresh(peri_sim *s) {
     nb->x = p->x;
     nb->volume = p->volume;
     nb->uniform_volume = peri_uniform_volume(p);
+    /* a uniform grid's nodes at exact lattice coordinates (peri_exact_coordinate: within
+     * 1e-13 of dx for grids of up to about a thousand cells from the origin), so that on the
+     * lattice a block's neighbour offset is one number for its eight lanes (build_geometry) */
+    const peri_geometry *geom = &s->disc.geom;
     for (size_t i = 0; i < n; ++i)
-      for (int c = 0; c < 3; ++c) nb->soa[c * n + i] = p->x[3 * i + (size_t)c];
+      for (int c = 0; c < 3; ++c)
+        nb->soa[c * n + i] = geom->lattice ? peri_exact_coordinate(&geom->lattice_axis[c], p->x[3 * i + (size_t)c])
+                                           : p->x[3 * i + (size_t)c];
+    build_geometry(nb);
     sync_broken(nb, &s->disc.bonds);
   }
   if (nb->broken_edits != s->disc.bonds.broken_edits) {
-    if (nb->compacted) build(nb, s); /* bonds may have come back: every entry again */
+    if (nb->compacted) build(nb, s), build_geometry(nb); /* bonds may have come back: every entry again */
     sync_broken(nb, &s->disc.bonds);
   }
   bool dropped = false;
@@ -306,6 +408,8 @@ void peri_node_blocks_free(struct peri_node_blocks *nb) {
   free(nb->tpl_node);
   free(nb->tpl_lanes);
   free(nb->tpl_bonds);
+  free(nb->tpl_geom);
+  free(nb->geom);
   free(nb->tpl_end);
   free(nb->emptied);
   free(nb->soa);

@@ -17,6 +17,14 @@
 
 #define PERI_BLOCK 8 /* nodes per block: one 512-bit vector of doubles */
 
+/* A block's offsets (tpl_geom, geom): xi = x_j - x_i, then |xi| and 1/|xi| as the eight-lane
+ * kernels compute them from xi (bond_kernel.h), in the order of peri_norm2_v8 and in that of
+ * peri_bond_lengths_v8, so a kernel that reads them gets each lane's numbers bit for bit. */
+#define PERI_GEOM_NONE UINT16_MAX
+#define PERI_GEOM_STRIDE 8
+enum peri_geom_slot { PERI_GEOM_XI0, PERI_GEOM_XI1, PERI_GEOM_XI2, PERI_GEOM_R0_NORM2, PERI_GEOM_INV_R0_NORM2,
+                      PERI_GEOM_R0_FMA, PERI_GEOM_INV_R0_FMA };
+
 typedef struct peri_node_blocks {
   int32_t n_items;
   int32_t *first;      /* [n_items + 1] first node of each item (then n_owned) */
@@ -25,13 +33,18 @@ typedef struct peri_node_blocks {
   int32_t *tpl_node;   /* template entries: neighbour of lane 0 (lane l reads tpl_node + l) */
   uint8_t *tpl_lanes;  /* template entries: bit l set when node i0 + l has that bond, intact */
   uint8_t *tpl_bonds;  /* the same with broken bonds too (the structure) */
+  uint16_t *tpl_geom;  /* template entries: the entry's offset x_j - x_i in geom, the same number in
+                          every lane (a lattice of exact coordinates, src/core/grid.c), or
+                          PERI_GEOM_NONE in every entry of a block whose lanes differ */
+  double *geom;        /* [n_geom][PERI_GEOM_STRIDE] the distinct offsets (peri_geom_slot) */
+  int32_t n_geom;
   int64_t *tpl_end;    /* [n_items] end of a block's live entries: the entries none of whose lanes
                           keeps a bond are dropped at the next refresh (a fragmenting body loses
                           a third of them), so the loops stop visiting them */
   uint8_t *emptied;    /* [n_items] an entry of the block lost its last lane since the refresh */
   bool compacted;      /* entries were dropped: a resync from the flags (bonds restored by a
                           cut-back or a checkpoint) rebuilds the templates first */
-  int64_t block_bonds, tpl_entries;
+  int64_t block_bonds, tpl_entries, lattice_bonds; /* lattice_bonds: in blocks with offsets in geom */
   int64_t *cost;             /* [n_items + 1] bonds of items 0 .. k-1 */
   peri_work_share *share;    /* the items among the threads (peri_work_share_start) */
   uint64_t broken_edits; /* bonds.broken_edits when tpl_lanes last followed the flags */

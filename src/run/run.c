@@ -358,11 +358,11 @@ int peri_run_finish(peri_run_session *r) {
       if (peri_comm_size() > 1) printf(", %ld contact ghosts on the ranks", ghosts);
       printf("\n");
     }
-    double tpl_bytes = 0.0;
-    const double in_blocks = peri_node_blocks_share(s, &tpl_bytes);
+    double tpl_bytes = 0.0, on_lattice = 0.0;
+    const double in_blocks = peri_node_blocks_share(s, &tpl_bytes, &on_lattice);
     if (in_blocks >= 0.0) /* of this rank's bonds (rank 0's on MPI ranks) */
-      printf("  bond loops   %.1f%% of the bonds eight nodes at a time (node blocks, %.2f bytes per bond)\n",
-             100.0 * in_blocks, tpl_bytes);
+      printf("  bond loops   %.1f%% of the bonds eight nodes at a time (node blocks, %.2f bytes per bond; %.1f%% of "
+             "them with the lattice's offsets)\n", 100.0 * in_blocks, tpl_bytes, 100.0 * on_lattice);
     peri_print_stress_summary(s, stdout); /* per-material maxima over every rank */
     if (s->out.wrinkle_region > 0) peri_film_series_print(&c.film, s);
     printf("  output       %s/%s.%s (%s), %s/history.csv%s%s%s%s%s%s\n", s->out.directory, s->out.basename,

@@ -26,6 +26,8 @@ for model in pmb lps; do
     expect_status 0
     # the run reports the thread count it used: --threads took effect
     expect_stdout_matches "^  finished .*\($threads threads\)$"
+    # a uniform grid: every block reads its neighbour offsets from the lattice's table
+    expect_stdout_matches "^  bond loops .*; 100\.0% of them with the lattice's offsets\)$"
     expect_nonempty_file "$out/history.csv"
   done
   ref="$TMP/$model-t1/history.csv"

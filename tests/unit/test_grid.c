@@ -387,3 +387,47 @@ Test(particles, grow_and_state) {
   cr_assert_eq(p.n, 0);
   cr_assert_null(p.x);
 }
+
+/* Exact lattice coordinates (peri_exact_coordinate): on a grid every neighbour offset
+ * x_{k+n} - x_k is one number whatever k (each sum and product exact), which the bond loops'
+ * offset tables rely on, and each coordinate moves from o + (k + off) dx by less than the
+ * rounding of dx/2 to the axis' quantum q = 2^(ilogb(extent) - 51), (2|k| + 2) q, plus the
+ * rounding of the formula itself. */
+static void check_exact_axis(double x0, double x1, double dx, peri_placement placement) {
+  peri_fill fill = {.shape = box2(x0, x0, x1, x1), .material = 0};
+  peri_grid_params g = {.dim = 2, .spacing = dx, .placement = placement, .thickness = 1.0, .n_fill = 1, .fill = &fill};
+  peri_particles p;
+  cr_assert_gt(peri_grid_generate(&p, &g), 0);
+  peri_exact_axis axis[3];
+  cr_assert(peri_grid_exact_axes(&g, &p, axis));
+  const peri_exact_axis *a = &axis[0];
+  cr_assert_gt(a->half, 0.0, "an exact form for a grid of %g cells", (x1 - x0) / dx);
+  const int n_row = (int)((x1 - x0) / dx + 0.5) + 1;
+  double *row = calloc((size_t)n_row, sizeof *row);
+  int count = 0;
+  double extent = 0.0;
+  for (int32_t i = 0; i < p.n && count < n_row; i++)
+    if (p.x[3 * (size_t)i + 1] == p.x[1]) row[count++] = p.x[3 * (size_t)i], extent = fmax(extent, fabs(p.x[3 * (size_t)i]));
+  extent += 2 * dx;
+  const double q = ldexp(1.0, ilogb(extent) - 51);
+  for (int k = 0; k < count; k++) {
+    const double exact = peri_exact_coordinate(a, row[k]);
+    const double kk = fabs((row[k] - a->o) / dx - a->off);
+    cr_assert_leq(fabs(exact - row[k]), (2 * kk + 2) * q + 4 * 2.2e-16 * fabs(row[k]), "node %d at %.17g: %.17g", k,
+                  row[k], exact);
+  }
+  for (int n = 1; n <= 4; n++)
+    for (int k = 0; k + n < count; k++)
+      cr_assert_eq(peri_exact_coordinate(a, row[k + n]) - peri_exact_coordinate(a, row[k]),
+                   peri_exact_coordinate(a, row[n]) - peri_exact_coordinate(a, row[0]), "offset %d at node %d", n, k);
+  /* a coordinate off the lattice is left as it is */
+  cr_assert_eq(peri_exact_coordinate(a, row[0] + 0.25 * dx), row[0] + 0.25 * dx);
+  free(row);
+  peri_particles_free(&p);
+}
+
+Test(grid, exact_lattice_offsets) {
+  check_exact_axis(-0.005, 0.005, 1.25e-4, PERI_PLACE_LATTICE);  /* the LAMMPS problem's lattice */
+  check_exact_axis(-5.13e-7, 1.007e-6, 1.9e-8, PERI_PLACE_CENTERS); /* the scratch decks' cells */
+  check_exact_axis(0.0, 0.1, 1e-3, PERI_PLACE_CENTERS);
+}
