@@ -57,7 +57,7 @@ bool peri_grid_exact_axes(const peri_grid_params *g, const peri_particles *p, pe
 
 /* x at exact lattice coordinates: on axis a the coordinate o + (k + off) dx nearest x, as
  * origin + (2k + 2 off) half, exact in floating point, so that x_{k+n} - x_k is one number for
- * every k; x itself when it is off the axis by more than 1e-6 dx or the axis has no exact
+ * every k; x itself when it is off the axis by more than 1e-9 dx or the axis has no exact
  * form. */
 double peri_exact_coordinate(const peri_exact_axis *a, double x);
 

@@ -249,7 +249,7 @@ static peri_exact_axis exact_axis_of(double o, double dx, double off, int64_t km
 double peri_exact_coordinate(const peri_exact_axis *a, double x) {
   if (a->half == 0.0) return x;
   const double t = (x - a->o) / a->dx - a->off, k = nearbyint(t);
-  if (!(fabs(t - k) <= 1e-6)) return x;
+  if (!(fabs(t - k) <= 1e-9)) return x; /* a node of the grid, not of another lattice near it */
   return a->origin + (2.0 * k + (a->off != 0.0 ? 1.0 : 0.0)) * a->half;
 }
 
