@@ -82,26 +82,58 @@ static inline __attribute__((always_inline)) peri_v8d peri_rsqrt_v8(peri_v8d x) 
   y = v8_fmadd_pd(y, v8_fnmadd_pd(v8_mul_pd(half_x, y), y, half), y);
   return y;
 }
-/* The relative vectors y = xi + (u_j - u_i) of eight bonds from the neighbours' positions xj
- * and displacements uj and the centre's (c, cu), their reference and deformed lengths r0, r and
- * 1/r0, 1/r: one function for both lengths, so an undeformed bond has r == r0, and for every
+/* a0² + a1² + a2² in the order of the scalar loops (PMB), or by FMAs (the other models) */
+static inline __attribute__((always_inline)) peri_v8d peri_norm2_v8(peri_v8d a0, peri_v8d a1, peri_v8d a2) {
+  return v8_add_pd(v8_add_pd(v8_mul_pd(a0, a0), v8_mul_pd(a1, a1)), v8_mul_pd(a2, a2));
+}
+static inline __attribute__((always_inline)) peri_v8d peri_norm2_fma_v8(peri_v8d a0, peri_v8d a1, peri_v8d a2) {
+  return v8_fmadd_pd(a2, a2, v8_fmadd_pd(a1, a1, v8_mul_pd(a0, a0)));
+}
+/* The reference offsets xi = x_j - x_i of eight bonds with |xi| and 1/|xi|, from the
+ * neighbours' positions xj and the centre's c, or from a block's table of offsets
+ * (node_blocks.h), which holds the numbers the positions give, for either sum of squares. */
+typedef struct peri_offset_v8 {
+  peri_v8d x[3], r0, inv_r0;
+} peri_offset_v8;
+static inline __attribute__((always_inline)) peri_offset_v8 peri_offset_of_positions_v8(const peri_v8d xj[3],
+                                                                                       const peri_v8d c[3],
+                                                                                       bool fma_sum) {
+  peri_offset_v8 o;
+  for (int d = 0; d < 3; ++d) o.x[d] = v8_sub_pd(xj[d], c[d]);
+  const peri_v8d r0_sq = fma_sum ? peri_norm2_fma_v8(o.x[0], o.x[1], o.x[2]) : peri_norm2_v8(o.x[0], o.x[1], o.x[2]);
+  o.inv_r0 = peri_rsqrt_v8(r0_sq);
+  o.r0 = v8_mul_pd(r0_sq, o.inv_r0);
+  return o;
+}
+static inline __attribute__((always_inline)) peri_offset_v8 peri_offset_of_table_v8(const double *restrict g,
+                                                                                   bool fma_sum) {
+  const peri_offset_v8 o = {{v8_set1_pd(g[PERI_GEOM_XI0]), v8_set1_pd(g[PERI_GEOM_XI1]), v8_set1_pd(g[PERI_GEOM_XI2])},
+                            v8_set1_pd(g[fma_sum ? PERI_GEOM_R0_FMA : PERI_GEOM_R0_NORM2]),
+                            v8_set1_pd(g[fma_sum ? PERI_GEOM_INV_R0_FMA : PERI_GEOM_INV_R0_NORM2])};
+  return o;
+}
+/* The relative vectors y = xi + (u_j - u_i) from the offsets, the neighbours' displacements
+ * uj and the centre's cu, and their lengths r and 1/r: the same function as for |xi|, so an
+ * undeformed bond has r == r0. Returns |y|². */
+static inline __attribute__((always_inline)) peri_v8d peri_deformed_lengths_v8(const peri_offset_v8 *o,
+                                                                               const peri_v8d uj[3], const peri_v8d cu[3],
+                                                                               bool fma_sum, peri_v8d y[3], peri_v8d *r,
+                                                                               peri_v8d *inv_r) {
+  for (int d = 0; d < 3; ++d) y[d] = v8_add_pd(o->x[d], v8_sub_pd(uj[d], cu[d]));
+  const peri_v8d r_sq = fma_sum ? peri_norm2_fma_v8(y[0], y[1], y[2]) : peri_norm2_v8(y[0], y[1], y[2]);
+  *inv_r = peri_rsqrt_v8(r_sq);
+  *r = v8_mul_pd(r_sq, *inv_r);
+  return r_sq;
+}
+/* Both lengths of eight bonds from the positions (the FMA sums): one function for every
  * model's kernels, so their paths agree bit for bit. */
 static inline __attribute__((always_inline)) void peri_bond_lengths_v8(const peri_v8d xj[3], const peri_v8d uj[3],
                                                                        const peri_v8d c[3], const peri_v8d cu[3],
                                                                        peri_v8d y[3], peri_v8d *r0, peri_v8d *inv_r0,
                                                                        peri_v8d *r, peri_v8d *inv_r) {
-  const peri_v8d x0 = v8_sub_pd(xj[0], c[0]), x1 = v8_sub_pd(xj[1], c[1]), x2 = v8_sub_pd(xj[2], c[2]);
-  y[0] = v8_add_pd(x0, v8_sub_pd(uj[0], cu[0]));
-  y[1] = v8_add_pd(x1, v8_sub_pd(uj[1], cu[1]));
-  y[2] = v8_add_pd(x2, v8_sub_pd(uj[2], cu[2]));
-  const peri_v8d r0_sq = v8_fmadd_pd(x2, x2, v8_fmadd_pd(x1, x1, v8_mul_pd(x0, x0)));
-  const peri_v8d r_sq = v8_fmadd_pd(y[2], y[2], v8_fmadd_pd(y[1], y[1], v8_mul_pd(y[0], y[0])));
-  *inv_r0 = peri_rsqrt_v8(r0_sq), *inv_r = peri_rsqrt_v8(r_sq);
-  *r0 = v8_mul_pd(r0_sq, *inv_r0), *r = v8_mul_pd(r_sq, *inv_r);
-}
-/* a0² + a1² + a2² in the order of the scalar loops */
-static inline __attribute__((always_inline)) peri_v8d peri_norm2_v8(peri_v8d a0, peri_v8d a1, peri_v8d a2) {
-  return v8_add_pd(v8_add_pd(v8_mul_pd(a0, a0), v8_mul_pd(a1, a1)), v8_mul_pd(a2, a2));
+  const peri_offset_v8 o = peri_offset_of_positions_v8(xj, c, true);
+  peri_deformed_lengths_v8(&o, uj, cu, true, y, r, inv_r);
+  *r0 = o.r0, *inv_r0 = o.inv_r0;
 }
 /* the partial-volume factor min(1, beta0 - r0 / dx) of peri_eval_beta */
 static inline __attribute__((always_inline)) peri_v8d peri_beta_v8(const peri_family_eval *e, peri_v8d r0) {
@@ -146,11 +178,19 @@ static inline peri_bond_view peri_bond_view_of(const peri_sim *s, const double *
 
 /* The next blocks of a row (node_blocks.h) read the same template entries shifted by 8 nodes:
  * the block loops fetch them two blocks ahead, as they touch more rows than the hardware
- * prefetcher follows. */
-static inline void peri_prefetch_next_blocks(const peri_bond_view *w, int64_t j) {
+ * prefetcher follows; the positions only where the loop reads them (not with a table of
+ * offsets). */
+static inline void peri_prefetch_next_blocks(const peri_bond_view *w, int64_t j, bool positions) {
   const int64_t ahead = j + 16;
-  __builtin_prefetch(w->x0 + ahead), __builtin_prefetch(w->x1 + ahead), __builtin_prefetch(w->x2 + ahead);
+  if (positions) __builtin_prefetch(w->x0 + ahead), __builtin_prefetch(w->x1 + ahead), __builtin_prefetch(w->x2 + ahead);
   __builtin_prefetch(w->u0 + ahead), __builtin_prefetch(w->u1 + ahead), __builtin_prefetch(w->u2 + ahead);
+}
+
+/* The table indices of the offsets of a block's entries tj (node_blocks.h), or NULL when the
+ * block's lanes compute theirs from the positions. */
+static inline const uint16_t *peri_block_offsets(const peri_bond_view *w, const int32_t *tj, int64_t count) {
+  const uint16_t *index = w->tpl_geom && count > 0 ? w->tpl_geom + (tj - w->tpl_node) : NULL;
+  return index && index[0] != PERI_GEOM_NONE ? index : NULL;
 }
 
 /* The bond loops run on lists of intact neighbours: a family without broken bonds is its own

@@ -455,7 +455,7 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 m = structure[a] & active;
-    peri_prefetch_next_blocks(w, j);
+    peri_prefetch_next_blocks(w, j, true);
     const peri_v8d xj[3] = {v8_loadu_pd(w->x0 + j), v8_loadu_pd(w->x1 + j), v8_loadu_pd(w->x2 + j)},
                    uj[3] = {v8_loadu_pd(w->u0 + j), v8_loadu_pd(w->u1 + j), v8_loadu_pd(w->u2 + j)};
     peri_v8d y[3], r0, inv_r0, r, inv_r;
@@ -710,7 +710,7 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 on = lanes[a];
-    peri_prefetch_next_blocks(w, j);
+    peri_prefetch_next_blocks(w, j, true);
     const peri_v8d xj[3] = {v8_loadu_pd(w->x0 + j), v8_loadu_pd(w->x1 + j), v8_loadu_pd(w->x2 + j)},
                    uj[3] = {v8_loadu_pd(w->u0 + j), v8_loadu_pd(w->u1 + j), v8_loadu_pd(w->u2 + j)};
     peri_v8d y[3], r0, inv_r0, r, inv_r;

@@ -153,48 +153,28 @@ static inline __attribute__((always_inline)) lps_centre_v8 lps_centre_v8_of(cons
   return c;
 }
 
-/* The reference offsets xi = x_j - x_i of eight bonds with |xi| and 1/|xi|: from the
- * positions, or from a block's table of offsets (node_blocks.h), which holds the same numbers
- * (both as peri_bond_lengths_v8 computes them). */
-typedef struct lps_offset_v8 {
-  peri_v8d x0, x1, x2, r0, inv_r0;
-} lps_offset_v8;
-
-static inline __attribute__((always_inline)) lps_offset_v8 lps_offset_of_positions(const lps_centre_v8 *ci,
-                                                                                   peri_v8d xj0, peri_v8d xj1,
-                                                                                   peri_v8d xj2) {
-  lps_offset_v8 o = {v8_sub_pd(xj0, ci->x0), v8_sub_pd(xj1, ci->x1), v8_sub_pd(xj2, ci->x2), xj0, xj0};
-  const peri_v8d r0_sq = v8_fmadd_pd(o.x2, o.x2, v8_fmadd_pd(o.x1, o.x1, v8_mul_pd(o.x0, o.x0)));
-  o.inv_r0 = peri_rsqrt_v8(r0_sq);
-  o.r0 = v8_mul_pd(r0_sq, o.inv_r0);
-  return o;
-}
-
-static inline __attribute__((always_inline)) lps_offset_v8 lps_offset_of_table(const double *restrict g) {
-  const lps_offset_v8 o = {v8_set1_pd(g[PERI_GEOM_XI0]), v8_set1_pd(g[PERI_GEOM_XI1]), v8_set1_pd(g[PERI_GEOM_XI2]),
-                           v8_set1_pd(g[PERI_GEOM_R0_FMA]), v8_set1_pd(g[PERI_GEOM_INV_R0_FMA])};
-  return o;
-}
-
 /* the lengths |xi| (r0, 1/r0 in *inv_r0) and |y| (r, 1/r in *inv_r) of eight bonds from the
- * offsets and the relative displacement components (the operations of peri_bond_lengths_v8) */
-static inline __attribute__((always_inline)) void lps_lengths_v8(const lps_centre_v8 *ci, const lps_offset_v8 *o,
+ * offsets and the relative displacement components (the FMA sums of peri_bond_lengths_v8) */
+static inline __attribute__((always_inline)) void lps_lengths_v8(const lps_centre_v8 *ci, const peri_offset_v8 *o,
                                                                  peri_v8d uj0, peri_v8d uj1, peri_v8d uj2,
                                                                  peri_v8d *r0, peri_v8d *inv_r0, peri_v8d *r,
                                                                  peri_v8d *inv_r, peri_v8d y[3]) {
-  y[0] = v8_add_pd(o->x0, v8_sub_pd(uj0, ci->u0));
-  y[1] = v8_add_pd(o->x1, v8_sub_pd(uj1, ci->u1));
-  y[2] = v8_add_pd(o->x2, v8_sub_pd(uj2, ci->u2));
-  const peri_v8d r_sq = v8_fmadd_pd(y[2], y[2], v8_fmadd_pd(y[1], y[1], v8_mul_pd(y[0], y[0])));
-  *inv_r = peri_rsqrt_v8(r_sq);
-  *r = v8_mul_pd(r_sq, *inv_r);
+  const peri_v8d uj[3] = {uj0, uj1, uj2}, cu[3] = {ci->u0, ci->u1, ci->u2};
+  peri_deformed_lengths_v8(o, uj, cu, true, y, r, inv_r);
   *r0 = o->r0, *inv_r0 = o->inv_r0;
+}
+
+/* The offsets of eight bonds from the neighbours' positions. */
+static inline __attribute__((always_inline)) peri_offset_v8 lps_offset_v8(const lps_centre_v8 *ci, peri_v8d xj0,
+                                                                         peri_v8d xj1, peri_v8d xj2) {
+  const peri_v8d xj[3] = {xj0, xj1, xj2}, c[3] = {ci->x0, ci->x1, ci->x2};
+  return peri_offset_of_positions_v8(xj, c, true);
 }
 
 /* Pass 1 (lps_bond_sums): the weight, with q, |xi|, 1/|xi|, the stretch and the excess. */
 static inline __attribute__((always_inline)) peri_v8d lps_bond_sums_v8(const lps_centre_v8 *ci,
                                                                       const peri_family_eval *fam,
-                                                                      const lps_offset_v8 *o, peri_v8d uj0,
+                                                                      const peri_offset_v8 *o, peri_v8d uj0,
                                                                       peri_v8d uj1, peri_v8d uj2, peri_v8d eth_j,
                                                                       peri_v8d bound_j, peri_v8d V_j, bool thermal,
                                                                       peri_influence influence, bool uniform, bool smin,
@@ -219,7 +199,7 @@ static inline __attribute__((always_inline)) peri_v8d lps_bond_sums_v8(const lps
 /* Pass 2 (lps_bond_force): the factor g of the force density g (y_j - y_i), y in y[3]. */
 static inline __attribute__((always_inline)) peri_v8d lps_bond_force_v8(const lps_centre_v8 *ci,
                                                                        const peri_family_eval *fam,
-                                                                       const lps_offset_v8 *o, peri_v8d uj0,
+                                                                       const peri_offset_v8 *o, peri_v8d uj0,
                                                                        peri_v8d uj1, peri_v8d uj2, peri_v8d D_j,
                                                                        peri_v8d B_j, peri_v8d V_j,
                                                                        peri_influence influence, bool uniform,
@@ -279,7 +259,7 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
         const peri_v8d V_j = uniform ? zero : LPS_GATHER(V);
         if (force) {
           peri_v8d y[3];
-          const lps_offset_v8 o = lps_offset_of_positions(&cv, LPS_GATHER(X0), LPS_GATHER(X1), LPS_GATHER(X2));
+          const peri_offset_v8 o = lps_offset_v8(&cv, LPS_GATHER(X0), LPS_GATHER(X1), LPS_GATHER(X2));
           const peri_v8d gv = lps_bond_force_v8(&cv, &fam, &o,
                                                LPS_GATHER(U0), LPS_GATHER(U1), LPS_GATHER(U2), LPS_GATHER(D),
                                                LPS_GATHER(B), V_j, influence, uniform, y);
@@ -289,7 +269,7 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
           v8_mask_storeu_pd(v2 + a, m, y[2]);
         } else {
           peri_v8d q, r0, inv_r0, st, e;
-          const lps_offset_v8 o = lps_offset_of_positions(&cv, LPS_GATHER(X0), LPS_GATHER(X1), LPS_GATHER(X2));
+          const peri_offset_v8 o = lps_offset_v8(&cv, LPS_GATHER(X0), LPS_GATHER(X1), LPS_GATHER(X2));
           const peri_v8d wt = lps_bond_sums_v8(&cv, &fam, &o,
                                               LPS_GATHER(U0), LPS_GATHER(U1), LPS_GATHER(U2),
                                               thermal ? LPS_GATHER(eth) : zero, energy ? zero : LPS_GATHER(s0_bound),
@@ -374,16 +354,14 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
     peri_m8 beyond = 0;
     /* every entry one offset for all lanes (a lattice, node_blocks.h): the offsets and their
      * lengths from the table, the positions not read */
-    const uint16_t *restrict geom_index = w->tpl_geom && count > 0 ? w->tpl_geom + (tj - w->tpl_node) : NULL;
-    const bool table = geom_index && geom_index[0] != PERI_GEOM_NONE;
+    const uint16_t *restrict table = peri_block_offsets(w, tj, count);
     for (int64_t a = 0; a < count; ++a) {
       const int64_t j = tj[a];
       const peri_m8 on = lanes[a];
-      peri_prefetch_next_blocks(w, j);
+      peri_prefetch_next_blocks(w, j, !table);
       const peri_v8d V_j = uniform ? zero : v8_loadu_pd(V + j);
-      const lps_offset_v8 o =
-          table ? lps_offset_of_table(w->geom + (size_t)geom_index[a] * PERI_GEOM_STRIDE)
-                : lps_offset_of_positions(&cv, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j), v8_loadu_pd(X2 + j));
+      const peri_offset_v8 o = table ? peri_offset_of_table_v8(w->geom + (size_t)table[a] * PERI_GEOM_STRIDE, true)
+                                     : lps_offset_v8(&cv, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j), v8_loadu_pd(X2 + j));
       if (force) {
         peri_v8d y[3];
         const peri_v8d g = lps_bond_force_v8(&cv, &fam, &o, v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j),
@@ -432,7 +410,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
      * would leave the lane loop below without if-conversion) */
     if (j < 0) break;
     const double *restrict on_lanes = peri_lane_on[lanes[a]];
-    peri_prefetch_next_blocks(w, j);
+    peri_prefetch_next_blocks(w, j, true);
     const double *restrict A0 = X0 + j, *restrict A1 = X1 + j, *restrict A2 = X2 + j, *restrict E0 = U0 + j,
                            *restrict E1 = U1 + j, *restrict E2 = U2 + j, *restrict Vj = V + j;
     if (force) {

@@ -218,17 +218,15 @@ static uint16_t geom_index(peri_node_blocks *nb, geom_map *map, const double xi[
   memset(g, 0, sizeof(double) * PERI_GEOM_STRIDE);
   memcpy(g, xi, 3 * sizeof(double));
 #ifdef PERI_BOND_V8
-  /* the lengths by the kernels' own functions, so that they are each lane's to the bit */
-  const peri_v8d x0 = v8_set1_pd(xi[0]), x1 = v8_set1_pd(xi[1]), x2 = v8_set1_pd(xi[2]);
-  const peri_v8d sq_norm2 = peri_norm2_v8(x0, x1, x2), inv_norm2 = peri_rsqrt_v8(sq_norm2);
-  const peri_v8d zero = v8_setzero_pd(), c[3] = {zero, zero, zero}, xj[3] = {x0, x1, x2};
-  peri_v8d y[3], r0, inv_r0, r, inv_r;
-  peri_bond_lengths_v8(xj, c, c, c, y, &r0, &inv_r0, &r, &inv_r);
+  /* the lengths by the kernels' own function, so that they are each lane's to the bit */
+  const peri_v8d zero = v8_setzero_pd(), c[3] = {zero, zero, zero},
+                 xj[3] = {v8_set1_pd(xi[0]), v8_set1_pd(xi[1]), v8_set1_pd(xi[2])};
+  const peri_offset_v8 by_norm2 = peri_offset_of_positions_v8(xj, c, false), by_fma = peri_offset_of_positions_v8(xj, c, true);
   double lanes[PERI_BLOCK];
-  v8_storeu_pd(lanes, v8_mul_pd(sq_norm2, inv_norm2)), g[PERI_GEOM_R0_NORM2] = lanes[0];
-  v8_storeu_pd(lanes, inv_norm2), g[PERI_GEOM_INV_R0_NORM2] = lanes[0];
-  v8_storeu_pd(lanes, r0), g[PERI_GEOM_R0_FMA] = lanes[0];
-  v8_storeu_pd(lanes, inv_r0), g[PERI_GEOM_INV_R0_FMA] = lanes[0];
+  v8_storeu_pd(lanes, by_norm2.r0), g[PERI_GEOM_R0_NORM2] = lanes[0];
+  v8_storeu_pd(lanes, by_norm2.inv_r0), g[PERI_GEOM_INV_R0_NORM2] = lanes[0];
+  v8_storeu_pd(lanes, by_fma.r0), g[PERI_GEOM_R0_FMA] = lanes[0];
+  v8_storeu_pd(lanes, by_fma.inv_r0), g[PERI_GEOM_INV_R0_FMA] = lanes[0];
 #endif
   uint32_t h = geom_hash(xi) & map->mask;
   while (map->slot[h] >= 0) h = (h + 1) & map->mask;

@@ -18,8 +18,8 @@
 #define PERI_BLOCK 8 /* nodes per block: one 512-bit vector of doubles */
 
 /* A block's offsets (tpl_geom, geom): xi = x_j - x_i, then |xi| and 1/|xi| as the eight-lane
- * kernels compute them from xi (bond_kernel.h), in the order of peri_norm2_v8 and in that of
- * peri_bond_lengths_v8, so a kernel that reads them gets each lane's numbers bit for bit. */
+ * kernels compute them from xi (peri_offset_of_positions_v8, bond_kernel.h), with either sum of
+ * squares, so a kernel that reads them gets each lane's numbers bit for bit. */
 #define PERI_GEOM_NONE UINT16_MAX
 #define PERI_GEOM_STRIDE 8
 enum peri_geom_slot { PERI_GEOM_XI0, PERI_GEOM_XI1, PERI_GEOM_XI2, PERI_GEOM_R0_NORM2, PERI_GEOM_INV_R0_NORM2,

@@ -295,7 +295,7 @@ static inline __attribute__((always_inline)) void mo_block(const peri_bond_view 
     for (int64_t a = 0; a < count; ++a) {
       const int64_t j = tj[a];
       const peri_m8 on = lanes[a];
-      peri_prefetch_next_blocks(w, j);
+      peri_prefetch_next_blocks(w, j, true);
       peri_v8d y[3], e;
       const peri_v8d g = mo_bond_v8(&cv, &fam, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j),
                                    v8_loadu_pd(X2 + j), v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j),
@@ -337,7 +337,7 @@ static inline __attribute__((always_inline)) void mo_block(const peri_bond_view 
     /* (a second exit keeps GCC from versioning this loop for outer-loop vectorization, lps.c) */
     if (j < 0) break;
     const double *restrict on_lanes = peri_lane_on[lanes[a]];
-    peri_prefetch_next_blocks(w, j);
+    peri_prefetch_next_blocks(w, j, true);
     const double *restrict A0 = X0 + j, *restrict A1 = X1 + j, *restrict A2 = X2 + j, *restrict E0 = U0 + j,
                            *restrict E1 = U1 + j, *restrict E2 = U2 + j, *restrict Vj = V + j;
     const double *restrict Aj = force ? A + j : A, *restrict Bj = force ? B + j : B, *restrict Cj = force ? C + j : C,

@@ -76,20 +76,26 @@ typedef struct pmb_centre_v8 {
   peri_v8d x0, x1, x2, u0, u1, u2, c, eth, bound, V;
 } pmb_centre_v8;
 
-/* From the reference offsets x = x_j - x_i, their lengths r0 and 1/r0 (from the positions,
- * or from a block's table of offsets, node_blocks.h, which holds the same numbers). */
+/* The offsets of eight bonds from the neighbours' positions (PMB sums the squares as its
+ * scalar loops do). */
+static inline __attribute__((always_inline)) peri_offset_v8 pmb_offset_v8(const pmb_centre_v8 *ci, peri_v8d xj0,
+                                                                         peri_v8d xj1, peri_v8d xj2) {
+  const peri_v8d xj[3] = {xj0, xj1, xj2}, c[3] = {ci->x0, ci->x1, ci->x2};
+  return peri_offset_of_positions_v8(xj, c, false);
+}
+
+/* From the reference offsets (bond_kernel.h: from the positions or a block's table, the same
+ * numbers). */
 static inline __attribute__((always_inline)) peri_v8d pmb_bond_offset_v8(
-    const pmb_centre_v8 *ci, const peri_family_eval *fam, peri_v8d x0, peri_v8d x1, peri_v8d x2, peri_v8d r0,
-    peri_v8d inv_r0, peri_v8d uj0, peri_v8d uj1, peri_v8d uj2, peri_v8d cj, peri_v8d eth_j, peri_v8d bound_j,
-    peri_v8d V_j, bool multi, bool thermal, peri_influence influence, bool uniform, bool two_sided, peri_v8d *y0,
-    peri_v8d *y1, peri_v8d *y2, peri_v8d *stretch_out, peri_v8d *excess_out) {
-  *y0 = v8_add_pd(x0, v8_sub_pd(uj0, ci->u0));
-  *y1 = v8_add_pd(x1, v8_sub_pd(uj1, ci->u1));
-  *y2 = v8_add_pd(x2, v8_sub_pd(uj2, ci->u2));
-  const peri_v8d r_sq = peri_norm2_v8(*y0, *y1, *y2);
-  /* the same function for both lengths, so an undeformed bond has r == r0: zero stretch */
-  const peri_v8d inv_r = peri_rsqrt_v8(r_sq);
-  const peri_v8d r = v8_mul_pd(r_sq, inv_r);
+    const pmb_centre_v8 *ci, const peri_family_eval *fam, const peri_offset_v8 *o, peri_v8d uj0, peri_v8d uj1,
+    peri_v8d uj2, peri_v8d cj, peri_v8d eth_j, peri_v8d bound_j, peri_v8d V_j, bool multi, bool thermal,
+    peri_influence influence, bool uniform, bool two_sided, peri_v8d *y0, peri_v8d *y1, peri_v8d *y2,
+    peri_v8d *stretch_out, peri_v8d *excess_out) {
+  const peri_v8d uj[3] = {uj0, uj1, uj2}, cu[3] = {ci->u0, ci->u1, ci->u2};
+  peri_v8d y[3], r, inv_r;
+  const peri_v8d r_sq = peri_deformed_lengths_v8(o, uj, cu, false, y, &r, &inv_r);
+  *y0 = y[0], *y1 = y[1], *y2 = y[2];
+  const peri_v8d r0 = o->r0, inv_r0 = o->inv_r0;
   const peri_v8d half = v8_set1_pd(0.5);
   peri_v8d stretch = v8_mul_pd(v8_sub_pd(r, r0), inv_r0);
   if (thermal) stretch = v8_sub_pd(stretch, v8_mul_pd(half, v8_add_pd(ci->eth, eth_j)));
@@ -111,10 +117,9 @@ static inline __attribute__((always_inline)) peri_v8d pmb_bond_v8(const pmb_cent
                                                                  bool two_sided, peri_v8d *y0, peri_v8d *y1,
                                                                  peri_v8d *y2, peri_v8d *stretch_out,
                                                                  peri_v8d *excess_out) {
-  const peri_v8d x0 = v8_sub_pd(xj0, ci->x0), x1 = v8_sub_pd(xj1, ci->x1), x2 = v8_sub_pd(xj2, ci->x2);
-  const peri_v8d r0_sq = peri_norm2_v8(x0, x1, x2), inv_r0 = peri_rsqrt_v8(r0_sq);
-  return pmb_bond_offset_v8(ci, fam, x0, x1, x2, v8_mul_pd(r0_sq, inv_r0), inv_r0, uj0, uj1, uj2, cj, eth_j, bound_j,
-                            V_j, multi, thermal, influence, uniform, two_sided, y0, y1, y2, stretch_out, excess_out);
+  const peri_offset_v8 o = pmb_offset_v8(ci, xj0, xj1, xj2);
+  return pmb_bond_offset_v8(ci, fam, &o, uj0, uj1, uj2, cj, eth_j, bound_j, V_j, multi, thermal, influence, uniform,
+                            two_sided, y0, y1, y2, stretch_out, excess_out);
 }
 
 /* Whether a specialization runs on pmb_bond_v8. */
@@ -226,48 +231,34 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
                               v8_loadu_pd(s0_bound + i0), v8_loadu_pd(V + i0)};
     peri_v8d fx = zero, fy = zero, fz = zero, smin = v8_set1_pd(INFINITY);
     peri_m8 beyond = 0;
-    /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
-#define PMB_BLOCK_SUMS                                                                                      \
-  fx = v8_mask3_fmadd_pd(g, y0, fx, on);                                                                   \
-  fy = v8_mask3_fmadd_pd(g, y1, fy, on);                                                                   \
-  fz = v8_mask3_fmadd_pd(g, y2, fz, on);                                                                   \
-  if (track_smin) smin = v8_mask_min_pd(smin, on, smin, s);                                                \
-  beyond |= v8_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ) /* bonds beyond the screening bound */
-    const uint16_t *restrict geom_index = w->tpl_geom && count > 0 ? w->tpl_geom + (tj - w->tpl_node) : NULL;
-    if (geom_index && geom_index[0] != PERI_GEOM_NONE) {
-      /* every entry one offset for all lanes (a lattice): its lengths from the table, the
-       * positions not read */
-      const double *restrict geom = w->geom;
-      for (int64_t a = 0; a < count; ++a) {
-        const int64_t j = tj[a];
-        const peri_m8 on = lanes[a];
-        const double *restrict xi = geom + (size_t)geom_index[a] * PERI_GEOM_STRIDE;
-        peri_prefetch_next_blocks(w, j);
-        peri_v8d y0, y1, y2, s, e;
-        const peri_v8d g = pmb_bond_offset_v8(
-            &cv, &fam, v8_set1_pd(xi[PERI_GEOM_XI0]), v8_set1_pd(xi[PERI_GEOM_XI1]), v8_set1_pd(xi[PERI_GEOM_XI2]),
-            v8_set1_pd(xi[PERI_GEOM_R0_NORM2]), v8_set1_pd(xi[PERI_GEOM_INV_R0_NORM2]), v8_loadu_pd(U0 + j),
-            v8_loadu_pd(U1 + j), v8_loadu_pd(U2 + j), multi ? v8_loadu_pd(c_node + j) : zero,
-            thermal ? v8_loadu_pd(eth + j) : zero, v8_loadu_pd(s0_bound + j), uniform ? zero : v8_loadu_pd(V + j),
-            multi, thermal, influence, uniform, two_sided, &y0, &y1, &y2, &s, &e);
-        PMB_BLOCK_SUMS;
-      }
+    /* every entry one offset for all lanes (a lattice): the offsets and their lengths from the
+     * table, the positions not read; one loop for each source of the offsets (TABLE constant) */
+    const uint16_t *restrict table = peri_block_offsets(w, tj, count);
+#define PMB_BLOCK_LOOP(TABLE)                                                                               \
+  for (int64_t a = 0; a < count; ++a) {                                                                    \
+    const int64_t j = tj[a];                                                                               \
+    const peri_m8 on = lanes[a];                                                                           \
+    peri_prefetch_next_blocks(w, j, !(TABLE));                                                             \
+    const peri_offset_v8 o = (TABLE) ? peri_offset_of_table_v8(w->geom + (size_t)table[a] * PERI_GEOM_STRIDE, false) \
+                                     : pmb_offset_v8(&cv, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j), v8_loadu_pd(X2 + j)); \
+    peri_v8d y0, y1, y2, s, e;                                                                             \
+    const peri_v8d g = pmb_bond_offset_v8(                                                                 \
+        &cv, &fam, &o, v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j), v8_loadu_pd(U2 + j),                      \
+        multi ? v8_loadu_pd(c_node + j) : zero, thermal ? v8_loadu_pd(eth + j) : zero, v8_loadu_pd(s0_bound + j), \
+        uniform ? zero : v8_loadu_pd(V + j), multi, thermal, influence, uniform, two_sided, &y0, &y1, &y2, &s, &e); \
+    /* a lane takes the bond when its bit is set: the node path's sums, in the same order */              \
+    fx = v8_mask3_fmadd_pd(g, y0, fx, on);                                                                 \
+    fy = v8_mask3_fmadd_pd(g, y1, fy, on);                                                                 \
+    fz = v8_mask3_fmadd_pd(g, y2, fz, on);                                                                 \
+    if (track_smin) smin = v8_mask_min_pd(smin, on, smin, s);                                              \
+    beyond |= v8_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ); /* bonds beyond the screening bound */         \
+  }
+    if (table) {
+      PMB_BLOCK_LOOP(true)
     } else {
-      for (int64_t a = 0; a < count; ++a) {
-        const int64_t j = tj[a];
-        const peri_m8 on = lanes[a];
-        peri_prefetch_next_blocks(w, j);
-        peri_v8d y0, y1, y2, s, e;
-        const peri_v8d g =
-            pmb_bond_v8(&cv, &fam, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j), v8_loadu_pd(X2 + j),
-                        v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j), v8_loadu_pd(U2 + j),
-                        multi ? v8_loadu_pd(c_node + j) : zero, thermal ? v8_loadu_pd(eth + j) : zero,
-                        v8_loadu_pd(s0_bound + j), uniform ? zero : v8_loadu_pd(V + j), multi, thermal, influence,
-                        uniform, two_sided, &y0, &y1, &y2, &s, &e);
-        PMB_BLOCK_SUMS;
-      }
+      PMB_BLOCK_LOOP(false)
     }
-#undef PMB_BLOCK_SUMS
+#undef PMB_BLOCK_LOOP
     double sx[PERI_BLOCK], sy[PERI_BLOCK], sz[PERI_BLOCK], sm[PERI_BLOCK];
     v8_storeu_pd(sx, fx), v8_storeu_pd(sy, fy), v8_storeu_pd(sz, fz), v8_storeu_pd(sm, smin);
     for (int l = 0; l < PERI_BLOCK; ++l) {
@@ -290,7 +281,7 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const double *restrict on_lanes = peri_lane_on[lanes[a]];
-    peri_prefetch_next_blocks(w, j);
+    peri_prefetch_next_blocks(w, j, true);
     /* (a second exit keeps GCC from versioning this loop for outer-loop vectorization, which
      * would leave the lane loop below without if-conversion) */
     if (j < 0) break;
@@ -594,7 +585,7 @@ static inline __attribute__((always_inline)) void pmb_block_energy(const peri_bo
     peri_v8d sum = zero;
     for (int64_t a = 0; a < count; ++a) {
       const int64_t j = tj[a];
-      peri_prefetch_next_blocks(w, j);
+      peri_prefetch_next_blocks(w, j, true);
       const peri_v8d e = pmb_bond_energy_v8(&cv, &fam, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j),
                                            v8_loadu_pd(X2 + j), v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j),
                                            v8_loadu_pd(U2 + j), v8_loadu_pd(c_node + j),
