@@ -260,6 +260,37 @@ Test(sfc, rows_along_longest_axis) {
   peri_particles_free(&p);
 }
 
+/* Two columns of nodes along z in one cell across the rows (x 0 and 7/16 of the spacing: both
+ * round to cell 0), their nodes moved by up to 10^-3 of the spacing as Peridigm's cylinder
+ * does, the second column on a boundary of the order's fine cells (sixteenths of the spacing
+ * from the smallest x, 0): each column stays one run of consecutive nodes in z order
+ * (interleaved, or one column cut in two, no eight consecutive nodes have translated
+ * families). */
+Test(sfc, columns_in_one_cell_stay_apart) {
+  const double dx = 1e-3, jitter = 1e-3 * dx;
+  peri_particles p;
+  peri_particles_init(&p, 80);
+  unsigned seed = 7;
+  for (int k = 0; k < 40; k++)
+    for (int c = 0; c < 2; c++) {
+      seed = seed * 1103515245u + 12345u;
+      const double wobble = ((double)(seed >> 8 & 0xffff) / 65535.0 - 0.5) * 2.0 * jitter;
+      const double x = c == 0 ? (k == 0 ? 0.0 : fabs(wobble)) : 7.0 / 16.0 * dx + wobble;
+      const double c3[3] = {x, 0.0, k * dx + (k % 3 - 1) * jitter};
+      peri_particles_add(&p, c3, 1, 0, 1);
+    }
+  int32_t *perm = malloc(sizeof(int32_t) * (size_t)p.n);
+  peri_sfc_order(&p, dx, perm);
+  /* the first 40 nodes one column, in z order, then the other */
+  for (int32_t k = 0; k < p.n; k++) {
+    const int column = k < 40 ? perm[0] % 2 : 1 - perm[0] % 2;
+    cr_assert_eq(perm[k] % 2, column, "node %d of the order is in the other column", k);
+    if (k % 40) cr_assert_gt(p.x[3 * perm[k] + 2], p.x[3 * perm[k - 1] + 2], "node %d of the order", k);
+  }
+  free(perm);
+  peri_particles_free(&p);
+}
+
 Test(sfc, ties_by_index) {
   peri_particles p;
   peri_particles_init(&p, 3);
