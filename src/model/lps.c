@@ -340,7 +340,8 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
                                                             const uint8_t *restrict lanes, int64_t count,
                                                             bool force, bool thermal, peri_influence influence,
                                                             bool uniform, bool track_smin, bool energy,
-                                                            bool two_sided, bool deviatoric, lps_sums out[PERI_BLOCK]) {
+                                                            bool two_sided, bool deviatoric, lps_sums out[PERI_BLOCK],
+                                                            peri_break_marks *marks) {
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict D = w->coef,
@@ -381,7 +382,9 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
         s1 = v8_mask3_fmadd_pd(wt, r0, s1, on);
         if (energy || deviatoric) s2 = v8_mask3_fmadd_pd(wt, v8_mul_pd(v8_mul_pd(q, q), inv_r0), s2, on);
         if (track_smin) smin = v8_mask_min_pd(smin, on, smin, st);
-        beyond |= v8_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ); /* bonds beyond the screening bound */
+        const peri_m8 over = v8_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ); /* beyond the screening bound */
+        beyond |= over;
+        if (marks) peri_mark_entry(marks, a, over);
       }
     }
     double a0[PERI_BLOCK], a1[PERI_BLOCK], a2[PERI_BLOCK], am[PERI_BLOCK];
@@ -398,6 +401,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
       ceth[PERI_BLOCK], cbound[PERI_BLOCK], cV[PERI_BLOCK], cD[PERI_BLOCK], cB[PERI_BLOCK];
   double s0[PERI_BLOCK], s1[PERI_BLOCK], s2[PERI_BLOCK], smin[PERI_BLOCK], beyond[PERI_BLOCK],
       stretch_on[PERI_BLOCK];
+  if (marks) marks->n = PERI_BREAK_MARKS + 1; /* (not kept here: the candidates' families are tested) */
   for (int l = 0; l < PERI_BLOCK; ++l) {
     const lps_centre c = lps_centre_of(w, i0 + l, thermal, force, !force && !energy);
     c0[l] = c.x0, c1[l] = c.x1, c2[l] = c.x2, cu0[l] = c.u0, cu1[l] = c.u1, cu2[l] = c.u2;
@@ -464,15 +468,16 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
  * vector loops. */
 typedef struct lps_loops {
   lps_sums (*node)(const peri_bond_view *, int32_t);
-  void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, lps_sums *);
+  void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, lps_sums *,
+                peri_break_marks *);
 } lps_loops;
 #define LPS_VARIANT(NAME, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, DEV)                      \
   static lps_sums NAME##_node(const peri_bond_view *w, int32_t i) {                                       \
     return lps_node(w, i, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, DEV);                     \
   }                                                                                                        \
   static void NAME##_block(const peri_bond_view *w, int32_t i0, const int32_t *tj, const uint8_t *lanes,   \
-                           int64_t count, lps_sums *out) {                                                 \
-    lps_block(w, i0, tj, lanes, count, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, DEV, out);   \
+                           int64_t count, lps_sums *out, peri_break_marks *marks) {                        \
+    lps_block(w, i0, tj, lanes, count, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, DEV, out, marks); \
   }                                                                                                        \
   static const lps_loops NAME = {NAME##_node, NAME##_block};
 /* Pass 1 by influence function (constant on a grid, constant, inverse, Gaussian), without
@@ -531,15 +536,18 @@ static const lps_loops *lps_pass1_loops(const peri_sim *s, const peri_node_block
     lps_sums sums[PERI_BLOCK];                                                                             \
     const bool block = peri_item_is_block(items, item);                                                    \
     const int64_t t0 = (items)->tpl[item], entries = peri_item_entries(items, item);                         \
+    peri_break_marks marks;                                                                                \
+    marks.n = 0;                                                                                           \
     if (block) {                                                                                           \
-      (loops)->block(&(w), i0, (items)->tpl_node + t0, (items)->tpl_lanes + t0, entries, sums);           \
+      (loops)->block(&(w), i0, (items)->tpl_node + t0, (items)->tpl_lanes + t0, entries, sums,             \
+                     (breaking) ? &marks : NULL);                                                          \
     } else {                                                                                               \
       for (int32_t i = i0; i < i1; ++i) sums[i - i0] = (loops)->node(&(w), i);                            \
     }                                                                                                      \
     if (breaking)                                                                                          \
-      PERI_BREAK_AND_RECOMPUTE(s, items, item, i0, i1, sums, block, n_broken,                              \
+      PERI_BREAK_AND_RECOMPUTE(s, items, item, i0, i1, sums, block, &marks, n_broken,                      \
                                (loops)->block(&(w), i0, (items)->tpl_node + t0, (items)->tpl_lanes + t0,   \
-                                              entries, sums),                                              \
+                                              entries, sums, NULL),                                        \
                                sums[i - i0] = (loops)->node(&(w), i));                                     \
     for (int32_t i = i0; i < i1; ++i) {                                                                   \
       lps_sums *r = &sums[i - i0];                                                                         \
@@ -591,7 +599,7 @@ static inline void lps_item_sums(const peri_node_blocks *items, int32_t item, in
                                  const peri_bond_view *w, const lps_loops *loops, lps_sums sums[PERI_BLOCK]) {
   if (peri_item_is_block(items, item)) {
     const int64_t t0 = items->tpl[item];
-    loops->block(w, i0, items->tpl_node + t0, items->tpl_lanes + t0, peri_item_entries(items, item), sums);
+    loops->block(w, i0, items->tpl_node + t0, items->tpl_lanes + t0, peri_item_entries(items, item), sums, NULL);
   } else {
     for (int32_t i = i0; i < i1; ++i) sums[i - i0] = loops->node(w, i);
   }

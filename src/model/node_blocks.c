@@ -169,6 +169,40 @@ static long break_family_vector(peri_sim *s, peri_node_blocks *nb, int32_t item,
   return broken;
 }
 
+long peri_node_blocks_break_marked(peri_sim *s, peri_node_blocks *nb, int32_t item, const peri_break_marks *marks,
+                                   unsigned *lost_lanes) {
+  peri_bonds *b = &s->disc.bonds;
+  const size_t n_nodes = (size_t)nb->n;
+  const double *restrict X0 = nb->soa, *restrict X1 = X0 + n_nodes, *restrict X2 = X1 + n_nodes,
+                         *restrict U0 = X2 + n_nodes, *restrict U1 = U0 + n_nodes, *restrict U2 = U1 + n_nodes;
+  const double *restrict eth = s->state.thermal_strain;
+  const int32_t i0 = nb->first[item];
+  const int64_t t0 = nb->tpl[item];
+  long broken = 0;
+  for (int m = 0; m < marks->n; ++m) {
+    const int64_t a = t0 + marks->entry[m];
+    for (unsigned over = marks->lanes[m]; over; over &= over - 1) {
+      const int lane = __builtin_ctz(over);
+      const int32_t i = i0 + lane, j = nb->tpl_node[a] + lane;
+      if (bond_stretch(X0, X1, X2, U0, U1, U2, eth, i, j) <= peri_bond_s0(s, i, j)) continue;
+      /* the bond's place in i's family (increasing in a block) */
+      int64_t lo = b->offset[i], hi = b->offset[i + 1];
+      while (lo < hi) {
+        const int64_t mid = lo + (hi - lo) / 2;
+        if (b->neighbor[mid] < j) lo = mid + 1;
+        else hi = mid;
+      }
+      if (lo == b->offset[i + 1] || b->neighbor[lo] != j || b->broken[lo]) continue;
+      b->broken[lo] = 1;
+      ++broken;
+      *lost_lanes |= 1u << lane;
+      nb->tpl_lanes[a] &= (uint8_t) ~(1u << lane);
+      if (!nb->tpl_lanes[a]) nb->emptied[item] = 1;
+    }
+  }
+  return broken;
+}
+
 long peri_node_blocks_break_family(peri_sim *s, peri_node_blocks *nb, int32_t item, int32_t i) {
   return break_family_vector(s, nb, item, i);
 }

@@ -67,6 +67,37 @@ typedef struct peri_node_blocks {
  * node (tests compare the two paths). */
 peri_node_blocks *peri_node_blocks_refresh(peri_sim *s);
 
+/* The template entries of a block whose bonds passed the breaking screen in its sums loop,
+ * with the lanes that did: the exact test then visits only those bonds instead of every bond
+ * of each candidate's family (most of a fracturing step's breaking time went to rescreening
+ * families whose few candidates the loop had already found). */
+#define PERI_BREAK_MARKS 128
+typedef struct peri_break_marks {
+  int n;                             /* entries marked; beyond PERI_BREAK_MARKS only counted */
+  int32_t entry[PERI_BREAK_MARKS];   /* relative to the block's first entry */
+  uint8_t lanes[PERI_BREAK_MARKS];
+} peri_break_marks;
+
+/* Marks entry a with the lanes in `over` (none: nothing marked). A vector loop without the
+ * marks (marks NULL: the plastic screens, the energy) or a scalar one that does not keep them
+ * sets n past the capacity, and the candidates' families are then tested whole. */
+static inline void peri_mark_entry(peri_break_marks *marks, int64_t a, unsigned over) {
+  if (!over) return;
+  if (marks->n < PERI_BREAK_MARKS) {
+    marks->entry[marks->n] = (int32_t)a;
+    marks->lanes[marks->n] = (uint8_t)over;
+  }
+  ++marks->n;
+}
+
+/* The exact breaking test of the marked bonds of block item `item` (symmetric in i and j, as
+ * peri_node_blocks_break_family's), which clears those it breaks from the lane masks; sets in
+ * *lost_lanes the lanes that lost a bond and returns the number broken. The same bonds break
+ * as when each candidate's whole family is tested: the sums loop's screen keeps every bond the
+ * exact test breaks (PERI_S0_SCREEN_MARGIN). */
+long peri_node_blocks_break_marked(peri_sim *s, peri_node_blocks *nb, int32_t item, const peri_break_marks *marks,
+                                   unsigned *lost_lanes);
+
 /* Breaks, in node i's family (node i of item `item`), every intact bond beyond its critical
  * stretch (exact test, symmetric in i and j) and clears the broken bonds from the item's lane
  * masks; returns the number broken. For the force loops, from the thread that runs the item. */
@@ -78,21 +109,26 @@ long peri_node_blocks_break_family(peri_sim *s, peri_node_blocks *nb, int32_t it
 void peri_node_blocks_clear_broken(peri_node_blocks *nb, const peri_bonds *b, int32_t item, int32_t i);
 
 /* After the sums of item `item` (nodes i0 .. i1-1, sums[] with fields candidate and smin):
- * the exact breaking test of each candidate node, adding the bonds broken to n_broken, then
- * the sums again for the nodes that lost bonds: the whole block at once (RERUN_BLOCK) when
- * two or more did, a block pass costing about what two single-node passes with gathers do,
- * else each such node alone (RERUN_NODE, with i the node). Both paths give the same sums bit
- * for bit. smin stays that of the bonds as they were at the test. (The exact test of a
- * block's candidates all at once on its template measured slower than node by node.) */
-#define PERI_BREAK_AND_RECOMPUTE(s, items, item, i0, i1, sums, is_block, n_broken, RERUN_BLOCK, RERUN_NODE) \
+ * the exact breaking test, of the bonds in *marks when the block's loop kept them all (marks
+ * NULL for a single node), else of each candidate node's family, adding the bonds broken to
+ * n_broken; then the sums again for the nodes that lost bonds: the whole block at once
+ * (RERUN_BLOCK) when two or more did, a block pass costing about what two single-node passes
+ * with gathers do, else each such node alone (RERUN_NODE, with i the node). Both paths give
+ * the same sums bit for bit. smin stays that of the bonds as they were at the test. */
+#define PERI_BREAK_AND_RECOMPUTE(s, items, item, i0, i1, sums, is_block, marks, n_broken, RERUN_BLOCK, RERUN_NODE) \
   do {                                                                                                      \
     unsigned lost_lanes = 0;                                                                                \
-    for (int32_t i = (i0); i < (i1); ++i)                                                                   \
-      if ((sums)[i - (i0)].candidate) {                                                                     \
-        const long broken_here = peri_node_blocks_break_family((s), (items), (item), i);                    \
-        (n_broken) += broken_here;                                                                          \
-        if (broken_here > 0) lost_lanes |= 1u << (i - (i0));                                                \
-      }                                                                                                     \
+    const peri_break_marks *marked = (marks);                                                               \
+    if ((is_block) && marked && marked->n <= PERI_BREAK_MARKS) {                                            \
+      if (marked->n > 0) (n_broken) += peri_node_blocks_break_marked((s), (items), (item), marked, &lost_lanes); \
+    } else {                                                                                                \
+      for (int32_t i = (i0); i < (i1); ++i)                                                                 \
+        if ((sums)[i - (i0)].candidate) {                                                                   \
+          const long broken_here = peri_node_blocks_break_family((s), (items), (item), i);                  \
+          (n_broken) += broken_here;                                                                        \
+          if (broken_here > 0) lost_lanes |= 1u << (i - (i0));                                              \
+        }                                                                                                   \
+    }                                                                                                       \
     if (lost_lanes) {                                                                                       \
       double smin_at_test[PERI_BLOCK];                                                                      \
       for (int32_t i = (i0); i < (i1); ++i) smin_at_test[i - (i0)] = (sums)[i - (i0)].smin;                 \

@@ -217,7 +217,7 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
                                                             const uint8_t *restrict lanes, int64_t count,
                                                             bool multi, bool thermal, peri_influence influence,
                                                             bool uniform, bool track_smin, bool two_sided,
-                                                            pmb_sums out[PERI_BLOCK]) {
+                                                            pmb_sums out[PERI_BLOCK], peri_break_marks *marks) {
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict c_node = w->coef,
                          *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
@@ -251,7 +251,9 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
     fy = v8_mask3_fmadd_pd(g, y1, fy, on);                                                                 \
     fz = v8_mask3_fmadd_pd(g, y2, fz, on);                                                                 \
     if (track_smin) smin = v8_mask_min_pd(smin, on, smin, s);                                              \
-    beyond |= v8_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ); /* bonds beyond the screening bound */         \
+    const peri_m8 over = v8_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ); /* beyond the screening bound */   \
+    beyond |= over;                                                                                        \
+    if (marks) peri_mark_entry(marks, a, over);                                                            \
   }
     if (table) {
       PMB_BLOCK_LOOP(true)
@@ -272,6 +274,7 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
   double c0[PERI_BLOCK], c1[PERI_BLOCK], c2[PERI_BLOCK], cu0[PERI_BLOCK], cu1[PERI_BLOCK], cu2[PERI_BLOCK],
       cc[PERI_BLOCK], ceth[PERI_BLOCK], cbound[PERI_BLOCK], cV[PERI_BLOCK];
   double fx[PERI_BLOCK], fy[PERI_BLOCK], fz[PERI_BLOCK], smin[PERI_BLOCK], beyond[PERI_BLOCK];
+  if (marks) marks->n = PERI_BREAK_MARKS + 1; /* (not kept here: the candidates' families are tested) */
   for (int l = 0; l < PERI_BLOCK; ++l) {
     const pmb_centre c = pmb_centre_of(w, i0 + l, thermal);
     c0[l] = c.x0, c1[l] = c.x1, c2[l] = c.x2, cu0[l] = c.u0, cu1[l] = c.u1, cu2[l] = c.u2;
@@ -318,15 +321,16 @@ static inline __attribute__((always_inline)) void pmb_block(const peri_bond_view
  * vector loops. */
 typedef struct pmb_loops {
   pmb_sums (*node)(const peri_bond_view *, int32_t);
-  void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, pmb_sums *);
+  void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, pmb_sums *,
+                peri_break_marks *);
 } pmb_loops;
 #define PMB_VARIANT(NAME, MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN, TWO)                                   \
   static pmb_sums NAME##_node(const peri_bond_view *w, int32_t i) {                                       \
     return pmb_node(w, i, w->offset[i], w->offset[i + 1], MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN, TWO);  \
   }                                                                                                        \
   static void NAME##_block(const peri_bond_view *w, int32_t i0, const int32_t *tj, const uint8_t *lanes,   \
-                           int64_t count, pmb_sums *out) {                                                 \
-    pmb_block(w, i0, tj, lanes, count, MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN, TWO, out);                \
+                           int64_t count, pmb_sums *out, peri_break_marks *marks) {                        \
+    pmb_block(w, i0, tj, lanes, count, MULTI, THERMAL, INFLUENCE, UNIFORM, SMIN, TWO, out, marks);         \
   }                                                                                                        \
   static const pmb_loops NAME = {NAME##_node, NAME##_block};
 /* The specializations, without and with the minimum stretch (the LAMMPS-form critical
@@ -381,14 +385,16 @@ static long pmb_force_pass(peri_sim *s, bool update_s0) {
     pmb_sums sums[PERI_BLOCK];
     const bool block = peri_item_is_block(items, item);
     const int64_t t0 = items->tpl[item], entries = peri_item_entries(items, item);
+    peri_break_marks marks;
+    marks.n = 0;
     if (block) {
-      loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums);
+      loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums, breaking ? &marks : NULL);
     } else {
       for (int32_t i = i0; i < i1; ++i) sums[i - i0] = loops->node(&w, i);
     }
     if (breaking)
-      PERI_BREAK_AND_RECOMPUTE(s, items, item, i0, i1, sums, block, n_broken,
-                               loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums),
+      PERI_BREAK_AND_RECOMPUTE(s, items, item, i0, i1, sums, block, &marks, n_broken,
+                               loops->block(&w, i0, items->tpl_node + t0, items->tpl_lanes + t0, entries, sums, NULL),
                                sums[i - i0] = loops->node(&w, i));
     for (int32_t i = i0; i < i1; ++i) {
       pmb_sums *r = &sums[i - i0];
@@ -430,7 +436,8 @@ static long pmb_plastic_force_pass(peri_sim *s, bool update_s0) {
       pmb_sums sums[PERI_BLOCK];
       if (peri_item_is_block(items, item)) {
         const int64_t t0 = items->tpl[item];
-        loops->block(&screened, i0, items->tpl_node + t0, items->tpl_lanes + t0, peri_item_entries(items, item), sums);
+        loops->block(&screened, i0, items->tpl_node + t0, items->tpl_lanes + t0, peri_item_entries(items, item), sums,
+                     NULL);
       } else {
         for (int32_t i = i0; i < i1; ++i) sums[i - i0] = loops->node(&screened, i);
       }
