@@ -134,6 +134,25 @@ static inline __attribute__((always_inline)) void bond_lengths_v8(const peri_v8d
   *r = v8_maskz_mov_pd(v8_cmp_pd_mask(r_sq, v8_setzero_pd(), _CMP_GT_OQ), *r);
 }
 
+/* The same for template entry a of a block (neighbours tj[a] + l, contiguous): the offsets
+ * and |xi| from the block's table on a lattice (table not NULL, bond_kernel.h
+ * peri_block_offsets), the same numbers bond_lengths_v8 computes from the positions. */
+static inline __attribute__((always_inline)) void entry_lengths_v8(const peri_bond_view *w, const uint16_t *table,
+                                                                   int64_t a, int64_t j, const peri_v8d c[3],
+                                                                   const peri_v8d cu[3], const peri_v8d uj[3],
+                                                                   peri_v8d y[3], peri_v8d *r0, peri_v8d *inv_r0,
+                                                                   peri_v8d *r, peri_v8d *inv_r) {
+  if (!table) {
+    const peri_v8d xj[3] = {v8_loadu_pd(w->x0 + j), v8_loadu_pd(w->x1 + j), v8_loadu_pd(w->x2 + j)};
+    bond_lengths_v8(xj, uj, c, cu, y, r0, inv_r0, r, inv_r);
+    return;
+  }
+  const peri_offset_v8 o = peri_offset_of_table_v8(w->geom + (size_t)table[a] * PERI_GEOM_STRIDE, true);
+  const peri_v8d r_sq = peri_deformed_lengths_v8(&o, uj, cu, true, y, r, inv_r);
+  *r = v8_maskz_mov_pd(v8_cmp_pd_mask(r_sq, v8_setzero_pd(), _CMP_GT_OQ), *r);
+  *r0 = o.r0, *inv_r0 = o.inv_r0;
+}
+
 /* The same for the neighbours j of the lanes in m (gathered). */
 static inline __attribute__((always_inline)) void gathered_lengths_v8(const peri_bond_view *w, peri_m8 m, peri_v8i j,
                                                                       const peri_v8d c[3], const peri_v8d cu[3],
@@ -452,14 +471,14 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   /* 1. the lanes' deviatoric stretches and each layer's energy */
   peri_v8d S[4] = {zero, zero, zero, zero};
   peri_v8i k = _mm256_loadu_si256((const __m256i *)first);
+  const uint16_t *restrict table = peri_block_offsets(w, tj, count); /* a lattice's offsets */
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 m = structure[a] & active;
-    peri_prefetch_next_blocks(w, j, true);
-    const peri_v8d xj[3] = {v8_loadu_pd(w->x0 + j), v8_loadu_pd(w->x1 + j), v8_loadu_pd(w->x2 + j)},
-                   uj[3] = {v8_loadu_pd(w->u0 + j), v8_loadu_pd(w->u1 + j), v8_loadu_pd(w->u2 + j)};
+    peri_prefetch_next_blocks(w, j, !table);
+    const peri_v8d uj[3] = {v8_loadu_pd(w->u0 + j), v8_loadu_pd(w->u1 + j), v8_loadu_pd(w->u2 + j)};
     peri_v8d y[3], r0, inv_r0, r, inv_r;
-    bond_lengths_v8(xj, uj, c, cu, y, &r0, &inv_r0, &r, &inv_r);
+    entry_lengths_v8(w, table, a, j, c, cu, uj, y, &r0, &inv_r0, &r, &inv_r);
     /* (deviatoric_stretches' operations: the intact flags as 1.0 or 0.0) */
     const peri_v8d on = v8_maskz_mov_pd(lanes[a], one);
     const peri_v8d wt =
@@ -707,14 +726,14 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
   const peri_v8d Di = v8_loadu_pd(D + i0), Bi = v8_loadu_pd(B + i0);
   peri_v8d s0 = v8_setzero_pd(), s1 = v8_setzero_pd(), s2 = v8_setzero_pd();
   peri_v8l rev = v8_mask_i32gather_epi64(count > 0 ? lanes[0] : 0, k, reverse);
+  const uint16_t *restrict table = peri_block_offsets(w, tj, count); /* a lattice's offsets */
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 on = lanes[a];
-    peri_prefetch_next_blocks(w, j, true);
-    const peri_v8d xj[3] = {v8_loadu_pd(w->x0 + j), v8_loadu_pd(w->x1 + j), v8_loadu_pd(w->x2 + j)},
-                   uj[3] = {v8_loadu_pd(w->u0 + j), v8_loadu_pd(w->u1 + j), v8_loadu_pd(w->u2 + j)};
+    peri_prefetch_next_blocks(w, j, !table);
+    const peri_v8d uj[3] = {v8_loadu_pd(w->u0 + j), v8_loadu_pd(w->u1 + j), v8_loadu_pd(w->u2 + j)};
     peri_v8d y[3], r0, inv_r0, r, inv_r;
-    bond_lengths_v8(xj, uj, c, cu, y, &r0, &inv_r0, &r, &inv_r);
+    entry_lengths_v8(w, table, a, j, c, cu, uj, y, &r0, &inv_r0, &r, &inv_r);
     /* the bond's two plastic terms, the other end's at the reverse bond (as the node path adds them) */
     /* the lanes that have the entry's bond (intact or not) move to their next one, whose reverse
      * bonds are gathered an entry ahead: the gather of the other ends' terms waits on them */
