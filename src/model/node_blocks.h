@@ -78,9 +78,10 @@ typedef struct peri_break_marks {
   uint8_t lanes[PERI_BREAK_MARKS];
 } peri_break_marks;
 
-/* Marks entry a with the lanes in `over` (none: nothing marked). A vector loop without the
- * marks (marks NULL: the plastic screens, the energy) or a scalar one that does not keep them
- * sets n past the capacity, and the candidates' families are then tested whole. */
+/* Marks entry a with the lanes in `over` (none: nothing marked). The loops that do not
+ * break bonds get no marks (NULL: the plastic screens, the energy, the reruns); the portable
+ * block loops, which do not keep them, set n past the capacity, so that the candidates'
+ * families are tested whole. */
 static inline void peri_mark_entry(peri_break_marks *marks, int64_t a, unsigned over) {
   if (!over) return;
   if (marks->n < PERI_BREAK_MARKS) {
@@ -109,8 +110,8 @@ long peri_node_blocks_break_family(peri_sim *s, peri_node_blocks *nb, int32_t it
 void peri_node_blocks_clear_broken(peri_node_blocks *nb, const peri_bonds *b, int32_t item, int32_t i);
 
 /* After the sums of item `item` (nodes i0 .. i1-1, sums[] with fields candidate and smin):
- * the exact breaking test, of the bonds in *marks when the block's loop kept them all (marks
- * NULL for a single node), else of each candidate node's family, adding the bonds broken to
+ * the exact breaking test, of the bonds in *marks when the item is a block whose loop kept
+ * them all, else of each candidate node's family, adding the bonds broken to
  * n_broken; then the sums again for the nodes that lost bonds: the whole block at once
  * (RERUN_BLOCK) when two or more did, a block pass costing about what two single-node passes
  * with gathers do, else each such node alone (RERUN_NODE, with i the node). Both paths give
