@@ -124,33 +124,41 @@ static void pack_plastic_terms(const void *context, const int64_t *bonds, int64_
 #define DEVIATORIC_CHUNK 256
 
 #ifdef PERI_BOND_V8
+/* The lengths of eight bonds from their offsets (peri_deformed_lengths_v8, bond_kernel.h),
+ * with r 0 for coincident ends. */
+static inline __attribute__((always_inline)) void offset_lengths_v8(const peri_offset_v8 *o, const peri_v8d uj[3],
+                                                                    const peri_v8d cu[3], peri_v8d y[3],
+                                                                    peri_v8d *r0, peri_v8d *inv_r0, peri_v8d *r,
+                                                                    peri_v8d *inv_r) {
+  const peri_v8d r_sq = peri_deformed_lengths_v8(o, uj, cu, true, y, r, inv_r);
+  *r = v8_maskz_mov_pd(v8_cmp_pd_mask(r_sq, v8_setzero_pd(), _CMP_GT_OQ), *r);
+  *r0 = o->r0, *inv_r0 = o->inv_r0;
+}
+
 /* peri_bond_lengths_v8 (bond_kernel.h), with r 0 for coincident ends. */
 static inline __attribute__((always_inline)) void bond_lengths_v8(const peri_v8d xj[3], const peri_v8d uj[3],
                                                                   const peri_v8d c[3], const peri_v8d cu[3],
                                                                   peri_v8d y[3], peri_v8d *r0, peri_v8d *inv_r0,
                                                                   peri_v8d *r, peri_v8d *inv_r) {
-  peri_bond_lengths_v8(xj, uj, c, cu, y, r0, inv_r0, r, inv_r);
-  const peri_v8d r_sq = v8_fmadd_pd(y[2], y[2], v8_fmadd_pd(y[1], y[1], v8_mul_pd(y[0], y[0])));
-  *r = v8_maskz_mov_pd(v8_cmp_pd_mask(r_sq, v8_setzero_pd(), _CMP_GT_OQ), *r);
+  const peri_offset_v8 o = peri_offset_of_positions_v8(xj, c, true);
+  offset_lengths_v8(&o, uj, cu, y, r0, inv_r0, r, inv_r);
 }
 
 /* The same for template entry a of a block (neighbours tj[a] + l, contiguous): the offsets
  * and |xi| from the block's table on a lattice (table not NULL, bond_kernel.h
- * peri_block_offsets), the same numbers bond_lengths_v8 computes from the positions. */
+ * peri_block_offsets), the same numbers as from the positions. */
 static inline __attribute__((always_inline)) void entry_lengths_v8(const peri_bond_view *w, const uint16_t *table,
                                                                    int64_t a, int64_t j, const peri_v8d c[3],
                                                                    const peri_v8d cu[3], const peri_v8d uj[3],
                                                                    peri_v8d y[3], peri_v8d *r0, peri_v8d *inv_r0,
                                                                    peri_v8d *r, peri_v8d *inv_r) {
-  if (!table) {
+  if (table) {
+    const peri_offset_v8 o = peri_offset_of_table_v8(w->geom + (size_t)table[a] * PERI_GEOM_STRIDE, true);
+    offset_lengths_v8(&o, uj, cu, y, r0, inv_r0, r, inv_r);
+  } else {
     const peri_v8d xj[3] = {v8_loadu_pd(w->x0 + j), v8_loadu_pd(w->x1 + j), v8_loadu_pd(w->x2 + j)};
     bond_lengths_v8(xj, uj, c, cu, y, r0, inv_r0, r, inv_r);
-    return;
   }
-  const peri_offset_v8 o = peri_offset_of_table_v8(w->geom + (size_t)table[a] * PERI_GEOM_STRIDE, true);
-  const peri_v8d r_sq = peri_deformed_lengths_v8(&o, uj, cu, true, y, r, inv_r);
-  *r = v8_maskz_mov_pd(v8_cmp_pd_mask(r_sq, v8_setzero_pd(), _CMP_GT_OQ), *r);
-  *r0 = o.r0, *inv_r0 = o.inv_r0;
 }
 
 /* The same for the neighbours j of the lanes in m (gathered). */

@@ -185,15 +185,9 @@ long peri_node_blocks_break_marked(peri_sim *s, peri_node_blocks *nb, int32_t it
       const int lane = __builtin_ctz(over);
       const int32_t i = i0 + lane, j = nb->tpl_node[a] + lane;
       if (bond_stretch(X0, X1, X2, U0, U1, U2, eth, i, j) <= peri_bond_s0(s, i, j)) continue;
-      /* the bond's place in i's family (increasing in a block) */
-      int64_t lo = b->offset[i], hi = b->offset[i + 1];
-      while (lo < hi) {
-        const int64_t mid = lo + (hi - lo) / 2;
-        if (b->neighbor[mid] < j) lo = mid + 1;
-        else hi = mid;
-      }
-      if (lo == b->offset[i + 1] || b->neighbor[lo] != j || b->broken[lo]) continue;
-      b->broken[lo] = 1;
+      const int64_t k = peri_bonds_find(b, i, j); /* (a block's families are increasing) */
+      if (k < 0 || b->broken[k]) continue;
+      b->broken[k] = 1;
       ++broken;
       *lost_lanes |= 1u << lane;
       nb->tpl_lanes[a] &= (uint8_t) ~(1u << lane);
