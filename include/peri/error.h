@@ -32,6 +32,12 @@ char *peri_vformat(const char *fmt, va_list ap);
 void *peri_malloc(size_t bytes);
 void *peri_calloc(size_t count, size_t size);
 void *peri_realloc(void *ptr, size_t bytes);
+/* The same at a cache-line (64-byte) boundary, for per-bond arrays whose rows of layers the
+ * vector loops load and store whole: rows of 32 bytes from malloc's 16-byte boundary would
+ * straddle two lines every other bond. Released with free(). */
+#define PERI_CACHE_LINE 64
+void *peri_malloc_aligned(size_t bytes);
+void *peri_calloc_aligned(size_t count, size_t size);
 char *peri_strdup(const char *s);
 
 #endif

@@ -106,6 +106,15 @@ void *peri_malloc(size_t bytes) { return checked(malloc(bytes ? bytes : 1), byte
 void *peri_calloc(size_t count, size_t size) {
   return checked(calloc(count ? count : 1, size ? size : 1), count * size);
 }
+void *peri_malloc_aligned(size_t bytes) {
+  const size_t whole = (bytes ? bytes : 1) + (PERI_CACHE_LINE - 1) - ((bytes ? bytes : 1) + (PERI_CACHE_LINE - 1)) % PERI_CACHE_LINE;
+  return checked(aligned_alloc(PERI_CACHE_LINE, whole), whole);
+}
+void *peri_calloc_aligned(size_t count, size_t size) {
+  void *p = peri_malloc_aligned(count * size);
+  memset(p, 0, count * size);
+  return p;
+}
 void *peri_realloc(void *ptr, size_t bytes) { return checked(realloc(ptr, bytes ? bytes : 1), bytes); }
 char *peri_strdup(const char *s) {
   size_t n = strlen(s) + 1;

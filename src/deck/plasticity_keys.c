@@ -274,7 +274,7 @@ int peri_setup_plasticity_solver(peri_sim *s, const peri_node *root) {
   if (s->solver.kind == PERI_SOLVER_ADR || s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION) {
     /* load steps map from the accepted state (src/model/plastic_bonds.c) */
     const size_t n = (size_t)s->state.plastic_layers * (size_t)s->disc.bonds.n_bonds;
-    s->state.plastic_committed = peri_calloc(n > 0 ? n : 1, sizeof(double));
+    s->state.plastic_committed = peri_calloc_aligned(n > 0 ? n : 1, sizeof(double));
     return PERI_OK;
   }
   /* a line search or a Newton iteration evaluates the force at trial states, which would

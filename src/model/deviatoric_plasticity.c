@@ -424,6 +424,16 @@ static inline __attribute__((always_inline)) void store_layers4(double *state, c
 #define LAYERS4_ROWS 0
 #endif
 
+/* The eight lanes' bond indices k times L (their rows of layers) at at[0..7]. The return stores
+ * them one entry before it reads them: read back at once, each 8-byte load would wait for the
+ * 64-byte store to reach the cache (a store is not forwarded to a narrower load at an offset),
+ * which made those loads the largest cost of the loop. */
+static inline __attribute__((always_inline)) void store_bond_rows(int64_t *restrict at, peri_v8i k, int L) {
+  int32_t k_of[PERI_BLOCK];
+  _mm256_storeu_si256((__m256i *)k_of, k);
+  for (int l = 0; l < PERI_BLOCK; ++l) at[l] = (int64_t)k_of[l] * L;
+}
+
 /* The return of a block of eight nodes of one material (node_blocks.h) on its template, the
  * nodes in vector lanes: contiguous loads of the neighbours (the node path gathers them), each
  * lane's bond index counted along the template (its bit of the structure) to reach its state,
@@ -480,6 +490,7 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   peri_v8d S[4] = {zero, zero, zero, zero};
   peri_v8i k = _mm256_loadu_si256((const __m256i *)first);
   const uint16_t *restrict table = peri_block_offsets(w, tj, count); /* a lattice's offsets */
+  store_bond_rows(at_of, k, L);
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 m = structure[a] & active;
@@ -493,11 +504,8 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
         v8_mul_pd(v8_mul_pd(on, bond_weight_v8(w, weight, m, k, r0, inv_r0, v8_loadu_pd(w->V + j))), v8_mul_pd(r0, r0));
     const peri_v8d sd = v8_mul_pd(on, v8_fmsub_pd(v8_sub_pd(r, r0), inv_r0, vshift));
     v8_storeu_pd(sd_of + 8 * a, sd);
-    /* each lane's bond's first layer, at[] (the next loop's too) */
-    int64_t *restrict at = at_of + 8 * a;
-    int32_t k_of[PERI_BLOCK];
-    _mm256_storeu_si256((__m256i *)k_of, k);
-    for (int l = 0; l < PERI_BLOCK; ++l) at[l] = (int64_t)k_of[l] * L;
+    /* each lane's bond's first layer, at[] (the next loop's too), stored one entry ahead */
+    const int64_t *restrict at = at_of + 8 * a;
     peri_v8d f[4];
 #if LAYERS4_ROWS
     if (L == 4) load_layers4(from, at, m, f);
@@ -513,6 +521,7 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
       S[l] = v8_mask3_fmadd_pd(wt, v8_mul_pd(e, e), S[l], m);
     }
     k = lanes_next_bond(k, structure[a]);
+    store_bond_rows(at_of + 8 * (a + 1), k, L);
   }
   /* 2. each lane's factors; the lanes whose layer l flows in flows[l] */
   double S_of[4][PERI_BLOCK], factor_of[4][PERI_BLOCK];

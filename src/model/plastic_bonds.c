@@ -41,7 +41,7 @@ int peri_plastic_init(peri_sim *s) {
       layers = s->mat.materials[m].sublayers->n;
   if (layers == 0) return PERI_OK;
   const size_t n = (size_t)s->disc.bonds.n_bonds * (size_t)layers;
-  s->state.plastic_stretch = peri_calloc(n > 0 ? n : 1, sizeof(double));
+  s->state.plastic_stretch = peri_calloc_aligned(n > 0 ? n : 1, sizeof(double));
   s->state.plastic_layers = layers;
   return PERI_OK;
 }

@@ -28,10 +28,10 @@ static void *take(const void *src, size_t size, const int32_t *ids, int32_t n) {
     (array) = subset_;                           \
   } while (0)
 
-/* A contiguous slice of a per-bond array; NULL stays NULL. */
+/* A contiguous slice of a per-bond array, at a cache-line boundary (error.h); NULL stays NULL. */
 static void *slice(const void *src, size_t size, int64_t from, int64_t count) {
   if (!src) return NULL;
-  void *out = peri_malloc(size * (size_t)(count > 0 ? count : 1));
+  void *out = peri_malloc_aligned(size * (size_t)(count > 0 ? count : 1));
   if (count > 0) memcpy(out, (const char *)src + size * (size_t)from, size * (size_t)count);
   return out;
 }
