@@ -171,6 +171,14 @@ static inline __attribute__((always_inline)) peri_offset_v8 lps_offset_v8(const 
   return peri_offset_of_positions_v8(xj, c, true);
 }
 
+/* The partial volume beta of eight bonds; unit_beta when the family has none (beta = 1 on every
+ * bond), which spares its evaluation: min(1, 1 - |xi| 0) is 1 exactly, so the sums are the
+ * same bit for bit. */
+static inline __attribute__((always_inline)) peri_v8d beta_v8(const peri_family_eval *fam, peri_v8d r0,
+                                                             bool unit_beta) {
+  return unit_beta ? v8_set1_pd(1.0) : peri_beta_v8(fam, r0);
+}
+
 /* Pass 1 (lps_bond_sums): the weight, with q, |xi|, 1/|xi|, the stretch and the excess. */
 static inline __attribute__((always_inline)) peri_v8d lps_bond_sums_v8(const lps_centre_v8 *ci,
                                                                       const peri_family_eval *fam,
@@ -178,8 +186,8 @@ static inline __attribute__((always_inline)) peri_v8d lps_bond_sums_v8(const lps
                                                                       peri_v8d uj1, peri_v8d uj2, peri_v8d eth_j,
                                                                       peri_v8d bound_j, peri_v8d V_j, bool thermal,
                                                                       peri_influence influence, bool uniform, bool smin,
-                                                                      bool two_sided, peri_v8d *q, peri_v8d *r0_out,
-                                                                      peri_v8d *inv_r0_out,
+                                                                      bool two_sided, bool unit_beta, peri_v8d *q,
+                                                                      peri_v8d *r0_out, peri_v8d *inv_r0_out,
                                                                       peri_v8d *stretch_out, peri_v8d *excess_out) {
   peri_v8d r0, inv_r0, r, inv_r, y[3];
   lps_lengths_v8(ci, o, uj0, uj1, uj2, &r0, &inv_r0, &r, &inv_r, y);
@@ -193,7 +201,7 @@ static inline __attribute__((always_inline)) peri_v8d lps_bond_sums_v8(const lps
   *r0_out = r0, *inv_r0_out = inv_r0;
   /* omega |xi| = 1 for the inverse influence, |xi| for the constant one */
   const peri_v8d omega_r0 = influence == PERI_INFLUENCE_INVERSE ? v8_set1_pd(1.0) : r0;
-  return v8_mul_pd(v8_mul_pd(omega_r0, peri_beta_v8(fam, r0)), uniform ? ci->V : V_j);
+  return v8_mul_pd(v8_mul_pd(omega_r0, beta_v8(fam, r0, unit_beta)), uniform ? ci->V : V_j);
 }
 
 /* Pass 2 (lps_bond_force): the factor g of the force density g (y_j - y_i), y in y[3]. */
@@ -203,12 +211,12 @@ static inline __attribute__((always_inline)) peri_v8d lps_bond_force_v8(const lp
                                                                        peri_v8d uj1, peri_v8d uj2, peri_v8d D_j,
                                                                        peri_v8d B_j, peri_v8d V_j,
                                                                        peri_influence influence, bool uniform,
-                                                                       peri_v8d y[3]) {
+                                                                       bool unit_beta, peri_v8d y[3]) {
   peri_v8d r0, inv_r0, r, inv_r;
   lps_lengths_v8(ci, o, uj0, uj1, uj2, &r0, &inv_r0, &r, &inv_r, y);
   const peri_v8d t = v8_fmadd_pd(r0, v8_add_pd(ci->D, D_j),
                                     v8_mul_pd(v8_sub_pd(r, r0), v8_add_pd(ci->B, B_j)));
-  const peri_v8d bv = v8_mul_pd(peri_beta_v8(fam, r0), uniform ? ci->V : V_j);
+  const peri_v8d bv = v8_mul_pd(beta_v8(fam, r0, unit_beta), uniform ? ci->V : V_j);
   peri_v8d scale = v8_mul_pd(v8_mul_pd(t, bv), inv_r);
   if (influence == PERI_INFLUENCE_INVERSE) scale = v8_mul_pd(scale, inv_r0); /* omega = 1/|xi| */
   return v8_maskz_mov_pd(v8_cmp_pd_mask(r, v8_setzero_pd(), _CMP_GT_OQ), scale);
@@ -262,7 +270,7 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
           const peri_offset_v8 o = lps_offset_v8(&cv, LPS_GATHER(X0), LPS_GATHER(X1), LPS_GATHER(X2));
           const peri_v8d gv = lps_bond_force_v8(&cv, &fam, &o,
                                                LPS_GATHER(U0), LPS_GATHER(U1), LPS_GATHER(U2), LPS_GATHER(D),
-                                               LPS_GATHER(B), V_j, influence, uniform, y);
+                                               LPS_GATHER(B), V_j, influence, uniform, false, y);
           v8_mask_storeu_pd(g + a, m, gv);
           v8_mask_storeu_pd(v0 + a, m, y[0]);
           v8_mask_storeu_pd(v1 + a, m, y[1]);
@@ -273,8 +281,8 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
           const peri_v8d wt = lps_bond_sums_v8(&cv, &fam, &o,
                                               LPS_GATHER(U0), LPS_GATHER(U1), LPS_GATHER(U2),
                                               thermal ? LPS_GATHER(eth) : zero, energy ? zero : LPS_GATHER(s0_bound),
-                                              V_j, thermal, influence, uniform, track_smin, two_sided, &q, &r0, &inv_r0,
-                                              &st, &e);
+                                              V_j, thermal, influence, uniform, track_smin, two_sided, false, &q, &r0,
+                                              &inv_r0, &st, &e);
           v8_mask_storeu_pd(g + a, m, wt);
           v8_mask_storeu_pd(v0 + a, m, q);
           v8_mask_storeu_pd(v1 + a, m, r0);
@@ -335,6 +343,68 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
 /* The block of nodes i0 .. i0+7 (node_blocks.h), intact, pass 1 or 2: lane l is node i0 + l
  * and takes template entry a, neighbour tj[a] + l, when bit l of lanes[a] is set; every read
  * is contiguous. Same sums as lps_node. */
+#ifdef PERI_BOND_V8
+/* lps_block's eight-lane loop; unit_beta: the family has no partial volumes (beta_v8). */
+static inline __attribute__((always_inline)) void lps_block_v8(const peri_bond_view *w, int32_t i0,
+                                                               const int32_t *restrict tj,
+                                                               const uint8_t *restrict lanes, int64_t count,
+                                                               bool force, bool thermal, peri_influence influence,
+                                                               bool uniform, bool track_smin, bool energy,
+                                                               bool two_sided, bool deviatoric,
+                                                               lps_sums out[PERI_BLOCK], peri_break_marks *marks,
+                                                               bool unit_beta) {
+  const size_t n_nodes = (size_t)w->n;
+  const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
+                         *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict D = w->coef,
+                         *restrict B = w->coef + n_nodes, *restrict eth = w->eth, *restrict s0_bound = w->s0_bound;
+  const peri_family_eval fam = w->fam;
+  const peri_v8d zero = v8_setzero_pd();
+  const lps_centre_v8 cv = lps_centre_v8_of(w, i0, thermal, force, !force && !energy, true);
+  peri_v8d s0 = zero, s1 = zero, s2 = zero, smin = v8_set1_pd(INFINITY);
+  peri_m8 beyond = 0;
+  /* every entry one offset for all lanes (a lattice, node_blocks.h): the offsets and their
+   * lengths from the table, the positions not read */
+  const uint16_t *restrict table = peri_block_offsets(w, tj, count);
+  for (int64_t a = 0; a < count; ++a) {
+    const int64_t j = tj[a];
+    const peri_m8 on = lanes[a];
+    peri_prefetch_next_blocks(w, j, !table);
+    const peri_v8d V_j = uniform ? zero : v8_loadu_pd(V + j);
+    const peri_offset_v8 o = table ? peri_offset_of_table_v8(w->geom + (size_t)table[a] * PERI_GEOM_STRIDE, true)
+                                   : lps_offset_v8(&cv, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j), v8_loadu_pd(X2 + j));
+    if (force) {
+      peri_v8d y[3];
+      const peri_v8d g = lps_bond_force_v8(&cv, &fam, &o, v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j),
+                                          v8_loadu_pd(U2 + j), v8_loadu_pd(D + j), v8_loadu_pd(B + j),
+                                          V_j, influence, uniform, unit_beta, y);
+      /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
+      s0 = v8_mask3_fmadd_pd(g, y[0], s0, on);
+      s1 = v8_mask3_fmadd_pd(g, y[1], s1, on);
+      s2 = v8_mask3_fmadd_pd(g, y[2], s2, on);
+    } else {
+      peri_v8d q, r0, inv_r0, st, e;
+      const peri_v8d wt = lps_bond_sums_v8(
+          &cv, &fam, &o, v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j), v8_loadu_pd(U2 + j),
+          thermal ? v8_loadu_pd(eth + j) : zero, energy ? zero : v8_loadu_pd(s0_bound + j), V_j, thermal,
+          influence, uniform, track_smin, two_sided, unit_beta, &q, &r0, &inv_r0, &st, &e);
+      s0 = v8_mask3_fmadd_pd(wt, q, s0, on);
+      s1 = v8_mask3_fmadd_pd(wt, r0, s1, on);
+      if (energy || deviatoric) s2 = v8_mask3_fmadd_pd(wt, v8_mul_pd(v8_mul_pd(q, q), inv_r0), s2, on);
+      if (track_smin) smin = v8_mask_min_pd(smin, on, smin, st);
+      const peri_m8 over = v8_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ); /* beyond the screening bound */
+      beyond |= over;
+      if (marks) peri_mark_entry(marks, a, over);
+    }
+  }
+  double a0[PERI_BLOCK], a1[PERI_BLOCK], a2[PERI_BLOCK], am[PERI_BLOCK];
+  v8_storeu_pd(a0, s0), v8_storeu_pd(a1, s1), v8_storeu_pd(a2, s2), v8_storeu_pd(am, smin);
+  for (int l = 0; l < PERI_BLOCK; ++l) {
+    const lps_sums r = {{a0[l], a1[l], a2[l]}, am[l], (beyond >> l) & 1u};
+    out[l] = r;
+  }
+}
+#endif
+
 static inline __attribute__((always_inline)) void lps_block(const peri_bond_view *w, int32_t i0,
                                                             const int32_t *restrict tj,
                                                             const uint8_t *restrict lanes, int64_t count,
@@ -349,50 +419,13 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
   const peri_family_eval fam = w->fam;
 #ifdef PERI_BOND_V8
   if (LPS_V8(influence)) {
-    const peri_v8d zero = v8_setzero_pd();
-    const lps_centre_v8 cv = lps_centre_v8_of(w, i0, thermal, force, !force && !energy, true);
-    peri_v8d s0 = zero, s1 = zero, s2 = zero, smin = v8_set1_pd(INFINITY);
-    peri_m8 beyond = 0;
-    /* every entry one offset for all lanes (a lattice, node_blocks.h): the offsets and their
-     * lengths from the table, the positions not read */
-    const uint16_t *restrict table = peri_block_offsets(w, tj, count);
-    for (int64_t a = 0; a < count; ++a) {
-      const int64_t j = tj[a];
-      const peri_m8 on = lanes[a];
-      peri_prefetch_next_blocks(w, j, !table);
-      const peri_v8d V_j = uniform ? zero : v8_loadu_pd(V + j);
-      const peri_offset_v8 o = table ? peri_offset_of_table_v8(w->geom + (size_t)table[a] * PERI_GEOM_STRIDE, true)
-                                     : lps_offset_v8(&cv, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j), v8_loadu_pd(X2 + j));
-      if (force) {
-        peri_v8d y[3];
-        const peri_v8d g = lps_bond_force_v8(&cv, &fam, &o, v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j),
-                                            v8_loadu_pd(U2 + j), v8_loadu_pd(D + j), v8_loadu_pd(B + j),
-                                            V_j, influence, uniform, y);
-        /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
-        s0 = v8_mask3_fmadd_pd(g, y[0], s0, on);
-        s1 = v8_mask3_fmadd_pd(g, y[1], s1, on);
-        s2 = v8_mask3_fmadd_pd(g, y[2], s2, on);
-      } else {
-        peri_v8d q, r0, inv_r0, st, e;
-        const peri_v8d wt = lps_bond_sums_v8(
-            &cv, &fam, &o, v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j), v8_loadu_pd(U2 + j),
-            thermal ? v8_loadu_pd(eth + j) : zero, energy ? zero : v8_loadu_pd(s0_bound + j), V_j, thermal,
-            influence, uniform, track_smin, two_sided, &q, &r0, &inv_r0, &st, &e);
-        s0 = v8_mask3_fmadd_pd(wt, q, s0, on);
-        s1 = v8_mask3_fmadd_pd(wt, r0, s1, on);
-        if (energy || deviatoric) s2 = v8_mask3_fmadd_pd(wt, v8_mul_pd(v8_mul_pd(q, q), inv_r0), s2, on);
-        if (track_smin) smin = v8_mask_min_pd(smin, on, smin, st);
-        const peri_m8 over = v8_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ); /* beyond the screening bound */
-        beyond |= over;
-        if (marks) peri_mark_entry(marks, a, over);
-      }
-    }
-    double a0[PERI_BLOCK], a1[PERI_BLOCK], a2[PERI_BLOCK], am[PERI_BLOCK];
-    v8_storeu_pd(a0, s0), v8_storeu_pd(a1, s1), v8_storeu_pd(a2, s2), v8_storeu_pd(am, smin);
-    for (int l = 0; l < PERI_BLOCK; ++l) {
-      const lps_sums r = {{a0[l], a1[l], a2[l]}, am[l], (beyond >> l) & 1u};
-      out[l] = r;
-    }
+    /* (a copy of the loop for families without partial volumes) */
+    if (fam.beta0 == 1.0 && fam.inv_dx == 0.0)
+      lps_block_v8(w, i0, tj, lanes, count, force, thermal, influence, uniform, track_smin, energy, two_sided,
+                   deviatoric, out, marks, true);
+    else
+      lps_block_v8(w, i0, tj, lanes, count, force, thermal, influence, uniform, track_smin, energy, two_sided,
+                   deviatoric, out, marks, false);
     return;
   }
 #endif
