@@ -441,8 +441,8 @@ static inline __attribute__((always_inline)) void store_bond_rows(int64_t *restr
  * (the energies bond by bond, the factors by layer_factors), so both paths agree bit for bit.
  * Returns false, having changed nothing, where the block cannot take it (entries dropped from
  * its template, nodes of different materials, more than 4 layers); else sets yielded[] of its
- * nodes. Scratch: 48 doubles per template entry (the lanes' stretches, states and indices, which
- * the second loop reads instead of gathering again). */
+ * nodes. Scratch: 48 doubles per template entry and 8 more (the lanes' stretches, states and
+ * indices, which the second loop reads instead of gathering again). */
 static inline __attribute__((always_inline)) bool block_return(peri_sim *s, const peri_bond_view *w,
                                                                const peri_node_blocks *items, int32_t item,
                                                                const double *elastic, uint8_t *yielded,

@@ -340,9 +340,6 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
   return r;
 }
 
-/* The block of nodes i0 .. i0+7 (node_blocks.h), intact, pass 1 or 2: lane l is node i0 + l
- * and takes template entry a, neighbour tj[a] + l, when bit l of lanes[a] is set; every read
- * is contiguous. Same sums as lps_node. */
 #ifdef PERI_BOND_V8
 /* lps_block's eight-lane loop; unit_beta: the family has no partial volumes (beta_v8). */
 static inline __attribute__((always_inline)) void lps_block_v8(const peri_bond_view *w, int32_t i0,
@@ -405,6 +402,9 @@ static inline __attribute__((always_inline)) void lps_block_v8(const peri_bond_v
 }
 #endif
 
+/* The block of nodes i0 .. i0+7 (node_blocks.h), intact, pass 1 or 2: lane l is node i0 + l
+ * and takes template entry a, neighbour tj[a] + l, when bit l of lanes[a] is set; every read
+ * is contiguous. Same sums as lps_node. */
 static inline __attribute__((always_inline)) void lps_block(const peri_bond_view *w, int32_t i0,
                                                             const int32_t *restrict tj,
                                                             const uint8_t *restrict lanes, int64_t count,
