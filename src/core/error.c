@@ -107,7 +107,8 @@ void *peri_calloc(size_t count, size_t size) {
   return checked(calloc(count ? count : 1, size ? size : 1), count * size);
 }
 void *peri_malloc_aligned(size_t bytes) {
-  const size_t whole = (bytes ? bytes : 1) + (PERI_CACHE_LINE - 1) - ((bytes ? bytes : 1) + (PERI_CACHE_LINE - 1)) % PERI_CACHE_LINE;
+  /* (aligned_alloc takes a multiple of the alignment) */
+  const size_t whole = ((bytes ? bytes : 1) + PERI_CACHE_LINE - 1) / PERI_CACHE_LINE * PERI_CACHE_LINE;
   return checked(aligned_alloc(PERI_CACHE_LINE, whole), whole);
 }
 void *peri_calloc_aligned(size_t count, size_t size) {

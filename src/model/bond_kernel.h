@@ -140,6 +140,14 @@ static inline __attribute__((always_inline)) peri_v8d peri_beta_v8(const peri_fa
   return v8_min_pd(v8_set1_pd(1.0),
                        v8_sub_pd(v8_set1_pd(e->beta0), v8_mul_pd(r0, v8_set1_pd(e->inv_dx))));
 }
+/* Whether beta is 1 on every bond (a family without partial volumes: min(1, 1 - r0 0) = 1
+ * exactly), so that a loop may skip peri_beta_v8 and give the same sums bit for bit. */
+static inline bool peri_family_unit_beta(const peri_family_eval *e) { return e->beta0 == 1.0 && e->inv_dx == 0.0; }
+/* peri_beta_v8, or 1 where the loop was specialized for peri_family_unit_beta. */
+static inline __attribute__((always_inline)) peri_v8d peri_beta_or_one_v8(const peri_family_eval *e, peri_v8d r0,
+                                                                          bool unit_beta) {
+  return unit_beta ? v8_set1_pd(1.0) : peri_beta_v8(e, r0);
+}
 /* The lane mask of the first n of eight lanes. */
 static inline peri_m8 peri_first_lanes(int n) { return n >= 8 ? (peri_m8)0xFF : (peri_m8)((1u << n) - 1u); }
 #endif

@@ -171,14 +171,6 @@ static inline __attribute__((always_inline)) peri_offset_v8 lps_offset_v8(const 
   return peri_offset_of_positions_v8(xj, c, true);
 }
 
-/* The partial volume beta of eight bonds; unit_beta when the family has none (beta = 1 on every
- * bond), which spares its evaluation: min(1, 1 - |xi| 0) is 1 exactly, so the sums are the
- * same bit for bit. */
-static inline __attribute__((always_inline)) peri_v8d beta_v8(const peri_family_eval *fam, peri_v8d r0,
-                                                             bool unit_beta) {
-  return unit_beta ? v8_set1_pd(1.0) : peri_beta_v8(fam, r0);
-}
-
 /* Pass 1 (lps_bond_sums): the weight, with q, |xi|, 1/|xi|, the stretch and the excess. */
 static inline __attribute__((always_inline)) peri_v8d lps_bond_sums_v8(const lps_centre_v8 *ci,
                                                                       const peri_family_eval *fam,
@@ -201,7 +193,7 @@ static inline __attribute__((always_inline)) peri_v8d lps_bond_sums_v8(const lps
   *r0_out = r0, *inv_r0_out = inv_r0;
   /* omega |xi| = 1 for the inverse influence, |xi| for the constant one */
   const peri_v8d omega_r0 = influence == PERI_INFLUENCE_INVERSE ? v8_set1_pd(1.0) : r0;
-  return v8_mul_pd(v8_mul_pd(omega_r0, beta_v8(fam, r0, unit_beta)), uniform ? ci->V : V_j);
+  return v8_mul_pd(v8_mul_pd(omega_r0, peri_beta_or_one_v8(fam, r0, unit_beta)), uniform ? ci->V : V_j);
 }
 
 /* Pass 2 (lps_bond_force): the factor g of the force density g (y_j - y_i), y in y[3]. */
@@ -216,7 +208,7 @@ static inline __attribute__((always_inline)) peri_v8d lps_bond_force_v8(const lp
   lps_lengths_v8(ci, o, uj0, uj1, uj2, &r0, &inv_r0, &r, &inv_r, y);
   const peri_v8d t = v8_fmadd_pd(r0, v8_add_pd(ci->D, D_j),
                                     v8_mul_pd(v8_sub_pd(r, r0), v8_add_pd(ci->B, B_j)));
-  const peri_v8d bv = v8_mul_pd(beta_v8(fam, r0, unit_beta), uniform ? ci->V : V_j);
+  const peri_v8d bv = v8_mul_pd(peri_beta_or_one_v8(fam, r0, unit_beta), uniform ? ci->V : V_j);
   peri_v8d scale = v8_mul_pd(v8_mul_pd(t, bv), inv_r);
   if (influence == PERI_INFLUENCE_INVERSE) scale = v8_mul_pd(scale, inv_r0); /* omega = 1/|xi| */
   return v8_maskz_mov_pd(v8_cmp_pd_mask(r, v8_setzero_pd(), _CMP_GT_OQ), scale);
@@ -341,7 +333,7 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
 }
 
 #ifdef PERI_BOND_V8
-/* lps_block's eight-lane loop; unit_beta: the family has no partial volumes (beta_v8). */
+/* lps_block's eight-lane loop; unit_beta: the family has no partial volumes (bond_kernel.h). */
 static inline __attribute__((always_inline)) void lps_block_v8(const peri_bond_view *w, int32_t i0,
                                                                const int32_t *restrict tj,
                                                                const uint8_t *restrict lanes, int64_t count,
@@ -420,7 +412,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
 #ifdef PERI_BOND_V8
   if (LPS_V8(influence)) {
     /* (a copy of the loop for families without partial volumes) */
-    if (fam.beta0 == 1.0 && fam.inv_dx == 0.0)
+    if (peri_family_unit_beta(&fam))
       lps_block_v8(w, i0, tj, lanes, count, force, thermal, influence, uniform, track_smin, energy, two_sided,
                    deviatoric, out, marks, true);
     else
