@@ -171,8 +171,10 @@ static inline __attribute__((always_inline)) peri_v8d mo_bond_v8(const mo_centre
   const peri_v8d r_sq = v8_fmadd_pd(y[2], y[2], v8_fmadd_pd(y[1], y[1], v8_mul_pd(y[0], y[0])));
   /* a bond of zero length carries no force (its lanes of 1/r and r set to 0) */
   const peri_m8 stretched = v8_cmp_pd_mask(r_sq, zero, _CMP_GT_OQ);
-  const peri_v8d inv_r0 = peri_rsqrt_v8(r0_sq), inv_r = v8_maskz_mov_pd(stretched, peri_rsqrt_v8(r_sq));
-  const peri_v8d r0 = v8_mul_pd(r0_sq, inv_r0), r = v8_mul_pd(r_sq, inv_r);
+  peri_v8d r0, inv_r0, r, inv_r;
+  peri_root_v8(r0_sq, &r0, &inv_r0);
+  peri_root_v8(r_sq, &r, &inv_r);
+  r = v8_maskz_mov_pd(stretched, r), inv_r = v8_maskz_mov_pd(stretched, inv_r);
   const peri_v8d dot = v8_fmadd_pd(x2, y[2], v8_fmadd_pd(x1, y[1], v8_mul_pd(x0, y[0])));
   const peri_v8d cos_r0 = v8_mul_pd(v8_mul_pd(dot, inv_r), v8_mul_pd(inv_r0, inv_r0));
   const peri_v8d bv = v8_mul_pd(peri_beta_v8(fam, r0), V_j);

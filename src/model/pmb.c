@@ -501,11 +501,11 @@ static inline __attribute__((always_inline)) peri_v8d pmb_bond_energy_v8(const p
   const peri_v8d y0 = v8_add_pd(x0, v8_sub_pd(uj0, ci->u0)), y1 = v8_add_pd(x1, v8_sub_pd(uj1, ci->u1)),
                 y2 = v8_add_pd(x2, v8_sub_pd(uj2, ci->u2));
   const peri_v8d r0_sq = peri_norm2_v8(x0, x1, x2), r_sq = peri_norm2_v8(y0, y1, y2);
-  const peri_v8d inv_r0 = peri_rsqrt_v8(r0_sq);
-  const peri_v8d r0 = v8_mul_pd(r0_sq, inv_r0);
-  /* (a collapsed bond, r = 0, has stretch -1: no 0 * inf) */
-  const peri_v8d r = v8_maskz_mul_pd(v8_cmp_pd_mask(r_sq, v8_setzero_pd(), _CMP_GT_OQ), r_sq,
-                                        peri_rsqrt_v8(r_sq));
+  peri_v8d r0, inv_r0, r, inv_r;
+  peri_root_v8(r0_sq, &r0, &inv_r0);
+  peri_root_v8(r_sq, &r, &inv_r);
+  /* (a collapsed bond, r = 0, has stretch -1: not NaN) */
+  r = v8_maskz_mov_pd(v8_cmp_pd_mask(r_sq, v8_setzero_pd(), _CMP_GT_OQ), r);
   const peri_v8d half = v8_set1_pd(0.5);
   peri_v8d stretch = v8_mul_pd(v8_sub_pd(r, r0), inv_r0);
   if (thermal) stretch = v8_sub_pd(stretch, v8_mul_pd(half, v8_add_pd(ci->eth, eth_j)));

@@ -10,7 +10,7 @@
  * problem, about twice LAMMPS); AVX2 has no double-precision reciprocal square root, so
  * v8_rsqrt14_pd starts from the single-precision estimate (relative error below 1.5 x 2^-12)
  * refined by one Newton step (about 2^-23), a better start than vrsqrt14pd's 2^-14 for the
- * two Newton steps of peri_rsqrt_v8. Its range is that of a float: squared lengths between
+ * correction step of peri_root_v8. Its range is that of a float: squared lengths between
  * 1e-37 and 3e38 in the deck's units. */
 #ifndef PERI_VECTOR8_H
 #define PERI_VECTOR8_H
