@@ -88,16 +88,18 @@ static void clear_broken_lane(peri_node_blocks *nb, int32_t item, int32_t i, int
 }
 
 /* Drops the entries of block `item` whose lanes have all lost their bond; the loops' sums do
- * not change (such an entry adds nothing to any lane). Every such entry, however few: a
- * fragmenting cylinder kept 6% of its entries empty under an earlier threshold of an eighth of
- * the block, each as costly as a full one, while the scan is one pass over a block whose
- * entry just emptied. */
-static void compact_template(peri_node_blocks *nb, int32_t item) {
+ * not change (such an entry adds nothing to any lane). Every such entry, however few (a
+ * fragmenting cylinder kept 6% of its entries empty under a threshold of an eighth of the
+ * block, each as costly as a full one), unless `whole_share`: then only when they are an
+ * eighth of the block's entries or more, for the deviatoric yield rule's block loops, which
+ * count each lane's bonds along the whole template and leave a compacted block to the
+ * one-node loops. */
+static void compact_template(peri_node_blocks *nb, int32_t item, bool whole_share) {
   const int64_t a0 = nb->tpl[item], end = nb->tpl_end[item];
   int64_t empty = 0;
   for (int64_t a = a0; a < end; ++a) empty += nb->tpl_lanes[a] == 0;
   nb->emptied[item] = 0;
-  if (empty == 0) return;
+  if (empty == 0 || (whole_share && 8 * empty < end - a0)) return;
   int64_t kept = a0;
   for (int64_t a = a0; a < end; ++a)
     if (nb->tpl_lanes[a]) {
@@ -414,11 +416,12 @@ peri_node_blocks *peri_node_blocks_refresh(peri_sim *s) {
     sync_broken(nb, &s->disc.bonds);
   }
   bool dropped = false;
+  const bool whole_templates = s->state.plastic_bond_term != NULL; /* (the deviatoric rule's state) */
 #pragma omp parallel for schedule(dynamic, 256) reduction(|| : dropped)
   for (int32_t item = 0; item < nb->n_items; ++item)
     if (nb->emptied[item]) {
       const int64_t end = nb->tpl_end[item];
-      compact_template(nb, item);
+      compact_template(nb, item, whole_templates);
       dropped = dropped || nb->tpl_end[item] < end;
     }
   if (dropped) nb->compacted = true;
