@@ -504,11 +504,10 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
         v8_mul_pd(v8_mul_pd(on, bond_weight_v8(w, weight, m, k, r0, inv_r0, v8_loadu_pd(w->V + j))), v8_mul_pd(r0, r0));
     const peri_v8d sd = v8_mul_pd(on, v8_fmsub_pd(v8_sub_pd(r, r0), inv_r0, vshift));
     v8_storeu_pd(sd_of + 8 * a, sd);
-    /* each lane's bond's first layer, at[] (the next loop's too), stored one entry ahead */
-    const int64_t *restrict at = at_of + 8 * a;
     peri_v8d f[4];
 #if LAYERS4_ROWS
-    if (L == 4) load_layers4(from, at, m, f);
+    /* each lane's bond's first layer, at[] (the next loop's too), stored one entry ahead */
+    if (L == 4) load_layers4(from, at_of + 8 * a, m, f);
     else
 #endif
     {
