@@ -86,12 +86,6 @@ static inline __attribute__((always_inline)) void peri_root_v8(peri_v8d x, peri_
   *inv_root = v8_fmadd_pd(v8_mul_pd(y0, e), series, y0);
   *root = v8_fmadd_pd(v8_mul_pd(x_y0, e), series, x_y0);
 }
-/* 1/sqrt(x) alone (peri_root_v8) */
-static inline __attribute__((always_inline)) peri_v8d peri_rsqrt_v8(peri_v8d x) {
-  peri_v8d root, inv_root;
-  peri_root_v8(x, &root, &inv_root);
-  return inv_root;
-}
 /* a0² + a1² + a2² in the order of the scalar loops (PMB), or by FMAs (the other models) */
 static inline __attribute__((always_inline)) peri_v8d peri_norm2_v8(peri_v8d a0, peri_v8d a1, peri_v8d a2) {
   return v8_add_pd(v8_add_pd(v8_mul_pd(a0, a0), v8_mul_pd(a1, a1)), v8_mul_pd(a2, a2));

@@ -47,7 +47,6 @@ typedef __m512i peri_v8l; /* eight 64-bit integers */
 #define v8_mask_mov_pd _mm512_mask_mov_pd
 /* the bits of a and b or'ed (AVX512F has no or of doubles) */
 #define v8_or_pd(a, b) _mm512_castsi512_pd(_mm512_or_si512(_mm512_castpd_si512(a), _mm512_castpd_si512(b)))
-#define v8_maskz_mul_pd _mm512_maskz_mul_pd
 #define v8_cmp_pd_mask _mm512_cmp_pd_mask
 #define v8_mask_cmp_pd_mask _mm512_mask_cmp_pd_mask
 #define v8_reduce_min_pd _mm512_reduce_min_pd
@@ -133,7 +132,6 @@ V8_INLINE peri_v8d v8_mask3_fmadd_pd(peri_v8d a, peri_v8d b, peri_v8d c, peri_m8
 V8_INLINE peri_v8d v8_maskz_mov_pd(peri_m8 m, peri_v8d a) {
   return v8_make(_mm256_and_pd(a.lo, v8_mask_lo(m)), _mm256_and_pd(a.hi, v8_mask_hi(m)));
 }
-V8_INLINE peri_v8d v8_maskz_mul_pd(peri_m8 m, peri_v8d a, peri_v8d b) { return v8_maskz_mov_pd(m, v8_mul_pd(a, b)); }
 /* (a macro: the predicate must be a constant) */
 #define v8_cmp_pd_mask(a, b, predicate)                                                                        \
   ((peri_m8)(_mm256_movemask_pd(_mm256_cmp_pd((a).lo, (b).lo, (predicate))) |                                 \
