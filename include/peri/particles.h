@@ -3,6 +3,7 @@
  * The first n_owned particles are owned by this process; ghosts (MPI) follow. */
 #ifndef PERI_PARTICLES_H
 #define PERI_PARTICLES_H
+#include <stdbool.h>
 #include <stdint.h>
 
 /* Per-node flags. */
@@ -37,6 +38,7 @@ typedef struct peri_particles {
                        (PMB: micromodulus; LPS: two per node) */
   double *s0_bound; /* a lower bound of the critical stretch of every bond of the node
                        (INFINITY: never breaks), screening the bond loops for breaking */
+  bool s0_bound_uniform; /* every entry of s0_bound (owned and ghosts) is the same number */
 } peri_particles;
 
 void peri_particles_init(peri_particles *p, int dim);

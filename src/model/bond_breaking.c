@@ -12,19 +12,25 @@ void peri_update_s0_bound(peri_sim *s) {
   peri_particles *p = &s->disc.p;
   if (!p->s0_bound) p->s0_bound = peri_malloc(sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
   const int nm = s->mat.n_materials;
-#pragma omp parallel for schedule(static)
-  for (int32_t i = 0; i < p->n; ++i) {
-    double bound = INFINITY;
-    if (!(p->flags[i] & PERI_NODE_NO_FAIL)) {
-      if (s->mat.s0_node) {
-        bound = s->mat.s0_node[i];
-      } else {
-        const int a = p->material[i];
-        for (int m = 0; m < nm; ++m) bound = fmin(bound, s->mat.pair_s0[a * nm + m]);
-      }
-    }
-    p->s0_bound[i] = bound;
+  /* each material's bound, the smallest entry of its row of the pair table, once per call */
+  double *row_min = peri_malloc(sizeof(double) * (size_t)(nm > 0 ? nm : 1));
+  for (int a = 0; a < nm; ++a) {
+    row_min[a] = INFINITY;
+    for (int m = 0; m < nm; ++m) row_min[a] = fmin(row_min[a], s->mat.pair_s0[a * nm + m]);
   }
+  const double *s0_node = s->mat.s0_node;
+  const double first = p->n > 0 && !(p->flags[0] & PERI_NODE_NO_FAIL)
+                           ? (s0_node ? s0_node[0] : row_min[p->material[0]])
+                           : INFINITY;
+  bool uniform = true;
+#pragma omp parallel for schedule(static) reduction(&& : uniform)
+  for (int32_t i = 0; i < p->n; ++i) {
+    const double bound = p->flags[i] & PERI_NODE_NO_FAIL ? INFINITY : s0_node ? s0_node[i] : row_min[p->material[i]];
+    p->s0_bound[i] = bound;
+    uniform = uniform && bound == first;
+  }
+  p->s0_bound_uniform = uniform;
+  free(row_min);
 }
 
 bool peri_uniform_volume(const peri_particles *p) {

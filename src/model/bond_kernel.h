@@ -161,6 +161,7 @@ static inline peri_m8 peri_first_lanes(int n) { return n >= 8 ? (peri_m8)0xFF : 
 typedef struct peri_bond_view {
   const double *restrict x0, *restrict x1, *restrict x2, *restrict u0, *restrict u1, *restrict u2;
   const double *restrict V, *restrict coef, *restrict eth, *restrict s0_bound;
+  bool s0_uniform; /* every node's s0_bound is the same number (a loop may take the centre's) */
   const int64_t *restrict offset;
   const int32_t *restrict neighbor;
   const uint8_t *restrict broken;
@@ -178,6 +179,7 @@ static inline peri_bond_view peri_bond_view_of(const peri_sim *s, const double *
   const size_t n = (size_t)s->disc.p.n;
   const peri_bond_view w = {soa, soa + n, soa + 2 * n, soa + 3 * n, soa + 4 * n, soa + 5 * n,
                             s->disc.p.volume, s->disc.p.coef, s->state.thermal_strain, s->disc.p.s0_bound,
+                            s->disc.p.s0_bound != NULL && s->disc.p.s0_bound_uniform,
                             s->disc.bonds.offset, s->disc.bonds.neighbor, s->disc.bonds.broken, peri_family_eval_of(&s->disc.bonds),
                             s->disc.p.n,
                             s->disc.node_blocks ? s->disc.node_blocks->tpl_node : NULL,

@@ -178,7 +178,8 @@ static inline __attribute__((always_inline)) peri_v8d lps_bond_sums_v8(const lps
                                                                       peri_v8d uj1, peri_v8d uj2, peri_v8d eth_j,
                                                                       peri_v8d bound_j, peri_v8d V_j, bool thermal,
                                                                       peri_influence influence, bool uniform, bool smin,
-                                                                      bool two_sided, bool unit_beta, peri_v8d *q,
+                                                                      bool two_sided, bool unit_beta, bool same_bound,
+                                                                      peri_v8d *q,
                                                                       peri_v8d *r0_out, peri_v8d *inv_r0_out,
                                                                       peri_v8d *stretch_out, peri_v8d *excess_out) {
   peri_v8d r0, inv_r0, r, inv_r, y[3];
@@ -186,7 +187,8 @@ static inline __attribute__((always_inline)) peri_v8d lps_bond_sums_v8(const lps
   const peri_v8d e_total = v8_sub_pd(r, r0);
   peri_v8d e_mech = e_total;
   if (thermal) e_mech = v8_sub_pd(e_mech, v8_mul_pd(v8_mul_pd(v8_set1_pd(0.5), v8_add_pd(ci->eth, eth_j)), r0));
-  const peri_v8d bound = v8_sub_pd(v8_min_pd(ci->bound, bound_j), v8_set1_pd(PERI_S0_SCREEN_MARGIN));
+  /* same_bound: every node has the centre's bound (peri_bond_view.s0_uniform), so bound_j is not read */
+  const peri_v8d bound = v8_sub_pd(same_bound ? ci->bound : v8_min_pd(ci->bound, bound_j), v8_set1_pd(PERI_S0_SCREEN_MARGIN));
   *excess_out = v8_sub_pd(two_sided ? v8_abs_pd(e_mech) : e_mech, v8_mul_pd(bound, r0));
   *stretch_out = smin ? v8_mul_pd(e_mech, inv_r0) : v8_setzero_pd();
   *q = thermal ? v8_sub_pd(e_total, v8_mul_pd(ci->eth, r0)) : e_total;
@@ -273,7 +275,7 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
           const peri_v8d wt = lps_bond_sums_v8(&cv, &fam, &o,
                                               LPS_GATHER(U0), LPS_GATHER(U1), LPS_GATHER(U2),
                                               thermal ? LPS_GATHER(eth) : zero, energy ? zero : LPS_GATHER(s0_bound),
-                                              V_j, thermal, influence, uniform, track_smin, two_sided, false, &q, &r0,
+                                              V_j, thermal, influence, uniform, track_smin, two_sided, false, false, &q, &r0,
                                               &inv_r0, &st, &e);
           v8_mask_storeu_pd(g + a, m, wt);
           v8_mask_storeu_pd(v0 + a, m, q);
@@ -341,7 +343,7 @@ static inline __attribute__((always_inline)) void lps_block_v8(const peri_bond_v
                                                                bool uniform, bool track_smin, bool energy,
                                                                bool two_sided, bool deviatoric,
                                                                lps_sums out[PERI_BLOCK], peri_break_marks *marks,
-                                                               bool unit_beta) {
+                                                               bool unit_beta, bool same_bound) {
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict D = w->coef,
@@ -374,8 +376,8 @@ static inline __attribute__((always_inline)) void lps_block_v8(const peri_bond_v
       peri_v8d q, r0, inv_r0, st, e;
       const peri_v8d wt = lps_bond_sums_v8(
           &cv, &fam, &o, v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j), v8_loadu_pd(U2 + j),
-          thermal ? v8_loadu_pd(eth + j) : zero, energy ? zero : v8_loadu_pd(s0_bound + j), V_j, thermal,
-          influence, uniform, track_smin, two_sided, unit_beta, &q, &r0, &inv_r0, &st, &e);
+          thermal ? v8_loadu_pd(eth + j) : zero, energy || same_bound ? zero : v8_loadu_pd(s0_bound + j), V_j,
+          thermal, influence, uniform, track_smin, two_sided, unit_beta, same_bound, &q, &r0, &inv_r0, &st, &e);
       s0 = v8_mask3_fmadd_pd(wt, q, s0, on);
       s1 = v8_mask3_fmadd_pd(wt, r0, s1, on);
       if (energy || deviatoric) s2 = v8_mask3_fmadd_pd(wt, v8_mul_pd(v8_mul_pd(q, q), inv_r0), s2, on);
@@ -411,13 +413,21 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
   const peri_family_eval fam = w->fam;
 #ifdef PERI_BOND_V8
   if (LPS_V8(influence)) {
-    /* (a copy of the loop for families without partial volumes) */
-    if (peri_family_unit_beta(&fam))
+    /* (copies of the loop for families without partial volumes, and for pass 1 of bodies with one
+     * critical stretch: its bound is the centre's, not read per neighbour) */
+    const bool unit_beta = peri_family_unit_beta(&fam), same_bound = !force && !energy && w->s0_uniform;
+    if (unit_beta && same_bound)
       lps_block_v8(w, i0, tj, lanes, count, force, thermal, influence, uniform, track_smin, energy, two_sided,
-                   deviatoric, out, marks, true);
+                   deviatoric, out, marks, true, true);
+    else if (unit_beta)
+      lps_block_v8(w, i0, tj, lanes, count, force, thermal, influence, uniform, track_smin, energy, two_sided,
+                   deviatoric, out, marks, true, false);
+    else if (same_bound)
+      lps_block_v8(w, i0, tj, lanes, count, force, thermal, influence, uniform, track_smin, energy, two_sided,
+                   deviatoric, out, marks, false, true);
     else
       lps_block_v8(w, i0, tj, lanes, count, force, thermal, influence, uniform, track_smin, energy, two_sided,
-                   deviatoric, out, marks, false);
+                   deviatoric, out, marks, false, false);
     return;
   }
 #endif
@@ -586,20 +596,60 @@ static const lps_loops *lps_pass1_loops(const peri_sim *s, const peri_node_block
  *   D_i = A_i - B_i (alpha_T dT_i + theta_i/3),
  * the pair force of the header is t_ij + t_ji = omega (|xi| (D_i + D_j) + e (B_i + B_j)), so the
  * force pass reads two numbers per neighbour (D in coef[0 .. n-1], B in coef[n .. 2n-1]). */
+typedef struct lps_coefficients {
+  double theta, P, D, B;
+} lps_coefficients;
+/* (the node's material constants, its weighted volume m and thermal strain; the peer form
+ * (docs/models.md 3.5) takes P as if the family were intact, sum w |xi| = m) */
+static inline lps_coefficients lps_coefficients_of(double n_theta, double K_theta, double alpha_m, bool peer,
+                                                   double m, double eth_i, double we_x, double w_xx) {
+  const double theta = n_theta * we_x / m;
+  const double P = we_x - theta * (peer ? m : w_xx) / 3.0;
+  const double alpha = alpha_m / m;
+  const lps_coefficients c = {theta, P, n_theta * (K_theta * theta - alpha * P / 3.0) / m - alpha * (eth_i + theta / 3.0),
+                              alpha};
+  return c;
+}
 static inline void lps_node_coefficients(peri_sim *s, int32_t i, double we_x, double w_xx) {
   peri_particles *p = &s->disc.p;
   const size_t n = (size_t)p->n;
   const peri_material *mat = &s->mat.materials[p->material[i]];
-  const double m = p->wvol[i];
-  const double theta = mat->n_theta * we_x / m;
-  /* the peer form (docs/models.md 3.5) takes P as if the family were intact, sum w |xi| = m */
-  const double P = we_x - theta * (mat->peer_force_state ? m : w_xx) / 3.0;
-  const double alpha = mat->alpha_m / m;
-  const double eth_i = s->state.thermal_strain ? s->state.thermal_strain[i] : 0.0;
-  p->theta[i] = theta;
-  p->pstate[i] = P;
-  p->coef[i] = mat->n_theta * (mat->K_theta * theta - alpha * P / 3.0) / m - alpha * (eth_i + theta / 3.0);
-  p->coef[n + (size_t)i] = alpha;
+  const lps_coefficients c =
+      lps_coefficients_of(mat->n_theta, mat->K_theta, mat->alpha_m, mat->peer_force_state, p->wvol[i],
+                          s->state.thermal_strain ? s->state.thermal_strain[i] : 0.0, we_x, w_xx);
+  p->theta[i] = c.theta;
+  p->pstate[i] = c.P;
+  p->coef[i] = c.D;
+  p->coef[n + (size_t)i] = c.B;
+}
+/* lps_node_coefficients for the nodes i0 .. i1-1 of a work item, a block's eight in one vector
+ * loop (the same operations lane by lane, so the same numbers: its six divisions per node were
+ * a scalar chain that cost a fifth of the force pass's node loop) */
+static void lps_item_coefficients(peri_sim *s, int32_t i0, int32_t i1, const lps_sums *sums) {
+  if (i1 - i0 != PERI_BLOCK) {
+    for (int32_t i = i0; i < i1; ++i) lps_node_coefficients(s, i, sums[i - i0].sum[0], sums[i - i0].sum[1]);
+    return;
+  }
+  peri_particles *p = &s->disc.p;
+  const size_t n = (size_t)p->n;
+  double n_theta[PERI_BLOCK], K_theta[PERI_BLOCK], alpha_m[PERI_BLOCK], m[PERI_BLOCK], eth[PERI_BLOCK],
+      we_x[PERI_BLOCK], w_xx[PERI_BLOCK];
+  for (int l = 0; l < PERI_BLOCK; ++l) {
+    const int32_t i = i0 + l;
+    const peri_material *mat = &s->mat.materials[p->material[i]];
+    n_theta[l] = mat->n_theta, K_theta[l] = mat->K_theta, alpha_m[l] = mat->alpha_m;
+    m[l] = p->wvol[i], eth[l] = s->state.thermal_strain ? s->state.thermal_strain[i] : 0.0;
+    /* (the peer form's choice made here: a loop that mixes bytes and doubles is not vectorized) */
+    we_x[l] = sums[l].sum[0], w_xx[l] = mat->peer_force_state ? m[l] : sums[l].sum[1];
+  }
+  double *restrict theta = p->theta + i0, *restrict P = p->pstate + i0, *restrict D = p->coef + i0,
+                   *restrict B = p->coef + n + i0;
+#pragma omp simd
+  for (int l = 0; l < PERI_BLOCK; ++l) {
+    const lps_coefficients c =
+        lps_coefficients_of(n_theta[l], K_theta[l], alpha_m[l], false, m[l], eth[l], we_x[l], w_xx[l]);
+    theta[l] = c.theta, P[l] = c.P, D[l] = c.D, B[l] = c.B;
+  }
 }
 
 /* Pass 1 for every owned node: break bonds beyond their critical stretch, then
@@ -613,7 +663,7 @@ static long lps_dilatation(peri_sim *s) {
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
   long n_broken = 0;
   LPS_FOR_EACH_NODE(items, loops, w, breaking, {
-    lps_node_coefficients(s, i, r->sum[0], r->sum[1]);
+    if (i == i0) lps_item_coefficients(s, i0, i1, sums);
     if (track_smin) p->smin[i] = r->smin;
   })
   return n_broken;
@@ -683,7 +733,7 @@ static long lps_plastic_force_pass(peri_sim *s, bool update_s0) {
   const lps_loops *force_loops = lps_force_loops(s, items);
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
   peri_bond_view screened = w;
-  screened.s0_bound = pass.screen;
+  screened.s0_bound = pass.screen, screened.s0_uniform = false;
   const uint8_t *yielded = s->state.plastic_nodes;
   uint8_t *plastic_path = peri_malloc((size_t)(p->n_owned > 0 ? p->n_owned : 1));
   long n_broken = 0;

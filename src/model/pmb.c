@@ -425,7 +425,7 @@ static long pmb_plastic_force_pass(peri_sim *s, bool update_s0) {
                                          items->uniform_volume, s->disc.family.influence);
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
   peri_bond_view screened = w;
-  screened.s0_bound = pass.screen;
+  screened.s0_bound = pass.screen, screened.s0_uniform = false;
   const uint8_t *yielded = s->state.plastic_nodes;
   long n_broken = 0;
 #pragma omp parallel reduction(+ : n_broken)
