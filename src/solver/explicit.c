@@ -129,6 +129,13 @@ int peri_solve_explicit_hooked(peri_sim *s, peri_step_hook hook, peri_step_quiet
   const size_t n3 = 3 * (size_t)n;
   double *inv_rho = peri_malloc(sizeof(double) * (n > 0 ? (size_t)n : 1));
   for (int32_t i = 0; i < n; ++i) inv_rho[i] = 1.0 / s->mat.materials[p->material[i]].density;
+  /* half the node's mass, 0.5 V / (1/rho) as the kinetic energy below takes it (the volumes do
+   * not change during the run): one division per node at the start, not per step */
+  double *half_mass = peri_malloc(sizeof(double) * (n > 0 ? (size_t)n : 1));
+  for (int32_t i = 0; i < n; ++i) half_mass[i] = 0.5 * p->volume[i] / inv_rho[i];
+  /* the damped half kick divides by this; undamped (1 exactly) the division is skipped, which
+   * gives the same number */
+  const double damping_divisor = 1.0 + 0.5 * dt * s->solver.damping;
   held_nodes held = held_nodes_of(s);
   /* the last step's load stays in the sim: a checkpoint carries it (docs/restart.md) */
   if (!s->state.step_load) s->state.step_load = peri_calloc(n3 > 0 ? n3 : 1, sizeof(double));
@@ -144,6 +151,7 @@ int peri_solve_explicit_hooked(peri_sim *s, peri_step_hook hook, peri_step_quiet
   if (s->state.step == 0) { /* a restart resumes with the checkpoint's forces and load */
     if (!s->state.forces_current && internal_force(s) != PERI_OK) {
       free(inv_rho);
+      free(half_mass);
       free(block_sums);
       held_nodes_free(&held);
       return PERI_ERR_RUN;
@@ -201,7 +209,7 @@ int peri_solve_explicit_hooked(peri_sim *s, peri_step_hook hook, peri_step_quiet
           if (!(held.mask[i] & (1u << d))) {
             const double v_half = p->v[c], a = (p->f[c] + p->b[c]) * inv_rho[i];
             /* damping is implicit in the half-step velocity (docs/model_reference.md 12.1 erratum) */
-            p->v[c] = (v_half + 0.5 * dt * a) / (1.0 + 0.5 * dt * damping);
+            p->v[c] = damping_divisor == 1.0 ? v_half + 0.5 * dt * a : (v_half + 0.5 * dt * a) / damping_divisor;
             load = p->b[c];
             du = dt * v_half;
             v2 += v_half * v_half;
@@ -215,7 +223,7 @@ int peri_solve_explicit_hooked(peri_sim *s, peri_step_hook hook, peri_step_quiet
           finite = finite && fabs(p->u[c]) < 1e100 && fabs(p->v[c]) < 1e100;
         }
         work_sum += work;
-        ke_sum += 0.5 * p->volume[i] / inv_rho[i] * v2;
+        ke_sum += half_mass[i] * v2;
         if (begin_next) {
           if (held.mask[i]) keep_held(p, &held, i);
           kick_and_drift(p, i, held.mask[i], inv_rho[i], dt, damping);
@@ -247,6 +255,7 @@ int peri_solve_explicit_hooked(peri_sim *s, peri_step_hook hook, peri_step_quiet
     if (hook && hook(s, ctx)) break;
   }
   free(inv_rho);
+  free(half_mass);
   free(block_sums);
   held_nodes_free(&held);
   return status;
