@@ -62,9 +62,12 @@ static void cells_build(cells *c, const peri_particles *p, double cutoff) {
       if (v > hi[d]) hi[d] = v;
     }
   }
-  /* Bins may be larger than the cutoff (still correct); keep their number near n so that
-   * a sparse cloud with a tiny horizon cannot ask for an absurd number of bins. */
-  c->h = cutoff > 0 ? cutoff : 1.0;
+  /* Bins of half the cutoff: a search visits 5^dim of them, skipping those whose box lies beyond
+   * the cutoff, and tests 60% of the candidates that bins of the cutoff (3^dim of them) give.
+   * Bins may be larger (still correct: scan reaches as many bins as the cutoff spans); keep
+   * their number near n so that a sparse cloud with a tiny horizon cannot ask for an absurd
+   * number of bins. */
+  c->h = cutoff > 0 ? 0.5 * cutoff : 1.0;
   double limit = 2.0 * (double)n + 64;
   for (;;) {
     double total = 1;
@@ -104,20 +107,35 @@ static void cells_free(cells *c) {
 
 /* Visits the candidate neighbours of node i (all nodes in the 3^dim surrounding bins),
  * keeping those within the cutoff with beta > 0. With out == NULL only counts. */
+/* The squared distance from x to the slab of bin k along dimension d (0 inside), the slab
+ * widened by a hair so that rounding in cell_coord cannot put a node outside its bin's slab. */
+static double slab_gap2(const cells *c, int d, int64_t k, double x) {
+  if (d >= c->dim) return 0.0;
+  const double hair = 1e-9 * c->h, lo = c->lo[d] + (double)k * c->h - hair, hi = lo + c->h + 2.0 * hair;
+  const double gap = x < lo ? lo - x : x > hi ? x - hi : 0.0;
+  return gap * gap;
+}
+
 static int64_t scan(const cells *c, const peri_particles *p, const peri_family_params *fp,
                     double rcut, int32_t i, int32_t *out, int64_t *n_coincident) {
   const double *xi = p->x + 3 * (size_t)i;
   int64_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  const int64_t reach = (int64_t)ceil(rcut / c->h); /* bins the cutoff spans */
   for (int d = 0; d < c->dim; d++) {
     int64_t k = cell_coord(c, xi[d], d);
-    lo[d] = k > 0 ? k - 1 : 0;
-    hi[d] = k + 1 < c->nb[d] ? k + 1 : c->nb[d] - 1;
+    lo[d] = k > reach ? k - reach : 0;
+    hi[d] = k + reach < c->nb[d] ? k + reach : c->nb[d] - 1;
   }
   int64_t count = 0;
   double r2max = rcut * rcut, r2sure = fp->horizon * fp->horizon;
-  for (int64_t k2 = lo[2]; k2 <= hi[2]; k2++)
-    for (int64_t k1 = lo[1]; k1 <= hi[1]; k1++)
+  for (int64_t k2 = lo[2]; k2 <= hi[2]; k2++) {
+    const double gap2 = slab_gap2(c, 2, k2, xi[2]);
+    if (gap2 > r2max) continue;
+    for (int64_t k1 = lo[1]; k1 <= hi[1]; k1++) {
+      const double gap1 = gap2 + slab_gap2(c, 1, k1, xi[1]);
+      if (gap1 > r2max) continue;
       for (int64_t k0 = lo[0]; k0 <= hi[0]; k0++) {
+        if (gap1 + slab_gap2(c, 0, k0, xi[0]) > r2max) continue; /* the bin's box is beyond the cutoff */
         int64_t b = (k2 * c->nb[1] + k1) * c->nb[0] + k0;
         for (int64_t t = c->start[b]; t < c->start[b + 1]; t++) {
           int32_t j = c->item[t];
@@ -143,6 +161,8 @@ static int64_t scan(const cells *c, const peri_particles *p, const peri_family_p
           count++;
         }
       }
+    }
+  }
   return count;
 }
 
@@ -179,6 +199,29 @@ static void sort_family(int32_t *a, int64_t n) {
   }
 }
 
+/* Sorts a family of distinct indices: through a bitmap of their range when it is short (a
+ * node's neighbours in the nodes' order span a few hundred words: set a bit per index, read the
+ * set bits in order), else sort_family. `bits` is the caller's zeroed scratch of `words`
+ * words, left zeroed. */
+static void sort_distinct(int32_t *a, int64_t n, uint64_t *bits, int64_t words) {
+  if (n < 2) return;
+  int32_t lo = a[0], hi = a[0];
+  for (int64_t k = 1; k < n; ++k) {
+    lo = a[k] < lo ? a[k] : lo;
+    hi = a[k] > hi ? a[k] : hi;
+  }
+  const int64_t span = ((int64_t)hi - lo) / 64 + 1;
+  if (span > words || span > 8 * n) {
+    sort_family(a, n);
+    return;
+  }
+  for (int64_t k = 0; k < n; ++k) bits[(a[k] - lo) >> 6] |= 1ull << ((a[k] - lo) & 63);
+  int64_t out = 0;
+  for (int64_t w = 0; w < span; ++w)
+    for (uint64_t word = bits[w]; word; word &= word - 1) a[out++] = lo + (int32_t)(64 * w + __builtin_ctzll(word));
+  memset(bits, 0, sizeof(uint64_t) * (size_t)span);
+}
+
 void peri_bonds_build(peri_bonds *b, const peri_particles *p, const peri_family_params *fp) {
   memset(b, 0, sizeof *b);
   int32_t n_own = p->n_owned;
@@ -210,11 +253,17 @@ void peri_bonds_build(peri_bonds *b, const peri_particles *p, const peri_family_
   /* Pass 2: fill each family and sort it by index. Reference length, partial volume and
    * influence are not stored: kernels evaluate them from the reference positions
    * (peri_bond_xi, peri_bonds_beta, peri_bonds_omega), which costs less than reading them. */
-#pragma omp parallel for schedule(dynamic, 256)
-  for (int32_t i = 0; i < n_own; i++) {
-    int64_t o = b->offset[i], cnt = b->offset[i + 1] - o;
-    scan(&c, p, fp, rcut, i, b->neighbor + o, NULL);
-    sort_family(b->neighbor + o, cnt);
+#pragma omp parallel
+  {
+    enum { SORT_WORDS = 4096 }; /* a range of 262,144 indices */
+    uint64_t *bits = peri_calloc(SORT_WORDS, sizeof(uint64_t));
+#pragma omp for schedule(dynamic, 256)
+    for (int32_t i = 0; i < n_own; i++) {
+      int64_t o = b->offset[i], cnt = b->offset[i + 1] - o;
+      scan(&c, p, fp, rcut, i, b->neighbor + o, NULL);
+      sort_distinct(b->neighbor + o, cnt, bits, SORT_WORDS);
+    }
+    free(bits);
   }
   cells_free(&c);
 }

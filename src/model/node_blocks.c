@@ -54,6 +54,8 @@ static int64_t build_template(const peri_bonds *b, int32_t n, int32_t i0, int32_
 /* Clears from the lane masks the broken bonds of node i (in item `item`). */
 static void clear_broken_lanes(peri_node_blocks *nb, const peri_bonds *b, int32_t item, int32_t i) {
   if (!peri_item_is_block(nb, item)) return;
+  /* (an intact family, every one at the start of a run: nothing to clear, no merge) */
+  if (!memchr(b->broken + b->offset[i], 1, (size_t)(b->offset[i + 1] - b->offset[i]))) return;
   const int32_t lane = i - nb->first[item];
   const uint8_t clear = (uint8_t) ~(1u << lane);
   /* the template and the shifted family are both increasing: one merge (a dropped entry's
