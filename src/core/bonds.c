@@ -63,7 +63,8 @@ static void cells_build(cells *c, const peri_particles *p, double cutoff) {
     }
   }
   /* Bins of half the cutoff: a search visits 5^dim of them, skipping those whose box lies beyond
-   * the cutoff, and tests 60% of the candidates that bins of the cutoff (3^dim of them) give.
+   * the cutoff (in 3D 84 of the 125 on average), and tests 39% of the candidates that bins of the
+   * cutoff (3^dim of them) give.
    * Bins may be larger (still correct: scan reaches as many bins as the cutoff spans); keep
    * their number near n so that a sparse cloud with a tiny horizon cannot ask for an absurd
    * number of bins. */
@@ -105,8 +106,6 @@ static void cells_free(cells *c) {
   free(c->item);
 }
 
-/* Visits the candidate neighbours of node i (all nodes in the 3^dim surrounding bins),
- * keeping those within the cutoff with beta > 0. With out == NULL only counts. */
 /* The squared distance from x to the slab of bin k along dimension d (0 inside), the slab
  * widened by a hair so that rounding in cell_coord cannot put a node outside its bin's slab. */
 static double slab_gap2(const cells *c, int d, int64_t k, double x) {
@@ -116,6 +115,9 @@ static double slab_gap2(const cells *c, int d, int64_t k, double x) {
   return gap * gap;
 }
 
+/* Visits the candidate neighbours of node i (the nodes of the bins within the cutoff's reach
+ * whose box is within the cutoff), keeping those within the cutoff with beta > 0. With
+ * out == NULL only counts. */
 static int64_t scan(const cells *c, const peri_particles *p, const peri_family_params *fp,
                     double rcut, int32_t i, int32_t *out, int64_t *n_coincident) {
   const double *xi = p->x + 3 * (size_t)i;

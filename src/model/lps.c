@@ -623,8 +623,8 @@ static inline void lps_node_coefficients(peri_sim *s, int32_t i, double we_x, do
   p->coef[n + (size_t)i] = c.B;
 }
 /* lps_node_coefficients for the nodes i0 .. i1-1 of a work item, a block's eight in one vector
- * loop (the same operations lane by lane, so the same numbers: its six divisions per node were
- * a scalar chain that cost a fifth of the force pass's node loop) */
+ * loop: the same operations lane by lane, so the same numbers (node by node, the six dependent
+ * scalar divisions took most of the dilatation pass's time outside its bond loops) */
 static void lps_item_coefficients(peri_sim *s, int32_t i0, int32_t i1, const lps_sums *sums) {
   if (i1 - i0 != PERI_BLOCK) {
     for (int32_t i = i0; i < i1; ++i) lps_node_coefficients(s, i, sums[i - i0].sum[0], sums[i - i0].sum[1]);
@@ -663,7 +663,7 @@ static long lps_dilatation(peri_sim *s) {
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
   long n_broken = 0;
   LPS_FOR_EACH_NODE(items, loops, w, breaking, {
-    if (i == i0) lps_item_coefficients(s, i0, i1, sums);
+    if (i == i0) lps_item_coefficients(s, i0, i1, sums); /* (the item's nodes at once) */
     if (track_smin) p->smin[i] = r->smin;
   })
   return n_broken;
