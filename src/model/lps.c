@@ -743,10 +743,14 @@ static long lps_plastic_force_pass(peri_sim *s, bool update_s0) {
     PERI_FOR_EACH_ITEM(items, item) {
       const int32_t i0 = items->first[item], i1 = items->first[item + 1];
       lps_sums sums[PERI_BLOCK];
-      lps_item_sums(items, item, i0, i1, &screened, sums_loops, sums);
+      /* an item whose nodes have all yielded takes the plastic path whole, which writes the
+       * sums and smin: the screen would be computed for nothing (a body that yields through) */
+      bool all_yielded = true;
+      for (int32_t i = i0; i < i1; ++i) all_yielded &= yielded[i] != 0;
+      if (!all_yielded) lps_item_sums(items, item, i0, i1, &screened, sums_loops, sums);
       for (int32_t i = i0; i < i1; ++i) {
         lps_sums *r = &sums[i - i0];
-        plastic_path[i] = r->candidate || yielded[i];
+        plastic_path[i] = all_yielded || r->candidate || yielded[i];
         if (plastic_path[i]) {
           const long broken_here = peri_plastic_lps_node_sums(s, &w, &pass, i, scratch, r->sum, &r->smin);
           if (broken_here > 0) peri_node_blocks_clear_broken(items, &s->disc.bonds, item, i);
