@@ -599,12 +599,12 @@ static const lps_loops *lps_pass1_loops(const peri_sim *s, const peri_node_block
 typedef struct lps_coefficients {
   double theta, P, D, B;
 } lps_coefficients;
-/* (the node's material constants, its weighted volume m and thermal strain; the peer form
- * (docs/models.md 3.5) takes P as if the family were intact, sum w |xi| = m) */
-static inline lps_coefficients lps_coefficients_of(double n_theta, double K_theta, double alpha_m, bool peer,
-                                                   double m, double eth_i, double we_x, double w_xx) {
+/* (the node's material constants, its weighted volume m and thermal strain; w_xx is sum w |xi|,
+ * or m for the peer form (docs/models.md 3.5), which takes P as if the family were intact) */
+static inline lps_coefficients lps_coefficients_of(double n_theta, double K_theta, double alpha_m, double m,
+                                                   double eth_i, double we_x, double w_xx) {
   const double theta = n_theta * we_x / m;
-  const double P = we_x - theta * (peer ? m : w_xx) / 3.0;
+  const double P = we_x - theta * w_xx / 3.0;
   const double alpha = alpha_m / m;
   const lps_coefficients c = {theta, P, n_theta * (K_theta * theta - alpha * P / 3.0) / m - alpha * (eth_i + theta / 3.0),
                               alpha};
@@ -615,8 +615,9 @@ static inline void lps_node_coefficients(peri_sim *s, int32_t i, double we_x, do
   const size_t n = (size_t)p->n;
   const peri_material *mat = &s->mat.materials[p->material[i]];
   const lps_coefficients c =
-      lps_coefficients_of(mat->n_theta, mat->K_theta, mat->alpha_m, mat->peer_force_state, p->wvol[i],
-                          s->state.thermal_strain ? s->state.thermal_strain[i] : 0.0, we_x, w_xx);
+      lps_coefficients_of(mat->n_theta, mat->K_theta, mat->alpha_m, p->wvol[i],
+                          s->state.thermal_strain ? s->state.thermal_strain[i] : 0.0, we_x,
+                          mat->peer_force_state ? p->wvol[i] : w_xx);
   p->theta[i] = c.theta;
   p->pstate[i] = c.P;
   p->coef[i] = c.D;
@@ -647,7 +648,7 @@ static void lps_item_coefficients(peri_sim *s, int32_t i0, int32_t i1, const lps
 #pragma omp simd
   for (int l = 0; l < PERI_BLOCK; ++l) {
     const lps_coefficients c =
-        lps_coefficients_of(n_theta[l], K_theta[l], alpha_m[l], false, m[l], eth[l], we_x[l], w_xx[l]);
+        lps_coefficients_of(n_theta[l], K_theta[l], alpha_m[l], m[l], eth[l], we_x[l], w_xx[l]);
     theta[l] = c.theta, P[l] = c.P, D[l] = c.D, B[l] = c.B;
   }
 }
@@ -743,10 +744,7 @@ static long lps_plastic_force_pass(peri_sim *s, bool update_s0) {
     PERI_FOR_EACH_ITEM(items, item) {
       const int32_t i0 = items->first[item], i1 = items->first[item + 1];
       lps_sums sums[PERI_BLOCK];
-      /* an item whose nodes have all yielded takes the plastic path whole, which writes the
-       * sums and smin: the screen would be computed for nothing (a body that yields through) */
-      bool all_yielded = true;
-      for (int32_t i = i0; i < i1; ++i) all_yielded &= yielded[i] != 0;
+      const bool all_yielded = peri_plastic_item_yielded(yielded, i0, i1); /* (no screen then) */
       if (!all_yielded) lps_item_sums(items, item, i0, i1, &screened, sums_loops, sums);
       for (int32_t i = i0; i < i1; ++i) {
         lps_sums *r = &sums[i - i0];

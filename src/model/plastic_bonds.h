@@ -64,6 +64,15 @@ long peri_plastic_mo_node_sums(peri_sim *s, const peri_bond_view *w, const peri_
  * the coefficients A, B, C of pass 1 in w->coef. */
 void peri_plastic_mo_node_force(const peri_sim *s, const peri_bond_view *w, const peri_plastic_pass *pass, int32_t i,
                                 double f[3]);
+/* Whether nodes i0 .. i1-1 (a work item) have all yielded (yielded: s->state.plastic_nodes): such
+ * an item takes the plastic path whole, which writes every sum of the elastic screen, so the
+ * passes skip the screen (a body that yields through). */
+static inline bool peri_plastic_item_yielded(const uint8_t *yielded, int32_t i0, int32_t i1) {
+  bool all = true;
+  for (int32_t i = i0; i < i1; ++i) all &= yielded[i] != 0;
+  return all;
+}
+
 /* Elastic strain energy densities at the current plastic state. */
 void peri_plastic_pmb_energy(peri_sim *s, double *W);
 void peri_plastic_lps_energy(peri_sim *s, double *W);

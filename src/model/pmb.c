@@ -434,22 +434,17 @@ static long pmb_plastic_force_pass(peri_sim *s, bool update_s0) {
     PERI_FOR_EACH_ITEM(items, item) {
       const int32_t i0 = items->first[item], i1 = items->first[item + 1];
       pmb_sums sums[PERI_BLOCK];
-      /* an item whose nodes have all yielded takes the plastic path whole, which writes every
-       * field of the sums: the screen would be computed for nothing (a body that yields through) */
-      bool all_yielded = true;
-      for (int32_t i = i0; i < i1; ++i) all_yielded &= yielded[i] != 0;
-      if (all_yielded) {
-        for (int32_t i = i0; i < i1; ++i) sums[i - i0].candidate = true;
-      } else if (peri_item_is_block(items, item)) {
+      const bool all_yielded = peri_plastic_item_yielded(yielded, i0, i1); /* (no screen then) */
+      if (!all_yielded && peri_item_is_block(items, item)) {
         const int64_t t0 = items->tpl[item];
         loops->block(&screened, i0, items->tpl_node + t0, items->tpl_lanes + t0, peri_item_entries(items, item), sums,
                      NULL);
-      } else {
+      } else if (!all_yielded) {
         for (int32_t i = i0; i < i1; ++i) sums[i - i0] = loops->node(&screened, i);
       }
       for (int32_t i = i0; i < i1; ++i) {
         pmb_sums *r = &sums[i - i0];
-        if (r->candidate || yielded[i]) {
+        if (all_yielded || r->candidate || yielded[i]) {
           const long broken_here = peri_plastic_pmb_node(s, &w, &pass, i, scratch, r->f, &r->smin);
           if (broken_here > 0) peri_node_blocks_clear_broken(items, &s->disc.bonds, item, i);
           n_broken += broken_here;
