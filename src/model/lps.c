@@ -343,7 +343,7 @@ static inline __attribute__((always_inline)) void lps_block_v8(const peri_bond_v
                                                                bool uniform, bool track_smin, bool energy,
                                                                bool two_sided, bool deviatoric,
                                                                lps_sums out[PERI_BLOCK], peri_break_marks *marks,
-                                                               bool unit_beta, bool same_bound) {
+                                                               bool unit_beta, bool same_bound, bool from_table) {
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict D = w->coef,
@@ -355,13 +355,13 @@ static inline __attribute__((always_inline)) void lps_block_v8(const peri_bond_v
   peri_m8 beyond = 0;
   /* every entry one offset for all lanes (a lattice, node_blocks.h): the offsets and their
    * lengths from the table, the positions not read */
-  const uint16_t *restrict table = peri_block_offsets(w, tj, count);
+  const uint16_t *restrict table = from_table ? peri_block_offsets(w, tj, count) : NULL;
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 on = lanes[a];
-    peri_prefetch_next_blocks(w, j, !table);
+    peri_prefetch_next_blocks(w, j, !from_table);
     const peri_v8d V_j = uniform ? zero : v8_loadu_pd(V + j);
-    const peri_offset_v8 o = table ? peri_offset_of_table_v8(w->geom + (size_t)table[a] * PERI_GEOM_STRIDE, true)
+    const peri_offset_v8 o = from_table ? peri_offset_of_table_v8(w->geom + (size_t)table[a] * PERI_GEOM_STRIDE, true)
                                    : lps_offset_v8(&cv, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j), v8_loadu_pd(X2 + j));
     if (force) {
       peri_v8d y[3];
@@ -416,18 +416,18 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
     /* (copies of the loop for families without partial volumes, and for pass 1 of bodies with one
      * critical stretch: its bound is the centre's, not read per neighbour) */
     const bool unit_beta = peri_family_unit_beta(&fam), same_bound = !force && !energy && w->s0_uniform;
-    if (unit_beta && same_bound)
-      lps_block_v8(w, i0, tj, lanes, count, force, thermal, influence, uniform, track_smin, energy, two_sided,
-                   deviatoric, out, marks, true, true);
-    else if (unit_beta)
-      lps_block_v8(w, i0, tj, lanes, count, force, thermal, influence, uniform, track_smin, energy, two_sided,
-                   deviatoric, out, marks, true, false);
-    else if (same_bound)
-      lps_block_v8(w, i0, tj, lanes, count, force, thermal, influence, uniform, track_smin, energy, two_sided,
-                   deviatoric, out, marks, false, true);
-    else
-      lps_block_v8(w, i0, tj, lanes, count, force, thermal, influence, uniform, track_smin, energy, two_sided,
-                   deviatoric, out, marks, false, false);
+    const bool from_table = peri_block_offsets(w, tj, count) != NULL;
+#define LPS_BLOCK_V8(UNIT_BETA, SAME_BOUND, FROM_TABLE)                                                          \
+  lps_block_v8(w, i0, tj, lanes, count, force, thermal, influence, uniform, track_smin, energy, two_sided,        \
+               deviatoric, out, marks, UNIT_BETA, SAME_BOUND, FROM_TABLE)
+#define LPS_BLOCK_V8_SOURCES(UNIT_BETA, SAME_BOUND)                                                              \
+  (from_table ? LPS_BLOCK_V8(UNIT_BETA, SAME_BOUND, true) : LPS_BLOCK_V8(UNIT_BETA, SAME_BOUND, false))
+    if (unit_beta && same_bound) LPS_BLOCK_V8_SOURCES(true, true);
+    else if (unit_beta) LPS_BLOCK_V8_SOURCES(true, false);
+    else if (same_bound) LPS_BLOCK_V8_SOURCES(false, true);
+    else LPS_BLOCK_V8_SOURCES(false, false);
+#undef LPS_BLOCK_V8_SOURCES
+#undef LPS_BLOCK_V8
     return;
   }
 #endif
