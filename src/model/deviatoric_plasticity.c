@@ -145,14 +145,17 @@ static inline __attribute__((always_inline)) void bond_lengths_v8(const peri_v8d
 }
 
 /* The same for template entry a of a block (neighbours tj[a] + l, contiguous): the offsets
- * and |xi| from the block's table on a lattice (table not NULL, bond_kernel.h
- * peri_block_offsets), the same numbers as from the positions. */
-static inline __attribute__((always_inline)) void entry_lengths_v8(const peri_bond_view *w, const uint16_t *table,
+ * and |xi| from the block's table on a lattice (from_table, the table's indices in table:
+ * bond_kernel.h peri_block_offsets), the same numbers as from the positions. from_table is a
+ * constant of each copy of the block loops: a source chosen per entry compiles to a branch
+ * over both paths in the loop (on an AMD EPYC the elastic LPS block loop took 1.2 times as long). */
+static inline __attribute__((always_inline)) void entry_lengths_v8(const peri_bond_view *w, bool from_table,
+                                                                   const uint16_t *table,
                                                                    int64_t a, int64_t j, const peri_v8d c[3],
                                                                    const peri_v8d cu[3], const peri_v8d uj[3],
                                                                    peri_v8d y[3], peri_v8d *r0, peri_v8d *inv_r0,
                                                                    peri_v8d *r, peri_v8d *inv_r) {
-  if (table) {
+  if (from_table) {
     const peri_offset_v8 o = peri_offset_of_table_v8(w->geom + (size_t)table[a] * PERI_GEOM_STRIDE, true);
     offset_lengths_v8(&o, uj, cu, y, r0, inv_r0, r, inv_r);
   } else {
@@ -446,7 +449,8 @@ static inline __attribute__((always_inline)) void store_bond_rows(int64_t *restr
 static inline __attribute__((always_inline)) bool block_return(peri_sim *s, const peri_bond_view *w,
                                                                const peri_node_blocks *items, int32_t item,
                                                                const double *elastic, uint8_t *yielded,
-                                                               double *restrict scratch, const int L) {
+                                                               double *restrict scratch, const int L,
+                                                               const bool from_table) {
   if (L > 4 || items->tpl_end[item] != items->tpl[item + 1]) return false;
   const peri_particles *p = &s->disc.p;
   const int32_t i0 = items->first[item];
@@ -489,15 +493,15 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   /* 1. the lanes' deviatoric stretches and each layer's energy */
   peri_v8d S[4] = {zero, zero, zero, zero};
   peri_v8i k = _mm256_loadu_si256((const __m256i *)first);
-  const uint16_t *restrict table = peri_block_offsets(w, tj, count); /* a lattice's offsets */
+  const uint16_t *restrict table = from_table ? peri_block_offsets(w, tj, count) : NULL; /* a lattice's offsets */
   store_bond_rows(at_of, k, L);
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 m = structure[a] & active;
-    peri_prefetch_next_blocks(w, j, !table);
+    peri_prefetch_next_blocks(w, j, !from_table);
     const peri_v8d uj[3] = {v8_loadu_pd(w->u0 + j), v8_loadu_pd(w->u1 + j), v8_loadu_pd(w->u2 + j)};
     peri_v8d y[3], r0, inv_r0, r, inv_r;
-    entry_lengths_v8(w, table, a, j, c, cu, uj, y, &r0, &inv_r0, &r, &inv_r);
+    entry_lengths_v8(w, from_table, table, a, j, c, cu, uj, y, &r0, &inv_r0, &r, &inv_r);
     /* (deviatoric_stretches' operations: the intact flags as 1.0 or 0.0) */
     const peri_v8d on = v8_maskz_mov_pd(lanes[a], one);
     const peri_v8d wt =
@@ -584,13 +588,19 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
 /* block_return with constant layer counts. */
 static bool block_return_any(peri_sim *s, const peri_bond_view *w, const peri_node_blocks *items, int32_t item,
                              const double *elastic, uint8_t *yielded, double *scratch) {
+  const int64_t t0 = items->tpl[item];
+  const bool from_table = peri_block_offsets(w, items->tpl_node + t0, items->tpl_end[item] - t0) != NULL;
+#define BLOCK_RETURN(L)                                                                                          \
+  (from_table ? block_return(s, w, items, item, elastic, yielded, scratch, L, true)                             \
+              : block_return(s, w, items, item, elastic, yielded, scratch, L, false))
   switch (s->state.plastic_layers) {
-  case 1: return block_return(s, w, items, item, elastic, yielded, scratch, 1);
-  case 2: return block_return(s, w, items, item, elastic, yielded, scratch, 2);
-  case 3: return block_return(s, w, items, item, elastic, yielded, scratch, 3);
-  case 4: return block_return(s, w, items, item, elastic, yielded, scratch, 4);
+  case 1: return BLOCK_RETURN(1);
+  case 2: return BLOCK_RETURN(2);
+  case 3: return BLOCK_RETURN(3);
+  case 4: return BLOCK_RETURN(4);
   default: return false;
   }
+#undef BLOCK_RETURN
 }
 #endif
 
@@ -720,8 +730,9 @@ void peri_deviatoric_node_force(const peri_sim *s, const peri_bond_view *w, int3
 }
 
 #ifdef PERI_BOND_V8
-bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, const peri_node_blocks *items,
-                                 int32_t item, double f[PERI_BLOCK][3]) {
+static inline __attribute__((always_inline)) bool block_force(const peri_sim *s, const peri_bond_view *w,
+                                                              const peri_node_blocks *items, int32_t item,
+                                                              double f[PERI_BLOCK][3], const bool from_table) {
   /* a lane's bonds are its template entries with its bit of the structure set, in family
    * order: counting them gives each lane's bond index, unless entries were dropped */
   if (items->tpl_end[item] != items->tpl[item + 1]) return false;
@@ -742,14 +753,14 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
   const peri_v8d Di = v8_loadu_pd(D + i0), Bi = v8_loadu_pd(B + i0);
   peri_v8d s0 = v8_setzero_pd(), s1 = v8_setzero_pd(), s2 = v8_setzero_pd();
   peri_v8l rev = v8_mask_i32gather_epi64(count > 0 ? lanes[0] : 0, k, reverse);
-  const uint16_t *restrict table = peri_block_offsets(w, tj, count); /* a lattice's offsets */
+  const uint16_t *restrict table = from_table ? peri_block_offsets(w, tj, count) : NULL; /* a lattice's offsets */
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 on = lanes[a];
-    peri_prefetch_next_blocks(w, j, !table);
+    peri_prefetch_next_blocks(w, j, !from_table);
     const peri_v8d uj[3] = {v8_loadu_pd(w->u0 + j), v8_loadu_pd(w->u1 + j), v8_loadu_pd(w->u2 + j)};
     peri_v8d y[3], r0, inv_r0, r, inv_r;
-    entry_lengths_v8(w, table, a, j, c, cu, uj, y, &r0, &inv_r0, &r, &inv_r);
+    entry_lengths_v8(w, from_table, table, a, j, c, cu, uj, y, &r0, &inv_r0, &r, &inv_r);
     /* the bond's two plastic terms, the other end's at the reverse bond (as the node path adds them) */
     /* the lanes that have the entry's bond (intact or not) move to their next one, whose reverse
      * bonds are gathered an entry ahead: the gather of the other ends' terms waits on them */
@@ -768,6 +779,14 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
   v8_storeu_pd(a0, s0), v8_storeu_pd(a1, s1), v8_storeu_pd(a2, s2);
   for (int l = 0; l < PERI_BLOCK; ++l) f[l][0] = a0[l], f[l][1] = a1[l], f[l][2] = a2[l];
   return true;
+}
+
+bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, const peri_node_blocks *items,
+                                 int32_t item, double f[PERI_BLOCK][3]) {
+  const int64_t t0 = items->tpl[item];
+  return peri_block_offsets(w, items->tpl_node + t0, items->tpl_end[item] - t0)
+             ? block_force(s, w, items, item, f, true)
+             : block_force(s, w, items, item, f, false);
 }
 #else
 bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, const peri_node_blocks *items,
