@@ -78,13 +78,36 @@ static inline double peri_eval_omega(const peri_family_eval *e, peri_influence i
  * applied to y0 for 1/sqrt(x) and to x y0 for sqrt(x). Over 8 million values the two are within
  * 1.27 and 1.04 units in the last place (two Newton steps and x times the reciprocal root: 1.19
  * and 1.71), in 9 operations for both, as before, and 7 instead of 9 for a caller that needs
- * only sqrt(x) (the compiler drops what is not used). x = 0 gives NaN (callers mask it). */
+ * only sqrt(x) (the compiler drops what is not used). x = 0 gives NaN here and 1/0 = inf by
+ * the hardware way below (callers mask a zero length either way). */
+/* Which way peri_root_v8 takes. On an AMD EPYC of the Zen 5 kind (GCC 12 names it znver3 under
+ * -march=native and enables its AVX-512; later compilers say znver5) the 512-bit square root and
+ * division are quick enough that sqrt(x), then 1/sqrt(x) by one division, take less time than
+ * the estimate and its series: on the LAMMPS problem at 26k nodes, one thread, LPS 1.04 -> 0.83 s
+ * and PMB 0.55 -> 0.51 s (docs/performance.md). Everywhere else (Intel, where one unit does them
+ * in 16-32 cycles a vector; Zen 4, not measured; AVX2) the series. -DPERI_ROOT_HARDWARE=0 or 1
+ * overrides the choice. The two ways differ at round-off: the square root is correctly rounded
+ * and the reciprocal within one unit in the last place (tests/unit/test_bond_lengths.c holds
+ * both to the series' bound), so builds for the two kinds differ there, as AVX2 and AVX-512
+ * builds do. Every path of a model takes the same way, so they still agree bit for bit. */
+#ifndef PERI_ROOT_HARDWARE
+#if defined(__AVX512F__) && (defined(__znver3__) || defined(__znver5__))
+#define PERI_ROOT_HARDWARE 1
+#else
+#define PERI_ROOT_HARDWARE 0
+#endif
+#endif
 static inline __attribute__((always_inline)) void peri_root_v8(peri_v8d x, peri_v8d *root, peri_v8d *inv_root) {
+#if PERI_ROOT_HARDWARE
+  *root = v8_sqrt_pd(x);
+  *inv_root = v8_div_pd(v8_set1_pd(1.0), *root);
+#else
   const peri_v8d y0 = v8_rsqrt14_pd(x), x_y0 = v8_mul_pd(x, y0);
   const peri_v8d e = v8_fnmadd_pd(x_y0, y0, v8_set1_pd(1.0));
   const peri_v8d series = v8_fmadd_pd(v8_fmadd_pd(e, v8_set1_pd(5.0 / 16.0), v8_set1_pd(3.0 / 8.0)), e, v8_set1_pd(0.5));
   *inv_root = v8_fmadd_pd(v8_mul_pd(y0, e), series, y0);
   *root = v8_fmadd_pd(v8_mul_pd(x_y0, e), series, x_y0);
+#endif
 }
 /* a0² + a1² + a2² in the order of the scalar loops (PMB), or by FMAs (the other models) */
 static inline __attribute__((always_inline)) peri_v8d peri_norm2_v8(peri_v8d a0, peri_v8d a1, peri_v8d a2) {

@@ -34,6 +34,8 @@ typedef __m512i peri_v8l; /* eight 64-bit integers */
 #define v8_add_pd _mm512_add_pd
 #define v8_sub_pd _mm512_sub_pd
 #define v8_mul_pd _mm512_mul_pd
+#define v8_div_pd _mm512_div_pd
+#define v8_sqrt_pd _mm512_sqrt_pd
 #define v8_fmadd_pd _mm512_fmadd_pd
 #define v8_fnmadd_pd _mm512_fnmadd_pd
 #define v8_fmsub_pd _mm512_fmsub_pd
@@ -96,6 +98,7 @@ V8_INLINE peri_v8d v8_setzero_pd(void) { return v8_make(_mm256_setzero_pd(), _mm
 V8_BINARY(v8_add_pd, _mm256_add_pd)
 V8_BINARY(v8_sub_pd, _mm256_sub_pd)
 V8_BINARY(v8_mul_pd, _mm256_mul_pd)
+V8_BINARY(v8_div_pd, _mm256_div_pd)
 V8_BINARY(v8_min_pd, _mm256_min_pd)
 V8_BINARY(v8_max_pd, _mm256_max_pd)
 #undef V8_BINARY
@@ -107,6 +110,7 @@ V8_TERNARY(v8_fmadd_pd, _mm256_fmadd_pd)
 V8_TERNARY(v8_fnmadd_pd, _mm256_fnmadd_pd)
 V8_TERNARY(v8_fmsub_pd, _mm256_fmsub_pd)
 #undef V8_TERNARY
+V8_INLINE peri_v8d v8_sqrt_pd(peri_v8d a) { return v8_make(_mm256_sqrt_pd(a.lo), _mm256_sqrt_pd(a.hi)); }
 V8_INLINE peri_v8d v8_abs_pd(peri_v8d a) {
   const __m256d sign = _mm256_set1_pd(-0.0);
   return v8_make(_mm256_andnot_pd(sign, a.lo), _mm256_andnot_pd(sign, a.hi));
