@@ -164,6 +164,13 @@ static inline __attribute__((always_inline)) void entry_lengths_v8(const peri_bo
   }
 }
 
+/* The table indices of a work item's offsets (peri_block_offsets), or NULL: the block loops
+ * below run one copy per source, with from_table (table not NULL) a constant of the copy. */
+static inline const uint16_t *item_offsets(const peri_bond_view *w, const peri_node_blocks *items, int32_t item) {
+  const int64_t t0 = items->tpl[item];
+  return peri_block_offsets(w, items->tpl_node + t0, items->tpl_end[item] - t0);
+}
+
 /* The same for the neighbours j of the lanes in m (gathered). */
 static inline __attribute__((always_inline)) void gathered_lengths_v8(const peri_bond_view *w, peri_m8 m, peri_v8i j,
                                                                       const peri_v8d c[3], const peri_v8d cu[3],
@@ -450,6 +457,7 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
                                                                const peri_node_blocks *items, int32_t item,
                                                                const double *elastic, uint8_t *yielded,
                                                                double *restrict scratch, const int L,
+                                                               const uint16_t *restrict table,
                                                                const bool from_table) {
   if (L > 4 || items->tpl_end[item] != items->tpl[item + 1]) return false;
   const peri_particles *p = &s->disc.p;
@@ -493,7 +501,6 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   /* 1. the lanes' deviatoric stretches and each layer's energy */
   peri_v8d S[4] = {zero, zero, zero, zero};
   peri_v8i k = _mm256_loadu_si256((const __m256i *)first);
-  const uint16_t *restrict table = from_table ? peri_block_offsets(w, tj, count) : NULL; /* a lattice's offsets */
   store_bond_rows(at_of, k, L);
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
@@ -588,11 +595,10 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
 /* block_return with constant layer counts. */
 static bool block_return_any(peri_sim *s, const peri_bond_view *w, const peri_node_blocks *items, int32_t item,
                              const double *elastic, uint8_t *yielded, double *scratch) {
-  const int64_t t0 = items->tpl[item];
-  const bool from_table = peri_block_offsets(w, items->tpl_node + t0, items->tpl_end[item] - t0) != NULL;
+  const uint16_t *table = item_offsets(w, items, item);
 #define BLOCK_RETURN(L)                                                                                          \
-  (from_table ? block_return(s, w, items, item, elastic, yielded, scratch, L, true)                             \
-              : block_return(s, w, items, item, elastic, yielded, scratch, L, false))
+  (table ? block_return(s, w, items, item, elastic, yielded, scratch, L, table, true)                            \
+         : block_return(s, w, items, item, elastic, yielded, scratch, L, NULL, false))
   switch (s->state.plastic_layers) {
   case 1: return BLOCK_RETURN(1);
   case 2: return BLOCK_RETURN(2);
@@ -732,7 +738,8 @@ void peri_deviatoric_node_force(const peri_sim *s, const peri_bond_view *w, int3
 #ifdef PERI_BOND_V8
 static inline __attribute__((always_inline)) bool block_force(const peri_sim *s, const peri_bond_view *w,
                                                               const peri_node_blocks *items, int32_t item,
-                                                              double f[PERI_BLOCK][3], const bool from_table) {
+                                                              double f[PERI_BLOCK][3], const uint16_t *restrict table,
+                                                              const bool from_table) {
   /* a lane's bonds are its template entries with its bit of the structure set, in family
    * order: counting them gives each lane's bond index, unless entries were dropped */
   if (items->tpl_end[item] != items->tpl[item + 1]) return false;
@@ -753,7 +760,6 @@ static inline __attribute__((always_inline)) bool block_force(const peri_sim *s,
   const peri_v8d Di = v8_loadu_pd(D + i0), Bi = v8_loadu_pd(B + i0);
   peri_v8d s0 = v8_setzero_pd(), s1 = v8_setzero_pd(), s2 = v8_setzero_pd();
   peri_v8l rev = v8_mask_i32gather_epi64(count > 0 ? lanes[0] : 0, k, reverse);
-  const uint16_t *restrict table = from_table ? peri_block_offsets(w, tj, count) : NULL; /* a lattice's offsets */
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 on = lanes[a];
@@ -783,10 +789,8 @@ static inline __attribute__((always_inline)) bool block_force(const peri_sim *s,
 
 bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, const peri_node_blocks *items,
                                  int32_t item, double f[PERI_BLOCK][3]) {
-  const int64_t t0 = items->tpl[item];
-  return peri_block_offsets(w, items->tpl_node + t0, items->tpl_end[item] - t0)
-             ? block_force(s, w, items, item, f, true)
-             : block_force(s, w, items, item, f, false);
+  const uint16_t *table = item_offsets(w, items, item);
+  return table ? block_force(s, w, items, item, f, table, true) : block_force(s, w, items, item, f, NULL, false);
 }
 #else
 bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, const peri_node_blocks *items,

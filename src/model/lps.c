@@ -343,7 +343,8 @@ static inline __attribute__((always_inline)) void lps_block_v8(const peri_bond_v
                                                                bool uniform, bool track_smin, bool energy,
                                                                bool two_sided, bool deviatoric,
                                                                lps_sums out[PERI_BLOCK], peri_break_marks *marks,
-                                                               bool unit_beta, bool same_bound, bool from_table) {
+                                                               bool unit_beta, bool same_bound,
+                                                               const uint16_t *restrict table, bool from_table) {
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict D = w->coef,
@@ -354,8 +355,8 @@ static inline __attribute__((always_inline)) void lps_block_v8(const peri_bond_v
   peri_v8d s0 = zero, s1 = zero, s2 = zero, smin = v8_set1_pd(INFINITY);
   peri_m8 beyond = 0;
   /* every entry one offset for all lanes (a lattice, node_blocks.h): the offsets and their
-   * lengths from the table, the positions not read */
-  const uint16_t *restrict table = from_table ? peri_block_offsets(w, tj, count) : NULL;
+   * lengths from the table, the positions not read (from_table: table is not NULL, a constant
+   * of each copy of the loop) */
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 on = lanes[a];
@@ -418,12 +419,12 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
      * of the offsets, a lattice's table or the positions: chosen per entry, the source stayed a
      * branch inside the loop, 1.2 times its time on an AMD EPYC) */
     const bool unit_beta = peri_family_unit_beta(&fam), same_bound = !force && !energy && w->s0_uniform;
-    const bool from_table = peri_block_offsets(w, tj, count) != NULL;
+    const uint16_t *table = peri_block_offsets(w, tj, count);
 #define LPS_BLOCK_V8(UNIT_BETA, SAME_BOUND, FROM_TABLE)                                                          \
   lps_block_v8(w, i0, tj, lanes, count, force, thermal, influence, uniform, track_smin, energy, two_sided,        \
-               deviatoric, out, marks, UNIT_BETA, SAME_BOUND, FROM_TABLE)
+               deviatoric, out, marks, UNIT_BETA, SAME_BOUND, table, FROM_TABLE)
 #define LPS_BLOCK_V8_SOURCES(UNIT_BETA, SAME_BOUND)                                                              \
-  (from_table ? LPS_BLOCK_V8(UNIT_BETA, SAME_BOUND, true) : LPS_BLOCK_V8(UNIT_BETA, SAME_BOUND, false))
+  (table ? LPS_BLOCK_V8(UNIT_BETA, SAME_BOUND, true) : LPS_BLOCK_V8(UNIT_BETA, SAME_BOUND, false))
     if (unit_beta && same_bound) LPS_BLOCK_V8_SOURCES(true, true);
     else if (unit_beta) LPS_BLOCK_V8_SOURCES(true, false);
     else if (same_bound) LPS_BLOCK_V8_SOURCES(false, true);

@@ -435,12 +435,14 @@ static long pmb_plastic_force_pass(peri_sim *s, bool update_s0) {
       const int32_t i0 = items->first[item], i1 = items->first[item + 1];
       pmb_sums sums[PERI_BLOCK];
       const bool all_yielded = peri_plastic_item_yielded(yielded, i0, i1); /* (no screen then) */
-      if (!all_yielded && peri_item_is_block(items, item)) {
-        const int64_t t0 = items->tpl[item];
-        loops->block(&screened, i0, items->tpl_node + t0, items->tpl_lanes + t0, peri_item_entries(items, item), sums,
-                     NULL);
-      } else if (!all_yielded) {
-        for (int32_t i = i0; i < i1; ++i) sums[i - i0] = loops->node(&screened, i);
+      if (!all_yielded) {
+        if (peri_item_is_block(items, item)) {
+          const int64_t t0 = items->tpl[item];
+          loops->block(&screened, i0, items->tpl_node + t0, items->tpl_lanes + t0, peri_item_entries(items, item),
+                       sums, NULL);
+        } else {
+          for (int32_t i = i0; i < i1; ++i) sums[i - i0] = loops->node(&screened, i);
+        }
       }
       for (int32_t i = i0; i < i1; ++i) {
         pmb_sums *r = &sums[i - i0];

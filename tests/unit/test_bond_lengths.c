@@ -13,7 +13,9 @@
  * result: the product x y0 (u, entering sqrt(x) whole and 1/sqrt(x) through e at half
  * weight), e itself (u), the correction term (u |e|, negligible) and the final fused
  * multiply-add (u). So |error| <= 2.1 u relative for sqrt(x), 1.6 u for 1/sqrt(x); asserted
- * at 2.5 u for both. */
+ * at 2.5 u for both. Builds that take the hardware way (PERI_ROOT_HARDWARE, bond_kernel.h) are
+ * inside it by construction: the square root correctly rounded (0.5 u), 1/sqrt(x) one rounded
+ * division of it (about 1 u). */
 #define UNIT_ROUNDOFF 0x1p-53
 #define BOUND (2.5 * UNIT_ROUNDOFF)
 
