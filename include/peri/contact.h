@@ -19,8 +19,11 @@ typedef struct peri_contact {
   bool short_range;             /* contact.short_range given */
   double stiffness_factor;      /* c_S / c */
   double skin;                  /* list margin (m) */
+  double prune_skin;            /* margin of the pruned list the forces visit (m), at most skin */
   double *c_material;           /* [materials] c of each material (PMB micromodulus of its K, E) */
   peri_contact_list list;       /* rows: the owned nodes */
+  double *y_owned;              /* [3 y_owned_n] the owned nodes' deformed positions, between steps */
+  int32_t y_owned_n;
   peri_contact_nodes nodes;     /* the nodes the list was built over: owned and, on MPI ranks, ghosts */
   peri_contact_ghosts ghosts;   /* their exchange (one process: none) */
   double min_ratio;             /* smallest |y_i - y_j| / d_ij of this rank's pairs at the last

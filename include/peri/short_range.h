@@ -16,6 +16,8 @@ double peri_contact_min_ratio(const struct peri_sim *s);
 
 /* Pairs (i, j) in the pair lists of every rank, each counted from both ends. Collective. */
 long peri_contact_pairs(const struct peri_sim *s);
+/* Pairs in the pruned lists of every rank (those the forces visit). Collective. */
+long peri_contact_pruned_pairs(const struct peri_sim *s);
 /* Contact ghosts of every rank at the last build of the lists (0 in one process). Collective. */
 long peri_contact_ghost_count(const struct peri_sim *s);
 void peri_contact_free(peri_contact *c);

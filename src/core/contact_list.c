@@ -2,7 +2,9 @@
  * the deformed positions finds, for every node, the nodes within the largest contact distance
  * plus the skin; the list is kept until a node has moved half the skin, since two nodes that
  * each moved less than skin/2 are still farther apart than d_ij if they were farther than
- * d_ij + skin at the build. */
+ * d_ij + skin at the build. The pruned list applies the same argument with a smaller skin to
+ * the built list's pairs: fewer pairs for the forces to visit at every evaluation, and a
+ * prune is a pass over the built list, not over the cells. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -13,17 +15,23 @@
 #include <omp.h>
 #endif
 
-bool peri_contact_list_stale(const peri_contact_list *l, const double *u, int32_t n, double skin) {
-  if (!l->u_built || l->n != n) return true;
-  const double limit2 = 0.25 * skin * skin;
-  bool moved = false;
-#pragma omp parallel for schedule(static) reduction(|| : moved)
+peri_contact_list_need peri_contact_list_needs(const peri_contact_list *l, const double *x, const double *u, int32_t n,
+                                               double skin, double prune_skin, double *y) {
+  double moved2 = 0.0, moved_prune2 = 0.0; /* the largest squared displacements since the build and the prune */
+#pragma omp parallel for schedule(static) reduction(max : moved2, moved_prune2)
   for (int32_t i = 0; i < n; ++i) {
-    const double *a = &u[3 * (size_t)i], *b = &l->u_built[3 * (size_t)i];
-    const double d0 = a[0] - b[0], d1 = a[1] - b[1], d2 = a[2] - b[2];
-    moved = moved || d0 * d0 + d1 * d1 + d2 * d2 > limit2;
+    const size_t k = 3 * (size_t)i;
+    for (int a = 0; a < 3; ++a) y[k + a] = x[k + a] + u[k + a];
+    if (!l->u_built || l->n != n) continue;
+    const double *b = &l->u_built[k], *c = &l->u_pruned[k];
+    const double d0 = u[k] - b[0], d1 = u[k + 1] - b[1], d2 = u[k + 2] - b[2];
+    const double e0 = u[k] - c[0], e1 = u[k + 1] - c[1], e2 = u[k + 2] - c[2];
+    const double d = d0 * d0 + d1 * d1 + d2 * d2, e = e0 * e0 + e1 * e1 + e2 * e2;
+    moved2 = d > moved2 ? d : moved2;
+    moved_prune2 = e > moved_prune2 ? e : moved_prune2;
   }
-  return moved;
+  if (!l->u_built || l->n != n || moved2 > 0.25 * skin * skin) return PERI_CONTACT_LIST_BUILD;
+  return moved_prune2 > 0.25 * prune_skin * prune_skin ? PERI_CONTACT_LIST_PRUNE : PERI_CONTACT_LIST_FRESH;
 }
 
 /* The cell grid over the deformed positions: cells at least `h` wide, at most 8n + 2^16 of
@@ -113,29 +121,32 @@ static int64_t scan_node(const cell_grid *g, const double *x, const double *y, i
   int64_t c[3], count = 0;
   const double farthest2 = (r->max_reach + r->skin) * (r->max_reach + r->skin);
   for (int a = 0; a < 3; ++a) c[a] = cell_coord(g, yi, a);
+  /* the stencil's cells along x are consecutive in the cell order, and so are their nodes:
+   * one range of nodes per row of cells */
+  const int64_t x0 = c[0] > STENCIL ? c[0] - STENCIL : 0, x1 = c[0] + STENCIL < g->nc[0] ? c[0] + STENCIL : g->nc[0] - 1;
   for (int64_t cz = c[2] > STENCIL ? c[2] - STENCIL : 0; cz <= c[2] + STENCIL && cz < g->nc[2]; ++cz)
-    for (int64_t cy = c[1] > STENCIL ? c[1] - STENCIL : 0; cy <= c[1] + STENCIL && cy < g->nc[1]; ++cy)
-      for (int64_t cx = c[0] > STENCIL ? c[0] - STENCIL : 0; cx <= c[0] + STENCIL && cx < g->nc[0]; ++cx) {
-        const int64_t cell = (cz * g->nc[1] + cy) * g->nc[0] + cx;
-        buffer_reserve(buf, count + g->start[cell + 1] - g->start[cell]);
-        int32_t *out = &buf->partner[buf->size];
-        double *reach_out = &buf->reach[buf->size];
-        for (int64_t k = g->start[cell]; k < g->start[cell + 1]; ++k) {
-          const int32_t j = g->node[k];
-          if (j == i) continue;
-          const double *yj = &y[3 * (size_t)j], *xj = &x[3 * (size_t)j];
-          const double r2 = (yi[0] - yj[0]) * (yi[0] - yj[0]) + (yi[1] - yj[1]) * (yi[1] - yj[1]) +
-                            (yi[2] - yj[2]) * (yi[2] - yj[2]);
-          if (r2 >= farthest2) continue; /* most candidates: no square root */
-          const double r02 = (xi[0] - xj[0]) * (xi[0] - xj[0]) + (xi[1] - xj[1]) * (xi[1] - xj[1]) +
-                             (xi[2] - xj[2]) * (xi[2] - xj[2]);
-          const double d = fmin(r->ratio * sqrt(r02), r->max_reach), listed = d + r->skin;
-          if (r2 >= listed * listed) continue;
-          out[count] = j;
-          reach_out[count] = d;
-          ++count;
-        }
+    for (int64_t cy = c[1] > STENCIL ? c[1] - STENCIL : 0; cy <= c[1] + STENCIL && cy < g->nc[1]; ++cy) {
+      const int64_t row = (cz * g->nc[1] + cy) * g->nc[0];
+      const int64_t k0 = g->start[row + x0], k1 = g->start[row + x1 + 1];
+      buffer_reserve(buf, count + k1 - k0);
+      int32_t *out = &buf->partner[buf->size];
+      double *reach_out = &buf->reach[buf->size];
+      for (int64_t k = k0; k < k1; ++k) {
+        const int32_t j = g->node[k];
+        if (j == i) continue;
+        const double *yj = &y[3 * (size_t)j], *xj = &x[3 * (size_t)j];
+        const double r2 = (yi[0] - yj[0]) * (yi[0] - yj[0]) + (yi[1] - yj[1]) * (yi[1] - yj[1]) +
+                          (yi[2] - yj[2]) * (yi[2] - yj[2]);
+        if (r2 >= farthest2) continue; /* most candidates: no square root */
+        const double r02 = (xi[0] - xj[0]) * (xi[0] - xj[0]) + (xi[1] - xj[1]) * (xi[1] - xj[1]) +
+                           (xi[2] - xj[2]) * (xi[2] - xj[2]);
+        const double d = fmin(r->ratio * sqrt(r02), r->max_reach), listed = d + r->skin;
+        if (r2 >= listed * listed) continue;
+        out[count] = j;
+        reach_out[count] = d;
+        ++count;
       }
+    }
   return count;
 }
 
@@ -162,8 +173,12 @@ void peri_contact_list_build(peri_contact_list *l, const double *x, const double
   if (l->n != rows || !l->offset) {
     free(l->offset);
     free(l->u_built);
+    free(l->pruned_end);
+    free(l->u_pruned);
     l->offset = peri_malloc(sizeof(int64_t) * ((size_t)rows + 1));
     l->u_built = peri_malloc(sizeof(double) * 3 * (rows > 0 ? (size_t)rows : 1));
+    l->pruned_end = peri_malloc(sizeof(int64_t) * (rows > 0 ? (size_t)rows : 1));
+    l->u_pruned = peri_malloc(sizeof(double) * 3 * (rows > 0 ? (size_t)rows : 1));
     l->n = rows;
   }
   l->offset[0] = 0;
@@ -196,9 +211,13 @@ void peri_contact_list_build(peri_contact_list *l, const double *x, const double
   if (entries > l->capacity || !l->partner) {
     free(l->partner);
     free(l->reach);
+    free(l->pruned_partner);
+    free(l->pruned_reach);
     l->capacity = entries + entries / 4 + 16;
     l->partner = peri_malloc(sizeof(int32_t) * (size_t)l->capacity);
     l->reach = peri_malloc(sizeof(double) * (size_t)l->capacity);
+    l->pruned_partner = peri_malloc(sizeof(int32_t) * (size_t)l->capacity);
+    l->pruned_reach = peri_malloc(sizeof(double) * (size_t)l->capacity);
   }
 #pragma omp parallel for schedule(static, 1) num_threads(used)
   for (int t = 0; t < used; ++t) {
@@ -219,10 +238,39 @@ void peri_contact_list_build(peri_contact_list *l, const double *x, const double
   free(g.node);
 }
 
+/* Each row writes only its own range, so the rows are pruned in parallel; a row keeps its
+ * partners' index order. */
+void peri_contact_list_prune(peri_contact_list *l, const double *y, int32_t first_row, const double *u_rows,
+                             double prune_skin) {
+  const int32_t rows = l->n;
+#pragma omp parallel for schedule(static)
+  for (int32_t row = 0; row < rows; ++row) {
+    const size_t i = (size_t)first_row + (size_t)row;
+    const double yi0 = y[3 * i], yi1 = y[3 * i + 1], yi2 = y[3 * i + 2];
+    int64_t end = l->offset[row];
+    for (int64_t k = l->offset[row]; k < l->offset[row + 1]; ++k) {
+      const int32_t j = l->partner[k];
+      const double d0 = yi0 - y[3 * (size_t)j], d1 = yi1 - y[3 * (size_t)j + 1], d2 = yi2 - y[3 * (size_t)j + 2];
+      const double listed = l->reach[k] + prune_skin;
+      if (d0 * d0 + d1 * d1 + d2 * d2 >= listed * listed) continue;
+      l->pruned_partner[end] = j;
+      l->pruned_reach[end] = l->reach[k];
+      ++end;
+    }
+    l->pruned_end[row] = end;
+  }
+  memcpy(l->u_pruned, u_rows, sizeof(double) * 3 * (size_t)rows);
+  ++l->prunes;
+}
+
 void peri_contact_list_free(peri_contact_list *l) {
   free(l->offset);
   free(l->partner);
   free(l->reach);
   free(l->u_built);
+  free(l->pruned_end);
+  free(l->pruned_partner);
+  free(l->pruned_reach);
+  free(l->u_pruned);
   memset(l, 0, sizeof *l);
 }

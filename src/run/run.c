@@ -352,9 +352,10 @@ int peri_run_finish(peri_run_session *r) {
              omp_get_max_threads());
     printf("  broken bonds %ld of %lld\n", broken, (long long)peri_global_bonds(s));
     if (s->contact && s->contact->short_range) { /* the pair list's builds (docs/contact.md), the same on every rank */
-      const long pairs = peri_contact_pairs(s), ghosts = peri_contact_ghost_count(s);
-      printf("  contact      short-range forces, pair list built %ld times (skin %g m), %ld pairs in the last", s->contact->list.builds,
-             s->contact->skin, pairs);
+      const long pairs = peri_contact_pairs(s), pruned = peri_contact_pruned_pairs(s), ghosts = peri_contact_ghost_count(s);
+      printf("  contact      short-range forces, pair list built %ld times (skin %g m), %ld pairs in the last; pruned %ld "
+             "times (skin %g m), %ld pairs in the last", s->contact->list.builds, s->contact->skin, pairs,
+             s->contact->list.prunes, s->contact->prune_skin, pruned);
       if (peri_comm_size() > 1) printf(", %ld contact ghosts on the ranks", ghosts);
       printf("\n");
     }

@@ -146,8 +146,9 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
     fprintf(out, "  time step    %g s (stable estimate %g s), %ld steps to t = %g s\n", s->solver.dt,
             peri_stable_dt(s), s->solver.steps, s->solver.dt * s->solver.steps);
   if (s->contact && s->contact->short_range) /* docs/contact.md */
-    fprintf(out, "  contact      short-range forces: c_S = %g c, d = min(%g |xi|, %g m), list skin %g m\n",
-            s->contact->stiffness_factor, PERI_SHORT_RANGE_RATIO, peri_contact_max_reach(s), s->contact->skin);
+    fprintf(out, "  contact      short-range forces: c_S = %g c, d = min(%g |xi|, %g m), list skin %g m, pruned with %g m\n",
+            s->contact->stiffness_factor, PERI_SHORT_RANGE_RATIO, peri_contact_max_reach(s), s->contact->skin,
+            s->contact->prune_skin);
   if (s->thermal) peri_thermal_print_summary(s, out); /* thermomechanics (docs/heat.md) */
   peri_checkpoint_print_summary(s, out);               /* docs/restart.md */
 }

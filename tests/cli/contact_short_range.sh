@@ -14,9 +14,9 @@ small=(--set solver.steps=40 --set discretization.fill.0.radius=0.0015 --set dis
 
 run_peri run "$deck" "${small[@]}" --set contact.short_range=true --output "$TMP/out"
 expect_status 0
-expect_stdout_contains "  contact      short-range forces: c_S = 15 c, d = min(0.9 |xi|, 0.000675 m), list skin 0.00015 m"
-expect_stdout_matches "^  contact      short-range forces, pair list built [1-9][0-9]* times"
-pass "the summary names the short-range forces and the run counts its pair-list builds"
+expect_stdout_contains "  contact      short-range forces: c_S = 15 c, d = min(0.9 |xi|, 0.000675 m), list skin 0.00015 m, pruned with 4e-05 m"
+expect_stdout_matches "^  contact      short-range forces, pair list built [1-9][0-9]* times .*; pruned [1-9][0-9]* times \\(skin 4e-05 m\\)"
+pass "the summary names the short-range forces and the run counts its pair-list builds and prunes"
 
 cat > "$TMP/skin.yaml" <<'YAML'
 dimension: 3
@@ -31,6 +31,17 @@ expect_status 2
 expect_stderr_contains "skin.yaml:5:"
 expect_stderr_contains "key 'skin': must be a positive length"
 pass "a negative skin: exit 2 at its line"
+
+sed -e 's/skin: -0.001/skin: 0.0003, prune_skin: 0.0004/' "$TMP/skin.yaml" > "$TMP/prune.yaml"
+run_peri check "$TMP/prune.yaml"
+expect_status 2
+expect_stderr_contains "prune.yaml:5:"
+expect_stderr_contains "key 'prune_skin': 0.0004 m is larger than the list's skin 0.0003 m"
+sed -e 's/skin: -0.001/prune_skin: 0/' "$TMP/skin.yaml" > "$TMP/prune0.yaml"
+run_peri check "$TMP/prune0.yaml"
+expect_status 2
+expect_stderr_contains "key 'prune_skin': must be a positive length"
+pass "a prune skin larger than the skin, or zero: exit 2 at its line"
 
 sed -e 's/stiffness_factor: 15, skin: -0.001/stifness_factor: 15/' "$TMP/skin.yaml" > "$TMP/typo.yaml"
 run_peri check "$TMP/typo.yaml"
