@@ -55,6 +55,61 @@ typedef __m512i peri_v8l; /* eight 64-bit integers */
 #define v8_reduce_max_pd _mm512_reduce_max_pd
 #define v8_rsqrt14_pd _mm512_rsqrt14_pd
 #define v8_maskz_loadu_epi32 _mm256_maskz_loadu_epi32
+/* Gathers by eight scalar loads where the gather instruction is slow: on Zen 5 (GCC 12 names
+ * it znver3) vgatherdpd/vgatherqpd take longer than eight loads and the shuffles that join
+ * them (docs/plasticity.md §8). The loads are the same, so are the results. Elsewhere (Intel)
+ * the instruction. -DPERI_GATHER_LOADS=0 or 1 overrides the choice. */
+#ifndef PERI_GATHER_LOADS
+#if defined(__znver3__) || defined(__znver5__)
+#define PERI_GATHER_LOADS 1
+#else
+#define PERI_GATHER_LOADS 0
+#endif
+#endif
+#if PERI_GATHER_LOADS
+/* The 64-bit indices of the lanes in m, the lanes not in m given the first such lane's (so
+ * that every load is of an element the caller names); m is not 0. */
+static inline __attribute__((always_inline)) void v8_lane_indices(__mmask8 m, __m512i index, int64_t at[8]) {
+  const __m512i first = _mm512_permutexvar_epi64(_mm512_set1_epi64(__builtin_ctz(m)), index);
+  _mm512_storeu_si512(at, _mm512_mask_mov_epi64(first, m, index));
+}
+static inline __attribute__((always_inline)) __m512d v8_loads_pd(__mmask8 m, const int64_t at[8], const double *base) {
+  const __m128d a = _mm_loadh_pd(_mm_load_sd(&base[at[0]]), &base[at[1]]);
+  const __m128d b = _mm_loadh_pd(_mm_load_sd(&base[at[2]]), &base[at[3]]);
+  const __m128d c = _mm_loadh_pd(_mm_load_sd(&base[at[4]]), &base[at[5]]);
+  const __m128d d = _mm_loadh_pd(_mm_load_sd(&base[at[6]]), &base[at[7]]);
+  const __m256d lo = _mm256_insertf128_pd(_mm256_castpd128_pd256(a), b, 1);
+  const __m256d hi = _mm256_insertf128_pd(_mm256_castpd128_pd256(c), d, 1);
+  return _mm512_maskz_mov_pd(m, _mm512_insertf64x4(_mm512_castpd256_pd512(lo), hi, 1));
+}
+/* the eight doubles at base[index[l]] of the lanes in m, 0 in the others */
+static inline __attribute__((always_inline)) __m512d v8_mask_i32gather_pd(__mmask8 m, __m256i index, const double *base) {
+  if (!m) return _mm512_setzero_pd();
+  int64_t at[8];
+  v8_lane_indices(m, _mm512_cvtepi32_epi64(index), at);
+  return v8_loads_pd(m, at, base);
+}
+static inline __attribute__((always_inline)) __m512d v8_mask_i64gather_pd(__mmask8 m, __m512i index, const double *base) {
+  if (!m) return _mm512_setzero_pd();
+  int64_t at[8];
+  v8_lane_indices(m, index, at);
+  return v8_loads_pd(m, at, base);
+}
+/* the eight 64-bit integers at base[index[l]], 0 in the lanes not in m */
+static inline __attribute__((always_inline)) __m512i v8_mask_i32gather_epi64(__mmask8 m, __m256i index,
+                                                                             const int64_t *base) {
+  if (!m) return _mm512_setzero_si512();
+  int64_t at[8];
+  v8_lane_indices(m, _mm512_cvtepi32_epi64(index), at);
+  const __m128i a = _mm_insert_epi64(_mm_cvtsi64_si128(base[at[0]]), base[at[1]], 1);
+  const __m128i b = _mm_insert_epi64(_mm_cvtsi64_si128(base[at[2]]), base[at[3]], 1);
+  const __m128i c = _mm_insert_epi64(_mm_cvtsi64_si128(base[at[4]]), base[at[5]], 1);
+  const __m128i d = _mm_insert_epi64(_mm_cvtsi64_si128(base[at[6]]), base[at[7]], 1);
+  const __m256i lo = _mm256_inserti128_si256(_mm256_castsi128_si256(a), b, 1);
+  const __m256i hi = _mm256_inserti128_si256(_mm256_castsi128_si256(c), d, 1);
+  return _mm512_maskz_mov_epi64(m, _mm512_inserti64x4(_mm512_castsi256_si512(lo), hi, 1));
+}
+#else
 /* the eight doubles at base[index[l]] of the lanes in m, 0 in the others */
 #define v8_mask_i32gather_pd(m, index, base) _mm512_mask_i32gather_pd(_mm512_setzero_pd(), (m), (index), (base), 8)
 /* the eight 64-bit integers at base[index[l]] (0 in the lanes not in m), and the doubles at
@@ -62,6 +117,7 @@ typedef __m512i peri_v8l; /* eight 64-bit integers */
 #define v8_mask_i32gather_epi64(m, index, base)                                                                \
   _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), (m), (index), (base), 8)
 #define v8_mask_i64gather_pd(m, index, base) _mm512_mask_i64gather_pd(_mm512_setzero_pd(), (m), (index), (base), 8)
+#endif
 
 #else /* AVX2 and FMA: lanes 0-3 in lo, 4-7 in hi */
 typedef struct peri_v8d {
