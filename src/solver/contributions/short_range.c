@@ -5,10 +5,10 @@
  * c_S = stiffness_factor x (c_i + c_j)/2 (the half-bond rule, so that the pair's forces
  * V_i b_i and V_j b_j are opposite across materials). Each owned node sums its own partners
  * in index order (a gather over the full list, pruned): no two threads write one node, and
- * the sum is the same on any thread count and whenever the list was built or pruned. On MPI ranks the
- * partners of other ranks are contact ghosts (include/peri/contact_ghosts.h) numbered in the
- * global order, so each node sums the same terms in the same order as in one process: the
- * forces are the same, bit for bit, on any rank count. */
+ * the sum is the same on any thread count and whenever the list was built or pruned. On MPI
+ * ranks the partners of other ranks are contact ghosts (include/peri/contact_ghosts.h)
+ * numbered in the global order, so each node sums the same terms in the same order as in one
+ * process: the forces are the same, bit for bit, on any rank count. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
