@@ -572,7 +572,7 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
 #if LAYERS4_ROWS
     if (L == 4) {
       store_layers4(out, at, m & flowing, v);
-      _mm512_mask_i64scatter_pd(term, m, _mm512_srli_epi64(_mm512_loadu_si512(at), 2), tv, 8);
+      v8_mask_i64scatter_pd(term, m, _mm512_srli_epi64(_mm512_loadu_si512(at), 2), tv);
       continue;
     }
 #endif
