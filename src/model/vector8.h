@@ -58,7 +58,8 @@ typedef __m512i peri_v8l; /* eight 64-bit integers */
 /* Gathers by eight scalar loads where the gather instruction is slow: on Zen 5 (GCC 12 names
  * it znver3) vgatherdpd/vgatherqpd take longer than eight loads and the shuffles that join
  * them (docs/plasticity.md §8). The loads are the same, so are the results. Elsewhere (Intel)
- * the instruction. -DPERI_GATHER_LOADS=0 or 1 overrides the choice. */
+ * the instruction, as in AVX2 builds. -DPERI_GATHER_LOADS=0 or 1 overrides the choice (AVX-512
+ * builds). */
 #ifndef PERI_GATHER_LOADS
 #if defined(__znver3__) || defined(__znver5__)
 #define PERI_GATHER_LOADS 1
