@@ -430,6 +430,10 @@ static inline __attribute__((always_inline)) void store_layers4(double *state, c
   }
 }
 #define LAYERS4_ROWS 1
+/* The return reads eight families' states at once, one row of 4 layers (32 bytes) a lane per
+ * entry, and asks for each lane's row this many bonds ahead every other entry: the hardware's
+ * prefetch did not keep up with the eight streams on Zen 5 (docs/plasticity.md section 8). */
+#define STATE_ROWS_AHEAD 8
 #else
 #define LAYERS4_ROWS 0
 #endif
@@ -502,6 +506,7 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   peri_v8d S[4] = {zero, zero, zero, zero};
   peri_v8i k = _mm256_loadu_si256((const __m256i *)first);
   store_bond_rows(at_of, k, L);
+  const int64_t last_row = (w->offset[i0 + PERI_BLOCK] - base - 1) * L; /* (the prefetches stay in the block) */
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 m = structure[a] & active;
@@ -518,7 +523,14 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
     peri_v8d f[4];
 #if LAYERS4_ROWS
     /* each lane's bond's first layer, at[] (the next loop's too), stored one entry ahead */
-    if (L == 4) load_layers4(from, at_of + 8 * a, m, f);
+    if (L == 4) {
+      if (!(a & 1))
+        for (int l = 0; l < PERI_BLOCK; ++l) {
+          const int64_t ahead = at_of[8 * a + l] + STATE_ROWS_AHEAD * 4;
+          _mm_prefetch((const char *)(from + (ahead < last_row ? ahead : last_row)), _MM_HINT_T0);
+        }
+      load_layers4(from, at_of + 8 * a, m, f);
+    }
     else
 #endif
     {
