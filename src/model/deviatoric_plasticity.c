@@ -748,6 +748,12 @@ void peri_deviatoric_node_force(const peri_sim *s, const peri_bond_view *w, int3
 }
 
 #ifdef PERI_BOND_V8
+/* Where the gathers are loads (vector8.h), the block force reads the terms lane by lane */
+#if PERI_GATHER_LOADS && defined(__AVX512F__)
+#define TERMS_BY_LANE 1
+#else
+#define TERMS_BY_LANE 0
+#endif
 static inline __attribute__((always_inline)) bool block_force(const peri_sim *s, const peri_bond_view *w,
                                                               const peri_node_blocks *items, int32_t item,
                                                               double f[PERI_BLOCK][3], const uint16_t *restrict table,
@@ -771,7 +777,12 @@ static inline __attribute__((always_inline)) bool block_force(const peri_sim *s,
                  cu[3] = {v8_loadu_pd(w->u0 + i0), v8_loadu_pd(w->u1 + i0), v8_loadu_pd(w->u2 + i0)};
   const peri_v8d Di = v8_loadu_pd(D + i0), Bi = v8_loadu_pd(B + i0);
   peri_v8d s0 = v8_setzero_pd(), s1 = v8_setzero_pd(), s2 = v8_setzero_pd();
+#if TERMS_BY_LANE
+  int64_t k_of[PERI_BLOCK];
+  for (int l = 0; l < PERI_BLOCK; ++l) k_of[l] = first[l];
+#else
   peri_v8l rev = v8_mask_i32gather_epi64(count > 0 ? lanes[0] : 0, k, reverse);
+#endif
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 on = lanes[a];
@@ -783,15 +794,34 @@ static inline __attribute__((always_inline)) bool block_force(const peri_sim *s,
     /* the lanes that have the entry's bond (intact or not) move to their next one, whose reverse
      * bonds are gathered an entry ahead: the gather of the other ends' terms waits on them */
     const peri_v8i k_next = lanes_next_bond(k, structure[a]);
+#if TERMS_BY_LANE
+    /* lane by lane: the own term and the other end's at the reverse bond (two dependent loads),
+     * added as the vectors were; a lane without the bond reads the block's first bond and takes
+     * 0. The indices stay in scalar registers: moving them out of vectors for each gather by
+     * loads cost more than the loads */
+    double p_of[PERI_BLOCK];
+    for (int l = 0; l < PERI_BLOCK; ++l) {
+      const int64_t at = on >> l & 1 ? k_of[l] : 0;
+      p_of[l] = term[at] + all_terms[reverse[at]];
+      k_of[l] += structure[a] >> l & 1;
+    }
+    const peri_v8d P = v8_maskz_mov_pd(on, _mm512_setr_pd(p_of[0], p_of[1], p_of[2], p_of[3], p_of[4], p_of[5],
+                                                          p_of[6], p_of[7]));
+#else
     const peri_v8l rev_next = v8_mask_i32gather_epi64(a + 1 < count ? lanes[a + 1] : 0, k_next, reverse);
     const peri_v8d P = v8_add_pd(v8_mask_i32gather_pd(on, k, term), v8_mask_i64gather_pd(on, rev, all_terms));
+#endif
     const peri_v8d g = bond_force_v8(r0, r, inv_r, Di, v8_loadu_pd(D + j), Bi, v8_loadu_pd(B + j), P,
                                      bond_weight_v8(w, weight, on, k, r0, inv_r0, v8_loadu_pd(w->V + j)));
     /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
     s0 = v8_mask3_fmadd_pd(g, y[0], s0, on);
     s1 = v8_mask3_fmadd_pd(g, y[1], s1, on);
     s2 = v8_mask3_fmadd_pd(g, y[2], s2, on);
+#if TERMS_BY_LANE
+    k = k_next;
+#else
     k = k_next, rev = rev_next;
+#endif
   }
   double a0[PERI_BLOCK], a1[PERI_BLOCK], a2[PERI_BLOCK];
   v8_storeu_pd(a0, s0), v8_storeu_pd(a1, s1), v8_storeu_pd(a2, s2);
