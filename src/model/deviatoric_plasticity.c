@@ -506,7 +506,9 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   peri_v8d S[4] = {zero, zero, zero, zero};
   peri_v8i k = _mm256_loadu_si256((const __m256i *)first);
   store_bond_rows(at_of, k, L);
+#if LAYERS4_ROWS
   const int64_t last_row = (w->offset[i0 + PERI_BLOCK] - base - 1) * L; /* (the prefetches stay in the block) */
+#endif
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 m = structure[a] & active;
@@ -584,7 +586,16 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
 #if LAYERS4_ROWS
     if (L == 4) {
       store_layers4(out, at, m & flowing, v);
-      v8_mask_i64scatter_pd(term, m, _mm512_srli_epi64(_mm512_loadu_si512(at), 2), tv);
+#if PERI_GATHER_LOADS
+      double t_of[PERI_BLOCK]; /* the lanes' terms stored one by one at their rows' bonds */
+      v8_storeu_pd(t_of, tv);
+      for (unsigned left = m; left; left &= left - 1) {
+        const int lane = __builtin_ctz(left);
+        term[at[lane] >> 2] = t_of[lane];
+      }
+#else
+      _mm512_mask_i64scatter_pd(term, m, _mm512_srli_epi64(_mm512_loadu_si512(at), 2), tv, 8);
+#endif
       continue;
     }
 #endif

@@ -110,22 +110,7 @@ static inline __attribute__((always_inline)) __m512i v8_mask_i32gather_epi64(__m
   const __m256i hi = _mm256_inserti128_si256(_mm256_castsi128_si256(c), d, 1);
   return _mm512_maskz_mov_epi64(m, _mm512_inserti64x4(_mm512_castsi256_si512(lo), hi, 1));
 }
-/* v's lanes in m stored at base[index[l]] by scalar stores (the scatter instruction is slower
- * still) */
-static inline __attribute__((always_inline)) void v8_mask_i64scatter_pd(double *base, __mmask8 m, __m512i index,
-                                                                         __m512d v) {
-  int64_t at[8];
-  double value[8];
-  _mm512_storeu_si512(at, index);
-  _mm512_storeu_pd(value, v);
-  for (unsigned left = m; left; left &= left - 1) {
-    const int l = __builtin_ctz(left);
-    base[at[l]] = value[l];
-  }
-}
 #else
-/* v's lanes in m stored at base[index[l]] */
-#define v8_mask_i64scatter_pd(base, m, index, v) _mm512_mask_i64scatter_pd((base), (m), (index), (v), 8)
 /* the eight doubles at base[index[l]] of the lanes in m, 0 in the others */
 #define v8_mask_i32gather_pd(m, index, base) _mm512_mask_i32gather_pd(_mm512_setzero_pd(), (m), (index), (base), 8)
 /* the eight 64-bit integers at base[index[l]] (0 in the lanes not in m), and the doubles at
