@@ -802,8 +802,7 @@ static inline __attribute__((always_inline)) bool block_force(const peri_sim *s,
     peri_v8d y[3], r0, inv_r0, r, inv_r;
     entry_lengths_v8(w, from_table, table, a, j, c, cu, uj, y, &r0, &inv_r0, &r, &inv_r);
     /* the bond's two plastic terms, the other end's at the reverse bond (as the node path adds them) */
-    /* the lanes that have the entry's bond (intact or not) move to their next one, whose reverse
-     * bonds are gathered an entry ahead: the gather of the other ends' terms waits on them */
+    /* the lanes that have the entry's bond (intact or not) move to their next one */
     const peri_v8i k_next = lanes_next_bond(k, structure[a]);
 #if TERMS_BY_LANE
     /* lane by lane: the own term and the other end's at the reverse bond (two dependent loads),
@@ -819,6 +818,8 @@ static inline __attribute__((always_inline)) bool block_force(const peri_sim *s,
     const peri_v8d P = v8_maskz_mov_pd(on, _mm512_setr_pd(p_of[0], p_of[1], p_of[2], p_of[3], p_of[4], p_of[5],
                                                           p_of[6], p_of[7]));
 #else
+    /* the next bonds' reverse bonds gathered an entry ahead: the gather of the other ends' terms
+     * waits on them */
     const peri_v8l rev_next = v8_mask_i32gather_epi64(a + 1 < count ? lanes[a + 1] : 0, k_next, reverse);
     const peri_v8d P = v8_add_pd(v8_mask_i32gather_pd(on, k, term), v8_mask_i64gather_pd(on, rev, all_terms));
 #endif
