@@ -91,11 +91,7 @@ static inline double peri_eval_omega(const peri_family_eval *e, peri_influence i
  * both to the series' bound), so builds for the two kinds differ there, as AVX2 and AVX-512
  * builds do. Every path of a model takes the same way, so they still agree bit for bit. */
 #ifndef PERI_ROOT_HARDWARE
-#if defined(__AVX512F__) && (defined(__znver3__) || defined(__znver5__))
-#define PERI_ROOT_HARDWARE 1
-#else
-#define PERI_ROOT_HARDWARE 0
-#endif
+#define PERI_ROOT_HARDWARE PERI_AVX512_ZEN5
 #endif
 static inline __attribute__((always_inline)) void peri_root_v8(peri_v8d x, peri_v8d *root, peri_v8d *inv_root) {
 #if PERI_ROOT_HARDWARE

@@ -434,7 +434,11 @@ static inline __attribute__((always_inline)) void store_layers4(double *state, c
  * entry, and asks for each lane's row this many bonds ahead every other entry: the hardware's
  * prefetch did not keep up with the eight streams on Zen 5 (docs/plasticity.md section 8). */
 #define STATE_ROWS_AHEAD 8
+/* Where the gathers are loads (vector8.h), the return stores its terms and the force reads them
+ * lane by lane, the indices in scalar registers, not through a vector */
+#define TERMS_BY_LANE PERI_GATHER_LOADS
 #else
+#define TERMS_BY_LANE 0
 #define LAYERS4_ROWS 0
 #endif
 
@@ -586,7 +590,7 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
 #if LAYERS4_ROWS
     if (L == 4) {
       store_layers4(out, at, m & flowing, v);
-#if PERI_GATHER_LOADS
+#if TERMS_BY_LANE
       double t_of[PERI_BLOCK]; /* the lanes' terms stored one by one at their rows' bonds */
       v8_storeu_pd(t_of, tv);
       for (unsigned left = m; left; left &= left - 1) {
@@ -759,12 +763,6 @@ void peri_deviatoric_node_force(const peri_sim *s, const peri_bond_view *w, int3
 }
 
 #ifdef PERI_BOND_V8
-/* Where the gathers are loads (vector8.h), the block force reads the terms lane by lane */
-#if PERI_GATHER_LOADS && defined(__AVX512F__)
-#define TERMS_BY_LANE 1
-#else
-#define TERMS_BY_LANE 0
-#endif
 static inline __attribute__((always_inline)) bool block_force(const peri_sim *s, const peri_bond_view *w,
                                                               const peri_node_blocks *items, int32_t item,
                                                               double f[PERI_BLOCK][3], const uint16_t *restrict table,

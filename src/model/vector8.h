@@ -20,6 +20,15 @@
 #include <stdbool.h>
 #include <stdint.h>
 #define PERI_BOND_V8 1
+/* An AVX-512 build for AMD Zen 5 (GCC 12 names it znver3 under -march=native, later compilers
+ * znver5), where the kernels take the hardware square root (PERI_ROOT_HARDWARE, bond_kernel.h)
+ * and do gathers by loads (PERI_GATHER_LOADS below): the two choices measured there
+ * (docs/performance.md, docs/plasticity.md section 8) */
+#if defined(__AVX512F__) && (defined(__znver3__) || defined(__znver5__))
+#define PERI_AVX512_ZEN5 1
+#else
+#define PERI_AVX512_ZEN5 0
+#endif
 
 #if defined(__AVX512F__)
 typedef __m512d peri_v8d;
@@ -61,11 +70,7 @@ typedef __m512i peri_v8l; /* eight 64-bit integers */
  * the instruction, as in AVX2 builds. -DPERI_GATHER_LOADS=0 or 1 overrides the choice (AVX-512
  * builds). */
 #ifndef PERI_GATHER_LOADS
-#if defined(__znver3__) || defined(__znver5__)
-#define PERI_GATHER_LOADS 1
-#else
-#define PERI_GATHER_LOADS 0
-#endif
+#define PERI_GATHER_LOADS PERI_AVX512_ZEN5
 #endif
 #if PERI_GATHER_LOADS
 /* The 64-bit indices of the lanes in m, the lanes not in m given the first such lane's (so
