@@ -224,12 +224,24 @@ typedef struct peri_state {
    * j -> i for bond k = i -> j (a node's force reads its neighbours' plastic term of the
    * bond); on MPI ranks, where j is a ghost, n_bonds + k. NULL for the bond rule */
   int64_t *plastic_reverse;
-  /* the deviatoric yield rule: [n_bonds] for bond k = i -> j node i's plastic term
-   * alpha_i sum_l W_l s^dp_l,ij, written by i's return mapping (recomputed at every force
-   * evaluation by every node that has a plastic state, 0 for the others); on MPI ranks
-   * [2 n_bonds], entry n_bonds + k of a bond into a ghost holding the ghost's term of the
-   * bond (the bond halo). NULL for the bond rule */
+  /* the deviatoric yield rule: for bond k = i -> j node i's plastic term alpha_i sum_l W_l
+   * s^dp_l,ij at plastic_bond_term[plastic_slots.bond_slot[k]], written by i's return mapping
+   * (recomputed at every force evaluation by every node that has a plastic state, 0 for the
+   * others); on MPI ranks entry n_slots + k of a bond into a ghost holds the ghost's term of
+   * the bond (the bond halo). NULL for the bond rule */
   double *plastic_bond_term;
+  /* where the terms are (src/model/deviatoric_plasticity.c): a block of eight nodes keeps its
+   * bonds' in template order, entry a's lanes at item_slot[item] + 8 a + lane, so that its loops
+   * store and load them as vectors; the other nodes in family order. Built at the first return
+   * for the node blocks' items of one build (generation; 0: not built) */
+  struct {
+    uint64_t generation;
+    int64_t n_slots;
+    int64_t *item_slot;     /* [n_items + 1] each item's first slot */
+    int64_t *bond_slot;     /* [n_bonds] bond k's slot */
+    int64_t *entry_reverse; /* [n_slots] the slot of the reverse of the bond in each slot (n_slots + k for
+                               a bond k into a ghost: its entry for the bond halo), 0 in an unused one */
+  } plastic_slots;
   /* the deviatoric yield rule: [n_bonds] omega beta V_j of each bond i -> j, its weight in the
    * family sums (fixed by the reference configuration), where the eight-lane kernels do not
    * evaluate it (Gaussian influence, builds without them); NULL otherwise and for the bond rule */

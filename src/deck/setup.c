@@ -1086,6 +1086,9 @@ void peri_sim_free(peri_sim *s) {
   free(s->state.plastic_nodes);
   free(s->state.plastic_reverse);
   free(s->state.plastic_bond_term);
+  free(s->state.plastic_slots.item_slot);
+  free(s->state.plastic_slots.bond_slot);
+  free(s->state.plastic_slots.entry_reverse);
   free(s->state.plastic_bond_weight);
   for (int r = 0; r < s->cond.n_regions; ++r) peri_region_free(&s->cond.regions[r]);
   free(s->cond.regions);

@@ -117,7 +117,7 @@ static inline void padded_weights(const peri_sublayers *sl, int L, double *W) {
  * as its return wrote it. */
 static void pack_plastic_terms(const void *context, const int64_t *bonds, int64_t n, double *out) {
   const peri_sim *s = context;
-  for (int64_t a = 0; a < n; ++a) out[a] = s->state.plastic_bond_term[bonds[a]];
+  for (int64_t a = 0; a < n; ++a) out[a] = s->state.plastic_bond_term[s->state.plastic_slots.bond_slot[bonds[a]]];
 }
 
 /* Bonds per vector loop of the return and the force (a node's family is one or more chunks) */
@@ -342,7 +342,7 @@ static inline bool layer_factors(const peri_sublayers *sl, double scale, const d
 static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const peri_bond_view *w, int32_t i,
                                                               double elastic, bool before, double *restrict sd,
                                                               double *restrict wt, double *restrict on,
-                                                              const int L) {
+                                                              double *restrict term, const int L) {
   const peri_sublayers *sl = node_layers(s, i);
   if (!sl) return false;
   const peri_bonds *b = &s->disc.bonds;
@@ -367,23 +367,27 @@ static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const
   const bool flow = layer_factors(sl, scale, S, L, factor, flows) || committed;
   padded_weights(sl, L, W);
   const double alpha = s->disc.p.coef[(size_t)s->disc.p.n + (size_t)i];
-  /* the new state (a broken bond keeps its own) and each bond's term, in family order */
-  double *restrict term = s->state.plastic_bond_term + k0;
-  return !flow      ? bond_terms(out, term, W, alpha, nb, L)
-         : committed ? flow_from(base, out, sd, term, on, factor, flows, W, alpha, nb, true, L)
-                     : flow_from(out, out, sd, term, on, factor, flows, W, alpha, nb, false, L);
+  /* the new state (a broken bond keeps its own) and each bond's term, in family order into
+   * term[], then to the terms' slots */
+  const bool plastic = !flow      ? bond_terms(out, term, W, alpha, nb, L)
+                       : committed ? flow_from(base, out, sd, term, on, factor, flows, W, alpha, nb, true, L)
+                                   : flow_from(out, out, sd, term, on, factor, flows, W, alpha, nb, false, L);
+  double *restrict all_terms = s->state.plastic_bond_term;
+  const int64_t *restrict slot = s->state.plastic_slots.bond_slot + k0;
+  for (int64_t a = 0; a < nb; ++a) all_terms[slot[a]] = term[a];
+  return plastic;
 }
 
 /* node_return with constant layer counts for the common ones. */
 static bool node_return_any(peri_sim *s, const peri_bond_view *w, int32_t i, double elastic, bool before,
                             double *scratch, int64_t longest) {
-  double *sd = scratch, *wt = scratch + longest, *on = scratch + 2 * longest;
+  double *sd = scratch, *wt = scratch + longest, *on = scratch + 2 * longest, *term = scratch + 3 * longest;
   switch (s->state.plastic_layers) {
-  case 1: return node_return(s, w, i, elastic, before, sd, wt, on, 1);
-  case 2: return node_return(s, w, i, elastic, before, sd, wt, on, 2);
-  case 3: return node_return(s, w, i, elastic, before, sd, wt, on, 3);
-  case 4: return node_return(s, w, i, elastic, before, sd, wt, on, 4);
-  default: return node_return(s, w, i, elastic, before, sd, wt, on, s->state.plastic_layers);
+  case 1: return node_return(s, w, i, elastic, before, sd, wt, on, term, 1);
+  case 2: return node_return(s, w, i, elastic, before, sd, wt, on, term, 2);
+  case 3: return node_return(s, w, i, elastic, before, sd, wt, on, term, 3);
+  case 4: return node_return(s, w, i, elastic, before, sd, wt, on, term, 4);
+  default: return node_return(s, w, i, elastic, before, sd, wt, on, term, s->state.plastic_layers);
   }
 }
 
@@ -434,11 +438,7 @@ static inline __attribute__((always_inline)) void store_layers4(double *state, c
  * entry, and asks for each lane's row this many bonds ahead every other entry: the hardware's
  * prefetch did not keep up with the eight streams on Zen 5 (docs/plasticity.md section 8). */
 #define STATE_ROWS_AHEAD 8
-/* Where the gathers are loads (vector8.h), the return stores its terms and the force reads them
- * lane by lane, the indices in scalar registers, not through a vector */
-#define TERMS_BY_LANE PERI_GATHER_LOADS
 #else
-#define TERMS_BY_LANE 0
 #define LAYERS4_ROWS 0
 #endif
 
@@ -485,7 +485,8 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   double *restrict out = s->state.plastic_stretch + base * L;
   const double *from = committed ? s->state.plastic_committed + base * L : out;
   const double *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + base : NULL;
-  double *restrict term = s->state.plastic_bond_term + base;
+  /* (the terms in template order: entry a's lanes at term + 8 a) */
+  double *restrict term = s->state.plastic_bond_term + s->state.plastic_slots.item_slot[item];
   double scale[PERI_BLOCK], shift[PERI_BLOCK], alpha[PERI_BLOCK];
   int32_t first[PERI_BLOCK];
   unsigned act = 0;
@@ -586,31 +587,18 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
       bits = v8_mask_mov_pd(bits, m, v8_or_pd(bits, committed ? v8_or_pd(v[l], f) : v[l]));
       plastic = v8_fmadd_pd(v8_set1_pd(W[l]), v[l], plastic);
     }
-    const peri_v8d tv = v8_mul_pd(valpha, plastic);
+    v8_mask_storeu_pd(term + PERI_BLOCK * a, m, v8_mul_pd(valpha, plastic));
 #if LAYERS4_ROWS
     if (L == 4) {
       store_layers4(out, at, m & flowing, v);
-#if TERMS_BY_LANE
-      double t_of[PERI_BLOCK]; /* the lanes' terms stored one by one at their rows' bonds */
-      v8_storeu_pd(t_of, tv);
-      for (unsigned left = m; left; left &= left - 1) {
-        const int lane = __builtin_ctz(left);
-        term[at[lane] >> 2] = t_of[lane];
-      }
-#else
-      _mm512_mask_i64scatter_pd(term, m, _mm512_srli_epi64(_mm512_loadu_si512(at), 2), tv, 8);
-#endif
       continue;
     }
 #endif
-    double v_of[4][PERI_BLOCK], t_of[PERI_BLOCK];
+    double v_of[4][PERI_BLOCK];
     for (int l = 0; l < L; ++l) v8_storeu_pd(v_of[l], v[l]);
-    v8_storeu_pd(t_of, tv);
-    for (unsigned lanes_left = m; lanes_left; lanes_left &= lanes_left - 1) {
+    for (unsigned lanes_left = m & flowing; lanes_left; lanes_left &= lanes_left - 1) {
       const int lane = __builtin_ctz(lanes_left);
-      if (flowing >> lane & 1u)
-        for (int l = 0; l < L; ++l) out[at[lane] + l] = v_of[l][lane];
-      term[at[lane] / L] = t_of[lane];
+      for (int l = 0; l < L; ++l) out[at[lane] + l] = v_of[l][lane];
     }
   }
   const peri_m8 nonzero = v8_cmp_pd_mask(v8_abs_pd(bits), zero, _CMP_NEQ_UQ);
@@ -646,6 +634,62 @@ static int64_t longest_family(const peri_bonds *b, int32_t n) {
   return longest;
 }
 
+/* Whether block item `item` keeps its bonds' terms in template order: its whole template, no
+ * entry dropped, as the block loops take it (a block compacted later leaves its terms where
+ * they are to the node loops; one compacted now is whole again only after a new build). Each
+ * lane's bonds are then its entries with its bit of the structure set, in family order. */
+static bool template_order(const peri_node_blocks *items, int32_t item) {
+  return peri_item_is_block(items, item) && items->tpl_end[item] == items->tpl[item + 1];
+}
+
+/* The slots of the plastic terms (peri_state.plastic_slots) for the node blocks' items, and the
+ * terms themselves, zero: the return writes every term of a node that has a plastic state before
+ * anything reads them, and the others' are 0. */
+static void build_term_slots(peri_sim *s, const peri_node_blocks *items) {
+  const peri_bonds *b = &s->disc.bonds;
+  const int64_t n_bonds = b->n_bonds;
+  __typeof__(s->state.plastic_slots) *t = &s->state.plastic_slots;
+  free(t->item_slot), free(t->bond_slot), free(t->entry_reverse);
+  t->item_slot = peri_malloc(sizeof(int64_t) * ((size_t)items->n_items + 1));
+  uint8_t *in_order = peri_malloc((size_t)items->n_items + 1);
+  int64_t slots = 0;
+  for (int32_t item = 0; item < items->n_items; ++item) {
+    t->item_slot[item] = slots;
+    in_order[item] = template_order(items, item);
+    slots += in_order[item] ? PERI_BLOCK * (items->tpl[item + 1] - items->tpl[item])
+                            : b->offset[items->first[item + 1]] - b->offset[items->first[item]];
+  }
+  t->item_slot[items->n_items] = slots;
+  t->n_slots = slots;
+  t->bond_slot = peri_malloc(sizeof(int64_t) * (size_t)(n_bonds > 0 ? n_bonds : 1));
+#pragma omp parallel for schedule(dynamic, 64)
+  for (int32_t item = 0; item < items->n_items; ++item) {
+    const int32_t i0 = items->first[item];
+    if (in_order[item]) {
+      int64_t k[PERI_BLOCK];
+      for (int l = 0; l < PERI_BLOCK; ++l) k[l] = b->offset[i0 + l];
+      const int64_t t0 = items->tpl[item];
+      for (int64_t a = 0; a < items->tpl[item + 1] - t0; ++a)
+        for (int l = 0; l < PERI_BLOCK; ++l)
+          if (items->tpl_bonds[t0 + a] >> l & 1) t->bond_slot[k[l]++] = t->item_slot[item] + PERI_BLOCK * a + l;
+    } else {
+      const int64_t k0 = b->offset[i0];
+      for (int64_t k = k0; k < b->offset[items->first[item + 1]]; ++k) t->bond_slot[k] = t->item_slot[item] + (k - k0);
+    }
+  }
+  free(in_order);
+  t->entry_reverse = peri_calloc((size_t)(slots > 0 ? slots : 1), sizeof(int64_t));
+  const int64_t *restrict reverse = s->state.plastic_reverse;
+#pragma omp parallel for schedule(static)
+  for (int64_t k = 0; k < n_bonds; ++k) {
+    /* (a bond into a ghost: its entry past the slots, where the bond halo puts the ghost's term) */
+    t->entry_reverse[t->bond_slot[k]] = reverse[k] < n_bonds ? t->bond_slot[reverse[k]] : slots + (reverse[k] - n_bonds);
+  }
+  free(s->state.plastic_bond_term);
+  s->state.plastic_bond_term = peri_calloc((size_t)(slots + (s->par.dd ? n_bonds : 0) + 1), sizeof(double));
+  t->generation = items->generation;
+}
+
 void peri_deviatoric_return(peri_sim *s, const double *elastic, uint8_t *near) {
   if (!s->state.plastic_nodes) peri_plastic_flag_nodes(s);
   const peri_particles *p = &s->disc.p;
@@ -654,15 +698,16 @@ void peri_deviatoric_return(peri_sim *s, const double *elastic, uint8_t *near) {
   const int64_t longest = longest_family(b, p->n_owned);
   uint8_t *yielded = s->state.plastic_nodes;
   const peri_node_blocks *items = s->disc.node_blocks;
+  if (s->state.plastic_slots.generation != items->generation) build_term_slots(s, items);
 #pragma omp parallel
   {
-    /* the node path's sd, wt, on, then the block path's stretches (a template has at most
+    /* the node path's sd, wt, on, term, then the block path's stretches (a template has at most
      * 1.5 times the entries of its largest family, node_blocks.c) */
-    double *scratch = peri_malloc(sizeof(double) * (3 + 48 * 2) * (size_t)longest);
+    double *scratch = peri_malloc(sizeof(double) * (4 + 48 * 2) * (size_t)longest);
     PERI_FOR_EACH_ITEM(items, item) {
 #ifdef PERI_BOND_V8
       if (peri_item_is_block(items, item) &&
-          block_return_any(s, &w, items, item, elastic, yielded, scratch + 3 * longest))
+          block_return_any(s, &w, items, item, elastic, yielded, scratch + 4 * longest))
         continue;
 #endif
       for (int32_t i = items->first[item]; i < items->first[item + 1]; ++i)
@@ -672,11 +717,12 @@ void peri_deviatoric_return(peri_sim *s, const double *elastic, uint8_t *near) {
   }
   /* the other ends' terms of the bonds into ghosts, past the owned bonds' (their reverse index) */
   if (s->par.dd)
-    peri_bond_halo_exchange(s->par.dd->bond_halo, pack_plastic_terms, s, s->state.plastic_bond_term + b->n_bonds);
+    peri_bond_halo_exchange(s->par.dd->bond_halo, pack_plastic_terms, s,
+                            s->state.plastic_bond_term + s->state.plastic_slots.n_slots);
   /* whether the node has a plastic state or a bond with the other end's plastic term (else
    * its force is the elastic one) */
   const double *restrict term = s->state.plastic_bond_term;
-  const int64_t *restrict reverse = s->state.plastic_reverse;
+  const int64_t *restrict slot = s->state.plastic_slots.bond_slot, *restrict reverse = s->state.plastic_slots.entry_reverse;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     if (yielded[i]) {
@@ -685,7 +731,7 @@ void peri_deviatoric_return(peri_sim *s, const double *elastic, uint8_t *near) {
     }
     double other = 0.0; /* (a sum of magnitudes, which keeps the loop a vector one: 0 only when every term is) */
 #pragma omp simd reduction(+ : other)
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) other += fabs(term[reverse[k]]);
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) other += fabs(term[reverse[slot[k]]]);
     near[i] = other != 0.0;
   }
 }
@@ -696,8 +742,8 @@ static void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i, i
   const size_t nn = (size_t)w->n;
   const int32_t *restrict nbr = w->neighbor + k0;
   const uint8_t *restrict broken = w->broken + k0;
-  const int64_t *restrict reverse = s->state.plastic_reverse + k0;
-  const double *restrict all_terms = s->state.plastic_bond_term, *restrict term = all_terms + k0,
+  const int64_t *restrict own = s->state.plastic_slots.bond_slot + k0, *restrict reverse = s->state.plastic_slots.entry_reverse;
+  const double *restrict all_terms = s->state.plastic_bond_term,
                          *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + k0 : NULL;
   const double *restrict D = w->coef, *restrict B = w->coef + nn;
   const double Di = D[i], Bi = B[i];
@@ -706,7 +752,7 @@ static void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i, i
       won[DEVIATORIC_CHUNK], plastic[DEVIATORIC_CHUNK];
   for (int a = 0; a < n; ++a) {
     won[a] = broken[a] ? 0.0 : 1.0; /* (the flags as doubles: see node_return) */
-    plastic[a] = term[a] + all_terms[reverse[a]]; /* (the other end's: a gather) */
+    plastic[a] = all_terms[own[a]] + all_terms[reverse[own[a]]]; /* (the other end's: a gather) */
   }
 #ifdef PERI_BOND_V8
   const __m256i lane_index = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
@@ -776,9 +822,12 @@ static inline __attribute__((always_inline)) bool block_force(const peri_sim *s,
   const uint8_t *restrict lanes = items->tpl_lanes + t0, *restrict structure = items->tpl_bonds + t0;
   const size_t nn = (size_t)w->n;
   const double *restrict D = w->coef, *restrict B = w->coef + nn;
-  const double *restrict all_terms = s->state.plastic_bond_term, *restrict term = all_terms + base,
+  /* the terms in template order (build_term_slots): entry a's own at term + 8 a, the other
+   * ends' at the slots reverse[8 a + lane] */
+  const int64_t slot0 = s->state.plastic_slots.item_slot[item];
+  const double *restrict all_terms = s->state.plastic_bond_term, *restrict term = all_terms + slot0,
                          *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + base : NULL;
-  const int64_t *restrict reverse = s->state.plastic_reverse + base;
+  const int64_t *restrict reverse = s->state.plastic_slots.entry_reverse + slot0;
   int32_t first[PERI_BLOCK];
   for (int l = 0; l < PERI_BLOCK; ++l) first[l] = (int32_t)(w->offset[i0 + l] - base);
   peri_v8i k = _mm256_loadu_si256((const __m256i *)first);
@@ -786,12 +835,6 @@ static inline __attribute__((always_inline)) bool block_force(const peri_sim *s,
                  cu[3] = {v8_loadu_pd(w->u0 + i0), v8_loadu_pd(w->u1 + i0), v8_loadu_pd(w->u2 + i0)};
   const peri_v8d Di = v8_loadu_pd(D + i0), Bi = v8_loadu_pd(B + i0);
   peri_v8d s0 = v8_setzero_pd(), s1 = v8_setzero_pd(), s2 = v8_setzero_pd();
-#if TERMS_BY_LANE
-  int64_t k_of[PERI_BLOCK];
-  for (int l = 0; l < PERI_BLOCK; ++l) k_of[l] = first[l];
-#else
-  peri_v8l rev = v8_mask_i32gather_epi64(count > 0 ? lanes[0] : 0, k, reverse);
-#endif
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 on = lanes[a];
@@ -799,39 +842,17 @@ static inline __attribute__((always_inline)) bool block_force(const peri_sim *s,
     const peri_v8d uj[3] = {v8_loadu_pd(w->u0 + j), v8_loadu_pd(w->u1 + j), v8_loadu_pd(w->u2 + j)};
     peri_v8d y[3], r0, inv_r0, r, inv_r;
     entry_lengths_v8(w, from_table, table, a, j, c, cu, uj, y, &r0, &inv_r0, &r, &inv_r);
-    /* the bond's two plastic terms, the other end's at the reverse bond (as the node path adds them) */
-    /* the lanes that have the entry's bond (intact or not) move to their next one */
-    const peri_v8i k_next = lanes_next_bond(k, structure[a]);
-#if TERMS_BY_LANE
-    /* lane by lane: the own term and the other end's at the reverse bond (two dependent loads),
-     * added as the vectors were; a lane without the bond reads the block's first bond and takes
-     * 0. The indices stay in scalar registers: moving them out of vectors for each gather by
-     * loads cost more than the loads */
-    double p_of[PERI_BLOCK];
-    for (int l = 0; l < PERI_BLOCK; ++l) {
-      const int64_t at = on >> l & 1 ? k_of[l] : 0;
-      p_of[l] = term[at] + all_terms[reverse[at]];
-      k_of[l] += structure[a] >> l & 1;
-    }
-    const peri_v8d P = v8_maskz_mov_pd(on, _mm512_setr_pd(p_of[0], p_of[1], p_of[2], p_of[3], p_of[4], p_of[5],
-                                                          p_of[6], p_of[7]));
-#else
-    /* the next bonds' reverse bonds gathered an entry ahead: the gather of the other ends' terms
-     * waits on them */
-    const peri_v8l rev_next = v8_mask_i32gather_epi64(a + 1 < count ? lanes[a + 1] : 0, k_next, reverse);
-    const peri_v8d P = v8_add_pd(v8_mask_i32gather_pd(on, k, term), v8_mask_i64gather_pd(on, rev, all_terms));
-#endif
+    /* the bond's two plastic terms, the other end's at the reverse bond's slot (as the node path
+     * adds them); a lane without the bond takes 0 */
+    const peri_v8d P = v8_add_pd(v8_maskz_mov_pd(on, v8_loadu_pd(term + PERI_BLOCK * a)),
+                                 v8_mask_gather_at_pd(on, reverse + PERI_BLOCK * a, all_terms));
     const peri_v8d g = bond_force_v8(r0, r, inv_r, Di, v8_loadu_pd(D + j), Bi, v8_loadu_pd(B + j), P,
                                      bond_weight_v8(w, weight, on, k, r0, inv_r0, v8_loadu_pd(w->V + j)));
     /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
     s0 = v8_mask3_fmadd_pd(g, y[0], s0, on);
     s1 = v8_mask3_fmadd_pd(g, y[1], s1, on);
     s2 = v8_mask3_fmadd_pd(g, y[2], s2, on);
-#if TERMS_BY_LANE
-    k = k_next;
-#else
-    k = k_next, rev = rev_next;
-#endif
+    k = lanes_next_bond(k, structure[a]); /* (the lanes that have the entry's bond move to their next one) */
   }
   double a0[PERI_BLOCK], a1[PERI_BLOCK], a2[PERI_BLOCK];
   v8_storeu_pd(a0, s0), v8_storeu_pd(a1, s1), v8_storeu_pd(a2, s2);
@@ -854,7 +875,9 @@ bool peri_deviatoric_block_force(const peri_sim *s, const peri_bond_view *w, con
 
 double peri_deviatoric_pair_plastic(const peri_sim *s, int32_t i, int64_t k) {
   (void)i;
-  return s->state.plastic_bond_term[k] + s->state.plastic_bond_term[s->state.plastic_reverse[k]];
+  if (!s->state.plastic_slots.generation) return 0.0; /* (before the first return every term is 0) */
+  const int64_t slot = s->state.plastic_slots.bond_slot[k];
+  return s->state.plastic_bond_term[slot] + s->state.plastic_bond_term[s->state.plastic_slots.entry_reverse[slot]];
 }
 
 /* Bond i-j's deformed length, and its reference length in *r0 (xi + (u_j - u_i), as the energy's

@@ -308,7 +308,11 @@ static void build_geometry(peri_node_blocks *nb) {
   free(map.slot);
 }
 
+/* Every build's generation (node_blocks.h), distinct over all the item sets of a process. */
+static uint64_t builds_so_far;
+
 static void build(peri_node_blocks *nb, const peri_sim *s) {
+  nb->generation = __atomic_add_fetch(&builds_so_far, 1, __ATOMIC_RELAXED); /* (sims may build in threads of their own) */
   const peri_bonds *b = &s->disc.bonds;
   const int32_t n_owned = s->disc.p.n_owned, n = s->disc.p.n;
   free(nb->first);

@@ -48,6 +48,8 @@ typedef struct peri_node_blocks {
   int64_t *cost;             /* [n_items + 1] bonds of items 0 .. k-1 */
   peri_work_share *share;    /* the items among the threads (peri_work_share_start) */
   uint64_t broken_edits; /* bonds.broken_edits when tpl_lanes last followed the flags */
+  uint64_t generation;   /* a number of its own for each build of the items and templates (layouts
+                            kept beside them, such as the deviatoric rule's terms, follow it) */
   /* what the items were built for (rebuilt when the bonds or the nodes change; the reference
    * positions and volumes of the nodes do not change after set-up) */
   const int64_t *offset;

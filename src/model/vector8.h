@@ -101,6 +101,12 @@ static inline __attribute__((always_inline)) __m512d v8_mask_i64gather_pd(__mmas
   v8_lane_indices(m, index, at);
   return v8_loads_pd(m, at, base);
 }
+/* the doubles at base[at[l]] of the lanes in m, 0 in the others, where every at[l] (in m or not)
+ * is an index into base */
+static inline __attribute__((always_inline)) __m512d v8_mask_gather_at_pd(__mmask8 m, const int64_t at[8],
+                                                                          const double *base) {
+  return v8_loads_pd(m, at, base);
+}
 /* the eight 64-bit integers at base[index[l]], 0 in the lanes not in m */
 static inline __attribute__((always_inline)) __m512i v8_mask_i32gather_epi64(__mmask8 m, __m256i index,
                                                                              const int64_t *base) {
@@ -122,6 +128,7 @@ static inline __attribute__((always_inline)) __m512i v8_mask_i32gather_epi64(__m
  * base[index[l]] for 64-bit indices */
 #define v8_mask_i32gather_epi64(m, index, base)                                                                \
   _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), (m), (index), (base), 8)
+#define v8_mask_gather_at_pd(m, at, base) v8_mask_i64gather_pd((m), _mm512_loadu_si512(at), (base))
 #define v8_mask_i64gather_pd(m, index, base) _mm512_mask_i64gather_pd(_mm512_setzero_pd(), (m), (index), (base), 8)
 #endif
 
@@ -240,6 +247,10 @@ V8_INLINE peri_v8d v8_mask_i64gather_pd(peri_m8 m, peri_v8l index, const double 
   const __m256d zero = _mm256_setzero_pd();
   return v8_make(_mm256_mask_i64gather_pd(zero, base, index.lo, v8_mask_lo(m), 8),
                  _mm256_mask_i64gather_pd(zero, base, index.hi, v8_mask_hi(m), 8));
+}
+V8_INLINE peri_v8d v8_mask_gather_at_pd(peri_m8 m, const int64_t at[8], const double *base) {
+  const peri_v8l index = {_mm256_loadu_si256((const __m256i *)at), _mm256_loadu_si256((const __m256i *)(at + 4))};
+  return v8_mask_i64gather_pd(m, index, base);
 }
 #undef V8_INLINE
 #endif

@@ -287,7 +287,7 @@ block="$DECKS/plastic_block3d.yaml"
 run_peri check "$block"
 expect_status 0
 expect_stdout_contains "plasticity   steel: deviatoric yield rule, 4 sublayers (W, e_y): (0.9532, 0.001667)"
-expect_stdout_contains "plastic state 48 bytes per directed bond (4 plastic deviatoric stretches, the reverse bond's index and plastic term)"
+expect_stdout_contains "plastic state about 64 bytes per directed bond (4 plastic deviatoric stretches, the reverse bond's index, the plastic term, its reverse's and its own slot)"
 for threads in 1 3; do
   run_peri run "$block" --quiet --threads "$threads" --output "$TMP/block$threads"
   expect_status 0

@@ -416,17 +416,18 @@ static void check_deviatoric_return(const char *influence) {
     for (int32_t i = 0; i < s.disc.p.n; ++i)
       s.disc.p.u[3 * (size_t)i] += (round ? 0.004 : 0.006) * s.disc.p.x[3 * (size_t)i + 1];
     memcpy(start, s.state.plastic_stretch, state_bytes);
-    memcpy(start + state_bytes, s.state.plastic_bond_term, term_bytes);
     memcpy(start + state_bytes + term_bytes, s.state.plastic_nodes, owned);
     for (int path = 0; path < 2; ++path) {
       char *out = path ? node : block;
       memcpy(s.state.plastic_stretch, start, state_bytes);
-      memcpy(s.state.plastic_bond_term, start + state_bytes, term_bytes);
+      /* (the terms are not restored: every evaluation writes those of the nodes with a plastic
+       * state, and the others' are 0; the two paths keep them in slots of their own) */
       memcpy(s.state.plastic_nodes, start + state_bytes + term_bytes, owned);
       s.disc.generic_bond_loops = path == 1;
       s.mat.model->force(&s);
       memcpy(out, s.state.plastic_stretch, state_bytes);
-      memcpy(out + state_bytes, s.state.plastic_bond_term, term_bytes);
+      double *terms = (double *)(out + state_bytes); /* bond by bond */
+      for (size_t k = 0; k < n_bonds; ++k) terms[k] = s.state.plastic_bond_term[s.state.plastic_slots.bond_slot[k]];
       memcpy(out + state_bytes + term_bytes, s.state.plastic_nodes, owned);
       memcpy(out + state_bytes + term_bytes + owned, s.disc.p.f, f_bytes);
       if (path == 0)
