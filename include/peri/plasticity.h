@@ -135,6 +135,16 @@ struct peri_sim;
 /* Quasi-static solvers: the plastic state of the accepted load step becomes the one the next
  * iterations map from (nothing without plasticity or in dynamics). */
 void peri_plastic_commit(struct peri_sim *s);
+/* Bond k's plastic stretches, layer by layer, from `state` (s->state.plastic_stretch or
+ * plastic_committed): a pointer to its plastic_layers values, which are copied to row[] (of
+ * PERI_MAX_SUBLAYERS) where the deviatoric rule keeps them in slots. */
+const double *peri_plastic_row(const struct peri_sim *s, const double *state, int64_t k, double *row);
+/* The doubles of the plastic state (its slots', when it is kept in them). */
+size_t peri_plastic_state_doubles(const struct peri_sim *s);
+/* The plastic state (and its committed copy) in bond rows, k L + l, for whoever writes it bond
+ * by bond (a checkpoint being read); the deviatoric rule moves it back into its slots at its
+ * next return. */
+void peri_plastic_state_in_bond_order(struct peri_sim *s);
 /* The plastic part of bond k's stretch (src/model/plastic_bonds.c). */
 double peri_plastic_bond_stretch(const struct peri_sim *s, int32_t i, int64_t k);
 /* The work density (J/m^3) the sublayers of node i's bonds have dissipated, into D[i] of the

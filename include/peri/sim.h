@@ -208,7 +208,8 @@ typedef struct peri_state {
                                    end of the next step's work integral (kept for checkpoints) */
   double *thermal_strain;       /* [n] alpha_T,eff (T - T_ref) per node, NULL without thermomechanics */
   /* sublayer plasticity (docs/plasticity.md): plastic_layers plastic stretches per directed
-   * bond (bond k's at plastic_stretch[k * plastic_layers]), NULL when no material is plastic */
+   * bond (bond k's at plastic_stretch[k * plastic_layers], or in the deviatoric rule's slots:
+   * plastic_slots below), NULL when no material is plastic */
   double *plastic_stretch;
   int plastic_layers;
   /* quasi-static solvers: the plastic stretches of the last accepted load step, from which
@@ -230,12 +231,16 @@ typedef struct peri_state {
    * others); on MPI ranks entry n_slots + k of a bond into a ghost holds the ghost's term of
    * the bond (the bond halo). NULL for the bond rule */
   double *plastic_bond_term;
-  /* where the terms are (src/model/deviatoric_plasticity.c): a block of eight nodes keeps its
-   * bonds' in template order, entry a's lanes at item_slot[item] + 8 a + lane, so that its loops
-   * store and load them as vectors; the other nodes in family order. Built at the first return
-   * for the node blocks' items of one build (generation; 0: not built) */
+  /* where the terms and the plastic state are (src/model/deviatoric_plasticity.c): a block of
+   * eight nodes keeps its bonds' in template order, entry a's lanes at item_slot[item] + 8 a +
+   * lane, so that its loops store and load them as vectors; the other nodes in family order.
+   * Built at the first return for the node blocks' items of one build (generation; 0: not built) */
   struct {
     uint64_t generation;
+    bool state_in_slots;    /* plastic_stretch (and plastic_committed) in the slots' order too:
+                               bond k's layer l at peri_plastic_layer_index(bond_slot[k], l, L);
+                               else in bond rows, k L + l (before the first return, after a
+                               checkpoint is read: peri_plastic_row reads either) */
     int64_t n_slots;
     int64_t *item_slot;     /* [n_items + 1] each item's first slot */
     int64_t *bond_slot;     /* [n_bonds] bond k's slot */

@@ -38,6 +38,7 @@
 #include "peri/comm.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
+#include "peri/plasticity.h"
 #include "peri/thermal.h"
 #include "peri/tools.h"
 
@@ -222,6 +223,7 @@ void peri_restart_apply(peri_sim *s) {
   copy_bonds(s, s->disc.bonds.broken, r->broken);
   ++s->disc.bonds.broken_edits;
   if (r->plastic && s->state.plastic_stretch && s->disc.bonds.n_bonds > 0) {
+    peri_plastic_state_in_bond_order(s); /* (the deviatoric rule takes it into its slots again) */
     const size_t layers = (size_t)s->state.plastic_layers;
     const int64_t first = s->par.dd ? s->par.dd->bond_first[s->par.dd->rank] : 0;
     memcpy(s->state.plastic_stretch, r->plastic + (size_t)first * layers,
@@ -421,9 +423,26 @@ static const uint8_t *gather_bonds(const peri_sim *s, state_view *v, const uint8
   return all;
 }
 
+/* The rank's plastic stretches in bond rows: the state itself, or where the deviatoric rule
+ * keeps it in slots (peri_plastic_row) a copy, returned in *copy as well for the caller to free. */
+static const double *plastic_rows(const peri_sim *s, double **copy) {
+  *copy = NULL;
+  if (!s->state.plastic_stretch || !s->state.plastic_slots.state_in_slots) return s->state.plastic_stretch;
+  const int64_t n = s->disc.bonds.n_bonds;
+  const int L = s->state.plastic_layers;
+  double *rows = peri_malloc(sizeof(double) * (size_t)(n * L > 0 ? n * L : 1));
+  for (int64_t k = 0; k < n; ++k) {
+    double row[PERI_MAX_SUBLAYERS];
+    memcpy(rows + k * L, peri_plastic_row(s, s->state.plastic_stretch, k, row), sizeof(double) * (size_t)L);
+  }
+  *copy = rows;
+  return rows;
+}
+
 /* The plastic stretches of every rank's families on rank 0 (collective). */
 static const double *gather_plastic(const peri_sim *s, state_view *v) {
-  const double *local = s->state.plastic_stretch;
+  double *copy;
+  const double *local = plastic_rows(s, &copy);
   if (!local) return NULL;
   const peri_decomposition *d = s->par.dd;
   const int64_t layers = s->state.plastic_layers;
@@ -433,6 +452,7 @@ static const double *gather_plastic(const peri_sim *s, state_view *v) {
   for (int r = 0; r < d->size; ++r) counts[r] = (d->bond_first[r + 1] - d->bond_first[r]) * layers;
   peri_comm_gather_doubles(local, s->disc.bonds.n_bonds * layers, counts, all);
   free(counts);
+  free(copy);
   if (all) v->gathered[v->n_gathered++] = all;
   return all;
 }
@@ -452,7 +472,9 @@ static void view_of(const peri_sim *s, state_view *v) {
     v->s0 = s->mat.s0_node, v->thermal_strain = s->state.thermal_strain, v->step_load = s->state.step_load;
     v->T = th ? th->T : NULL;
     v->broken = s->disc.bonds.broken, v->cut = cut;
-    v->plastic = s->state.plastic_stretch;
+    double *copy;
+    v->plastic = plastic_rows(s, &copy);
+    if (copy) v->gathered[v->n_gathered++] = copy;
     v->growing_next = th ? (long)th->growing_next : 0;
     return;
   }

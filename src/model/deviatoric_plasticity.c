@@ -2,7 +2,8 @@
  * overlay of Besseling on Mitchell's ordinary state-based plasticity (Mitchell 2011,
  * SAND2011-3166). Every node keeps, for each directed bond of its family and each sublayer k,
  * a plastic deviatoric stretch s^dp_k (the deviatoric plastic extension e^dp_k over |xi|), in
- * the per-bond, per-sublayer storage of the bond rule (s->state.plastic_stretch). The
+ * the per-bond, per-sublayer storage of the bond rule (s->state.plastic_stretch), kept in the
+ * slots below from the first return on. The
  * deviatoric force state of node i is
  *   t^d_ij = alpha_i omega (e^d_ij - |xi| sum_k W_k s^dp_k,ij),   e^d = e - (theta_i/3) |xi|
  * with theta_i the elastic dilatation of the total extension (the bulk term stays elastic).
@@ -19,13 +20,17 @@
  * therefore yield together.
  *
  * Each end of a bond keeps its own state. The pair force t_ij + t_ji needs the other end's
- * plastic term alpha_j sum_k W_k s^dp_k,ji: each node's return writes its own terms in family
- * order (s->state.plastic_bond_term[k], contiguous), and i's force pass reads j's at the reverse
- * bond's index s->state.plastic_reverse[k] (a gather: scattered reads, where writing each term
- * into the other end's entry made the return's scattered stores its largest cost). On MPI
- * ranks the reverse index of a bond into a ghost points past the owned bonds, where the
- * ghost's owner sends the term through the bond halo (src/parallel/bond_halo.c) after the
- * return. No periodic images (a bond to an image has no reverse).
+ * plastic term alpha_j sum_k W_k s^dp_k,ji: each node's return writes its own terms
+ * (s->state.plastic_bond_term), and i's force pass reads j's at the reverse bond's slot (a
+ * gather, where writing each term into the other end's entry made the return's scattered
+ * stores its largest cost). The terms and the state are kept in slots (build_slots,
+ * peri_state.plastic_slots): a block of eight nodes keeps its bonds' in its template's order,
+ * an entry's eight lanes side by side (the state layer by layer), so that the block loops load
+ * and store them as vectors and the other ends' terms of an entry lie in one or two cache
+ * lines; the other nodes keep theirs in family order. On MPI ranks the reverse slot of a bond
+ * into a ghost points past the slots, where the ghost's owner sends the term through the bond
+ * halo (src/parallel/bond_halo.c) after the return. No periodic images (a bond to an image has
+ * no reverse).
  *
  * Cost (docs/plasticity.md section 8): a block of eight nodes (node_blocks.h) runs the return
  * and the force on its template, the nodes in vector lanes; other nodes run a chunk of their
@@ -34,8 +39,8 @@
  * cost 16-32 cycles a vector) and so do the bond weights omega beta V_j (stored only where
  * those functions cannot evaluate them); the force of the nodes with a plastic state on either
  * end of a bond replaces their elastic force pass rather than adding to it and reads the
- * bonds' terms, not their sublayers. The return is bound by the stream of the state (32 bytes
- * a bond read and written per step with 4 sublayers). */
+ * bonds' terms, not their sublayers. The return streams the state (32 bytes a bond read and
+ * written per step with 4 sublayers). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -342,15 +347,14 @@ static inline bool layer_factors(const peri_sublayers *sl, double scale, const d
 static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const peri_bond_view *w, int32_t i,
                                                               double elastic, bool before, double *restrict sd,
                                                               double *restrict wt, double *restrict on,
-                                                              double *restrict term, const int L) {
+                                                              double *restrict term, double *restrict rows,
+                                                              const int L) {
   const peri_sublayers *sl = node_layers(s, i);
   if (!sl) return false;
   const peri_bonds *b = &s->disc.bonds;
   const peri_material *mat = &s->mat.materials[s->disc.p.material[i]];
   const int64_t k0 = b->offset[i], nb = b->offset[i + 1] - k0;
-  double *restrict out = s->state.plastic_stretch + k0 * L;
   const bool committed = s->state.plastic_committed != NULL;
-  const double *base = committed ? s->state.plastic_committed + k0 * L : out;
   /* the bound of sublayer k is (3 mu / alpha_m) m_i e_yk^2 */
   const double scale = 3.0 * mat->mu / mat->alpha_m * s->disc.p.wvol[i];
   /* every plastic stretch 0 and the elastic deviatoric energy of pass 1 below the first
@@ -358,6 +362,19 @@ static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const
   if (!before && elastic <= scale * sl->yield[0] * sl->yield[0] * (1.0 - SCREEN_MARGIN)) return false;
   double S[PERI_MAX_SUBLAYERS > 4 ? PERI_MAX_SUBLAYERS : 4] = {0}, factor[PERI_MAX_SUBLAYERS],
       flows[PERI_MAX_SUBLAYERS], W[PERI_MAX_SUBLAYERS];
+  /* the node's state as rows of L layers, bond by bond, in out[] (and the committed state's in
+   * rows[]): the slots keep a bond's layers 8 apart */
+  const int64_t *restrict slot = s->state.plastic_slots.bond_slot + k0;
+  double *restrict state = s->state.plastic_stretch, *restrict out = rows;
+  for (int64_t a = 0; a < nb; ++a)
+    for (int l = 0; l < L; ++l) out[a * L + l] = state[peri_plastic_layer_index(slot[a], l, L)];
+  const double *base = out;
+  if (committed) {
+    base = rows + nb * L;
+    for (int64_t a = 0; a < nb; ++a)
+      for (int l = 0; l < L; ++l)
+        rows[(nb + a) * L + l] = s->state.plastic_committed[peri_plastic_layer_index(slot[a], l, L)];
+  }
   const uint8_t *restrict broken = b->broken + k0;
   /* the 1-byte flags as doubles first: read in the vector loops they would force 64-lane
    * vectors and a scalar tail (bond_kernel.h) */
@@ -373,94 +390,44 @@ static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const
                        : committed ? flow_from(base, out, sd, term, on, factor, flows, W, alpha, nb, true, L)
                                    : flow_from(out, out, sd, term, on, factor, flows, W, alpha, nb, false, L);
   double *restrict all_terms = s->state.plastic_bond_term;
-  const int64_t *restrict slot = s->state.plastic_slots.bond_slot + k0;
   for (int64_t a = 0; a < nb; ++a) all_terms[slot[a]] = term[a];
+  if (flow)
+    for (int64_t a = 0; a < nb; ++a)
+      for (int l = 0; l < L; ++l) state[peri_plastic_layer_index(slot[a], l, L)] = out[a * L + l];
   return plastic;
 }
 
 /* node_return with constant layer counts for the common ones. */
 static bool node_return_any(peri_sim *s, const peri_bond_view *w, int32_t i, double elastic, bool before,
                             double *scratch, int64_t longest) {
-  double *sd = scratch, *wt = scratch + longest, *on = scratch + 2 * longest, *term = scratch + 3 * longest;
+  double *sd = scratch, *wt = scratch + longest, *on = scratch + 2 * longest, *term = scratch + 3 * longest,
+         *rows = scratch + 4 * longest;
   switch (s->state.plastic_layers) {
-  case 1: return node_return(s, w, i, elastic, before, sd, wt, on, term, 1);
-  case 2: return node_return(s, w, i, elastic, before, sd, wt, on, term, 2);
-  case 3: return node_return(s, w, i, elastic, before, sd, wt, on, term, 3);
-  case 4: return node_return(s, w, i, elastic, before, sd, wt, on, term, 4);
-  default: return node_return(s, w, i, elastic, before, sd, wt, on, term, s->state.plastic_layers);
+  case 1: return node_return(s, w, i, elastic, before, sd, wt, on, term, rows, 1);
+  case 2: return node_return(s, w, i, elastic, before, sd, wt, on, term, rows, 2);
+  case 3: return node_return(s, w, i, elastic, before, sd, wt, on, term, rows, 3);
+  case 4: return node_return(s, w, i, elastic, before, sd, wt, on, term, rows, 4);
+  default: return node_return(s, w, i, elastic, before, sd, wt, on, term, rows, s->state.plastic_layers);
   }
 }
 
 #ifdef PERI_BOND_V8
-#if defined(__AVX512F__)
-/* row_mask[m][l]: the mask of a bond's four layers (a 256-bit row) for lane l of the lanes in m,
- * as a table: computed per lane it costs more instructions than the load or store it masks */
-#define ROW4(m, l) (((m) >> (l) & 1) ? 15 : 0)
-#define ROWS_1(m) {ROW4(m, 0), ROW4(m, 1), ROW4(m, 2), ROW4(m, 3), ROW4(m, 4), ROW4(m, 5), ROW4(m, 6), ROW4(m, 7)}
-#define ROWS_4(m) ROWS_1(m), ROWS_1((m) + 1), ROWS_1((m) + 2), ROWS_1((m) + 3)
-#define ROWS_16(m) ROWS_4(m), ROWS_4((m) + 4), ROWS_4((m) + 8), ROWS_4((m) + 12)
-#define ROWS_64(m) ROWS_16(m), ROWS_16((m) + 16), ROWS_16((m) + 32), ROWS_16((m) + 48)
-static const uint8_t row_mask[256][PERI_BLOCK] = {ROWS_64(0), ROWS_64(64), ROWS_64(128), ROWS_64(192)};
-
-/* Four layers of eight lanes' bonds, each bond's layers contiguous at state + at[lane] (the
- * lanes not in m read nothing and give 0): eight 256-bit loads transposed into a vector per
- * layer, in place of a gather per layer. */
-static inline __attribute__((always_inline)) void load_layers4(const double *state, const int64_t at[PERI_BLOCK],
-                                                                unsigned m, __m512d col[4]) {
-  __m256d r[PERI_BLOCK];
-  for (int l = 0; l < PERI_BLOCK; ++l) r[l] = _mm256_maskz_loadu_pd(row_mask[m][l], state + at[l]);
-  const __m512d z0 = _mm512_insertf64x4(_mm512_castpd256_pd512(r[0]), r[4], 1),
-                z1 = _mm512_insertf64x4(_mm512_castpd256_pd512(r[1]), r[5], 1),
-                z2 = _mm512_insertf64x4(_mm512_castpd256_pd512(r[2]), r[6], 1),
-                z3 = _mm512_insertf64x4(_mm512_castpd256_pd512(r[3]), r[7], 1);
-  const __m512d t0 = _mm512_unpacklo_pd(z0, z1), t1 = _mm512_unpackhi_pd(z0, z1), t2 = _mm512_unpacklo_pd(z2, z3),
-                t3 = _mm512_unpackhi_pd(z2, z3);
-  const __m512i lo = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13), hi = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15);
-  col[0] = _mm512_permutex2var_pd(t0, lo, t2), col[1] = _mm512_permutex2var_pd(t1, lo, t3);
-  col[2] = _mm512_permutex2var_pd(t0, hi, t2), col[3] = _mm512_permutex2var_pd(t1, hi, t3);
-}
-
-/* The inverse: the layers of the lanes in m stored at state + at[lane]. */
-static inline __attribute__((always_inline)) void store_layers4(double *state, const int64_t at[PERI_BLOCK],
-                                                                 unsigned m, const __m512d col[4]) {
-  const __m512i lo = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13), hi = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15);
-  const __m512d t0 = _mm512_permutex2var_pd(col[0], lo, col[2]), t2 = _mm512_permutex2var_pd(col[0], hi, col[2]),
-                t1 = _mm512_permutex2var_pd(col[1], lo, col[3]), t3 = _mm512_permutex2var_pd(col[1], hi, col[3]);
-  const __m512d z[4] = {_mm512_unpacklo_pd(t0, t1), _mm512_unpackhi_pd(t0, t1), _mm512_unpacklo_pd(t2, t3),
-                        _mm512_unpackhi_pd(t2, t3)};
-  for (int l = 0; l < 4; ++l) {
-    _mm256_mask_storeu_pd(state + at[l], row_mask[m][l], _mm512_castpd512_pd256(z[l]));
-    _mm256_mask_storeu_pd(state + at[l + 4], row_mask[m][l + 4], _mm512_extractf64x4_pd(z[l], 1));
-  }
-}
-#define LAYERS4_ROWS 1
-/* The return reads eight families' states at once, one row of 4 layers (32 bytes) a lane per
- * entry, and asks for each lane's row this many bonds ahead every other entry: the hardware's
- * prefetch did not keep up with the eight streams on Zen 5 (docs/plasticity.md section 8). */
-#define STATE_ROWS_AHEAD 8
-#else
-#define LAYERS4_ROWS 0
+/* The return reads its block's state as one stream, L cache lines a template entry (the state in
+ * slots, peri_plastic_layer_index), and asks for the lines this many entries ahead: the
+ * hardware's prefetch did not keep up with it on Zen 5 (docs/plasticity.md section 8). */
+#ifndef STATE_ENTRIES_AHEAD
+#define STATE_ENTRIES_AHEAD 8
 #endif
 
-/* The eight lanes' bond indices k times L (their rows of layers) at at[0..7]. The return stores
- * them one entry before it reads them: read back at once, each 8-byte load would wait for the
- * 64-byte store to reach the cache (a store is not forwarded to a narrower load at an offset),
- * which made those loads the largest cost of the loop. */
-static inline __attribute__((always_inline)) void store_bond_rows(int64_t *restrict at, peri_v8i k, int L) {
-  int32_t k_of[PERI_BLOCK];
-  _mm256_storeu_si256((__m256i *)k_of, k);
-  for (int l = 0; l < PERI_BLOCK; ++l) at[l] = (int64_t)k_of[l] * L;
-}
-
 /* The return of a block of eight nodes of one material (node_blocks.h) on its template, the
- * nodes in vector lanes: contiguous loads of the neighbours (the node path gathers them), each
- * lane's bond index counted along the template (its bit of the structure) to reach its state,
- * weight and term in family order. Each lane evaluates node_return's operations in its order
+ * nodes in vector lanes: contiguous loads of the neighbours (the node path gathers them) and of
+ * the state and terms in their slots, each lane's bond index counted along the template (its bit
+ * of the structure) to reach a stored weight in family order. Each lane evaluates node_return's operations in its order
  * (the energies bond by bond, the factors by layer_factors), so both paths agree bit for bit.
  * Returns false, having changed nothing, where the block cannot take it (entries dropped from
  * its template, nodes of different materials, more than 4 layers); else sets yielded[] of its
- * nodes. Scratch: 48 doubles per template entry and 8 more (the lanes' stretches, states and
- * indices, which the second loop reads instead of gathering again). */
+ * nodes. Scratch: 48 doubles per template entry and 8 more (the lanes' stretches and states,
+ * which the second loop reads instead of loading again). */
 static inline __attribute__((always_inline)) bool block_return(peri_sim *s, const peri_bond_view *w,
                                                                const peri_node_blocks *items, int32_t item,
                                                                const double *elastic, uint8_t *yielded,
@@ -481,12 +448,13 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   const bool committed = s->state.plastic_committed != NULL;
   const int64_t t0 = items->tpl[item], count = items->tpl_end[item] - t0, base = w->offset[i0];
   double *restrict sd_of = scratch, *restrict f_of = scratch + 8 * count;
-  int64_t *restrict at_of = (int64_t *)(scratch + 40 * count);
-  double *restrict out = s->state.plastic_stretch + base * L;
-  const double *from = committed ? s->state.plastic_committed + base * L : out;
+  /* the state and the terms in template order (build_slots; slot0 a multiple of 8): entry a's
+   * lanes' layer l at out + 8 (L a + l), their terms at term + 8 a */
+  const int64_t slot0 = s->state.plastic_slots.item_slot[item];
+  double *restrict out = s->state.plastic_stretch + slot0 * L;
+  const double *from = committed ? s->state.plastic_committed + slot0 * L : out;
   const double *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + base : NULL;
-  /* (the terms in template order: entry a's lanes at term + 8 a) */
-  double *restrict term = s->state.plastic_bond_term + s->state.plastic_slots.item_slot[item];
+  double *restrict term = s->state.plastic_bond_term + slot0;
   double scale[PERI_BLOCK], shift[PERI_BLOCK], alpha[PERI_BLOCK];
   int32_t first[PERI_BLOCK];
   unsigned act = 0;
@@ -510,10 +478,6 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   /* 1. the lanes' deviatoric stretches and each layer's energy */
   peri_v8d S[4] = {zero, zero, zero, zero};
   peri_v8i k = _mm256_loadu_si256((const __m256i *)first);
-  store_bond_rows(at_of, k, L);
-#if LAYERS4_ROWS
-  const int64_t last_row = (w->offset[i0 + PERI_BLOCK] - base - 1) * L; /* (the prefetches stay in the block) */
-#endif
   for (int64_t a = 0; a < count; ++a) {
     const int64_t j = tj[a];
     const peri_m8 m = structure[a] & active;
@@ -528,29 +492,17 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
     const peri_v8d sd = v8_mul_pd(on, v8_fmsub_pd(v8_sub_pd(r, r0), inv_r0, vshift));
     v8_storeu_pd(sd_of + 8 * a, sd);
     peri_v8d f[4];
-#if LAYERS4_ROWS
-    /* each lane's bond's first layer, at[] (the next loop's too), stored one entry ahead */
-    if (L == 4) {
-      if (!(a & 1))
-        for (int l = 0; l < PERI_BLOCK; ++l) {
-          const int64_t ahead = at_of[8 * a + l] + STATE_ROWS_AHEAD * 4;
-          _mm_prefetch((const char *)(from + (ahead < last_row ? ahead : last_row)), _MM_HINT_T0);
-        }
-      load_layers4(from, at_of + 8 * a, m, f);
-    }
-    else
-#endif
     {
-      const __m256i kL = _mm256_mullo_epi32(k, _mm256_set1_epi32(L));
-      for (int l = 0; l < L; ++l) f[l] = v8_mask_i32gather_pd(m, _mm256_add_epi32(kL, _mm256_set1_epi32(l)), from);
+      const int64_t ahead = a + STATE_ENTRIES_AHEAD < count ? a + STATE_ENTRIES_AHEAD : count - 1; /* (in the block) */
+      for (int l = 0; l < L; ++l) _mm_prefetch((const char *)(from + PERI_BLOCK * (L * ahead + l)), _MM_HINT_T0);
     }
+    for (int l = 0; l < L; ++l) f[l] = v8_maskz_mov_pd(m, v8_loadu_pd(from + PERI_BLOCK * (L * a + l)));
     for (int l = 0; l < L; ++l) {
       v8_storeu_pd(f_of + 32 * a + 8 * l, f[l]);
       const peri_v8d e = v8_sub_pd(sd, f[l]);
       S[l] = v8_mask3_fmadd_pd(wt, v8_mul_pd(e, e), S[l], m);
     }
     k = lanes_next_bond(k, structure[a]);
-    store_bond_rows(at_of + 8 * (a + 1), k, L);
   }
   /* 2. each lane's factors; the lanes whose layer l flows in flows[l] */
   double S_of[4][PERI_BLOCK], factor_of[4][PERI_BLOCK];
@@ -578,7 +530,6 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   for (int64_t a = 0; a < count; ++a) {
     const peri_m8 m = structure[a] & active;
     const peri_v8d sd = v8_loadu_pd(sd_of + 8 * a);
-    const int64_t *restrict at = at_of + 8 * a;
     peri_v8d plastic = zero, v[4];
     for (int l = 0; l < L; ++l) {
       const peri_v8d f = v8_loadu_pd(f_of + 32 * a + 8 * l);
@@ -588,18 +539,7 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
       plastic = v8_fmadd_pd(v8_set1_pd(W[l]), v[l], plastic);
     }
     v8_mask_storeu_pd(term + PERI_BLOCK * a, m, v8_mul_pd(valpha, plastic));
-#if LAYERS4_ROWS
-    if (L == 4) {
-      store_layers4(out, at, m & flowing, v);
-      continue;
-    }
-#endif
-    double v_of[4][PERI_BLOCK];
-    for (int l = 0; l < L; ++l) v8_storeu_pd(v_of[l], v[l]);
-    for (unsigned lanes_left = m & flowing; lanes_left; lanes_left &= lanes_left - 1) {
-      const int lane = __builtin_ctz(lanes_left);
-      for (int l = 0; l < L; ++l) out[at[lane] + l] = v_of[l][lane];
-    }
+    for (int l = 0; l < L; ++l) v8_mask_storeu_pd(out + PERI_BLOCK * (L * a + l), (peri_m8)(m & flowing), v[l]);
   }
   const peri_m8 nonzero = v8_cmp_pd_mask(v8_abs_pd(bits), zero, _CMP_NEQ_UQ);
   for (int lane = 0; lane < PERI_BLOCK; ++lane)
@@ -642,20 +582,56 @@ static bool template_order(const peri_node_blocks *items, int32_t item) {
   return peri_item_is_block(items, item) && items->tpl_end[item] == items->tpl[item + 1];
 }
 
-/* The slots of the plastic terms (peri_state.plastic_slots) for the node blocks' items, and the
- * terms themselves, zero: the return writes every term of a node that has a plastic state before
+/* The state `rows` (bond k's layers at k L .. k L + L - 1) in the slots' order of bond_slot
+ * (peri_plastic_layer_index), in an array of n_slots rounded up to 8; `rows` freed. */
+static double *rows_to_slots(double *rows, const int64_t *bond_slot, int64_t n_bonds, int64_t n_slots, int L) {
+  double *slots = peri_calloc_aligned((size_t)(((n_slots + 7) & ~(int64_t)7) * L + 1), sizeof(double));
+#pragma omp parallel for schedule(static)
+  for (int64_t k = 0; k < n_bonds; ++k)
+    for (int l = 0; l < L; ++l) slots[peri_plastic_layer_index(bond_slot[k], l, L)] = rows[k * L + l];
+  free(rows);
+  return slots;
+}
+
+/* The inverse: the state in slots back into bond rows; `slots` freed. */
+static double *slots_to_rows(double *slots, const int64_t *bond_slot, int64_t n_bonds, int L) {
+  double *rows = peri_calloc_aligned((size_t)(n_bonds * L + 1), sizeof(double));
+#pragma omp parallel for schedule(static)
+  for (int64_t k = 0; k < n_bonds; ++k)
+    for (int l = 0; l < L; ++l) rows[k * L + l] = slots[peri_plastic_layer_index(bond_slot[k], l, L)];
+  free(slots);
+  return rows;
+}
+
+void peri_plastic_state_in_bond_order(peri_sim *s) {
+  __typeof__(s->state.plastic_slots) *t = &s->state.plastic_slots;
+  if (!t->state_in_slots) return;
+  const int64_t n_bonds = s->disc.bonds.n_bonds;
+  const int L = s->state.plastic_layers;
+  s->state.plastic_stretch = slots_to_rows(s->state.plastic_stretch, t->bond_slot, n_bonds, L);
+  if (s->state.plastic_committed)
+    s->state.plastic_committed = slots_to_rows(s->state.plastic_committed, t->bond_slot, n_bonds, L);
+  t->state_in_slots = false;
+}
+
+/* The slots of the plastic state and terms (peri_state.plastic_slots) for the node blocks'
+ * items: a block's first slot a multiple of 8, so that an entry's lanes fill one 64-byte line
+ * of terms and L of state. The state (and its committed copy) is moved into them; the terms
+ * start at zero: the return writes every term of a node that has a plastic state before
  * anything reads them, and the others' are 0. */
-static void build_term_slots(peri_sim *s, const peri_node_blocks *items) {
+static void build_slots(peri_sim *s, const peri_node_blocks *items) {
   const peri_bonds *b = &s->disc.bonds;
   const int64_t n_bonds = b->n_bonds;
   __typeof__(s->state.plastic_slots) *t = &s->state.plastic_slots;
+  peri_plastic_state_in_bond_order(s); /* (from the slots of an earlier build of the items) */
   free(t->item_slot), free(t->bond_slot), free(t->entry_reverse);
   t->item_slot = peri_malloc(sizeof(int64_t) * ((size_t)items->n_items + 1));
   uint8_t *in_order = peri_malloc((size_t)items->n_items + 1);
   int64_t slots = 0;
   for (int32_t item = 0; item < items->n_items; ++item) {
-    t->item_slot[item] = slots;
     in_order[item] = template_order(items, item);
+    if (in_order[item]) slots = (slots + PERI_BLOCK - 1) / PERI_BLOCK * PERI_BLOCK;
+    t->item_slot[item] = slots;
     slots += in_order[item] ? PERI_BLOCK * (items->tpl[item + 1] - items->tpl[item])
                             : b->offset[items->first[item + 1]] - b->offset[items->first[item]];
   }
@@ -681,12 +657,16 @@ static void build_term_slots(peri_sim *s, const peri_node_blocks *items) {
   t->entry_reverse = peri_calloc((size_t)(slots > 0 ? slots : 1), sizeof(int64_t));
   const int64_t *restrict reverse = s->state.plastic_reverse;
 #pragma omp parallel for schedule(static)
-  for (int64_t k = 0; k < n_bonds; ++k) {
+  for (int64_t k = 0; k < n_bonds; ++k)
     /* (a bond into a ghost: its entry past the slots, where the bond halo puts the ghost's term) */
     t->entry_reverse[t->bond_slot[k]] = reverse[k] < n_bonds ? t->bond_slot[reverse[k]] : slots + (reverse[k] - n_bonds);
-  }
   free(s->state.plastic_bond_term);
-  s->state.plastic_bond_term = peri_calloc((size_t)(slots + (s->par.dd ? n_bonds : 0) + 1), sizeof(double));
+  s->state.plastic_bond_term = peri_calloc_aligned((size_t)(slots + (s->par.dd ? n_bonds : 0) + 1), sizeof(double));
+  const int L = s->state.plastic_layers;
+  s->state.plastic_stretch = rows_to_slots(s->state.plastic_stretch, t->bond_slot, n_bonds, slots, L);
+  if (s->state.plastic_committed)
+    s->state.plastic_committed = rows_to_slots(s->state.plastic_committed, t->bond_slot, n_bonds, slots, L);
+  t->state_in_slots = true;
   t->generation = items->generation;
 }
 
@@ -698,16 +678,18 @@ void peri_deviatoric_return(peri_sim *s, const double *elastic, uint8_t *near) {
   const int64_t longest = longest_family(b, p->n_owned);
   uint8_t *yielded = s->state.plastic_nodes;
   const peri_node_blocks *items = s->disc.node_blocks;
-  if (s->state.plastic_slots.generation != items->generation) build_term_slots(s, items);
+  if (s->state.plastic_slots.generation != items->generation || !s->state.plastic_slots.state_in_slots)
+    build_slots(s, items);
 #pragma omp parallel
   {
-    /* the node path's sd, wt, on, term, then the block path's stretches (a template has at most
-     * 1.5 times the entries of its largest family, node_blocks.c) */
-    double *scratch = peri_malloc(sizeof(double) * (4 + 48 * 2) * (size_t)longest);
+    /* the node path's sd, wt, on, term and rows (two states), then the block path's stretches
+     * (a template has at most 1.5 times the entries of its largest family, node_blocks.c) */
+    const int64_t node_scratch = (4 + 2 * (int64_t)s->state.plastic_layers) * longest;
+    double *scratch = peri_malloc(sizeof(double) * (size_t)(node_scratch + 48 * 2 * longest));
     PERI_FOR_EACH_ITEM(items, item) {
 #ifdef PERI_BOND_V8
       if (peri_item_is_block(items, item) &&
-          block_return_any(s, &w, items, item, elastic, yielded, scratch + 4 * longest))
+          block_return_any(s, &w, items, item, elastic, yielded, scratch + node_scratch))
         continue;
 #endif
       for (int32_t i = items->first[item]; i < items->first[item + 1]; ++i)
@@ -893,7 +875,6 @@ void peri_deviatoric_energy(peri_sim *s, double *W) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const double *eth = s->state.thermal_strain;
-  const int L = s->state.plastic_layers;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const peri_material *mat = &s->mat.materials[p->material[i]];
@@ -918,7 +899,8 @@ void peri_deviatoric_energy(peri_sim *s, double *W) {
       const double sd = (r - r0) / r0 - eth_i - theta / 3.0;
       double e2 = sd * sd;
       if (sl) {
-        const double *sp = s->state.plastic_stretch + k * L;
+        double row[PERI_MAX_SUBLAYERS];
+        const double *sp = peri_plastic_row(s, s->state.plastic_stretch, k, row);
         e2 = 0.0;
         for (int l = 0; l < sl->n; ++l) e2 += sl->weight[l] * (sd - sp[l]) * (sd - sp[l]);
       }

@@ -46,11 +46,26 @@ int peri_plastic_init(peri_sim *s) {
   return PERI_OK;
 }
 
+const double *peri_plastic_row(const peri_sim *s, const double *state, int64_t k, double *row) {
+  const int L = s->state.plastic_layers;
+  if (!s->state.plastic_slots.state_in_slots) return state + k * L;
+  const int64_t slot = s->state.plastic_slots.bond_slot[k];
+  for (int l = 0; l < L; ++l) row[l] = state[peri_plastic_layer_index(slot, l, L)];
+  return row;
+}
+
+size_t peri_plastic_state_doubles(const peri_sim *s) {
+  const int64_t slots = s->state.plastic_slots.n_slots;
+  return (size_t)s->state.plastic_layers *
+         (size_t)(s->state.plastic_slots.state_in_slots ? (slots + 7) & ~(int64_t)7 : s->disc.bonds.n_bonds);
+}
+
 double peri_plastic_bond_stretch(const peri_sim *s, int32_t i, int64_t k) {
   if (!s->state.plastic_stretch) return 0.0;
   const peri_sublayers *sl = bond_layers(s, i, s->disc.bonds.neighbor[k]);
   if (!sl) return 0.0;
-  const double *sp = s->state.plastic_stretch + k * s->state.plastic_layers;
+  double row[PERI_MAX_SUBLAYERS];
+  const double *sp = peri_plastic_row(s, s->state.plastic_stretch, k, row);
   double plastic = 0.0;
   for (int l = 0; l < sl->n; ++l) plastic += sl->weight[l] * sp[l];
   return plastic;
@@ -73,8 +88,7 @@ static inline bond_state bond_at(const peri_sim *s, int32_t i, int32_t j) {
 
 void peri_plastic_commit(peri_sim *s) {
   if (s->state.plastic_committed)
-    memcpy(s->state.plastic_committed, s->state.plastic_stretch,
-           sizeof(double) * (size_t)s->state.plastic_layers * (size_t)s->disc.bonds.n_bonds);
+    memcpy(s->state.plastic_committed, s->state.plastic_stretch, sizeof(double) * peri_plastic_state_doubles(s));
 }
 
 /* The micromodulus of the bond work of material m: PMB's own, or for LPS that of the PMB
@@ -96,9 +110,13 @@ void peri_plastic_flag_nodes(peri_sim *s) {
 #pragma omp parallel for schedule(static) reduction(max : reach)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     bool yielded = false;
-    for (int64_t k = b->offset[i] * L; k < b->offset[i + 1] * L; ++k)
-      yielded |= s->state.plastic_stretch[k] != 0.0 ||
-                 (s->state.plastic_committed && s->state.plastic_committed[k] != 0.0);
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      double row[PERI_MAX_SUBLAYERS], committed_row[PERI_MAX_SUBLAYERS];
+      const double *sp = peri_plastic_row(s, s->state.plastic_stretch, k, row),
+                   *cp = s->state.plastic_committed ? peri_plastic_row(s, s->state.plastic_committed, k, committed_row)
+                                                    : NULL;
+      for (int l = 0; l < L; ++l) yielded |= sp[l] != 0.0 || (cp && cp[l] != 0.0);
+    }
     flags[i] = yielded;
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
       reach = fmax(reach, peri_bond_length(p->x, i, b->neighbor[k]));
@@ -654,7 +672,8 @@ void peri_plastic_dissipation(const peri_sim *s, double *D) {
       const int32_t j = b->neighbor[k];
       const peri_sublayers *sl = bond_layers(s, i, j);
       if (!sl) continue;
-      const double *sp = s->state.plastic_stretch + k * s->state.plastic_layers;
+      double row[PERI_MAX_SUBLAYERS];
+      const double *sp = peri_plastic_row(s, s->state.plastic_stretch, k, row);
       double work = 0.0; /* sum_l W_l s_yl |s^p_l| */
       for (int l = 0; l < sl->n; ++l) work += sl->weight[l] * sl->yield[l] * fabs(sp[l]);
       if (work == 0.0) continue;

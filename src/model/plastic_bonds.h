@@ -77,6 +77,13 @@ static inline bool peri_plastic_item_yielded(const uint8_t *yielded, int32_t i0,
 void peri_plastic_pmb_energy(peri_sim *s, double *W);
 void peri_plastic_lps_energy(peri_sim *s, double *W);
 /* (peri_plastic_bond_stretch: include/peri/plasticity.h) */
+/* Where layer l of the bond in slot `slot` is in a state kept in slots (peri_state.plastic_slots,
+ * the deviatoric rule): each 8 slots' layers side by side, layer-major, so that the 8 lanes of
+ * a block's template entry read one layer as one vector. */
+static inline int64_t peri_plastic_layer_index(int64_t slot, int l, int L) {
+  return (slot & ~(int64_t)7) * L + 8 * l + (slot & 7);
+}
+
 /* The yielded flags (s->state.plastic_nodes) rebuilt from the plastic state. */
 void peri_plastic_flag_nodes(peri_sim *s);
 

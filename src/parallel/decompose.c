@@ -257,6 +257,10 @@ static void localize_reverse(peri_sim *s, peri_decomposition *d) {
 int peri_decompose(peri_sim *s) {
   const int size = peri_comm_size(), rank = peri_comm_rank();
   if (size == 1) return PERI_OK;
+  if (s->state.plastic_slots.generation) { /* (the slices below are cut in bond order) */
+    peri_error("internal: the bonds are divided among ranks after a force evaluation of the deviatoric yield rule");
+    return PERI_ERR_RUN;
+  }
   peri_particles *p = &s->disc.p;
   peri_bonds *b = &s->disc.bonds;
   peri_decomposition *d = peri_calloc(1, sizeof *d);
@@ -314,7 +318,8 @@ int peri_decompose(peri_sim *s) {
   free(s->cond.prescribed);
   s->cond.prescribed = peri_calloc(3 * (size_t)(n_local > 0 ? n_local : 1), 1);
   localize_regions(s, g0, g1);
-  /* the plastic state of the owned families (docs/plasticity.md) */
+  /* the plastic state of the owned families (docs/plasticity.md), in bond rows: the split comes
+   * before the first force evaluation, so the deviatoric rule has not taken it into its slots */
   SLICE(s->state.plastic_stretch, sizeof(double) * (size_t)s->state.plastic_layers, bond_from, bond_count);
   SLICE(s->state.plastic_committed, sizeof(double) * (size_t)s->state.plastic_layers, bond_from, bond_count);
   free(s->state.plastic_nodes), s->state.plastic_nodes = NULL; /* (rebuilt from the state) */

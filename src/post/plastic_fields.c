@@ -13,7 +13,6 @@ void peri_yield_index(const peri_sim *s, double *psi) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const double *sp = s->state.plastic_stretch;
-  const int layers = s->state.plastic_layers;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double all = 0.0, yielded = 0.0;
@@ -21,7 +20,8 @@ void peri_yield_index(const peri_sim *s, double *psi) {
       const int32_t j = b->neighbor[k];
       const double w = peri_bonds_beta(b, peri_bond_length(p->x, i, j)) * p->volume[j];
       all += w;
-      if (sp[k * layers] != 0.0) yielded += w;
+      double row[PERI_MAX_SUBLAYERS];
+      if (peri_plastic_row(s, sp, k, row)[0] != 0.0) yielded += w;
     }
     psi[i] = all > 0.0 ? yielded / all : 0.0;
   }

@@ -415,6 +415,7 @@ static void check_deviatoric_return(const char *influence) {
     /* round 0: a shear of 3 first-yield strains; round 1: 2 more, from the yielded state */
     for (int32_t i = 0; i < s.disc.p.n; ++i)
       s.disc.p.u[3 * (size_t)i] += (round ? 0.004 : 0.006) * s.disc.p.x[3 * (size_t)i + 1];
+    peri_plastic_state_in_bond_order(&s); /* (the two paths keep it in slots of their own) */
     memcpy(start, s.state.plastic_stretch, state_bytes);
     memcpy(start + state_bytes + term_bytes, s.state.plastic_nodes, owned);
     for (int path = 0; path < 2; ++path) {
@@ -425,9 +426,10 @@ static void check_deviatoric_return(const char *influence) {
       memcpy(s.state.plastic_nodes, start + state_bytes + term_bytes, owned);
       s.disc.generic_bond_loops = path == 1;
       s.mat.model->force(&s);
-      memcpy(out, s.state.plastic_stretch, state_bytes);
       double *terms = (double *)(out + state_bytes); /* bond by bond */
       for (size_t k = 0; k < n_bonds; ++k) terms[k] = s.state.plastic_bond_term[s.state.plastic_slots.bond_slot[k]];
+      peri_plastic_state_in_bond_order(&s);
+      memcpy(out, s.state.plastic_stretch, state_bytes);
       memcpy(out + state_bytes + term_bytes, s.state.plastic_nodes, owned);
       memcpy(out + state_bytes + term_bytes + owned, s.disc.p.f, f_bytes);
       if (path == 0)
