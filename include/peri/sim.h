@@ -238,11 +238,13 @@ typedef struct peri_state {
   struct {
     uint64_t generation;
     bool state_in_slots;    /* plastic_stretch (and plastic_committed) in the slots' order too:
-                               bond k's layer l at peri_plastic_layer_index(bond_slot[k], l, L);
+                               bond k's layer l at peri_plastic_layer_index(bond_slot[k], l, L,
+                               block_slots);
                                else in bond rows, k L + l (before the first return, after a
                                checkpoint is read: peri_plastic_row reads either) */
     int64_t n_slots;
-    int64_t *item_slot;     /* [n_items + 1] each item's first slot */
+    int64_t block_slots;    /* the blocks' slots (template order) come first, then the others' */
+    int64_t *item_slot;     /* [n_items] each item's first slot */
     int64_t *bond_slot;     /* [n_bonds] bond k's slot */
     int64_t *entry_reverse; /* [n_slots] the slot of the reverse of the bond in each slot (n_slots + k for
                                a bond k into a ghost: its entry for the bond halo), 0 in an unused one */

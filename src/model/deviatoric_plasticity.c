@@ -362,18 +362,24 @@ static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const
   if (!before && elastic <= scale * sl->yield[0] * sl->yield[0] * (1.0 - SCREEN_MARGIN)) return false;
   double S[PERI_MAX_SUBLAYERS > 4 ? PERI_MAX_SUBLAYERS : 4] = {0}, factor[PERI_MAX_SUBLAYERS],
       flows[PERI_MAX_SUBLAYERS], W[PERI_MAX_SUBLAYERS];
-  /* the node's state as rows of L layers, bond by bond, in out[] (and the committed state's in
-   * rows[]): the slots keep a bond's layers 8 apart */
+  /* the node's state as rows of L layers, bond by bond: in place for a node outside the blocks
+   * (its slots in family order, block_slots and on), else copied out of the block's slots (a
+   * bond's layers 8 apart) into rows[] (and the committed state's after them) and back */
   const int64_t *restrict slot = s->state.plastic_slots.bond_slot + k0;
-  double *restrict state = s->state.plastic_stretch, *restrict out = rows;
-  for (int64_t a = 0; a < nb; ++a)
-    for (int l = 0; l < L; ++l) out[a * L + l] = state[peri_plastic_layer_index(slot[a], l, L)];
-  const double *base = out;
-  if (committed) {
-    base = rows + nb * L;
+  const int64_t block_slots = s->state.plastic_slots.block_slots;
+  const int64_t first = nb > 0 ? slot[0] : block_slots;
+  const bool in_place = first >= block_slots;
+  double *restrict state = s->state.plastic_stretch, *restrict out = in_place ? state + first * L : rows;
+  const double *base = committed ? s->state.plastic_committed + first * L : out;
+  if (!in_place) {
     for (int64_t a = 0; a < nb; ++a)
-      for (int l = 0; l < L; ++l)
-        rows[(nb + a) * L + l] = s->state.plastic_committed[peri_plastic_layer_index(slot[a], l, L)];
+      for (int l = 0; l < L; ++l) out[a * L + l] = state[peri_plastic_layer_index(slot[a], l, L, block_slots)];
+    if (committed) {
+      base = rows + nb * L;
+      for (int64_t a = 0; a < nb; ++a)
+        for (int l = 0; l < L; ++l)
+          rows[(nb + a) * L + l] = s->state.plastic_committed[peri_plastic_layer_index(slot[a], l, L, block_slots)];
+    }
   }
   const uint8_t *restrict broken = b->broken + k0;
   /* the 1-byte flags as doubles first: read in the vector loops they would force 64-lane
@@ -391,9 +397,9 @@ static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const
                                    : flow_from(out, out, sd, term, on, factor, flows, W, alpha, nb, false, L);
   double *restrict all_terms = s->state.plastic_bond_term;
   for (int64_t a = 0; a < nb; ++a) all_terms[slot[a]] = term[a];
-  if (flow)
+  if (flow && !in_place)
     for (int64_t a = 0; a < nb; ++a)
-      for (int l = 0; l < L; ++l) state[peri_plastic_layer_index(slot[a], l, L)] = out[a * L + l];
+      for (int l = 0; l < L; ++l) state[peri_plastic_layer_index(slot[a], l, L, block_slots)] = out[a * L + l];
   return plastic;
 }
 
@@ -584,21 +590,22 @@ static bool template_order(const peri_node_blocks *items, int32_t item) {
 
 /* The state `rows` (bond k's layers at k L .. k L + L - 1) in the slots' order of bond_slot
  * (peri_plastic_layer_index), in an array of n_slots rounded up to 8; `rows` freed. */
-static double *rows_to_slots(double *rows, const int64_t *bond_slot, int64_t n_bonds, int64_t n_slots, int L) {
+static double *rows_to_slots(double *rows, const int64_t *bond_slot, int64_t block_slots, int64_t n_bonds,
+                             int64_t n_slots, int L) {
   double *slots = peri_calloc_aligned((size_t)(((n_slots + 7) & ~(int64_t)7) * L + 1), sizeof(double));
 #pragma omp parallel for schedule(static)
   for (int64_t k = 0; k < n_bonds; ++k)
-    for (int l = 0; l < L; ++l) slots[peri_plastic_layer_index(bond_slot[k], l, L)] = rows[k * L + l];
+    for (int l = 0; l < L; ++l) slots[peri_plastic_layer_index(bond_slot[k], l, L, block_slots)] = rows[k * L + l];
   free(rows);
   return slots;
 }
 
 /* The inverse: the state in slots back into bond rows; `slots` freed. */
-static double *slots_to_rows(double *slots, const int64_t *bond_slot, int64_t n_bonds, int L) {
+static double *slots_to_rows(double *slots, const int64_t *bond_slot, int64_t block_slots, int64_t n_bonds, int L) {
   double *rows = peri_calloc_aligned((size_t)(n_bonds * L + 1), sizeof(double));
 #pragma omp parallel for schedule(static)
   for (int64_t k = 0; k < n_bonds; ++k)
-    for (int l = 0; l < L; ++l) rows[k * L + l] = slots[peri_plastic_layer_index(bond_slot[k], l, L)];
+    for (int l = 0; l < L; ++l) rows[k * L + l] = slots[peri_plastic_layer_index(bond_slot[k], l, L, block_slots)];
   free(slots);
   return rows;
 }
@@ -608,9 +615,9 @@ void peri_plastic_state_in_bond_order(peri_sim *s) {
   if (!t->state_in_slots) return;
   const int64_t n_bonds = s->disc.bonds.n_bonds;
   const int L = s->state.plastic_layers;
-  s->state.plastic_stretch = slots_to_rows(s->state.plastic_stretch, t->bond_slot, n_bonds, L);
+  s->state.plastic_stretch = slots_to_rows(s->state.plastic_stretch, t->bond_slot, t->block_slots, n_bonds, L);
   if (s->state.plastic_committed)
-    s->state.plastic_committed = slots_to_rows(s->state.plastic_committed, t->bond_slot, n_bonds, L);
+    s->state.plastic_committed = slots_to_rows(s->state.plastic_committed, t->bond_slot, t->block_slots, n_bonds, L);
   t->state_in_slots = false;
 }
 
@@ -628,13 +635,17 @@ static void build_slots(peri_sim *s, const peri_node_blocks *items) {
   t->item_slot = peri_malloc(sizeof(int64_t) * ((size_t)items->n_items + 1));
   uint8_t *in_order = peri_malloc((size_t)items->n_items + 1);
   int64_t slots = 0;
-  for (int32_t item = 0; item < items->n_items; ++item) {
-    in_order[item] = template_order(items, item);
-    if (in_order[item]) slots = (slots + PERI_BLOCK - 1) / PERI_BLOCK * PERI_BLOCK;
-    t->item_slot[item] = slots;
-    slots += in_order[item] ? PERI_BLOCK * (items->tpl[item + 1] - items->tpl[item])
-                            : b->offset[items->first[item + 1]] - b->offset[items->first[item]];
-  }
+  for (int32_t item = 0; item < items->n_items; ++item)
+    if ((in_order[item] = template_order(items, item))) {
+      t->item_slot[item] = slots;
+      slots += PERI_BLOCK * (items->tpl[item + 1] - items->tpl[item]);
+    }
+  t->block_slots = slots; /* (a multiple of 8) */
+  for (int32_t item = 0; item < items->n_items; ++item)
+    if (!in_order[item]) {
+      t->item_slot[item] = slots;
+      slots += b->offset[items->first[item + 1]] - b->offset[items->first[item]];
+    }
   t->item_slot[items->n_items] = slots;
   t->n_slots = slots;
   t->bond_slot = peri_malloc(sizeof(int64_t) * (size_t)(n_bonds > 0 ? n_bonds : 1));
@@ -663,9 +674,9 @@ static void build_slots(peri_sim *s, const peri_node_blocks *items) {
   free(s->state.plastic_bond_term);
   s->state.plastic_bond_term = peri_calloc_aligned((size_t)(slots + (s->par.dd ? n_bonds : 0) + 1), sizeof(double));
   const int L = s->state.plastic_layers;
-  s->state.plastic_stretch = rows_to_slots(s->state.plastic_stretch, t->bond_slot, n_bonds, slots, L);
+  s->state.plastic_stretch = rows_to_slots(s->state.plastic_stretch, t->bond_slot, t->block_slots, n_bonds, slots, L);
   if (s->state.plastic_committed)
-    s->state.plastic_committed = rows_to_slots(s->state.plastic_committed, t->bond_slot, n_bonds, slots, L);
+    s->state.plastic_committed = rows_to_slots(s->state.plastic_committed, t->bond_slot, t->block_slots, n_bonds, slots, L);
   t->state_in_slots = true;
   t->generation = items->generation;
 }

@@ -50,7 +50,8 @@ const double *peri_plastic_row(const peri_sim *s, const double *state, int64_t k
   const int L = s->state.plastic_layers;
   if (!s->state.plastic_slots.state_in_slots) return state + k * L;
   const int64_t slot = s->state.plastic_slots.bond_slot[k];
-  for (int l = 0; l < L; ++l) row[l] = state[peri_plastic_layer_index(slot, l, L)];
+  if (slot >= s->state.plastic_slots.block_slots) return state + slot * L;
+  for (int l = 0; l < L; ++l) row[l] = state[peri_plastic_layer_index(slot, l, L, s->state.plastic_slots.block_slots)];
   return row;
 }
 

@@ -78,10 +78,12 @@ void peri_plastic_pmb_energy(peri_sim *s, double *W);
 void peri_plastic_lps_energy(peri_sim *s, double *W);
 /* (peri_plastic_bond_stretch: include/peri/plasticity.h) */
 /* Where layer l of the bond in slot `slot` is in a state kept in slots (peri_state.plastic_slots,
- * the deviatoric rule): each 8 slots' layers side by side, layer-major, so that the 8 lanes of
- * a block's template entry read one layer as one vector. */
-static inline int64_t peri_plastic_layer_index(int64_t slot, int l, int L) {
-  return (slot & ~(int64_t)7) * L + 8 * l + (slot & 7);
+ * the deviatoric rule): in the blocks' slots (below block_slots, a multiple of 8) each 8 slots'
+ * layers side by side, layer by layer, so that the 8 lanes of a template entry read one layer
+ * as one vector; in the other nodes' slots (family order) a bond's layers in a row, so that
+ * their loops read a node's state in place. */
+static inline int64_t peri_plastic_layer_index(int64_t slot, int l, int L, int64_t block_slots) {
+  return slot < block_slots ? (slot & ~(int64_t)7) * L + 8 * l + (slot & 7) : slot * L + l;
 }
 
 /* The yielded flags (s->state.plastic_nodes) rebuilt from the plastic state. */
