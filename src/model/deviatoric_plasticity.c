@@ -592,7 +592,15 @@ static bool template_order(const peri_node_blocks *items, int32_t item) {
  * (peri_plastic_layer_index), in an array of n_slots rounded up to 8; `rows` freed. */
 static double *rows_to_slots(double *rows, const int64_t *bond_slot, int64_t block_slots, int64_t n_bonds,
                              int64_t n_slots, int L) {
-  double *slots = peri_calloc_aligned((size_t)(((n_slots + 7) & ~(int64_t)7) * L + 1), sizeof(double));
+  const size_t size = (size_t)(((n_slots + 7) & ~(int64_t)7) * L + 1);
+  bool plastic = false; /* (a state at rest, every run's start: freed first, so the memory never holds both) */
+#pragma omp parallel for schedule(static) reduction(|| : plastic)
+  for (int64_t k = 0; k < n_bonds * L; ++k) plastic = plastic || rows[k] != 0.0;
+  if (!plastic) {
+    free(rows);
+    return peri_calloc_aligned(size, sizeof(double));
+  }
+  double *slots = peri_calloc_aligned(size, sizeof(double));
 #pragma omp parallel for schedule(static)
   for (int64_t k = 0; k < n_bonds; ++k)
     for (int l = 0; l < L; ++l) slots[peri_plastic_layer_index(bond_slot[k], l, L, block_slots)] = rows[k * L + l];

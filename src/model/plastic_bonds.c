@@ -36,12 +36,18 @@ static const peri_sublayers *bond_layers(const peri_sim *s, int32_t i, int32_t j
 
 int peri_plastic_init(peri_sim *s) {
   int layers = 0;
-  for (int m = 0; m < s->mat.n_materials; ++m)
-    if (s->mat.materials[m].sublayers && s->mat.materials[m].sublayers->n > layers)
-      layers = s->mat.materials[m].sublayers->n;
+  bool deviatoric = false;
+  for (int m = 0; m < s->mat.n_materials; ++m) {
+    const peri_sublayers *sl = s->mat.materials[m].sublayers;
+    if (sl && sl->n > layers) layers = sl->n;
+    deviatoric = deviatoric || (sl && sl->deviatoric);
+  }
   if (layers == 0) return PERI_OK;
   const size_t n = (size_t)s->disc.bonds.n_bonds * (size_t)layers;
-  s->state.plastic_stretch = peri_calloc_aligned(n > 0 ? n : 1, sizeof(double));
+  /* (the deviatoric rule moves a state at rest into its slots at its first return: left to
+   * calloc, the rows' pages are not touched before they are freed, and never take memory) */
+  s->state.plastic_stretch = deviatoric ? peri_calloc(n > 0 ? n : 1, sizeof(double))
+                                          : peri_calloc_aligned(n > 0 ? n : 1, sizeof(double));
   s->state.plastic_layers = layers;
   return PERI_OK;
 }
