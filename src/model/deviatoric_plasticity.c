@@ -432,8 +432,9 @@ static bool node_return_any(peri_sim *s, const peri_bond_view *w, int32_t i, dou
  * (the energies bond by bond, the factors by layer_factors), so both paths agree bit for bit.
  * Returns false, having changed nothing, where the block cannot take it (entries dropped from
  * its template, nodes of different materials, more than 4 layers); else sets yielded[] of its
- * nodes. Scratch: 48 doubles per template entry and 8 more (the lanes' stretches and states,
- * which the second loop reads instead of loading again). */
+ * nodes. Scratch: 48 doubles per template entry and 8 more (the lanes' stretches, which the
+ * second loop reads instead of evaluating the lengths again; it reads the state again from
+ * the cache). */
 static inline __attribute__((always_inline)) bool block_return(peri_sim *s, const peri_bond_view *w,
                                                                const peri_node_blocks *items, int32_t item,
                                                                const double *elastic, uint8_t *yielded,
@@ -453,11 +454,11 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
   const peri_material *mat = &s->mat.materials[p->material[i0]];
   const bool committed = s->state.plastic_committed != NULL;
   const int64_t t0 = items->tpl[item], count = items->tpl_end[item] - t0, base = w->offset[i0];
-  double *restrict sd_of = scratch, *restrict f_of = scratch + 8 * count;
+  double *restrict sd_of = scratch;
   /* the state and the terms in template order (build_slots; slot0 a multiple of 8): entry a's
    * lanes' layer l at out + 8 (L a + l), their terms at term + 8 a */
   const int64_t slot0 = s->state.plastic_slots.item_slot[item];
-  double *restrict out = s->state.plastic_stretch + slot0 * L;
+  double *out = s->state.plastic_stretch + slot0 * L; /* (from is out when mapping in place) */
   const double *from = committed ? s->state.plastic_committed + slot0 * L : out;
   const double *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + base : NULL;
   double *restrict term = s->state.plastic_bond_term + slot0;
@@ -504,7 +505,6 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
     }
     for (int l = 0; l < L; ++l) f[l] = v8_maskz_mov_pd(m, v8_loadu_pd(from + PERI_BLOCK * (L * a + l)));
     for (int l = 0; l < L; ++l) {
-      v8_storeu_pd(f_of + 32 * a + 8 * l, f[l]);
       const peri_v8d e = v8_sub_pd(sd, f[l]);
       S[l] = v8_mask3_fmadd_pd(wt, v8_mul_pd(e, e), S[l], m);
     }
@@ -538,7 +538,8 @@ static inline __attribute__((always_inline)) bool block_return(peri_sim *s, cons
     const peri_v8d sd = v8_loadu_pd(sd_of + 8 * a);
     peri_v8d plastic = zero, v[4];
     for (int l = 0; l < L; ++l) {
-      const peri_v8d f = v8_loadu_pd(f_of + 32 * a + 8 * l);
+      /* (the entry's state again, from the cache: the first loop read it) */
+      const peri_v8d f = v8_maskz_mov_pd(m, v8_loadu_pd(from + PERI_BLOCK * (L * a + l)));
       const peri_v8d moved = v8_fnmadd_pd(vfactor[l], v8_sub_pd(sd, f), sd);
       v[l] = v8_mask_mov_pd(f, (peri_m8)(flows[l] & lanes[a]), moved);
       bits = v8_mask_mov_pd(bits, m, v8_or_pd(bits, committed ? v8_or_pd(v[l], f) : v[l]));
