@@ -420,10 +420,13 @@ static bool node_return_any(peri_sim *s, const peri_bond_view *w, int32_t i, dou
 #ifdef PERI_BOND_V8
 /* The return reads its block's state as one stream, L cache lines a template entry (the state in
  * slots, peri_plastic_layer_index), and asks for the lines this many entries ahead: the
- * hardware's prefetch did not keep up with it on Zen 5 (docs/plasticity.md section 8). */
-#ifndef STATE_ENTRIES_AHEAD
-#define STATE_ENTRIES_AHEAD 8
-#endif
+ * hardware's prefetch did not keep up with it on Zen 5, and 8 or 32 entries were 5% slower
+ * (docs/plasticity.md section 8). */
+#define STATE_ENTRIES_AHEAD 16
+/* The force asks for its terms ahead too: the own terms and reverse slots (one stream each)
+ * this many entries ahead, the other ends' terms (one or two lines an entry) this many */
+#define TERMS_AHEAD 16
+#define OTHER_TERMS_AHEAD 4
 
 /* The return of a block of eight nodes of one material (node_blocks.h) on its template, the
  * nodes in vector lanes: contiguous loads of the neighbours (the node path gathers them) and of
@@ -846,6 +849,17 @@ static inline __attribute__((always_inline)) bool block_force(const peri_sim *s,
     entry_lengths_v8(w, from_table, table, a, j, c, cu, uj, y, &r0, &inv_r0, &r, &inv_r);
     /* the bond's two plastic terms, the other end's at the reverse bond's slot (as the node path
      * adds them); a lane without the bond takes 0 */
+    {
+      /* asked for ahead (in the block): the entry's own terms and reverse slots, and the other
+       * ends' terms of a nearer entry, whose slots are then in the cache (its first and last
+       * lanes': the one or two lines of the eight) */
+      const int64_t ahead = a + TERMS_AHEAD < count ? a + TERMS_AHEAD : count - 1,
+                    near = PERI_BLOCK * (a + OTHER_TERMS_AHEAD < count ? a + OTHER_TERMS_AHEAD : count - 1);
+      _mm_prefetch((const char *)(term + PERI_BLOCK * ahead), _MM_HINT_T0);
+      _mm_prefetch((const char *)(reverse + PERI_BLOCK * ahead), _MM_HINT_T0);
+      _mm_prefetch((const char *)(all_terms + reverse[near]), _MM_HINT_T0);
+      _mm_prefetch((const char *)(all_terms + reverse[near + PERI_BLOCK - 1]), _MM_HINT_T0);
+    }
     const peri_v8d P = v8_add_pd(v8_maskz_mov_pd(on, v8_loadu_pd(term + PERI_BLOCK * a)),
                                  v8_mask_gather_at_pd(on, reverse + PERI_BLOCK * a, all_terms));
     const peri_v8d g = bond_force_v8(r0, r, inv_r, Di, v8_loadu_pd(D + j), Bi, v8_loadu_pd(B + j), P,
