@@ -235,7 +235,7 @@ typedef struct peri_state {
    * eight nodes keeps its bonds' in template order, entry a's lanes at item_slot[item] + 8 a +
    * lane, so that its loops store and load them as vectors; the other nodes in family order.
    * Built at the first return for the node blocks' items of one build (generation; 0: not built) */
-  struct {
+  struct peri_plastic_slots {
     uint64_t generation;
     bool state_in_slots;    /* plastic_stretch (and plastic_committed) in the slots' order too:
                                bond k's layer l at peri_plastic_layer_index(bond_slot[k], l, L,

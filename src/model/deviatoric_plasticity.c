@@ -430,9 +430,10 @@ static bool node_return_any(peri_sim *s, const peri_bond_view *w, int32_t i, dou
 
 /* The return of a block of eight nodes of one material (node_blocks.h) on its template, the
  * nodes in vector lanes: contiguous loads of the neighbours (the node path gathers them) and of
- * the state and terms in their slots, each lane's bond index counted along the template (its bit
- * of the structure) to reach a stored weight in family order. Each lane evaluates node_return's operations in its order
- * (the energies bond by bond, the factors by layer_factors), so both paths agree bit for bit.
+ * the state and terms in their slots, each lane's bond index counted along the template (its
+ * bit of the structure) to reach a stored weight in family order. Each lane evaluates
+ * node_return's operations in its order (the energies bond by bond, the factors by
+ * layer_factors), so both paths agree bit for bit.
  * Returns false, having changed nothing, where the block cannot take it (entries dropped from
  * its template, nodes of different materials, more than 4 layers); else sets yielded[] of its
  * nodes. Scratch: 48 doubles per template entry and 8 more (the lanes' stretches, which the
@@ -623,7 +624,7 @@ static double *slots_to_rows(double *slots, const int64_t *bond_slot, int64_t bl
 }
 
 void peri_plastic_state_in_bond_order(peri_sim *s) {
-  __typeof__(s->state.plastic_slots) *t = &s->state.plastic_slots;
+  struct peri_plastic_slots *t = &s->state.plastic_slots;
   if (!t->state_in_slots) return;
   const int64_t n_bonds = s->disc.bonds.n_bonds;
   const int L = s->state.plastic_layers;
@@ -641,7 +642,7 @@ void peri_plastic_state_in_bond_order(peri_sim *s) {
 static void build_slots(peri_sim *s, const peri_node_blocks *items) {
   const peri_bonds *b = &s->disc.bonds;
   const int64_t n_bonds = b->n_bonds;
-  __typeof__(s->state.plastic_slots) *t = &s->state.plastic_slots;
+  struct peri_plastic_slots *t = &s->state.plastic_slots;
   peri_plastic_state_in_bond_order(s); /* (from the slots of an earlier build of the items) */
   free(t->item_slot), free(t->bond_slot), free(t->entry_reverse);
   t->item_slot = peri_malloc(sizeof(int64_t) * ((size_t)items->n_items + 1));
@@ -682,13 +683,15 @@ static void build_slots(peri_sim *s, const peri_node_blocks *items) {
 #pragma omp parallel for schedule(static)
   for (int64_t k = 0; k < n_bonds; ++k)
     /* (a bond into a ghost: its entry past the slots, where the bond halo puts the ghost's term) */
-    t->entry_reverse[t->bond_slot[k]] = reverse[k] < n_bonds ? t->bond_slot[reverse[k]] : slots + (reverse[k] - n_bonds);
+    t->entry_reverse[t->bond_slot[k]] =
+        reverse[k] < n_bonds ? t->bond_slot[reverse[k]] : slots + (reverse[k] - n_bonds);
   free(s->state.plastic_bond_term);
   s->state.plastic_bond_term = peri_calloc_aligned((size_t)(slots + (s->par.dd ? n_bonds : 0) + 1), sizeof(double));
   const int L = s->state.plastic_layers;
   s->state.plastic_stretch = rows_to_slots(s->state.plastic_stretch, t->bond_slot, t->block_slots, n_bonds, slots, L);
   if (s->state.plastic_committed)
-    s->state.plastic_committed = rows_to_slots(s->state.plastic_committed, t->bond_slot, t->block_slots, n_bonds, slots, L);
+    s->state.plastic_committed =
+        rows_to_slots(s->state.plastic_committed, t->bond_slot, t->block_slots, n_bonds, slots, L);
   t->state_in_slots = true;
   t->generation = items->generation;
 }
@@ -727,7 +730,8 @@ void peri_deviatoric_return(peri_sim *s, const double *elastic, uint8_t *near) {
   /* whether the node has a plastic state or a bond with the other end's plastic term (else
    * its force is the elastic one) */
   const double *restrict term = s->state.plastic_bond_term;
-  const int64_t *restrict slot = s->state.plastic_slots.bond_slot, *restrict reverse = s->state.plastic_slots.entry_reverse;
+  const int64_t *restrict slot = s->state.plastic_slots.bond_slot,
+                         *restrict reverse = s->state.plastic_slots.entry_reverse;
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     if (yielded[i]) {
@@ -747,7 +751,8 @@ static void force_chunk(const peri_sim *s, const peri_bond_view *w, int32_t i, i
   const size_t nn = (size_t)w->n;
   const int32_t *restrict nbr = w->neighbor + k0;
   const uint8_t *restrict broken = w->broken + k0;
-  const int64_t *restrict own = s->state.plastic_slots.bond_slot + k0, *restrict reverse = s->state.plastic_slots.entry_reverse;
+  const int64_t *restrict own = s->state.plastic_slots.bond_slot + k0,
+                         *restrict reverse = s->state.plastic_slots.entry_reverse;
   const double *restrict all_terms = s->state.plastic_bond_term,
                          *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + k0 : NULL;
   const double *restrict D = w->coef, *restrict B = w->coef + nn;
@@ -827,7 +832,7 @@ static inline __attribute__((always_inline)) bool block_force(const peri_sim *s,
   const uint8_t *restrict lanes = items->tpl_lanes + t0, *restrict structure = items->tpl_bonds + t0;
   const size_t nn = (size_t)w->n;
   const double *restrict D = w->coef, *restrict B = w->coef + nn;
-  /* the terms in template order (build_term_slots): entry a's own at term + 8 a, the other
+  /* the terms in template order (build_slots): entry a's own at term + 8 a, the other
    * ends' at the slots reverse[8 a + lane] */
   const int64_t slot0 = s->state.plastic_slots.item_slot[item];
   const double *restrict all_terms = s->state.plastic_bond_term, *restrict term = all_terms + slot0,
