@@ -139,8 +139,6 @@ void peri_plastic_commit(struct peri_sim *s);
  * plastic_committed): a pointer to its plastic_layers values, which are copied to row[] (of
  * PERI_MAX_SUBLAYERS) where the deviatoric rule keeps them in slots. */
 const double *peri_plastic_row(const struct peri_sim *s, const double *state, int64_t k, double *row);
-/* The doubles of the plastic state (its slots', when it is kept in them). */
-size_t peri_plastic_state_doubles(const struct peri_sim *s);
 /* The plastic state (and its committed copy) in bond rows, k L + l, for whoever writes it bond
  * by bond (a checkpoint being read); the deviatoric rule moves it back into its slots at its
  * next return. */

@@ -229,7 +229,8 @@ typedef struct peri_state {
    * s^dp_l,ij at plastic_bond_term[plastic_slots.bond_slot[k]], written by i's return mapping
    * (recomputed at every force evaluation by every node that has a plastic state, 0 for the
    * others); on MPI ranks entry n_slots + k of a bond into a ghost holds the ghost's term of
-   * the bond (the bond halo). NULL for the bond rule */
+   * the bond (the bond halo). Allocated with the slots at the first return; NULL before and for
+   * the bond rule */
   double *plastic_bond_term;
   /* where the terms and the plastic state are (src/model/deviatoric_plasticity.c): a block of
    * eight nodes keeps its bonds' in template order, entry a's lanes at item_slot[item] + 8 a +

@@ -78,7 +78,6 @@ int peri_deviatoric_init(peri_sim *s) {
     return PERI_ERR_INPUT;
   }
   s->state.plastic_reverse = reverse;
-  s->state.plastic_bond_term = peri_calloc((size_t)(b->n_bonds > 0 ? b->n_bonds : 1), sizeof(double));
   /* each bond's omega beta V_j, stored where the eight-lane kernels cannot evaluate it (a
    * Gaussian influence needs exp; the scalar loops have no branch-free form of the influence
    * and the partial volume): they evaluate it from |xi| otherwise (bond_weight_v8), which
@@ -645,7 +644,7 @@ static void build_slots(peri_sim *s, const peri_node_blocks *items) {
   struct peri_plastic_slots *t = &s->state.plastic_slots;
   peri_plastic_state_in_bond_order(s); /* (from the slots of an earlier build of the items) */
   free(t->item_slot), free(t->bond_slot), free(t->entry_reverse);
-  t->item_slot = peri_malloc(sizeof(int64_t) * ((size_t)items->n_items + 1));
+  t->item_slot = peri_malloc(sizeof(int64_t) * ((size_t)items->n_items + 1)); /* (one more for no items) */
   uint8_t *in_order = peri_malloc((size_t)items->n_items + 1);
   int64_t slots = 0;
   for (int32_t item = 0; item < items->n_items; ++item)
@@ -659,7 +658,6 @@ static void build_slots(peri_sim *s, const peri_node_blocks *items) {
       t->item_slot[item] = slots;
       slots += b->offset[items->first[item + 1]] - b->offset[items->first[item]];
     }
-  t->item_slot[items->n_items] = slots;
   t->n_slots = slots;
   t->bond_slot = peri_malloc(sizeof(int64_t) * (size_t)(n_bonds > 0 ? n_bonds : 1));
 #pragma omp parallel for schedule(dynamic, 64)

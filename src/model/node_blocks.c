@@ -422,7 +422,7 @@ peri_node_blocks *peri_node_blocks_refresh(peri_sim *s) {
     sync_broken(nb, &s->disc.bonds);
   }
   bool dropped = false;
-  const bool whole_templates = s->state.plastic_bond_term != NULL; /* (the deviatoric rule's state) */
+  const bool whole_templates = s->state.plastic_reverse != NULL; /* (the deviatoric rule) */
 #pragma omp parallel for schedule(dynamic, 256) reduction(|| : dropped)
   for (int32_t item = 0; item < nb->n_items; ++item)
     if (nb->emptied[item]) {

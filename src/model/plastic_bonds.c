@@ -61,7 +61,8 @@ const double *peri_plastic_row(const peri_sim *s, const double *state, int64_t k
   return row;
 }
 
-size_t peri_plastic_state_doubles(const peri_sim *s) {
+/* The doubles of the plastic state (its slots', when it is kept in them). */
+static size_t plastic_state_doubles(const peri_sim *s) {
   const int64_t slots = s->state.plastic_slots.n_slots;
   return (size_t)s->state.plastic_layers *
          (size_t)(s->state.plastic_slots.state_in_slots ? (slots + 7) & ~(int64_t)7 : s->disc.bonds.n_bonds);
@@ -95,7 +96,7 @@ static inline bond_state bond_at(const peri_sim *s, int32_t i, int32_t j) {
 
 void peri_plastic_commit(peri_sim *s) {
   if (s->state.plastic_committed)
-    memcpy(s->state.plastic_committed, s->state.plastic_stretch, sizeof(double) * peri_plastic_state_doubles(s));
+    memcpy(s->state.plastic_committed, s->state.plastic_stretch, sizeof(double) * plastic_state_doubles(s));
 }
 
 /* The micromodulus of the bond work of material m: PMB's own, or for LPS that of the PMB

@@ -92,8 +92,8 @@ void peri_plastic_flag_nodes(peri_sim *s);
 /* The deviatoric yield rule of LPS (src/model/deviatoric_plasticity.c, docs/plasticity.md
  * section 8). Whether the run's plastic materials take it: */
 bool peri_deviatoric_rule(const peri_sim *s);
-/* The reverse index of the bonds (s->state.plastic_reverse), their plastic terms and, where
- * the kernels do not evaluate them, weights;
+/* The reverse index of the bonds (s->state.plastic_reverse) and, where the kernels do not
+ * evaluate them, their weights (the terms and their slots come with the first return);
  * PERI_ERR_INPUT with a message when a neighbour is not a node of the body. */
 int peri_deviatoric_init(peri_sim *s);
 /* After the dilatation pass of LPS (theta and B = alpha of every owned node, the node blocks'

@@ -249,8 +249,6 @@ static void localize_reverse(peri_sim *s, peri_decomposition *d) {
   }
   free(s->state.plastic_reverse);
   s->state.plastic_reverse = reverse;
-  free(s->state.plastic_bond_term); /* (zero before the first return) */
-  s->state.plastic_bond_term = peri_calloc((size_t)(b1 > b0 ? 2 * (b1 - b0) : 1), sizeof(double));
   SLICE(s->state.plastic_bond_weight, sizeof(double), b0, b1 - b0);
 }
 

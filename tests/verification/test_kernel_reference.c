@@ -409,7 +409,7 @@ static void check_deviatoric_return(const char *influence) {
   const size_t n_bonds = (size_t)s.disc.bonds.offset[s.disc.p.n_owned], owned = (size_t)s.disc.p.n_owned;
   const size_t state_bytes = sizeof(double) * n_bonds * (size_t)s.state.plastic_layers,
                term_bytes = sizeof(double) * n_bonds, f_bytes = sizeof(double) * 3 * owned;
-  char *start = malloc(state_bytes + term_bytes + owned), *block = malloc(state_bytes + term_bytes + owned + f_bytes),
+  char *start = malloc(state_bytes + owned), *block = malloc(state_bytes + term_bytes + owned + f_bytes),
        *node = malloc(state_bytes + term_bytes + owned + f_bytes);
   for (int round = 0; round < 2; ++round) {
     /* round 0: a shear of 3 first-yield strains; round 1: 2 more, from the yielded state */
@@ -417,13 +417,13 @@ static void check_deviatoric_return(const char *influence) {
       s.disc.p.u[3 * (size_t)i] += (round ? 0.004 : 0.006) * s.disc.p.x[3 * (size_t)i + 1];
     peri_plastic_state_in_bond_order(&s); /* (the two paths keep it in slots of their own) */
     memcpy(start, s.state.plastic_stretch, state_bytes);
-    memcpy(start + state_bytes + term_bytes, s.state.plastic_nodes, owned);
+    memcpy(start + state_bytes, s.state.plastic_nodes, owned);
     for (int path = 0; path < 2; ++path) {
       char *out = path ? node : block;
       memcpy(s.state.plastic_stretch, start, state_bytes);
       /* (the terms are not restored: every evaluation writes those of the nodes with a plastic
        * state, and the others' are 0; the two paths keep them in slots of their own) */
-      memcpy(s.state.plastic_nodes, start + state_bytes + term_bytes, owned);
+      memcpy(s.state.plastic_nodes, start + state_bytes, owned);
       s.disc.generic_bond_loops = path == 1;
       s.mat.model->force(&s);
       double *terms = (double *)(out + state_bytes); /* bond by bond */
