@@ -736,6 +736,17 @@ void peri_deviatoric_return(peri_sim *s, const double *elastic, uint8_t *near) {
       near[i] = 1;
       continue;
     }
+    /* only a neighbour with a plastic state has nonzero terms (a node without one has written
+     * zeros or skipped its return, keeping them); a ghost's state is its owner's */
+    bool plastic_neighbour = false;
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      const int32_t j = b->neighbor[k];
+      plastic_neighbour |= j >= p->n_owned || yielded[j];
+    }
+    if (!plastic_neighbour) {
+      near[i] = 0;
+      continue;
+    }
     double other = 0.0; /* (a sum of magnitudes, which keeps the loop a vector one: 0 only when every term is) */
 #pragma omp simd reduction(+ : other)
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) other += fabs(term[reverse[slot[k]]]);
