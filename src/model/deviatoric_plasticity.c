@@ -923,37 +923,45 @@ void peri_deviatoric_energy(peri_sim *s, double *W) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const double *eth = s->state.thermal_strain;
-#pragma omp parallel for schedule(static)
-  for (int32_t i = 0; i < p->n_owned; ++i) {
-    const peri_material *mat = &s->mat.materials[p->material[i]];
-    const peri_sublayers *sl = mat->sublayers;
-    const double eth_i = eth ? eth[i] : 0.0, m = p->wvol[i];
-    double wq = 0.0; /* sum omega |xi| beta V (e - eth_i |xi|): the dilatation of the total extension */
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      double r0;
-      const double r = bond_lengths(p, i, j, &r0);
-      wq += peri_bonds_omega(b, r0) * r0 * peri_bonds_beta(b, r0) * p->volume[j] * (r - r0 - eth_i * r0);
-    }
-    const double theta = mat->n_theta * wq / m;
-    /* each sublayer's deviatoric energy at its elastic deviatoric stretches, weighted */
-    double deviatoric = 0.0;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      double r0;
-      const double r = bond_lengths(p, i, j, &r0);
-      const double sd = (r - r0) / r0 - eth_i - theta / 3.0;
-      double e2 = sd * sd;
-      if (sl) {
-        double row[PERI_MAX_SUBLAYERS];
-        const double *sp = peri_plastic_row(s, s->state.plastic_stretch, k, row);
-        e2 = 0.0;
-        for (int l = 0; l < sl->n; ++l) e2 += sl->weight[l] * (sd - sp[l]) * (sd - sp[l]);
+  const int64_t longest = longest_family(b, p->n_owned);
+#pragma omp parallel
+  {
+    /* each bond's lengths, evaluated once for both sums (the same numbers) */
+    double *r_of = peri_malloc(sizeof(double) * 2 * (size_t)longest), *r0_of = r_of + longest;
+#pragma omp for schedule(static)
+    for (int32_t i = 0; i < p->n_owned; ++i) {
+      const peri_material *mat = &s->mat.materials[p->material[i]];
+      const peri_sublayers *sl = mat->sublayers;
+      const double eth_i = eth ? eth[i] : 0.0, m = p->wvol[i];
+      const int64_t k0 = b->offset[i], nb = b->offset[i + 1] - k0;
+      double wq = 0.0; /* sum omega |xi| beta V (e - eth_i |xi|): the dilatation of the total extension */
+      for (int64_t a = 0; a < nb; ++a) {
+        if (b->broken[k0 + a]) continue;
+        const int32_t j = b->neighbor[k0 + a];
+        double r0;
+        const double r = bond_lengths(p, i, j, &r0);
+        r_of[a] = r, r0_of[a] = r0;
+        wq += peri_bonds_omega(b, r0) * r0 * peri_bonds_beta(b, r0) * p->volume[j] * (r - r0 - eth_i * r0);
       }
-      deviatoric += peri_bonds_omega(b, r0) * peri_bonds_beta(b, r0) * p->volume[j] * r0 * r0 * e2;
+      const double theta = mat->n_theta * wq / m;
+      /* each sublayer's deviatoric energy at its elastic deviatoric stretches, weighted */
+      double deviatoric = 0.0;
+      for (int64_t a = 0; a < nb; ++a) {
+        const int64_t k = k0 + a;
+        if (b->broken[k]) continue;
+        const double r = r_of[a], r0 = r0_of[a];
+        const double sd = (r - r0) / r0 - eth_i - theta / 3.0;
+        double e2 = sd * sd;
+        if (sl) {
+          double row[PERI_MAX_SUBLAYERS];
+          const double *sp = peri_plastic_row_inline(s, s->state.plastic_stretch, k, row);
+          e2 = 0.0;
+          for (int l = 0; l < sl->n; ++l) e2 += sl->weight[l] * (sd - sp[l]) * (sd - sp[l]);
+        }
+        deviatoric += peri_bonds_omega(b, r0) * peri_bonds_beta(b, r0) * p->volume[b->neighbor[k]] * r0 * r0 * e2;
+      }
+      W[i] = 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * deviatoric;
     }
-    W[i] = 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * deviatoric;
+    free(r_of);
   }
 }

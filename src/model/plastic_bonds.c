@@ -53,12 +53,7 @@ int peri_plastic_init(peri_sim *s) {
 }
 
 const double *peri_plastic_row(const peri_sim *s, const double *state, int64_t k, double *row) {
-  const int L = s->state.plastic_layers;
-  if (!s->state.plastic_slots.state_in_slots) return state + k * L;
-  const int64_t slot = s->state.plastic_slots.bond_slot[k];
-  if (slot >= s->state.plastic_slots.block_slots) return state + slot * L;
-  for (int l = 0; l < L; ++l) row[l] = state[peri_plastic_layer_index(slot, l, L, s->state.plastic_slots.block_slots)];
-  return row;
+  return peri_plastic_row_inline(s, state, k, row);
 }
 
 /* The doubles of the plastic state (its slots', when it is kept in them). */

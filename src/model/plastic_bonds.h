@@ -86,6 +86,16 @@ static inline int64_t peri_plastic_layer_index(int64_t slot, int l, int L, int64
   return slot < block_slots ? (slot & ~(int64_t)7) * L + 8 * l + (slot & 7) : slot * L + l;
 }
 
+/* peri_plastic_row (include/peri/plasticity.h) inline, for the loops over every bond. */
+static inline const double *peri_plastic_row_inline(const peri_sim *s, const double *state, int64_t k, double *row) {
+  const int L = s->state.plastic_layers;
+  if (!s->state.plastic_slots.state_in_slots) return state + k * L;
+  const int64_t slot = s->state.plastic_slots.bond_slot[k], block_slots = s->state.plastic_slots.block_slots;
+  if (slot >= block_slots) return state + slot * L;
+  for (int l = 0; l < L; ++l) row[l] = state[peri_plastic_layer_index(slot, l, L, block_slots)];
+  return row;
+}
+
 /* The yielded flags (s->state.plastic_nodes) rebuilt from the plastic state. */
 void peri_plastic_flag_nodes(peri_sim *s);
 
