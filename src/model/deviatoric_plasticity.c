@@ -222,10 +222,9 @@ static inline __attribute__((always_inline)) peri_v8i lanes_next_bond(peri_v8i k
  * omega beta V_j |xi|^2 of its bonds k0 .. k0+n-1 (0 for a broken bond: on[] holds the
  * intact flags as doubles) into sd[] and wt[], arrays of DEVIATORIC_CHUNK. */
 static inline __attribute__((always_inline)) void deviatoric_stretches(const peri_sim *s, const peri_bond_view *w,
-                                                                       int32_t i, int64_t k0, int n,
+                                                                       int32_t i, int64_t k0, int n, double shift,
                                                                        const double *restrict on,
                                                                        double *restrict sd, double *restrict wt) {
-  const double shift = (w->eth ? w->eth[i] : 0.0) + s->disc.p.theta[i] / 3.0;
   const int32_t *restrict nbr = s->disc.bonds.neighbor + k0;
   const double *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + k0 : NULL;
 #ifdef PERI_BOND_V8
@@ -384,7 +383,7 @@ static inline __attribute__((always_inline)) bool node_return(peri_sim *s, const
   /* the 1-byte flags as doubles first: read in the vector loops they would force 64-lane
    * vectors and a scalar tail (bond_kernel.h) */
   for (int64_t a = 0; a < nb; ++a) on[a] = broken[a] ? 0.0 : 1.0;
-  deviatoric_stretches(s, w, i, k0, (int)nb, on, sd, wt);
+  deviatoric_stretches(s, w, i, k0, (int)nb, (w->eth ? w->eth[i] : 0.0) + s->disc.p.theta[i] / 3.0, on, sd, wt);
   layer_energies(base, sd, wt, (int)nb, L, S);
   const bool flow = layer_factors(sl, scale, S, L, factor, flows) || committed;
   padded_weights(sl, L, W);
@@ -912,56 +911,207 @@ double peri_deviatoric_pair_plastic(const peri_sim *s, int32_t i, int64_t k) {
 
 /* Bond i-j's deformed length, and its reference length in *r0 (xi + (u_j - u_i), as the energy's
  * two passes over the family both need). */
-static inline double bond_lengths(const peri_particles *p, int32_t i, int32_t j, double *r0) {
-  double xi[3], dy[3];
-  *r0 = peri_bond_xi(p->x, i, j, xi);
-  for (int d = 0; d < 3; ++d) dy[d] = xi[d] + p->u[3 * j + d] - p->u[3 * i + d];
-  return sqrt(dy[0] * dy[0] + dy[1] * dy[1] + dy[2] * dy[2]);
+/* The energy W_i = K_theta theta_i^2/2 + (alpha_m/m_i)/2 sum_k W_k sum_j omega beta V_j |xi|^2
+ * (s^d - s^dp_k)^2 (theta_i of the total extension, s^d = (r - |xi|)/|xi| - eth_i - theta_i/3:
+ * each sublayer's deviatoric energy at its elastic deviatoric stretches, weighted), on the
+ * return's eight-lane arithmetic: a block of eight nodes on its template (the state in its
+ * slots, loaded as vectors), the other nodes bond by bond; the two agree bit for bit. The
+ * dilatation is evaluated here (the force's theta may belong to another displacement). */
+
+/* Node i's dilatation sum omega beta V |xi| (r - |xi| - eth_i |xi|) over its intact bonds, bond
+ * by bond in family order (as a block's lane adds them), and its bonds' stretches and weights
+ * (deviatoric_stretches). Scratch: 4 arrays of the longest family. */
+static double node_dilatation_sum(const peri_sim *s, const peri_bond_view *w, int32_t i, double *restrict x,
+                                  double *restrict q, const double *restrict on) {
+  const int64_t k0 = w->offset[i], n = w->offset[i + 1] - k0;
+  const double *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + k0 : NULL;
+#ifdef PERI_BOND_V8
+  const int32_t *restrict nbr = w->neighbor + k0;
+  const __m256i lane_index = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const peri_v8d c[3] = {v8_set1_pd(w->x0[i]), v8_set1_pd(w->x1[i]), v8_set1_pd(w->x2[i])},
+                 cu[3] = {v8_set1_pd(w->u0[i]), v8_set1_pd(w->u1[i]), v8_set1_pd(w->u2[i])};
+  const peri_v8d eth = v8_set1_pd(w->eth ? w->eth[i] : 0.0);
+  for (int64_t a = 0; a < n; a += 8) {
+    const peri_m8 m = peri_first_lanes((int)(n - a));
+    const peri_v8i j = v8_maskz_loadu_epi32(m, nbr + a);
+    peri_v8d y[3], r0, inv_r0, r, inv_r;
+    gathered_lengths_v8(w, m, j, c, cu, y, &r0, &inv_r0, &r, &inv_r);
+    const peri_v8d wt0 = bond_weight_v8(w, weight, m, _mm256_add_epi32(_mm256_set1_epi32((int)a), lane_index), r0,
+                                        inv_r0, v8_mask_i32gather_pd(m, j, w->V));
+    v8_mask_storeu_pd(x + a, m, v8_mul_pd(wt0, r0));
+    v8_mask_storeu_pd(q + a, m, v8_fnmadd_pd(eth, r0, v8_sub_pd(r, r0)));
+  }
+#else
+  const double eth = w->eth ? w->eth[i] : 0.0;
+  for (int64_t a = 0; a < n; ++a) {
+    const int32_t j = w->neighbor[k0 + a];
+    const double x0 = w->x0[j] - w->x0[i], x1 = w->x1[j] - w->x1[i], x2 = w->x2[j] - w->x2[i];
+    const double d0 = x0 + (w->u0[j] - w->u0[i]), d1 = x1 + (w->u1[j] - w->u1[i]), d2 = x2 + (w->u2[j] - w->u2[i]);
+    const double r0 = sqrt(x0 * x0 + x1 * x1 + x2 * x2), r = sqrt(d0 * d0 + d1 * d1 + d2 * d2);
+    x[a] = weight[a] * r0, q[a] = fma(-eth, r0, r - r0);
+  }
+#endif
+  double sum = 0.0;
+  for (int64_t a = 0; a < n; ++a)
+    if (on[a] != 0.0) sum = fma(x[a], q[a], sum);
+  return sum;
 }
+
+/* W_i from its sums: the dilatation's (theta) and the layers' energies S (weights W of L). */
+static inline double node_energy_of(const peri_material *mat, double m, double theta, const double *S,
+                                    const double *W, int L) {
+  double deviatoric = 0.0;
+  for (int l = 0; l < L; ++l) deviatoric = fma(W[l], S[l], deviatoric);
+  return 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * deviatoric;
+}
+
+/* The weights of the energy's layers: the material's sublayers (padded_weights), or for a
+ * material without them its whole deviatoric energy as layer 0 of a state of zeros. */
+static inline void energy_weights(const peri_sublayers *sl, int L, double *W) {
+  padded_weights(sl, L, W);
+  if (!sl) W[0] = 1.0;
+}
+
+/* Node i's energy bond by bond. Scratch: (5 + L) times the longest family. */
+static double node_energy(const peri_sim *s, const peri_bond_view *w, int32_t i, double *scratch, int64_t longest,
+                          int L) {
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const peri_material *mat = &s->mat.materials[p->material[i]];
+  const int64_t k0 = b->offset[i], nb = b->offset[i + 1] - k0;
+  double *on = scratch, *x = scratch + longest, *q = scratch + 2 * longest, *sd = scratch + 3 * longest,
+         *wt = scratch + 4 * longest, *rows = scratch + 5 * longest;
+  for (int64_t a = 0; a < nb; ++a) on[a] = b->broken[k0 + a] ? 0.0 : 1.0;
+  const double m = p->wvol[i], theta = mat->n_theta * node_dilatation_sum(s, w, i, x, q, on) / m;
+  deviatoric_stretches(s, w, i, k0, (int)nb, (w->eth ? w->eth[i] : 0.0) + theta / 3.0, on, sd, wt);
+  const peri_sublayers *sl = mat->sublayers;
+  if (sl)
+    for (int64_t a = 0; a < nb; ++a) {
+      double row[PERI_MAX_SUBLAYERS];
+      const double *sp = peri_plastic_row_inline(s, s->state.plastic_stretch, k0 + a, row);
+      for (int l = 0; l < L; ++l) rows[a * L + l] = sp[l];
+    }
+  else
+    memset(rows, 0, sizeof(double) * (size_t)(nb * L));
+  double S[PERI_MAX_SUBLAYERS] = {0}, W[PERI_MAX_SUBLAYERS];
+  layer_energies(rows, sd, wt, (int)nb, L, S);
+  energy_weights(sl, L, W);
+  return node_energy_of(mat, m, theta, S, W, L);
+}
+
+#ifdef PERI_BOND_V8
+/* The energies of a block of eight nodes of one material, its state in its slots in template
+ * order (build_slots); false, having written nothing, where it cannot (see block_return).
+ * Scratch: 24 doubles per template entry. */
+static inline __attribute__((always_inline)) bool block_energy(const peri_sim *s, const peri_bond_view *w,
+                                                               const peri_node_blocks *items, int32_t item,
+                                                               double *W_out, double *restrict scratch, const int L,
+                                                               const uint16_t *restrict table, const bool from_table) {
+  if (L > 4 || items->tpl_end[item] != items->tpl[item + 1]) return false;
+  const peri_particles *p = &s->disc.p;
+  const int32_t i0 = items->first[item];
+  for (int l = 1; l < PERI_BLOCK; ++l)
+    if (p->material[i0 + l] != p->material[i0]) return false;
+  const peri_material *mat = &s->mat.materials[p->material[i0]];
+  const peri_sublayers *sl = mat->sublayers;
+  const int64_t t0 = items->tpl[item], count = items->tpl_end[item] - t0, base = w->offset[i0];
+  const double *state = s->state.plastic_stretch + s->state.plastic_slots.item_slot[item] * L;
+  const double *restrict weight = s->state.plastic_bond_weight ? s->state.plastic_bond_weight + base : NULL;
+  const int32_t *restrict tj = items->tpl_node + t0;
+  const uint8_t *restrict lanes = items->tpl_lanes + t0, *restrict structure = items->tpl_bonds + t0;
+  int32_t first[PERI_BLOCK];
+  double eth[PERI_BLOCK];
+  for (int l = 0; l < PERI_BLOCK; ++l)
+    first[l] = (int32_t)(w->offset[i0 + l] - base), eth[l] = w->eth ? w->eth[i0 + l] : 0.0;
+  const peri_v8d c[3] = {v8_loadu_pd(w->x0 + i0), v8_loadu_pd(w->x1 + i0), v8_loadu_pd(w->x2 + i0)},
+                 cu[3] = {v8_loadu_pd(w->u0 + i0), v8_loadu_pd(w->u1 + i0), v8_loadu_pd(w->u2 + i0)};
+  const peri_v8d veth = v8_loadu_pd(eth), one = v8_set1_pd(1.0), zero = v8_setzero_pd();
+  /* 1. the dilatation sums (node_dilatation_sum's operations), the lengths kept */
+  peri_v8d wq = zero;
+  peri_v8i k = _mm256_loadu_si256((const __m256i *)first);
+  for (int64_t a = 0; a < count; ++a) {
+    const int64_t j = tj[a];
+    const peri_v8d uj[3] = {v8_loadu_pd(w->u0 + j), v8_loadu_pd(w->u1 + j), v8_loadu_pd(w->u2 + j)};
+    peri_v8d y[3], r0, inv_r0, r, inv_r;
+    entry_lengths_v8(w, from_table, table, a, j, c, cu, uj, y, &r0, &inv_r0, &r, &inv_r);
+    const peri_v8d wt0 = bond_weight_v8(w, weight, structure[a], k, r0, inv_r0, v8_loadu_pd(w->V + j));
+    const peri_v8d d = v8_sub_pd(r, r0);
+    wq = v8_mask3_fmadd_pd(v8_mul_pd(wt0, r0), v8_fnmadd_pd(veth, r0, d), wq, lanes[a]);
+    v8_storeu_pd(scratch + 24 * a, d);
+    v8_storeu_pd(scratch + 24 * a + 8, inv_r0);
+    v8_storeu_pd(scratch + 24 * a + 16, v8_mul_pd(v8_mul_pd(v8_maskz_mov_pd(lanes[a], one), wt0), v8_mul_pd(r0, r0)));
+    k = lanes_next_bond(k, structure[a]);
+  }
+  double wq_of[PERI_BLOCK], theta[PERI_BLOCK], shift[PERI_BLOCK];
+  v8_storeu_pd(wq_of, wq);
+  for (int l = 0; l < PERI_BLOCK; ++l)
+    theta[l] = mat->n_theta * wq_of[l] / p->wvol[i0 + l], shift[l] = eth[l] + theta[l] / 3.0;
+  /* 2. each layer's energy (deviatoric_stretches' and layer_energies' operations) */
+  const peri_v8d vshift = v8_loadu_pd(shift);
+  peri_v8d S[4] = {zero, zero, zero, zero};
+  for (int64_t a = 0; a < count; ++a) {
+    const peri_m8 m = structure[a];
+    const peri_v8d on = v8_maskz_mov_pd(lanes[a], one), wt = v8_loadu_pd(scratch + 24 * a + 16);
+    const peri_v8d sd = v8_mul_pd(on, v8_fmsub_pd(v8_loadu_pd(scratch + 24 * a), v8_loadu_pd(scratch + 24 * a + 8), vshift));
+    for (int l = 0; l < L; ++l) {
+      const peri_v8d f = sl ? v8_maskz_mov_pd(m, v8_loadu_pd(state + PERI_BLOCK * (L * a + l))) : zero;
+      const peri_v8d e = v8_sub_pd(sd, f);
+      S[l] = v8_mask3_fmadd_pd(wt, v8_mul_pd(e, e), S[l], m);
+    }
+  }
+  double S_of[4][PERI_BLOCK], W[PERI_MAX_SUBLAYERS];
+  for (int l = 0; l < L; ++l) v8_storeu_pd(S_of[l], S[l]);
+  energy_weights(sl, L, W);
+  for (int lane = 0; lane < PERI_BLOCK; ++lane) {
+    double S_lane[4];
+    for (int l = 0; l < L; ++l) S_lane[l] = S_of[l][lane];
+    W_out[i0 + lane] = node_energy_of(mat, p->wvol[i0 + lane], theta[lane], S_lane, W, L);
+  }
+  return true;
+}
+
+/* block_energy with constant layer counts. */
+static bool block_energy_any(const peri_sim *s, const peri_bond_view *w, const peri_node_blocks *items, int32_t item,
+                             double *W, double *scratch) {
+  const uint16_t *table = item_offsets(w, items, item);
+#define BLOCK_ENERGY(L)                                                                                          \
+  (table ? block_energy(s, w, items, item, W, scratch, L, table, true)                                           \
+         : block_energy(s, w, items, item, W, scratch, L, NULL, false))
+  switch (s->state.plastic_layers) {
+  case 1: return BLOCK_ENERGY(1);
+  case 2: return BLOCK_ENERGY(2);
+  case 3: return BLOCK_ENERGY(3);
+  case 4: return BLOCK_ENERGY(4);
+  default: return false;
+  }
+#undef BLOCK_ENERGY
+}
+#endif
 
 void peri_deviatoric_energy(peri_sim *s, double *W) {
   const peri_particles *p = &s->disc.p;
-  const peri_bonds *b = &s->disc.bonds;
-  const double *eth = s->state.thermal_strain;
-  const int64_t longest = longest_family(b, p->n_owned);
+  /* the blocks with the current displacements (their copies of u are the loops' input) */
+  const peri_node_blocks *items = peri_node_blocks_refresh(s);
+  const peri_bond_view w = peri_bond_view_of(s, items->soa);
+  const int64_t longest = longest_family(&s->disc.bonds, p->n_owned);
+  const int L = s->state.plastic_layers;
+  /* the blocks' state is in their template's order when the slots follow these items */
+  const bool in_slots = s->state.plastic_slots.state_in_slots && s->state.plastic_slots.generation == items->generation;
 #pragma omp parallel
   {
-    /* each bond's lengths, evaluated once for both sums (the same numbers) */
-    double *r_of = peri_malloc(sizeof(double) * 2 * (size_t)longest), *r0_of = r_of + longest;
-#pragma omp for schedule(static)
-    for (int32_t i = 0; i < p->n_owned; ++i) {
-      const peri_material *mat = &s->mat.materials[p->material[i]];
-      const peri_sublayers *sl = mat->sublayers;
-      const double eth_i = eth ? eth[i] : 0.0, m = p->wvol[i];
-      const int64_t k0 = b->offset[i], nb = b->offset[i + 1] - k0;
-      double wq = 0.0; /* sum omega |xi| beta V (e - eth_i |xi|): the dilatation of the total extension */
-      for (int64_t a = 0; a < nb; ++a) {
-        if (b->broken[k0 + a]) continue;
-        const int32_t j = b->neighbor[k0 + a];
-        double r0;
-        const double r = bond_lengths(p, i, j, &r0);
-        r_of[a] = r, r0_of[a] = r0;
-        wq += peri_bonds_omega(b, r0) * r0 * peri_bonds_beta(b, r0) * p->volume[j] * (r - r0 - eth_i * r0);
-      }
-      const double theta = mat->n_theta * wq / m;
-      /* each sublayer's deviatoric energy at its elastic deviatoric stretches, weighted */
-      double deviatoric = 0.0;
-      for (int64_t a = 0; a < nb; ++a) {
-        const int64_t k = k0 + a;
-        if (b->broken[k]) continue;
-        const double r = r_of[a], r0 = r0_of[a];
-        const double sd = (r - r0) / r0 - eth_i - theta / 3.0;
-        double e2 = sd * sd;
-        if (sl) {
-          double row[PERI_MAX_SUBLAYERS];
-          const double *sp = peri_plastic_row_inline(s, s->state.plastic_stretch, k, row);
-          e2 = 0.0;
-          for (int l = 0; l < sl->n; ++l) e2 += sl->weight[l] * (sd - sp[l]) * (sd - sp[l]);
-        }
-        deviatoric += peri_bonds_omega(b, r0) * peri_bonds_beta(b, r0) * p->volume[b->neighbor[k]] * r0 * r0 * e2;
-      }
-      W[i] = 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * deviatoric;
+    const int64_t node_scratch = (5 + (int64_t)L) * longest;
+    double *scratch = peri_malloc(sizeof(double) * (size_t)(node_scratch + 24 * 2 * longest));
+    PERI_FOR_EACH_ITEM(items, item) {
+#ifdef PERI_BOND_V8
+      if (in_slots && peri_item_is_block(items, item) && template_order(items, item) &&
+          block_energy_any(s, &w, items, item, W, scratch + node_scratch))
+        continue;
+#else
+      (void)in_slots;
+#endif
+      for (int32_t i = items->first[item]; i < items->first[item + 1]; ++i)
+        W[i] = node_energy(s, &w, i, scratch, longest, L);
     }
-    free(r_of);
+    free(scratch);
   }
 }

@@ -408,9 +408,11 @@ static void check_deviatoric_return(const char *influence) {
   memcpy(s.disc.p.u, u, sizeof(double) * n3);
   const size_t n_bonds = (size_t)s.disc.bonds.offset[s.disc.p.n_owned], owned = (size_t)s.disc.p.n_owned;
   const size_t state_bytes = sizeof(double) * n_bonds * (size_t)s.state.plastic_layers,
-               term_bytes = sizeof(double) * n_bonds, f_bytes = sizeof(double) * 3 * owned;
-  char *start = malloc(state_bytes + owned), *block = malloc(state_bytes + term_bytes + owned + f_bytes),
-       *node = malloc(state_bytes + term_bytes + owned + f_bytes);
+               term_bytes = sizeof(double) * n_bonds, f_bytes = sizeof(double) * 3 * owned,
+               energy_bytes = sizeof(double) * owned;
+  char *start = malloc(state_bytes + owned),
+       *block = malloc(state_bytes + term_bytes + owned + f_bytes + energy_bytes),
+       *node = malloc(state_bytes + term_bytes + owned + f_bytes + energy_bytes);
   for (int round = 0; round < 2; ++round) {
     /* round 0: a shear of 3 first-yield strains; round 1: 2 more, from the yielded state */
     for (int32_t i = 0; i < s.disc.p.n; ++i)
@@ -426,6 +428,9 @@ static void check_deviatoric_return(const char *influence) {
       memcpy(s.state.plastic_nodes, start + state_bytes, owned);
       s.disc.generic_bond_loops = path == 1;
       s.mat.model->force(&s);
+      /* the energy density of each node, the state still in the slots (a block's own
+       * eight-lane loops) */
+      s.mat.model->energy(&s, (double *)(out + state_bytes + term_bytes + owned + f_bytes));
       double *terms = (double *)(out + state_bytes); /* bond by bond */
       for (size_t k = 0; k < n_bonds; ++k) terms[k] = s.state.plastic_bond_term[s.state.plastic_slots.bond_slot[k]];
       peri_plastic_state_in_bond_order(&s);
@@ -448,6 +453,11 @@ static void check_deviatoric_return(const char *influence) {
               "round %d: the yield flags of the two paths differ", round);
     cr_expect(memcmp(block + state_bytes + term_bytes + owned, node + state_bytes + term_bytes + owned, f_bytes) == 0,
               "round %d: the forces of the two paths differ", round);
+    const size_t at = state_bytes + term_bytes + owned + f_bytes;
+    double largest = 0.0;
+    for (size_t i = 0; i < owned; ++i) largest = fmax(largest, ((const double *)(block + at))[i]);
+    cr_assert_gt(largest, 0.0, "the test needs strain energy");
+    cr_expect(memcmp(block + at, node + at, energy_bytes) == 0, "round %d: the energies of the two paths differ", round);
   }
   free(u);
   free(start);
