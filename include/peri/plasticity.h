@@ -139,6 +139,9 @@ void peri_plastic_commit(struct peri_sim *s);
  * plastic_committed): a pointer to its plastic_layers values, which are copied to row[] (of
  * PERI_MAX_SUBLAYERS) where the deviatoric rule keeps them in slots. */
 const double *peri_plastic_row(const struct peri_sim *s, const double *state, int64_t k, double *row);
+/* Whether the first sublayer of each bond of node i's family has a nonzero plastic stretch, in
+ * family order into yielded[] (the yield index's bonds; docs/plasticity.md section 3). */
+void peri_plastic_first_layer_flags(const struct peri_sim *s, int32_t i, uint8_t *yielded);
 /* The plastic state (and its committed copy) in bond rows, k L + l, for whoever writes it bond
  * by bond (a checkpoint being read); the deviatoric rule moves it back into its slots at its
  * next return. */

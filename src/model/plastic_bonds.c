@@ -56,6 +56,19 @@ const double *peri_plastic_row(const peri_sim *s, const double *state, int64_t k
   return peri_plastic_row_inline(s, state, k, row);
 }
 
+void peri_plastic_first_layer_flags(const peri_sim *s, int32_t i, uint8_t *yielded) {
+  const int64_t k0 = s->disc.bonds.offset[i], n = s->disc.bonds.offset[i + 1] - k0;
+  const double *restrict state = s->state.plastic_stretch;
+  const int L = s->state.plastic_layers;
+  const struct peri_plastic_slots *t = &s->state.plastic_slots;
+  if (!t->state_in_slots) {
+    for (int64_t a = 0; a < n; ++a) yielded[a] = state[(k0 + a) * L] != 0.0;
+    return;
+  }
+  const int64_t *restrict slot = t->bond_slot + k0;
+  for (int64_t a = 0; a < n; ++a) yielded[a] = state[peri_plastic_layer_index(slot[a], 0, L, t->block_slots)] != 0.0;
+}
+
 /* The doubles of the plastic state (its slots', when it is kept in them). */
 static size_t plastic_state_doubles(const peri_sim *s) {
   const int64_t slots = s->state.plastic_slots.n_slots;

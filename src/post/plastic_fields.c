@@ -12,18 +12,28 @@
 void peri_yield_index(const peri_sim *s, double *psi) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
-  const double *sp = s->state.plastic_stretch;
-#pragma omp parallel for schedule(static)
-  for (int32_t i = 0; i < p->n_owned; ++i) {
-    double all = 0.0, yielded = 0.0;
-    for (int64_t k = b->offset[i]; sp && k < b->offset[i + 1]; ++k) {
-      const int32_t j = b->neighbor[k];
-      const double w = peri_bonds_beta(b, peri_bond_length(p->x, i, j)) * p->volume[j];
-      all += w;
-      double row[PERI_MAX_SUBLAYERS];
-      if (peri_plastic_row(s, sp, k, row)[0] != 0.0) yielded += w;
+  const bool plastic = s->state.plastic_stretch != NULL;
+  /* beta of each bond from its length where partial volumes apply (else 1, whatever the length) */
+  const bool partial = b->family.rule != PERI_PV_NONE && b->family.spacing > 0;
+  int64_t longest = 1;
+  for (int32_t i = 0; i < p->n_owned; ++i)
+    if (b->offset[i + 1] - b->offset[i] > longest) longest = b->offset[i + 1] - b->offset[i];
+#pragma omp parallel
+  {
+    uint8_t *yielded_bond = peri_malloc((size_t)longest);
+#pragma omp for schedule(static)
+    for (int32_t i = 0; i < p->n_owned; ++i) {
+      double all = 0.0, yielded = 0.0;
+      if (plastic) peri_plastic_first_layer_flags(s, i, yielded_bond);
+      for (int64_t k = b->offset[i]; plastic && k < b->offset[i + 1]; ++k) {
+        const int32_t j = b->neighbor[k];
+        const double w = (partial ? peri_bonds_beta(b, peri_bond_length(p->x, i, j)) : 1.0) * p->volume[j];
+        all += w;
+        if (yielded_bond[k - b->offset[i]]) yielded += w;
+      }
+      psi[i] = all > 0.0 ? yielded / all : 0.0;
     }
-    psi[i] = all > 0.0 ? yielded / all : 0.0;
+    free(yielded_bond);
   }
 }
 
