@@ -21,19 +21,36 @@ void peri_yield_index(const peri_sim *s, double *psi) {
 #pragma omp parallel
   {
     uint8_t *yielded_bond = peri_malloc((size_t)longest);
+    double *weight = peri_malloc(sizeof(double) * (size_t)longest);
 #pragma omp for schedule(static)
     for (int32_t i = 0; i < p->n_owned; ++i) {
       double all = 0.0, yielded = 0.0;
+      const int64_t k0 = b->offset[i], n = plastic ? b->offset[i + 1] - k0 : 0;
       if (plastic) peri_plastic_first_layer_flags(s, i, yielded_bond);
-      for (int64_t k = b->offset[i]; plastic && k < b->offset[i + 1]; ++k) {
-        const int32_t j = b->neighbor[k];
-        const double w = (partial ? peri_bonds_beta(b, peri_bond_length(p->x, i, j)) : 1.0) * p->volume[j];
-        all += w;
-        if (yielded_bond[k - b->offset[i]]) yielded += w;
+      /* the bonds' weights beta V_j by a vector loop (peri_bonds_beta's and peri_bond_length's
+       * operations), their sums bond by bond */
+      const int32_t *restrict nbr = b->neighbor + k0;
+      const double *restrict x = p->x, *restrict volume = p->volume;
+      if (partial) {
+        const double horizon = b->family.horizon, spacing = b->family.spacing;
+#pragma omp simd
+        for (int64_t a = 0; a < n; ++a) {
+          const int32_t j = nbr[a];
+          const double x0 = x[3 * j] - x[3 * i], x1 = x[3 * j + 1] - x[3 * i + 1], x2 = x[3 * j + 2] - x[3 * i + 2];
+          const double beta = 0.5 + (horizon - sqrt(x0 * x0 + x1 * x1 + x2 * x2)) / spacing;
+          weight[a] = (beta < 1.0 ? (beta > 0.0 ? beta : 0.0) : 1.0) * volume[j];
+        }
+      } else {
+        for (int64_t a = 0; a < n; ++a) weight[a] = volume[nbr[a]];
+      }
+      for (int64_t a = 0; a < n; ++a) {
+        all += weight[a];
+        if (yielded_bond[a]) yielded += weight[a];
       }
       psi[i] = all > 0.0 ? yielded / all : 0.0;
     }
     free(yielded_bond);
+    free(weight);
   }
 }
 
