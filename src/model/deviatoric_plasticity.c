@@ -918,9 +918,9 @@ double peri_deviatoric_pair_plastic(const peri_sim *s, int32_t i, int64_t k) {
  * slots, loaded as vectors), the other nodes bond by bond; the two agree bit for bit. The
  * dilatation is evaluated here (the force's theta may belong to another displacement). */
 
-/* Node i's dilatation sum omega beta V |xi| (r - |xi| - eth_i |xi|) over its intact bonds, bond
- * by bond in family order (as a block's lane adds them), and its bonds' stretches and weights
- * (deviatoric_stretches). Scratch: 4 arrays of the longest family. */
+/* Node i's dilatation sum omega beta V |xi| (r - |xi| - eth_i |xi|) over its intact bonds (on[]
+ * their flags as doubles), bond by bond in family order as a block's lane adds them; x[] and q[]
+ * (the longest family each) hold each bond's omega beta V |xi| and r - |xi| - eth_i |xi|. */
 static double node_dilatation_sum(const peri_sim *s, const peri_bond_view *w, int32_t i, double *restrict x,
                                   double *restrict q, const double *restrict on) {
   const int64_t k0 = w->offset[i], n = w->offset[i + 1] - k0;
