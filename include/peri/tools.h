@@ -33,6 +33,29 @@ typedef struct peri_tool_geometry {
  * it by the shortest way) and the unit normal n along which the point leaves. Returns the
  * penetration; n is set only where it is positive. */
 double peri_tool_penetration(const peri_tool_geometry *g, const double position[3], const double y[3], double n[3]);
+/* Whether the point y may be inside the tool at `position`: false only where
+ * peri_tool_penetration gives no penetration (from the same differences, the point beyond the
+ * sphere's, cylinder's or punch's radius or in front of the punch's face by a margin of 1e-12
+ * of the radius, without a square root), so that a loop over every node calls it for the few
+ * near the tool. */
+static inline bool peri_tool_may_touch(const peri_tool_geometry *g, const double position[3], const double y[3]) {
+  double w[3];
+  for (int d = 0; d < 3; ++d) w[d] = y[d] - position[d];
+  const double beyond = g->radius * g->radius * (1.0 + 1e-12);
+  switch (g->shape) {
+  case PERI_TOOL_SPHERE: return w[0] * w[0] + w[1] * w[1] + w[2] * w[2] <= beyond;
+  case PERI_TOOL_CYLINDER:
+  case PERI_TOOL_FLAT_PUNCH: {
+    const double *a = g->shape == PERI_TOOL_CYLINDER ? g->axis : g->direction;
+    const double along = w[0] * a[0] + w[1] * a[1] + w[2] * a[2];
+    if (g->shape == PERI_TOOL_FLAT_PUNCH && along > 1e-12 * g->radius) return false; /* in front of the face */
+    double rho2 = 0.0;
+    for (int d = 0; d < 3; ++d) rho2 += (w[d] - along * a[d]) * (w[d] - along * a[d]);
+    return rho2 <= beyond;
+  }
+  default: return true;
+  }
+}
 
 typedef struct peri_tool {
   char *name;

@@ -82,3 +82,33 @@ Test(tool_geometry, cone_sphere_tip_and_flank) {
   const double y = r * sin(a60), z = 1 - r * cos(a60);
   cr_expect_float_eq(pen_at(&g, at, 0, y + 1e-9, z, n), pen_at(&g, at, 0, y - 1e-9, z, n), 1e-8);
 }
+
+/* The loops' prefilter never drops a point inside a tool: over points on a grid around each
+ * shape (some exactly on the surfaces), peri_tool_may_touch is true wherever the penetration
+ * is positive, and false for most of the points outside the sphere, cylinder and punch. */
+Test(tool_geometry, prefilter_keeps_every_point_inside) {
+  const peri_tool_geometry shapes[] = {
+      {.shape = PERI_TOOL_SPHERE, .radius = 0.5, .direction = {0, 0, -1}},
+      {.shape = PERI_TOOL_CYLINDER, .radius = 0.5, .direction = {0, 0, -1}, .axis = {0, 0.6, 0.8}},
+      {.shape = PERI_TOOL_FLAT_PUNCH, .radius = 0.5, .direction = {0.6, 0, -0.8}},
+      {.shape = PERI_TOOL_CONE_SPHERE, .radius = 0.5, .half_angle = 0.7, .direction = {0, 0, -1}},
+      {.shape = PERI_TOOL_PLANE, .direction = {0, 0, -1}},
+  };
+  const double at[3] = {0.1, -0.2, 0.05};
+  for (size_t k = 0; k < sizeof shapes / sizeof shapes[0]; ++k) {
+    long inside = 0, dropped = 0, outside = 0;
+    for (int a = -20; a <= 20; ++a)
+      for (int b = -20; b <= 20; ++b)
+        for (int c = -20; c <= 20; ++c) {
+          const double y[3] = {at[0] + 0.05 * a, at[1] + 0.05 * b, at[2] + 0.05 * c};
+          double n[3];
+          const double pen = peri_tool_penetration(&shapes[k], at, y, n);
+          const bool may = peri_tool_may_touch(&shapes[k], at, y);
+          inside += pen > 0.0, outside += !(pen > 0.0), dropped += !may;
+          cr_assert(may || !(pen > 0.0), "shape %zu: the point (%g, %g, %g), %g deep, dropped", k, y[0], y[1], y[2], pen);
+        }
+    cr_assert_gt(inside, 0, "shape %zu: no point inside", k);
+    if (shapes[k].shape != PERI_TOOL_CONE_SPHERE && shapes[k].shape != PERI_TOOL_PLANE)
+      cr_expect_gt(dropped, outside / 2, "shape %zu: %ld of %ld points outside dropped", k, dropped, outside);
+  }
+}

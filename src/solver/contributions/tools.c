@@ -81,6 +81,7 @@ static void apply_tool(peri_sim *s, peri_tool *tl, double t) {
     for (int32_t i = i0; i < i1; ++i) {
       double y[3], nrm[3];
       for (int d = 0; d < 3; ++d) y[d] = p->x[3 * (size_t)i + d] + p->u[3 * (size_t)i + d];
+      if (!peri_tool_may_touch(g, at, y)) continue;
       const double pen = peri_tool_penetration(g, at, y, nrm);
       if (!(pen > 0.0)) continue;
       /* the node's face on the tool: its volume over its own spacing (dx^2 in 3D, dx h in 2D) */
