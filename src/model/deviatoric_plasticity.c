@@ -40,7 +40,8 @@
  * those functions cannot evaluate them); the force of the nodes with a plastic state on either
  * end of a bond replaces their elastic force pass rather than adding to it and reads the
  * bonds' terms, not their sublayers. The return streams the state (32 bytes a bond read and
- * written per step with 4 sublayers). */
+ * written per step with 4 sublayers). The energy of the history rows runs on the same
+ * eight-lane arithmetic (block_energy, node_energy). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
