@@ -299,29 +299,86 @@ int peri_position_aware_factors(peri_sim *s, bool lps) {
   return PERI_OK;
 }
 
+/* Bonds per vector loop of the sums and the force (a family is one or more chunks). */
+enum { PALS_CHUNK = 256 };
+
+/* Each bond's lengths of a chunk of node i's family, by a vector loop: L = |xi|, r = |y| and
+ * the deformed vector y, omega and beta of L (peri_bond_length's, peri_deformed_bond's,
+ * peri_bonds_omega's and peri_bonds_beta's operations: the numbers they give one bond at a
+ * time). */
+typedef struct pals_chunk {
+  double L[PALS_CHUNK], r[PALS_CHUNK], y0[PALS_CHUNK], y1[PALS_CHUNK], y2[PALS_CHUNK], omega[PALS_CHUNK],
+      beta[PALS_CHUNK];
+} pals_chunk;
+
+static inline __attribute__((always_inline)) void chunk_lengths_of(const peri_sim *s, int32_t i, int64_t k0, int n,
+                                                                   pals_chunk *restrict c, const bool inverse,
+                                                                   const bool ramp) {
+  const peri_particles *p = &s->disc.p;
+  const peri_bonds *b = &s->disc.bonds;
+  const int32_t *restrict nbr = b->neighbor + k0;
+  const double *restrict x = p->x, *restrict u = p->u;
+  const double horizon = b->family.horizon, spacing = b->family.spacing;
+#pragma omp simd
+  for (int a = 0; a < n; ++a) {
+    const int32_t j = nbr[a];
+    const double xi0 = x[3 * j] - x[3 * i], xi1 = x[3 * j + 1] - x[3 * i + 1], xi2 = x[3 * j + 2] - x[3 * i + 2];
+    const double y0 = (x[3 * j] + u[3 * j]) - (x[3 * i] + u[3 * i]),
+                 y1 = (x[3 * j + 1] + u[3 * j + 1]) - (x[3 * i + 1] + u[3 * i + 1]),
+                 y2 = (x[3 * j + 2] + u[3 * j + 2]) - (x[3 * i + 2] + u[3 * i + 2]);
+    const double L = sqrt(xi0 * xi0 + xi1 * xi1 + xi2 * xi2);
+    c->L[a] = L, c->r[a] = sqrt(y0 * y0 + y1 * y1 + y2 * y2), c->y0[a] = y0, c->y1[a] = y1, c->y2[a] = y2;
+    c->omega[a] = inverse ? 1.0 / L : 1.0;
+    const double beta = 0.5 + (horizon - L) / spacing;
+    c->beta[a] = ramp ? (beta < 1.0 ? (beta > 0.0 ? beta : 0.0) : 1.0) : 1.0;
+  }
+}
+
+static void chunk_lengths(const peri_sim *s, int32_t i, int64_t k0, int n, pals_chunk *c) {
+  const peri_bonds *b = &s->disc.bonds;
+  const bool ramp = b->family.rule != PERI_PV_NONE && b->family.spacing > 0;
+  const bool inverse = b->family.influence == PERI_INFLUENCE_INVERSE;
+  if (inverse) ramp ? chunk_lengths_of(s, i, k0, n, c, true, true) : chunk_lengths_of(s, i, k0, n, c, true, false);
+  else ramp ? chunk_lengths_of(s, i, k0, n, c, false, true) : chunk_lengths_of(s, i, k0, n, c, false, false);
+  if (b->family.influence == PERI_INFLUENCE_GAUSSIAN) /* (exp: the scalar function's value) */
+    for (int a = 0; a < n; ++a) c->omega[a] = peri_bonds_omega(b, c->L[a]);
+}
+
+static int chunk_size(const peri_bonds *b, int32_t i, int64_t k0) {
+  return (int)(b->offset[i + 1] - k0 < PALS_CHUNK ? b->offset[i + 1] - k0 : PALS_CHUNK);
+}
+
 /* LPS: theta_i (with D) and P_i (with s) of every owned node, exchanged to the ghosts. */
 static void pals_lps_sums(peri_sim *s) {
   peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const double *eth = s->state.thermal_strain;
-#pragma omp parallel for schedule(dynamic, 256)
-  for (int32_t i = 0; i < p->n_owned; ++i) {
-    const peri_material *mat = &s->mat.materials[p->material[i]];
-    double dil = 0.0, dev_e = 0.0, dev_r = 0.0; /* sum D w e |xi|, sum s w e |xi|, sum s w |xi|^2 */
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      double dy[3];
-      const double L = peri_bond_length(p->x, i, j), r = peri_deformed_bond(p->x, p->u, i, j, dy);
-      const double e = r - L - (eth ? eth[i] : 0.0) * L;
-      const double w = peri_bonds_omega(b, L) * L * peri_bonds_beta(b, L) * p->volume[j];
-      dil += b->surface_D[k] * w * e;
-      dev_e += b->surface_G[k] * w * e;
-      dev_r += b->surface_G[k] * w * L;
+#pragma omp parallel
+  {
+    pals_chunk *c = peri_malloc(sizeof *c);
+#pragma omp for schedule(dynamic, 256)
+    for (int32_t i = 0; i < p->n_owned; ++i) {
+      const peri_material *mat = &s->mat.materials[p->material[i]];
+      double dil = 0.0, dev_e = 0.0, dev_r = 0.0; /* sum D w e |xi|, sum s w e |xi|, sum s w |xi|^2 */
+      for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PALS_CHUNK) {
+        const int n = chunk_size(b, i, k0);
+        chunk_lengths(s, i, k0, n, c);
+        for (int a = 0; a < n; ++a) {
+          const int64_t k = k0 + a;
+          if (b->broken[k]) continue;
+          const double L = c->L[a];
+          const double e = c->r[a] - L - (eth ? eth[i] : 0.0) * L;
+          const double w = c->omega[a] * L * c->beta[a] * p->volume[b->neighbor[k]];
+          dil += b->surface_D[k] * w * e;
+          dev_e += b->surface_G[k] * w * e;
+          dev_r += b->surface_G[k] * w * L;
+        }
+      }
+      const double theta = mat->n_theta * dil / p->wvol[i];
+      p->theta[i] = theta;
+      p->pstate[i] = dev_e - theta * dev_r / 3.0;
     }
-    const double theta = mat->n_theta * dil / p->wvol[i];
-    p->theta[i] = theta;
-    p->pstate[i] = dev_e - theta * dev_r / 3.0;
+    free(c);
   }
   peri_sim_exchange(s, p->theta, 1);
   peri_sim_exchange(s, p->pstate, 1);
@@ -357,22 +414,52 @@ long peri_position_aware_lps_force(peri_sim *s, bool update_s0) {
   pals_lps_sums(s);
   peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
-#pragma omp parallel for schedule(dynamic, 256)
-  for (int32_t i = 0; i < p->n_owned; ++i) {
-    double f[3] = {0.0, 0.0, 0.0};
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      double dy[3];
-      const double L = peri_bond_length(p->x, i, j), r = peri_deformed_bond(p->x, p->u, i, j, dy);
-      if (!(r > 0.0)) continue;
-      const double t = pals_half(s, i, b->surface_D[k], b->surface_G[k], L, r - L) +
-                       pals_half(s, j, b->surface_D_rev[k], b->surface_G_rev[k], L, r - L);
-      const double bV = peri_bonds_beta(b, L) * p->volume[j];
-      for (int d = 0; d < 3; ++d) f[d] += t * bV * dy[d] / r;
-    }
-    for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = f[d];
+  const double *eth = s->state.thermal_strain;
+  /* pals_half's node factors, once a node (owned and ghosts): the same numbers */
+  double *node_c = peri_malloc(sizeof(double) * 2 * (size_t)(p->n > 0 ? p->n : 1)), *node_alpha = node_c + p->n;
+#pragma omp parallel for schedule(static)
+  for (int32_t a = 0; a < p->n; ++a) {
+    const peri_material *mat = &s->mat.materials[p->material[a]];
+    const double m = p->wvol[a], alpha = mat->alpha_m / m;
+    node_alpha[a] = alpha;
+    node_c[a] = (mat->n_theta / m) * (mat->K_theta * p->theta[a] - alpha * p->pstate[a] / 3.0);
   }
+#pragma omp parallel
+  {
+    pals_chunk *c = peri_malloc(sizeof *c);
+    double g0[PALS_CHUNK], g1[PALS_CHUNK], g2[PALS_CHUNK];
+#pragma omp for schedule(dynamic, 256)
+    for (int32_t i = 0; i < p->n_owned; ++i) {
+      double f[3] = {0.0, 0.0, 0.0};
+      const double c_i = node_c[i], alpha_i = node_alpha[i], theta_i = p->theta[i], eth_i = eth ? eth[i] : 0.0;
+      for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PALS_CHUNK) {
+        const int n = chunk_size(b, i, k0);
+        chunk_lengths(s, i, k0, n, c);
+        const int32_t *restrict nbr = b->neighbor + k0;
+        const double *restrict D = b->surface_D + k0, *restrict G = b->surface_G + k0,
+                               *restrict D_rev = b->surface_D_rev + k0, *restrict G_rev = b->surface_G_rev + k0;
+        /* t = pals_half(i) + pals_half(j) and the bond's force density t beta V_j y / r, bond by
+         * bond in a vector loop; their sums in family order */
+#pragma omp simd
+        for (int a = 0; a < n; ++a) {
+          const int32_t j = nbr[a];
+          const double L = c->L[a], omega = c->omega[a], r = c->r[a], e_total = r - L;
+          const double e_i = e_total - eth_i * L, e_j = e_total - (eth ? eth[j] : 0.0) * L;
+          const double t = (c_i * D[a] * omega * L + alpha_i * G[a] * omega * (e_i - theta_i * L / 3.0)) +
+                           (node_c[j] * D_rev[a] * omega * L + node_alpha[j] * G_rev[a] * omega * (e_j - p->theta[j] * L / 3.0));
+          const double bV = c->beta[a] * p->volume[j];
+          g0[a] = t * bV * c->y0[a] / r, g1[a] = t * bV * c->y1[a] / r, g2[a] = t * bV * c->y2[a] / r;
+        }
+        for (int a = 0; a < n; ++a) {
+          if (b->broken[k0 + a] || !(c->r[a] > 0.0)) continue;
+          f[0] += g0[a], f[1] += g1[a], f[2] += g2[a];
+        }
+      }
+      for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = f[d];
+    }
+    free(c);
+  }
+  free(node_c);
   return broken;
 }
 
