@@ -19,6 +19,7 @@
 #include "peri/error.h"
 #include "peri/plasticity.h"
 #include <stdlib.h>
+#include "bond_chunk.h"
 #include "bond_kernel.h"
 #include "node_blocks.h"
 #include "plastic_bonds.h"
@@ -411,59 +412,19 @@ long peri_plastic_pmb_node(peri_sim *s, const peri_bond_view *w, const peri_plas
   return n_broken;
 }
 
-/* The energies' numbers of bonds k0 .. k0+n-1 of node i (n <= PLASTIC_CHUNK), by vector
- * loops: the mechanical stretch s = (r - |xi|)/|xi| - (eth_i + eth_j)/2 and the lengths
- * (peri_deformed_bond's and peri_bond_length's operations), omega, beta and V_j, the numbers
- * the energies took bond by bond (peri_bonds_omega, peri_bonds_beta), where their square roots
- * and divisions were most of the energies' time. */
-typedef struct energy_chunk {
-  double r[PLASTIC_CHUNK], r0[PLASTIC_CHUNK], s[PLASTIC_CHUNK], omega[PLASTIC_CHUNK], beta[PLASTIC_CHUNK],
-      V[PLASTIC_CHUNK];
-} energy_chunk;
-
-static inline __attribute__((always_inline)) void energy_chunk_lengths(const peri_sim *s, int32_t i, int64_t k0,
-                                                                       int n, energy_chunk *restrict c,
-                                                                       const bool thermal, const bool ramp,
-                                                                       const bool inverse) {
-  const peri_particles *p = &s->disc.p;
-  const peri_bonds *b = &s->disc.bonds;
-  const int32_t *restrict nbr = b->neighbor + k0;
-  const double *restrict x = p->x, *restrict u = p->u, *restrict eth = s->state.thermal_strain,
-                         *restrict volume = p->volume;
-  const double horizon = b->family.horizon, spacing = b->family.spacing;
+/* The mechanical stretch s = (r - |xi|)/|xi| - (eth_i + eth_j)/2 of a chunk's bonds, by a
+ * vector loop (the numbers the energies took bond by bond). */
+static void chunk_stretches(const peri_sim *s, int32_t i, int64_t k0, int n, const peri_bond_chunk *c,
+                            double *restrict stretch) {
+  const double *restrict eth = s->state.thermal_strain;
+  const int32_t *restrict nbr = s->disc.bonds.neighbor + k0;
+  if (eth) {
 #pragma omp simd
-  for (int a = 0; a < n; ++a) {
-    const int32_t j = nbr[a];
-    const double dy0 = (x[3 * j] + u[3 * j]) - (x[3 * i] + u[3 * i]),
-                 dy1 = (x[3 * j + 1] + u[3 * j + 1]) - (x[3 * i + 1] + u[3 * i + 1]),
-                 dy2 = (x[3 * j + 2] + u[3 * j + 2]) - (x[3 * i + 2] + u[3 * i + 2]);
-    const double xi0 = x[3 * j] - x[3 * i], xi1 = x[3 * j + 1] - x[3 * i + 1], xi2 = x[3 * j + 2] - x[3 * i + 2];
-    const double r = sqrt(dy0 * dy0 + dy1 * dy1 + dy2 * dy2), r0 = sqrt(xi0 * xi0 + xi1 * xi1 + xi2 * xi2);
-    c->r[a] = r, c->r0[a] = r0;
-    c->s[a] = (r - r0) / r0 - (thermal ? 0.5 * (eth[i] + eth[j]) : 0.0);
-    c->omega[a] = inverse ? 1.0 / r0 : 1.0;
-    const double beta = 0.5 + (horizon - r0) / spacing;
-    c->beta[a] = ramp ? (beta < 1.0 ? (beta > 0.0 ? beta : 0.0) : 1.0) : 1.0;
-    c->V[a] = volume[j];
-  }
-}
-
-static void energy_chunk_fill(const peri_sim *s, int32_t i, int64_t k0, int n, energy_chunk *c) {
-  const peri_bonds *b = &s->disc.bonds;
-  const bool thermal = s->state.thermal_strain != NULL,
-             ramp = b->family.rule != PERI_PV_NONE && b->family.spacing > 0;
-  const peri_influence influence = b->family.influence;
-#define CHUNK_LENGTHS(T, R, I) energy_chunk_lengths(s, i, k0, n, c, T, R, I)
-  if (influence == PERI_INFLUENCE_INVERSE) {
-    if (thermal) ramp ? CHUNK_LENGTHS(true, true, true) : CHUNK_LENGTHS(true, false, true);
-    else ramp ? CHUNK_LENGTHS(false, true, true) : CHUNK_LENGTHS(false, false, true);
+    for (int a = 0; a < n; ++a) stretch[a] = (c->r[a] - c->L[a]) / c->L[a] - 0.5 * (eth[i] + eth[nbr[a]]);
   } else {
-    if (thermal) ramp ? CHUNK_LENGTHS(true, true, false) : CHUNK_LENGTHS(true, false, false);
-    else ramp ? CHUNK_LENGTHS(false, true, false) : CHUNK_LENGTHS(false, false, false);
+#pragma omp simd
+    for (int a = 0; a < n; ++a) stretch[a] = (c->r[a] - c->L[a]) / c->L[a];
   }
-#undef CHUNK_LENGTHS
-  if (influence == PERI_INFLUENCE_GAUSSIAN) /* (exp: the scalar function's value) */
-    for (int a = 0; a < n; ++a) c->omega[a] = peri_bonds_omega(b, c->r0[a]);
 }
 
 void peri_plastic_pmb_energy(peri_sim *s, double *W) {
@@ -471,24 +432,26 @@ void peri_plastic_pmb_energy(peri_sim *s, double *W) {
   const peri_bonds *b = &s->disc.bonds;
 #pragma omp parallel
   {
-    energy_chunk *c = peri_malloc(sizeof *c);
+    peri_bond_chunk *c = peri_malloc(sizeof *c);
+    double stretch[PERI_BOND_CHUNK];
 #pragma omp for schedule(static)
     for (int32_t i = 0; i < p->n_owned; ++i) {
       const double ci = s->mat.materials[p->material[i]].micromodulus;
       double sum = 0.0;
-      for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PLASTIC_CHUNK) {
-        const int nk = (int)(b->offset[i + 1] - k0 < PLASTIC_CHUNK ? b->offset[i + 1] - k0 : PLASTIC_CHUNK);
-        energy_chunk_fill(s, i, k0, nk, c);
+      for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PERI_BOND_CHUNK) {
+        const int nk = peri_bond_chunk_size(b, i, k0);
+        peri_bond_chunk_fill(s, i, k0, nk, c);
+        chunk_stretches(s, i, k0, nk, c, stretch);
         for (int a = 0; a < nk; ++a) {
           const int64_t k = k0 + a;
           if (b->broken[k]) continue;
           const int32_t j = b->neighbor[k];
           const peri_sublayers *sl = bond_layers(s, i, j);
           /* per bond sum_k W_k c (s - s^p_k)^2 |xi| / 2 (the elastic part of the micropotential) */
-          const double e2 = sl ? peri_sublayer_energy(sl, c->s[a], s->state.plastic_stretch + k * s->state.plastic_layers)
-                               : 0.5 * c->s[a] * c->s[a];
+          const double e2 = sl ? peri_sublayer_energy(sl, stretch[a], s->state.plastic_stretch + k * s->state.plastic_layers)
+                               : 0.5 * stretch[a] * stretch[a];
           const double cm = 0.5 * (ci + s->mat.materials[p->material[j]].micromodulus);
-          sum += cm * e2 * c->omega[a] * c->r0[a] * c->beta[a] * c->V[a];
+          sum += cm * e2 * c->omega[a] * c->L[a] * c->beta[a] * p->volume[j];
         }
       }
       W[i] = 0.5 * sum;
@@ -706,20 +669,20 @@ void peri_plastic_lps_energy(peri_sim *s, double *W) {
   const double *eth = s->state.thermal_strain;
 #pragma omp parallel
   {
-    energy_chunk *c = peri_malloc(sizeof *c);
+    peri_bond_chunk *c = peri_malloc(sizeof *c);
 #pragma omp for schedule(static)
     for (int32_t i = 0; i < p->n_owned; ++i) {
       const double eth_i = eth ? eth[i] : 0.0;
       double wq = 0.0, wx = 0.0, q2 = 0.0; /* sum w q, sum w |xi|, sum omega beta V q^2 */
-      for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PLASTIC_CHUNK) {
-        const int nk = (int)(b->offset[i + 1] - k0 < PLASTIC_CHUNK ? b->offset[i + 1] - k0 : PLASTIC_CHUNK);
-        energy_chunk_fill(s, i, k0, nk, c);
+      for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PERI_BOND_CHUNK) {
+        const int nk = peri_bond_chunk_size(b, i, k0);
+        peri_bond_chunk_fill(s, i, k0, nk, c);
         for (int a = 0; a < nk; ++a) {
           const int64_t k = k0 + a;
           if (b->broken[k]) continue;
-          const double r = c->r[a], r0 = c->r0[a];
+          const double r = c->r[a], r0 = c->L[a];
           const double q = r - r0 - (peri_plastic_bond_stretch(s, i, k) + eth_i) * r0;
-          const double obv = c->omega[a] * c->beta[a] * c->V[a];
+          const double obv = c->omega[a] * c->beta[a] * p->volume[b->neighbor[k]];
           wq += obv * r0 * q, wx += obv * r0 * r0, q2 += obv * q * q;
         }
       }

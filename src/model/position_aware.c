@@ -27,6 +27,7 @@
 #include <string.h>
 #include "peri/constants.h"
 #include "peri/error.h"
+#include "bond_chunk.h"
 #include "bond_kernel.h"
 #include "surface_correction.h"
 
@@ -299,55 +300,6 @@ int peri_position_aware_factors(peri_sim *s, bool lps) {
   return PERI_OK;
 }
 
-/* Bonds per vector loop of the sums and the force (a family is one or more chunks). */
-enum { PALS_CHUNK = 256 };
-
-/* Each bond's lengths of a chunk of node i's family, by a vector loop: L = |xi|, r = |y| and
- * the deformed vector y, omega and beta of L (peri_bond_length's, peri_deformed_bond's,
- * peri_bonds_omega's and peri_bonds_beta's operations: the numbers they give one bond at a
- * time). */
-typedef struct pals_chunk {
-  double L[PALS_CHUNK], r[PALS_CHUNK], y0[PALS_CHUNK], y1[PALS_CHUNK], y2[PALS_CHUNK], omega[PALS_CHUNK],
-      beta[PALS_CHUNK];
-} pals_chunk;
-
-static inline __attribute__((always_inline)) void chunk_lengths_of(const peri_sim *s, int32_t i, int64_t k0, int n,
-                                                                   pals_chunk *restrict c, const bool inverse,
-                                                                   const bool ramp) {
-  const peri_particles *p = &s->disc.p;
-  const peri_bonds *b = &s->disc.bonds;
-  const int32_t *restrict nbr = b->neighbor + k0;
-  const double *restrict x = p->x, *restrict u = p->u;
-  const double horizon = b->family.horizon, spacing = b->family.spacing;
-#pragma omp simd
-  for (int a = 0; a < n; ++a) {
-    const int32_t j = nbr[a];
-    const double xi0 = x[3 * j] - x[3 * i], xi1 = x[3 * j + 1] - x[3 * i + 1], xi2 = x[3 * j + 2] - x[3 * i + 2];
-    const double y0 = (x[3 * j] + u[3 * j]) - (x[3 * i] + u[3 * i]),
-                 y1 = (x[3 * j + 1] + u[3 * j + 1]) - (x[3 * i + 1] + u[3 * i + 1]),
-                 y2 = (x[3 * j + 2] + u[3 * j + 2]) - (x[3 * i + 2] + u[3 * i + 2]);
-    const double L = sqrt(xi0 * xi0 + xi1 * xi1 + xi2 * xi2);
-    c->L[a] = L, c->r[a] = sqrt(y0 * y0 + y1 * y1 + y2 * y2), c->y0[a] = y0, c->y1[a] = y1, c->y2[a] = y2;
-    c->omega[a] = inverse ? 1.0 / L : 1.0;
-    const double beta = 0.5 + (horizon - L) / spacing;
-    c->beta[a] = ramp ? (beta < 1.0 ? (beta > 0.0 ? beta : 0.0) : 1.0) : 1.0;
-  }
-}
-
-static void chunk_lengths(const peri_sim *s, int32_t i, int64_t k0, int n, pals_chunk *c) {
-  const peri_bonds *b = &s->disc.bonds;
-  const bool ramp = b->family.rule != PERI_PV_NONE && b->family.spacing > 0;
-  const bool inverse = b->family.influence == PERI_INFLUENCE_INVERSE;
-  if (inverse) ramp ? chunk_lengths_of(s, i, k0, n, c, true, true) : chunk_lengths_of(s, i, k0, n, c, true, false);
-  else ramp ? chunk_lengths_of(s, i, k0, n, c, false, true) : chunk_lengths_of(s, i, k0, n, c, false, false);
-  if (b->family.influence == PERI_INFLUENCE_GAUSSIAN) /* (exp: the scalar function's value) */
-    for (int a = 0; a < n; ++a) c->omega[a] = peri_bonds_omega(b, c->L[a]);
-}
-
-static int chunk_size(const peri_bonds *b, int32_t i, int64_t k0) {
-  return (int)(b->offset[i + 1] - k0 < PALS_CHUNK ? b->offset[i + 1] - k0 : PALS_CHUNK);
-}
-
 /* LPS: theta_i (with D) and P_i (with s) of every owned node, exchanged to the ghosts. */
 static void pals_lps_sums(peri_sim *s) {
   peri_particles *p = &s->disc.p;
@@ -355,14 +307,14 @@ static void pals_lps_sums(peri_sim *s) {
   const double *eth = s->state.thermal_strain;
 #pragma omp parallel
   {
-    pals_chunk *c = peri_malloc(sizeof *c);
+    peri_bond_chunk *c = peri_malloc(sizeof *c);
 #pragma omp for schedule(dynamic, 256)
     for (int32_t i = 0; i < p->n_owned; ++i) {
       const peri_material *mat = &s->mat.materials[p->material[i]];
       double dil = 0.0, dev_e = 0.0, dev_r = 0.0; /* sum D w e |xi|, sum s w e |xi|, sum s w |xi|^2 */
-      for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PALS_CHUNK) {
-        const int n = chunk_size(b, i, k0);
-        chunk_lengths(s, i, k0, n, c);
+      for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PERI_BOND_CHUNK) {
+        const int n = peri_bond_chunk_size(b, i, k0);
+        peri_bond_chunk_fill(s, i, k0, n, c);
         for (int a = 0; a < n; ++a) {
           const int64_t k = k0 + a;
           if (b->broken[k]) continue;
@@ -426,15 +378,15 @@ long peri_position_aware_lps_force(peri_sim *s, bool update_s0) {
   }
 #pragma omp parallel
   {
-    pals_chunk *c = peri_malloc(sizeof *c);
-    double g0[PALS_CHUNK], g1[PALS_CHUNK], g2[PALS_CHUNK];
+    peri_bond_chunk *c = peri_malloc(sizeof *c);
+    double g0[PERI_BOND_CHUNK], g1[PERI_BOND_CHUNK], g2[PERI_BOND_CHUNK];
 #pragma omp for schedule(dynamic, 256)
     for (int32_t i = 0; i < p->n_owned; ++i) {
       double f[3] = {0.0, 0.0, 0.0};
       const double c_i = node_c[i], alpha_i = node_alpha[i], theta_i = p->theta[i], eth_i = eth ? eth[i] : 0.0;
-      for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PALS_CHUNK) {
-        const int n = chunk_size(b, i, k0);
-        chunk_lengths(s, i, k0, n, c);
+      for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PERI_BOND_CHUNK) {
+        const int n = peri_bond_chunk_size(b, i, k0);
+        peri_bond_chunk_fill(s, i, k0, n, c);
         const int32_t *restrict nbr = b->neighbor + k0;
         const double *restrict D = b->surface_D + k0, *restrict G = b->surface_G + k0,
                                *restrict D_rev = b->surface_D_rev + k0, *restrict G_rev = b->surface_G_rev + k0;
