@@ -1053,7 +1053,8 @@ static inline __attribute__((always_inline)) bool block_energy(const peri_sim *s
   for (int64_t a = 0; a < count; ++a) {
     const peri_m8 m = structure[a];
     const peri_v8d on = v8_maskz_mov_pd(lanes[a], one), wt = v8_loadu_pd(scratch + 24 * a + 16);
-    const peri_v8d sd = v8_mul_pd(on, v8_fmsub_pd(v8_loadu_pd(scratch + 24 * a), v8_loadu_pd(scratch + 24 * a + 8), vshift));
+    const peri_v8d sd =
+        v8_mul_pd(on, v8_fmsub_pd(v8_loadu_pd(scratch + 24 * a), v8_loadu_pd(scratch + 24 * a + 8), vshift));
     for (int l = 0; l < L; ++l) {
       const peri_v8d f = sl ? v8_maskz_mov_pd(m, v8_loadu_pd(state + PERI_BLOCK * (L * a + l))) : zero;
       const peri_v8d e = v8_sub_pd(sd, f);

@@ -434,6 +434,8 @@ void peri_plastic_pmb_energy(peri_sim *s, double *W) {
   {
     peri_bond_chunk *c = peri_malloc(sizeof *c);
     double stretch[PERI_BOND_CHUNK];
+    const double *state = s->state.plastic_stretch;
+    const int L = s->state.plastic_layers;
 #pragma omp for schedule(static)
     for (int32_t i = 0; i < p->n_owned; ++i) {
       const double ci = s->mat.materials[p->material[i]].micromodulus;
@@ -448,8 +450,7 @@ void peri_plastic_pmb_energy(peri_sim *s, double *W) {
           const int32_t j = b->neighbor[k];
           const peri_sublayers *sl = bond_layers(s, i, j);
           /* per bond sum_k W_k c (s - s^p_k)^2 |xi| / 2 (the elastic part of the micropotential) */
-          const double e2 = sl ? peri_sublayer_energy(sl, stretch[a], s->state.plastic_stretch + k * s->state.plastic_layers)
-                               : 0.5 * stretch[a] * stretch[a];
+          const double e2 = sl ? peri_sublayer_energy(sl, stretch[a], state + k * L) : 0.5 * stretch[a] * stretch[a];
           const double cm = 0.5 * (ci + s->mat.materials[p->material[j]].micromodulus);
           sum += cm * e2 * c->omega[a] * c->L[a] * c->beta[a] * p->volume[j];
         }

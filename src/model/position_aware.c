@@ -397,8 +397,9 @@ long peri_position_aware_lps_force(peri_sim *s, bool update_s0) {
           const int32_t j = nbr[a];
           const double L = c->L[a], omega = c->omega[a], r = c->r[a], e_total = r - L;
           const double e_i = e_total - eth_i * L, e_j = e_total - (eth ? eth[j] : 0.0) * L;
-          const double t = (c_i * D[a] * omega * L + alpha_i * G[a] * omega * (e_i - theta_i * L / 3.0)) +
-                           (node_c[j] * D_rev[a] * omega * L + node_alpha[j] * G_rev[a] * omega * (e_j - p->theta[j] * L / 3.0));
+          const double t =
+              (c_i * D[a] * omega * L + alpha_i * G[a] * omega * (e_i - theta_i * L / 3.0)) +
+              (node_c[j] * D_rev[a] * omega * L + node_alpha[j] * G_rev[a] * omega * (e_j - p->theta[j] * L / 3.0));
           const double bV = c->beta[a] * p->volume[j];
           g0[a] = t * bV * c->y0[a] / r, g1[a] = t * bV * c->y1[a] / r, g2[a] = t * bV * c->y2[a] / r;
         }

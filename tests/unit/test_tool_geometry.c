@@ -105,7 +105,8 @@ Test(tool_geometry, prefilter_keeps_every_point_inside) {
           const double pen = peri_tool_penetration(&shapes[k], at, y, n);
           const bool may = peri_tool_may_touch(&shapes[k], at, y);
           inside += pen > 0.0, outside += !(pen > 0.0), dropped += !may;
-          cr_assert(may || !(pen > 0.0), "shape %zu: the point (%g, %g, %g), %g deep, dropped", k, y[0], y[1], y[2], pen);
+          cr_assert(may || !(pen > 0.0), "shape %zu: the point (%g, %g, %g), %g deep, dropped", k, y[0], y[1], y[2],
+                    pen);
         }
     cr_assert_gt(inside, 0, "shape %zu: no point inside", k);
     if (shapes[k].shape != PERI_TOOL_CONE_SPHERE && shapes[k].shape != PERI_TOOL_PLANE)

@@ -457,7 +457,8 @@ static void check_deviatoric_return(const char *influence) {
     double largest = 0.0;
     for (size_t i = 0; i < owned; ++i) largest = fmax(largest, ((const double *)(block + at))[i]);
     cr_assert_gt(largest, 0.0, "the test needs strain energy");
-    cr_expect(memcmp(block + at, node + at, energy_bytes) == 0, "round %d: the energies of the two paths differ", round);
+    cr_expect(memcmp(block + at, node + at, energy_bytes) == 0, "round %d: the energies of the two paths differ",
+              round);
   }
   free(u);
   free(start);
