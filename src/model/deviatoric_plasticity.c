@@ -1105,8 +1105,7 @@ void peri_deviatoric_energy(peri_sim *s, double *W) {
     double *scratch = peri_malloc(sizeof(double) * (size_t)(node_scratch + 24 * 2 * longest));
     PERI_FOR_EACH_ITEM(items, item) {
 #ifdef PERI_BOND_V8
-      if (in_slots && peri_item_is_block(items, item) && template_order(items, item) &&
-          block_energy_any(s, &w, items, item, W, scratch + node_scratch))
+      if (in_slots && template_order(items, item) && block_energy_any(s, &w, items, item, W, scratch + node_scratch))
         continue;
 #else
       (void)in_slots;
