@@ -778,8 +778,45 @@ static char *get_string(reader *r, hid_t loc, const char *name, bool dataset) {
   return out;
 }
 
+/* Whether a dataset's storage is the one the writer makes (dataset_put): chunks of
+ * min(rows, 2^20) rows with a Fletcher-32 checksum and nothing else, a file type of the
+ * memory type's class and size, and every chunk stored whole with its filter applied.
+ * The chunk index (a version 1 B-tree) has no checksum of its own; HDF5 1.10 copies a
+ * chunk's full size out of a stored chunk that a damaged index says is shorter, or whose
+ * filter the index marks as skipped, reading past its buffer, so this is checked first. */
+static bool stored_as_written(hid_t d, hid_t mem_type, size_t elem, hsize_t rows, int ncomp) {
+  const int want_rank = ncomp > 1 ? 2 : 1;
+  hid_t dcpl = H5Dget_create_plist(d);
+  hid_t ftype = H5Dget_type(d);
+  bool ok = dcpl >= 0 && ftype >= 0 && H5Tget_class(ftype) == H5Tget_class(mem_type) && H5Tget_size(ftype) == elem;
+  hsize_t chunk[2] = {0, 0};
+  if (ok) ok = H5Pget_layout(dcpl) == H5D_CHUNKED && H5Pget_chunk(dcpl, 2, chunk) == want_rank;
+  const hsize_t chunk_rows = rows < ((hsize_t)1 << 20) ? rows : ((hsize_t)1 << 20);
+  if (ok) ok = chunk[0] == chunk_rows && (want_rank == 1 || chunk[1] == (hsize_t)ncomp);
+  if (ok && H5Pget_nfilters(dcpl) == 1) {
+    unsigned flags = 0, config = 0;
+    size_t n_values = 0;
+    ok = H5Pget_filter2(dcpl, 0, &flags, &n_values, NULL, 0, NULL, &config) == H5Z_FILTER_FLETCHER32;
+  } else {
+    ok = false;
+  }
+  /* the stored chunk: the values and the four bytes of the checksum */
+  const hsize_t chunk_bytes = chunk_rows * (hsize_t)(ncomp > 1 ? ncomp : 1) * elem + 4;
+  for (hsize_t first = 0; ok && first < rows; first += chunk_rows) {
+    hsize_t offset[2] = {first, 0};
+    unsigned filter_mask = 1;
+    haddr_t address = HADDR_UNDEF;
+    hsize_t stored = 0;
+    ok = H5Dget_chunk_info_by_coord(d, offset, &filter_mask, &address, &stored) >= 0 && filter_mask == 0 &&
+         address != HADDR_UNDEF && stored == chunk_bytes;
+  }
+  if (ftype >= 0) H5Tclose(ftype);
+  if (dcpl >= 0) H5Pclose(dcpl);
+  return ok;
+}
+
 /* Reads dataset `name` of rows x ncomp values into a new array; NULL when absent and not
- * required. The extent must match. */
+ * required. The extent and the storage must be the writer's. */
 static void *get_array(reader *r, hid_t loc, const char *name, hid_t mem_type, size_t elem, hsize_t rows, int ncomp,
                        bool required) {
   if (r->failed || loc < 0) return NULL;
@@ -804,7 +841,11 @@ static void *get_array(reader *r, hid_t loc, const char *name, hid_t mem_type, s
   } else {
     const size_t count = (size_t)rows * (size_t)(ncomp > 1 ? ncomp : 1);
     out = peri_malloc(count > 0 ? count * elem : 1);
-    if (count > 0 && H5Dread(d, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) < 0) {
+    if (count > 0 && !stored_as_written(d, mem_type, elem, rows, ncomp)) {
+      free(out);
+      out = NULL;
+      bad(r, "dataset '%s' is not stored as peri writes it (damaged file)", name);
+    } else if (count > 0 && H5Dread(d, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) < 0) {
       free(out);
       out = NULL;
       bad(r, "cannot read dataset '%s' (damaged file)", name);

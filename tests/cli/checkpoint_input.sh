@@ -77,6 +77,14 @@ craft "$ck" "$TMP/step_array.h5" attr_array /state step 1000
 refused step_array "attribute 'step' is not a single value"
 craft "$ck" "$TMP/rank5.h5" rank3 /nodes/u
 refused rank5 "dataset 'u' has 0 values, expected 4320"
+# a chunk index (it has no checksum) that says a chunk is shorter than its values, or that
+# its checksum was skipped: HDF5 copied the values from past the chunk it had read
+craft "$ck" "$TMP/chunk_short.h5" chunk /indenter/force 1 10
+refused chunk_short "dataset 'force' is not stored as peri writes it"
+craft "$ck" "$TMP/chunk_unchecked.h5" chunk /nodes/u 1 34560
+refused chunk_unchecked "dataset 'u' is not stored as peri writes it"
+craft "$ck" "$TMP/chunk_long.h5" chunk /nodes/v 0 40000
+refused chunk_long "dataset 'v' is not stored as peri writes it"
 
 # the heat deck's checkpoint: the growing-crack position and the coupling counts
 run_peri run "$DECKS/restart_heat.yaml" --quiet --output "$TMP/heat"

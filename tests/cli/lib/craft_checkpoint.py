@@ -3,7 +3,9 @@ tests/cli/checkpoint_input.sh. Needs h5py (Debian python3-h5py).
 
   craft_checkpoint.py SRC DST attr PATH NAME VALUE     an integer attribute set to VALUE
   craft_checkpoint.py SRC DST attr_array PATH NAME N   an attribute replaced by N values
-  craft_checkpoint.py SRC DST rank3 DATASET            a dataset replaced by one of 3 dimensions
+  craft_checkpoint.py SRC DST rank3 DATASET            a dataset replaced by one of 5 dimensions
+  craft_checkpoint.py SRC DST chunk DATASET MASK N     its first chunk stored as N bytes with
+                                                       filter mask MASK (1: checksum skipped)
 """
 import shutil
 import sys
@@ -27,5 +29,8 @@ with h5py.File(dst, "r+") as f:
         path = sys.argv[4]
         del f[path]
         f.create_dataset(path, data=np.zeros((4, 4, 4, 4, 4)))
+    elif what == "chunk":
+        path, mask, n = sys.argv[4:7]
+        f[path].id.write_direct_chunk((0,) * f[path].ndim, bytes(int(n)), filter_mask=int(mask))
     else:
         sys.exit("unknown edit " + what)
