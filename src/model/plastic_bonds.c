@@ -412,6 +412,13 @@ long peri_plastic_pmb_node(peri_sim *s, const peri_bond_view *w, const peri_plas
   return n_broken;
 }
 
+/* Whether node i has no plastic state: its flag (s->state.plastic_nodes, written from its own
+ * bonds' state whenever the loops map it, and built from the state when NULL) is 0, so every
+ * plastic stretch of its bonds is 0 and the energies need not read them (the same numbers). */
+static inline bool node_at_rest(const peri_sim *s, int32_t i) {
+  return s->state.plastic_nodes && !s->state.plastic_nodes[i];
+}
+
 /* The mechanical stretch s = (r - |xi|)/|xi| - (eth_i + eth_j)/2 of a chunk's bonds, by a
  * vector loop (the numbers the energies took bond by bond). */
 static void chunk_stretches(const peri_sim *s, int32_t i, int64_t k0, int n, const peri_bond_chunk *c,
@@ -427,32 +434,69 @@ static void chunk_stretches(const peri_sim *s, int32_t i, int64_t k0, int n, con
   }
 }
 
+/* The elastic parts of the micropotentials of a chunk of node i's bonds, sum_l W_l (s - s^p_l)^2
+ * / 2 each, when every bond has the sublayers sl (one material): a vector loop, the state not
+ * read where the node has none (rest), each value by peri_sublayer_energy's operations. */
+static inline __attribute__((always_inline)) void uniform_energies(const peri_sublayers *restrict sl,
+                                                                   const double *restrict stretch,
+                                                                   const double *restrict rows, bool rest, int n,
+                                                                   const int L, double *restrict e2) {
+  const int nl = sl->n;
+  const double *restrict weight = sl->weight;
+  if (rest) {
+#pragma omp simd
+    for (int a = 0; a < n; ++a) {
+      double e = 0.0;
+      for (int l = 0; l < nl; ++l) e += 0.5 * weight[l] * stretch[a] * stretch[a];
+      e2[a] = e;
+    }
+  } else {
+#pragma omp simd
+    for (int a = 0; a < n; ++a) {
+      double e = 0.0;
+      for (int l = 0; l < nl; ++l) e += 0.5 * weight[l] * (stretch[a] - rows[a * L + l]) * (stretch[a] - rows[a * L + l]);
+      e2[a] = e;
+    }
+  }
+}
+
 void peri_plastic_pmb_energy(peri_sim *s, double *W) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
+  /* one material: every bond has its sublayers and micromodulus */
+  const peri_sublayers *uniform = s->mat.n_materials == 1 ? s->mat.materials[0].sublayers : NULL;
 #pragma omp parallel
   {
     peri_bond_chunk *c = peri_malloc(sizeof *c);
-    double stretch[PERI_BOND_CHUNK];
+    double stretch[PERI_BOND_CHUNK], e2[PERI_BOND_CHUNK];
     const double *state = s->state.plastic_stretch;
     const int L = s->state.plastic_layers;
+    static const double at_rest[PERI_MAX_SUBLAYERS]; /* the rows of a node without a plastic state */
 #pragma omp for schedule(static)
     for (int32_t i = 0; i < p->n_owned; ++i) {
       const double ci = s->mat.materials[p->material[i]].micromodulus;
+      const bool rest = node_at_rest(s, i);
       double sum = 0.0;
       for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PERI_BOND_CHUNK) {
         const int nk = peri_bond_chunk_size(b, i, k0);
         peri_bond_chunk_fill(s, i, k0, nk, c);
         chunk_stretches(s, i, k0, nk, c, stretch);
+        if (uniform) {
+          if (L == 4) uniform_energies(uniform, stretch, state + k0 * L, rest, nk, 4, e2);
+          else uniform_energies(uniform, stretch, state + k0 * L, rest, nk, L, e2);
+        }
         for (int a = 0; a < nk; ++a) {
           const int64_t k = k0 + a;
           if (b->broken[k]) continue;
           const int32_t j = b->neighbor[k];
-          const peri_sublayers *sl = bond_layers(s, i, j);
-          /* per bond sum_k W_k c (s - s^p_k)^2 |xi| / 2 (the elastic part of the micropotential) */
-          const double e2 = sl ? peri_sublayer_energy(sl, stretch[a], state + k * L) : 0.5 * stretch[a] * stretch[a];
+          if (!uniform) {
+            const peri_sublayers *sl = bond_layers(s, i, j);
+            /* per bond sum_k W_k c (s - s^p_k)^2 |xi| / 2 (the elastic part of the micropotential) */
+            e2[a] = sl ? peri_sublayer_energy(sl, stretch[a], rest ? at_rest : state + k * L)
+                       : 0.5 * stretch[a] * stretch[a];
+          }
           const double cm = 0.5 * (ci + s->mat.materials[p->material[j]].micromodulus);
-          sum += cm * e2 * c->omega[a] * c->L[a] * c->beta[a] * p->volume[j];
+          sum += cm * e2[a] * c->omega[a] * c->L[a] * c->beta[a] * p->volume[j];
         }
       }
       W[i] = 0.5 * sum;
@@ -674,6 +718,7 @@ void peri_plastic_lps_energy(peri_sim *s, double *W) {
 #pragma omp for schedule(static)
     for (int32_t i = 0; i < p->n_owned; ++i) {
       const double eth_i = eth ? eth[i] : 0.0;
+      const bool rest = node_at_rest(s, i);
       double wq = 0.0, wx = 0.0, q2 = 0.0; /* sum w q, sum w |xi|, sum omega beta V q^2 */
       for (int64_t k0 = b->offset[i]; k0 < b->offset[i + 1]; k0 += PERI_BOND_CHUNK) {
         const int nk = peri_bond_chunk_size(b, i, k0);
@@ -682,7 +727,7 @@ void peri_plastic_lps_energy(peri_sim *s, double *W) {
           const int64_t k = k0 + a;
           if (b->broken[k]) continue;
           const double r = c->r[a], r0 = c->L[a];
-          const double q = r - r0 - (peri_plastic_bond_stretch(s, i, k) + eth_i) * r0;
+          const double q = r - r0 - ((rest ? 0.0 : peri_plastic_bond_stretch(s, i, k)) + eth_i) * r0;
           const double obv = c->omega[a] * c->beta[a] * p->volume[b->neighbor[k]];
           wq += obv * r0 * q, wx += obv * r0 * r0, q2 += obv * q * q;
         }

@@ -13,6 +13,7 @@ void peri_yield_index(const peri_sim *s, double *psi) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const bool plastic = s->state.plastic_stretch != NULL;
+  const uint8_t *flags = s->state.plastic_nodes; /* (NULL until the first plastic pass builds them) */
   /* beta of each bond from its length where partial volumes apply (else 1, whatever the length) */
   const bool partial = b->family.rule != PERI_PV_NONE && b->family.spacing > 0;
   int64_t longest = 1;
@@ -25,8 +26,11 @@ void peri_yield_index(const peri_sim *s, double *psi) {
 #pragma omp for schedule(static)
     for (int32_t i = 0; i < p->n_owned; ++i) {
       double all = 0.0, yielded = 0.0;
-      const int64_t k0 = b->offset[i], n = plastic ? b->offset[i + 1] - k0 : 0;
-      if (plastic) peri_plastic_first_layer_flags(s, i, yielded_bond);
+      /* a node flagged without a plastic state (s->state.plastic_nodes, written from its own
+       * bonds' state) has no yielded bond: 0 without reading its bonds */
+      const bool none = !plastic || (flags && !flags[i]);
+      const int64_t k0 = b->offset[i], n = none ? 0 : b->offset[i + 1] - k0;
+      if (!none) peri_plastic_first_layer_flags(s, i, yielded_bond);
       /* the bonds' weights beta V_j by a vector loop (peri_bonds_beta's and peri_bond_length's
        * operations), their sums bond by bond */
       const int32_t *restrict nbr = b->neighbor + k0;
