@@ -139,6 +139,23 @@ static int read_model(const char *path, int dim, peri_fem_mesh_file *f) {
   return rc;
 }
 
+typedef struct fem_reading {
+  const char *path;
+  int dim;
+  peri_fem_mesh_file *f;
+} fem_reading;
+
+static int read_file(void *context) {
+  const fem_reading *r = context;
+  int rc = peri_gmsh_open(r->path, r->dim), ierr = 0;
+  if (rc != PERI_OK) return rc;
+  rc = read_model(r->path, r->dim, r->f);
+  gmshFinalize(&ierr);
+  r->f->path = peri_strdup(r->path);
+  if (rc != PERI_OK) peri_fem_mesh_file_free(r->f);
+  return rc;
+}
+
 int peri_fem_mesh_file_read(const char *path, int dim, peri_fem_mesh_file *f) {
   memset(f, 0, sizeof *f);
   f->dim = dim;
@@ -148,13 +165,8 @@ int peri_fem_mesh_file_read(const char *path, int dim, peri_fem_mesh_file *f) {
     return PERI_ERR_INPUT;
   }
   fclose(probe);
-  int rc = peri_gmsh_open(path, dim), ierr = 0;
-  if (rc != PERI_OK) return rc;
-  rc = read_model(path, dim, f);
-  gmshFinalize(&ierr);
-  f->path = peri_strdup(path);
-  if (rc != PERI_OK) peri_fem_mesh_file_free(f);
-  return rc;
+  fem_reading r = {path, dim, f};
+  return peri_gmsh_guarded(path, read_file, &r);
 }
 
 #endif

@@ -218,17 +218,31 @@ static int read_model(peri_mesh *m, const char *path, int dim, double scale) {
   return rc;
 }
 
-int peri_mesh_read_gmsh(peri_mesh *m, const char *path, int dim, double thickness, double cross_section) {
-  peri_mesh_init(m, dim);
-  int rc = peri_gmsh_open(path, dim), ierr = 0;
+typedef struct mesh_reading {
+  peri_mesh *m;
+  const char *path;
+  int dim;
+  double scale;
+} mesh_reading;
+
+static int read_file(void *context) {
+  const mesh_reading *r = context;
+  peri_mesh_init(r->m, r->dim);
+  int rc = peri_gmsh_open(r->path, r->dim), ierr = 0;
   if (rc != PERI_OK) {
-    peri_mesh_free(m);
+    peri_mesh_free(r->m);
     return rc;
   }
-  rc = read_model(m, path, dim, dim == 2 ? thickness : dim == 1 ? cross_section : 1.0);
+  rc = read_model(r->m, r->path, r->dim, r->scale);
   gmshFinalize(&ierr);
-  if (rc != PERI_OK) peri_mesh_free(m);
+  if (rc != PERI_OK) peri_mesh_free(r->m);
   return rc;
+}
+
+int peri_mesh_read_gmsh(peri_mesh *m, const char *path, int dim, double thickness, double cross_section) {
+  mesh_reading r = {m, path, dim, dim == 2 ? thickness : dim == 1 ? cross_section : 1.0};
+  peri_mesh_init(m, dim); /* (an empty mesh where the guard refuses the file) */
+  return peri_gmsh_guarded(path, read_file, &r);
 }
 
 #endif

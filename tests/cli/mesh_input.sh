@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Meshes in decks (docs/deck.md, "Meshes"): examples/mesh_plate.yaml reads a Gmsh geometry
 # and runs; a bad mesh or a bad set is an input error (exit 2) naming the file and the
-# entity, before any work: a missing file, a truncated Gmsh mesh, a block without a
-# material, an unknown node set, a node set file naming a node that does not exist, and
-# node files with PeriLab's header and CSV headers read by peri check. Without Gmsh in
-# the build the deck is refused with a message that names the missing library.
+# entity, before any work: a missing file, a truncated Gmsh mesh, a damaged one that crashes
+# the Gmsh library, a block without a material, an unknown node set, a node set file naming
+# a node that does not exist, and node files with PeriLab's header and CSV headers read by
+# peri check. Without Gmsh in the build the deck is refused with a message that names the
+# missing library.
 # Usage: bash tests/cli/mesh_input.sh PATH_TO_PERI   (from the repository root)
 set -u
 source "$(dirname "${BASH_SOURCE[0]}")/lib/assert.bash"
@@ -84,6 +85,15 @@ if command -v gmsh >/dev/null; then
   expect_stderr_contains "$TMP/cut.msh"
   pass "a truncated Gmsh mesh: exit 2, named"
 fi
+
+# a damaged mesh whose element names a negative node tag: Gmsh 4.8 crashes reading it (the
+# reading runs in a child process first, whose crash is reported as bad input)
+sed '1213s/^101 218 66 65 138 *$/101 218 -5 65 138/' examples/coupling_gmsh_plate.msh >"$TMP/negative.msh"
+cmp -s examples/coupling_gmsh_plate.msh "$TMP/negative.msh" && fail "the element line to damage was not found"
+run_peri check examples/coupling_gmsh_plate.yaml --set "coupling.mesh=$TMP/negative.msh"
+expect_status 2
+expect_stderr_contains "$TMP/negative.msh"
+pass "an element with a negative node tag: exit 2, named ($(head -n 1 "$RUN_STDERR" | sed 's/.*msh: //'))"
 fi
 
 # node files with headers, and a node set file naming a node that does not exist
