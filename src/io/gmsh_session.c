@@ -38,6 +38,12 @@ int peri_gmsh_guarded(const char *path, int (*reader)(void *context), void *cont
                  strsignal(WTERMSIG(status)));
       return PERI_ERR_INPUT;
     }
+    if (WIFEXITED(status) && WEXITSTATUS(status) != 0) { /* (the child returns 0: the library ended it) */
+      peri_error("%s: the Gmsh library ended the process reading it (exit status %d): the file is damaged, or not a "
+                 "mesh Gmsh reads",
+                 path, WEXITSTATUS(status));
+      return PERI_ERR_INPUT;
+    }
   }
   /* (no child: the reading runs unguarded) */
   return reader(context);
