@@ -96,6 +96,14 @@ static int read_block(reader *r, peri_mesh *m, int block_id, const int *elem_id,
   const int32_t b = peri_mesh_block_index(m, block_id, name);
   const char *bname = m->blocks[b].name;
   const int shape = shape_of(type);
+  /* the counts before anything is sized or indexed by them: the blocks' elements together are
+   * the header's (elem_id and r->offset hold that many) */
+  if (nelem < 0 || npe < 0 || nattr < 0 || nelem > r->num_elem - *first_elem) {
+    peri_error("%s: block '%s' (id %d) gives %d elements of %d nodes and %d attributes, but the header's %d "
+               "elements leave %d for it (a damaged file)",
+               r->path, bname, block_id, nelem, npe, nattr, r->num_elem, r->num_elem - *first_elem);
+    return PERI_ERR_INPUT;
+  }
   if (nelem == 0) return PERI_OK;
   if (shape == -2) {
     peri_error("%s: block '%s' (id %d): unknown element type '%s' (peri reads SPHERE, TETRA, HEX, "
@@ -107,7 +115,7 @@ static int read_block(reader *r, peri_mesh *m, int block_id, const int *elem_id,
                block_id, type, peri_element_dim((peri_element_shape)shape), m->dim);
     return PERI_ERR_INPUT;
   }
-  if (shape != SHAPE_SPHERE && npe < peri_element_corners((peri_element_shape)shape)) {
+  if (npe < (shape == SHAPE_SPHERE ? 1 : peri_element_corners((peri_element_shape)shape))) {
     peri_error("%s: block '%s' (id %d): %s elements with %d nodes", r->path, bname, block_id, type, npe);
     return PERI_ERR_INPUT;
   }

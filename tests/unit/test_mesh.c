@@ -338,6 +338,19 @@ Test(mesh_exodus, errors, .init = make_tmpdir, .fini = remove_tmpdir) {
   fwrite(buf, 1, n / 2, out);
   fclose(out);
   expect_error(cut, PERI_MESH_EXODUS, 3, "element 1 names node 0, which does not exist");
+  /* a header that counts fewer elements than the blocks hold (the blocks' elements were once
+   * indexed past the header's count): the dimension num_elem of the classic netCDF header, its
+   * name's length, the name and its length (4 bytes, big-endian), set to 4 */
+  const char dim_name[] = "\0\0\0\x08num_elem";
+  char *at = NULL;
+  for (size_t k = 0; !at && k + sizeof dim_name - 1 + 4 <= n; ++k)
+    if (memcmp(buf + k, dim_name, sizeof dim_name - 1) == 0) at = buf + k;
+  cr_assert_not_null(at, "no dimension num_elem in the header");
+  memcpy(at + sizeof dim_name - 1, "\0\0\0\x04", 4);
+  out = fopen(cut, "wb");
+  fwrite(buf, 1, n, out);
+  fclose(out);
+  expect_error(cut, PERI_MESH_EXODUS, 3, "gives 32 elements of 1 nodes and 2 attributes, but the header's 4 elements");
   snprintf(path, sizeof path, "%s/missing.e", tmpdir);
   expect_error(path, PERI_MESH_EXODUS, 3, "missing.e");
 }
