@@ -5,6 +5,7 @@
  * hexahedra (3D); elements of lower dimensions (boundaries, points) are skipped. Gmsh's corner
  * orders are those of include/peri/fem.h. */
 #include <errno.h>
+#include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -58,6 +59,12 @@ static int read_model(const char *path, int dim, peri_fem_mesh_file *f) {
     f->node_tag[a] = (int64_t)ntags[a];
     memcpy(&f->x[3 * a], &coord[3 * a], 3 * sizeof(double));
     order[a] = (tag_index){(int64_t)ntags[a], (int32_t)a};
+    for (int d = 0; d < 3 && rc == PERI_OK; ++d)
+      if (!isfinite(coord[3 * a + d])) { /* (a damaged file's overflowed number) */
+        peri_error("%s: node %zu lies at %c = %g; positions must be finite", path, ntags[a], "xyz"[d],
+                   coord[3 * a + d]);
+        rc = PERI_ERR_INPUT;
+      }
     for (int d = dim; d < 3 && rc == PERI_OK; ++d)
       if (coord[3 * a + d] != 0.0) {
         peri_error("%s: node %zu lies at %c = %g, but the deck has dimension %d", path, ntags[a], "xyz"[d],

@@ -2,6 +2,7 @@
  * every mesh passes (include/peri/mesh.h; the readers are exodus_mesh.c, gmsh_mesh.c,
  * abaqus_mesh.c and nodefile.c). */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <strings.h>
@@ -34,12 +35,20 @@ bool peri_mesh_format_available(peri_mesh_format f) {
   }
 }
 
-/* Every point's volume positive and finite, and no coordinate beyond the dimension. */
+/* Every point's position finite (a damaged file's overflowed number would be infinite, and
+ * the bond search would span it), its volume positive and finite. */
 static int check_points(const peri_mesh *m, const char *path) {
   if (m->n == 0) {
     peri_error("%s: the mesh has no elements of dimension %d (nor nodes with volumes)", path, m->dim);
     return PERI_ERR_INPUT;
   }
+  for (int32_t k = 0; k < m->n; ++k)
+    for (int d = 0; d < 3; ++d)
+      if (!isfinite(m->x[3 * k + d])) {
+        peri_error("%s: element %lld (block '%s') lies at %c = %g; positions must be finite", path,
+                   (long long)m->id[k], m->blocks[m->block[k]].name, "xyz"[d], m->x[3 * k + d]);
+        return PERI_ERR_INPUT;
+      }
   for (int32_t k = 0; k < m->n; ++k)
     if (!(m->volume[k] > 0.0) || m->volume[k] > 1e300) {
       peri_error("%s: element %lld (block '%s') has volume %g; volumes must be positive", path,

@@ -94,6 +94,13 @@ run_peri check examples/coupling_gmsh_plate.yaml --set "coupling.mesh=$TMP/negat
 expect_status 2
 expect_stderr_contains "$TMP/negative.msh"
 pass "an element with a negative node tag: exit 2, named ($(head -n 1 "$RUN_STDERR" | sed 's/.*msh: //'))"
+# a node coordinate that overflows to infinity (the bond search then spanned it without end)
+sed '69s/^1.14285714285487 0 0 *$/1.1e285714285487 0 0/' examples/coupling_gmsh_plate.msh >"$TMP/infinite.msh"
+cmp -s examples/coupling_gmsh_plate.msh "$TMP/infinite.msh" && fail "the node line to damage was not found"
+run_peri check examples/coupling_gmsh_plate.yaml --set "coupling.mesh=$TMP/infinite.msh"
+expect_status 2
+expect_stderr_contains "$TMP/infinite.msh: node 9 lies at x = inf; positions must be finite"
+pass "a node at an infinite coordinate: exit 2, named"
 fi
 
 # node files with headers, and a node set file naming a node that does not exist

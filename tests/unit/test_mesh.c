@@ -351,6 +351,18 @@ Test(mesh_exodus, errors, .init = make_tmpdir, .fini = remove_tmpdir) {
   fwrite(buf, 1, n, out);
   fclose(out);
   expect_error(cut, PERI_MESH_EXODUS, 3, "gives 32 elements of 1 nodes and 2 attributes, but the header's 4 elements");
+  /* a node at an infinite coordinate (the bond search would span it) */
+  write_sphere_mesh(path, 1, 0, "SPHERE");
+  int cpu = 8, io = 8;
+  float version;
+  int exoid = ex_open(path, EX_WRITE, &cpu, &io, &version);
+  cr_assert_geq(exoid, 0);
+  double x[SIDE * SIDE * SIDE], y[SIDE * SIDE * SIDE], z[SIDE * SIDE * SIDE];
+  cr_assert_eq(ex_get_coord(exoid, x, y, z), 0);
+  x[5] = INFINITY;
+  cr_assert_eq(ex_put_coord(exoid, x, y, z), 0);
+  cr_assert_eq(ex_close(exoid), 0);
+  expect_error(path, PERI_MESH_EXODUS, 3, "element 6 (block 'block_1') lies at x = inf; positions must be finite");
   snprintf(path, sizeof path, "%s/missing.e", tmpdir);
   expect_error(path, PERI_MESH_EXODUS, 3, "missing.e");
 }
