@@ -24,6 +24,9 @@ void peri_error_at(const char *file, int line, int col, const char *fmt, ...)
  * as it would be printed, without the newline. NULL restores stderr. One sink per process. */
 typedef void (*peri_message_sink)(const char *kind, const char *line, void *ctx);
 void peri_set_message_sink(peri_message_sink sink, void *ctx);
+/* A whole line as a sink receives it (kind and line), reported here: to this process's sink,
+ * or printed on stderr (how a child process's messages are passed on). */
+void peri_message_forward(const char *kind, const char *line);
 
 /* The text of a printf-style format and its arguments, allocated (free it). */
 char *peri_vformat(const char *fmt, va_list ap);

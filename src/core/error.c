@@ -43,6 +43,19 @@ void peri_set_message_sink(peri_message_sink sink, void *ctx) {
   message_sink_ctx = ctx;
 }
 
+void peri_message_forward(const char *kind, const char *line) {
+  if (message_sink) {
+    message_sink(kind, line, message_sink_ctx);
+    return;
+  }
+  const size_t n = strlen(line);
+  char *whole = peri_malloc(n + 2); /* (one write, as emit's) */
+  memcpy(whole, line, n);
+  whole[n] = '\n', whole[n + 1] = '\0';
+  fputs(whole, stderr);
+  free(whole);
+}
+
 /* One message line: "peri: KIND: text", or "file:line:col: KIND: text" when file is given,
  * escaped, to the sink (without the newline) or to stderr. */
 static void emit(const char *kind, const char *file, int line, int col, const char *fmt, va_list ap) {

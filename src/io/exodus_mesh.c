@@ -11,6 +11,7 @@
 #include "peri/error.h"
 #include "peri/mesh.h"
 #include "element_geometry.h"
+#include "guarded_read.h"
 
 #ifndef PERI_HAVE_EXODUS
 
@@ -222,7 +223,29 @@ static int read_node_sets(reader *r, peri_mesh *m) {
   return rc;
 }
 
+typedef struct exodus_reading {
+  peri_mesh *m;
+  const char *path;
+  int dim;
+  double thickness, cross_section;
+} exodus_reading;
+
+static int read_file(void *context);
+
+/* netCDF allocates and fills arrays at sizes from the file's header before it finds a damaged
+ * one (tens of GB): the reading runs in a child process with a bound on its memory first. */
 int peri_mesh_read_exodus(peri_mesh *m, const char *path, int dim, double thickness, double cross_section) {
+  exodus_reading r = {m, path, dim, thickness, cross_section};
+  peri_mesh_init(m, dim); /* (an empty mesh where the guard refuses the file) */
+  return peri_guarded_read(path, "Exodus II", read_file, &r);
+}
+
+static int read_file(void *context) {
+  const exodus_reading *g = context;
+  peri_mesh *m = g->m;
+  const char *path = g->path;
+  const int dim = g->dim;
+  const double thickness = g->thickness, cross_section = g->cross_section;
   peri_mesh_init(m, dim);
   ex_opts(EX_DEFAULT); /* errors are reported here, with the file's name */
   reader r = {.path = path};

@@ -1,52 +1,16 @@
 /* Opening a mesh file through the Gmsh library (gmsh_session.h). */
-#ifndef _POSIX_C_SOURCE
-#define _POSIX_C_SOURCE 200809L /* strsignal */
-#endif
 #include "gmsh_session.h"
 
 #ifdef PERI_HAVE_GMSH
-#include <errno.h>
-#include <fcntl.h>
 #include <gmshc.h>
-#include <signal.h>
-#include <stdio.h>
 #include <string.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
+#include "guarded_read.h"
 #include "peri/error.h"
 
 int peri_gmsh_guarded(const char *path, int (*reader)(void *context), void *context) {
   const char *dot = strrchr(path, '.');
-  if (dot && strcmp(dot, ".geo") == 0) return reader(context);
-  fflush(stdout), fflush(stderr); /* (nothing buffered here is written twice) */
-  const pid_t child = fork();
-  if (child == 0) {
-    const struct rlimit no_core = {0, 0}; /* a crash here is expected of a damaged file: no core file */
-    setrlimit(RLIMIT_CORE, &no_core);
-    const int null = open("/dev/null", O_WRONLY);
-    if (null >= 0) dup2(null, STDOUT_FILENO), dup2(null, STDERR_FILENO);
-    reader(context);
-    _exit(0);
-  }
-  if (child > 0) {
-    int status = 0;
-    while (waitpid(child, &status, 0) < 0)
-      if (errno != EINTR) break;
-    if (WIFSIGNALED(status)) {
-      peri_error("%s: the Gmsh library crashed reading it (%s): the file is damaged, or not a mesh Gmsh reads", path,
-                 strsignal(WTERMSIG(status)));
-      return PERI_ERR_INPUT;
-    }
-    if (WIFEXITED(status) && WEXITSTATUS(status) != 0) { /* (the child returns 0: the library ended it) */
-      peri_error("%s: the Gmsh library ended the process reading it (exit status %d): the file is damaged, or not a "
-                 "mesh Gmsh reads",
-                 path, WEXITSTATUS(status));
-      return PERI_ERR_INPUT;
-    }
-  }
-  /* (no child: the reading runs unguarded) */
-  return reader(context);
+  if (dot && strcmp(dot, ".geo") == 0) return reader(context); /* (meshed here: twice would cost twice) */
+  return peri_guarded_read(path, "Gmsh", reader, context);
 }
 
 int peri_gmsh_failed(const char *path, const char *what) {

@@ -18,12 +18,9 @@ int peri_gmsh_failed(const char *path, const char *what);
 int peri_gmsh_open(const char *path, int dim);
 
 /* Runs reader(context), the whole reading of the mesh file PATH (open, queries, gmshFinalize),
- * in a child process first, its messages silenced, and then here; returns the reader's result, or
- * PERI_ERR_INPUT with a message when the child was killed by a signal or ended by the library. Gmsh 4.8 dereferences
- * what a damaged .msh file leaves out (an element's node that the file does not hold, a node
- * tag beyond the file's range) and crashes rather than reporting it; the child's crash is
- * reported as bad input instead (docs/deck.md, "Meshes"). A geometry (.geo) is read here only:
- * Gmsh meshes it, and meshing it twice would double the cost. */
+ * through peri_guarded_read (guarded_read.h): Gmsh 4.8 crashes on some damaged .msh files (an
+ * element with a negative node tag) instead of reporting them (docs/deck.md, "Meshes"). A
+ * geometry (.geo) is read here only: Gmsh meshes it, and meshing it twice would double the cost. */
 int peri_gmsh_guarded(const char *path, int (*reader)(void *context), void *context);
 
 #endif

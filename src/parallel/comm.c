@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "peri/comm.h"
 #include "peri/error.h"
 #ifdef PERI_HAVE_MPI
@@ -16,6 +17,7 @@ struct peri_comm_request {
 
 static int comm_rank = 0, comm_size = 1;
 static bool started_here = false;
+static pid_t started_pid; /* the process that started MPI (its exit handler finalizes it) */
 static bool check_collectives = false; /* PERI_CHECK_COLLECTIVES (docs/parallel.md) */
 static long checked_calls = 0;
 
@@ -99,6 +101,7 @@ void peri_comm_init(int *argc, char ***argv) {
   if (!ready) {
     MPI_Init(argc, argv);
     started_here = true;
+    started_pid = getpid();
   }
   MPI_Comm_rank(MPI_COMM_WORLD, &comm_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &comm_size);
@@ -113,7 +116,8 @@ void peri_comm_init(int *argc, char ***argv) {
 void peri_comm_finalize(void) {
   int done = 0;
   MPI_Finalized(&done);
-  if (started_here && !done) {
+  /* (not in a process forked from this one, whose exit handlers are these: src/io/guarded_read.c) */
+  if (started_here && !done && getpid() == started_pid) {
     agree("the end of the run (MPI_Finalize)", PERI_COMM_SITE); /* a rank that left early */
     MPI_Finalize();
   }

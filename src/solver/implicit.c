@@ -17,6 +17,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "peri/comm.h"
 #include "peri/contribution.h"
 #include "peri/coupling.h"
@@ -91,10 +92,11 @@ int peri_implicit_check_ranks(const peri_sim *s, int ranks) {
 }
 
 static bool petsc_initialized_here;
+static pid_t petsc_pid; /* the process that started PETSc (not one forked from it: src/io/guarded_read.c) */
 
 void peri_implicit_finalize(void) {
   peri_implicit_set_command_line_options(NULL);
-  if (!petsc_initialized_here) return;
+  if (!petsc_initialized_here || getpid() != petsc_pid) return;
   petsc_initialized_here = false;
   int finalized = 0;
   MPI_Finalized(&finalized);
@@ -112,7 +114,7 @@ static int start_petsc(void) {
   }
   /* peri's own handlers (and sanitizers, test runners) keep the signals */
   PetscPopSignalHandler();
-  petsc_initialized_here = true;
+  petsc_initialized_here = true, petsc_pid = getpid();
   atexit(peri_implicit_finalize);
   return PERI_OK;
 }

@@ -351,6 +351,20 @@ Test(mesh_exodus, errors, .init = make_tmpdir, .fini = remove_tmpdir) {
   fwrite(buf, 1, n, out);
   fclose(out);
   expect_error(cut, PERI_MESH_EXODUS, 3, "gives 32 elements of 1 nodes and 2 attributes, but the header's 4 elements");
+  /* a header whose variable name claims 264 characters for "connect2"'s 8: netCDF then parses
+   * the rest of the header out of step and allocates and fills tens of GB (the reading runs in a
+   * child process with a bound on its memory: refused, in a fraction of a second) */
+  memcpy(at + sizeof dim_name - 1, "\0\0\0\x40", 4); /* (num_elem back to 64) */
+  const char var_name[] = "\0\0\0\x08" "connect2";
+  char *name_at = NULL;
+  for (size_t k = 0; !name_at && k + sizeof var_name - 1 <= n; ++k)
+    if (memcmp(buf + k, var_name, sizeof var_name - 1) == 0) name_at = buf + k;
+  cr_assert_not_null(name_at, "no variable connect2 in the header");
+  name_at[2] = 0x01;
+  out = fopen(cut, "wb");
+  fwrite(buf, 1, n, out);
+  fclose(out);
+  expect_error(cut, PERI_MESH_EXODUS, 3, "Exodus II");
   /* a node at an infinite coordinate (the bond search would span it) */
   write_sphere_mesh(path, 1, 0, "SPHERE");
   int cpu = 8, io = 8;

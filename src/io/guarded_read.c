@@ -1,0 +1,133 @@
+/* A library's reading of a file run in a child process first (guarded_read.h). Gmsh 4.8
+ * dereferences what a damaged .msh file leaves out and crashes; netCDF 4.9 (under Exodus II)
+ * allocates and fills tens of GB at sizes read from a damaged header. In the child, a crash is
+ * the child's, and the memory bound turns the allocation into a failed read; the parent reports
+ * either as bad input (exit status 2) before any work. The child's messages come back through a
+ * pipe, so the refusal of a reader that checks the file itself reads the same as unguarded. */
+#ifndef _POSIX_C_SOURCE
+#define _POSIX_C_SOURCE 200809L /* strsignal */
+#endif
+#include "guarded_read.h"
+#include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "peri/error.h"
+
+/* the child's memory: this much more than the process maps, plus this many times the file */
+#define CHILD_MEMORY_BASE ((rlim_t)4 << 30)
+#define CHILD_MEMORY_PER_FILE_BYTE 64
+
+/* The child's message sink: each line as "KIND<tab>LINE<newline>" into the pipe (a line has no
+ * newline of its own: error.c writes control characters escaped). */
+static void to_pipe(const char *kind, const char *line, void *ctx) {
+  const int fd = *(const int *)ctx;
+  const char *parts[4] = {kind, "\t", line, "\n"};
+  for (int p = 0; p < 4; ++p)
+    for (size_t done = 0, n = strlen(parts[p]); done < n;) {
+      const ssize_t w = write(fd, parts[p] + done, n - done);
+      if (w <= 0) return;
+      done += (size_t)w;
+    }
+}
+
+/* The address space the process maps now (its first field of /proc/self/statm), 0 if unknown. */
+static rlim_t mapped_bytes(void) {
+  FILE *f = fopen("/proc/self/statm", "r");
+  unsigned long pages = 0;
+  if (f) {
+    if (fscanf(f, "%lu", &pages) != 1) pages = 0;
+    fclose(f);
+  }
+  const long page = sysconf(_SC_PAGESIZE);
+  return (rlim_t)pages * (rlim_t)(page > 0 ? page : 4096);
+}
+
+/* The memory the child may take beyond what the process maps. */
+static rlim_t child_budget(const char *path) {
+  struct stat st;
+  const rlim_t file = stat(path, &st) == 0 && st.st_size > 0 ? (rlim_t)st.st_size : 0;
+  return CHILD_MEMORY_BASE + CHILD_MEMORY_PER_FILE_BYTE * file;
+}
+
+static void run_child(const char *path, int (*reader)(void *), void *context, int fd) {
+  const struct rlimit no_core = {0, 0}; /* a crash is expected of a damaged file: no core file */
+  setrlimit(RLIMIT_CORE, &no_core);
+  const rlim_t bound = mapped_bytes() + child_budget(path);
+  struct rlimit memory;
+  if (getrlimit(RLIMIT_AS, &memory) == 0 && (memory.rlim_cur == RLIM_INFINITY || memory.rlim_cur > bound)) {
+    memory.rlim_cur = bound;
+    setrlimit(RLIMIT_AS, &memory);
+  }
+  /* the libraries' own output (the messages come through the sink) */
+  const int null = open("/dev/null", O_WRONLY);
+  if (null >= 0) dup2(null, STDOUT_FILENO), dup2(null, STDERR_FILENO);
+  peri_set_message_sink(to_pipe, &fd);
+  const int rc = reader(context);
+  _exit(rc == PERI_OK ? 0 : PERI_ERR_INPUT); /* (no exit handlers: they are the parent's) */
+}
+
+/* The child's messages reported here, line by line, under their kinds; whether there was one. */
+static int forward(char *text) {
+  int lines = 0;
+  for (char *line = strtok(text, "\n"); line; line = strtok(NULL, "\n")) {
+    char *tab = strchr(line, '\t');
+    if (!tab) continue;
+    *tab = '\0';
+    peri_message_forward(line, tab + 1);
+    ++lines;
+  }
+  return lines;
+}
+
+int peri_guarded_read(const char *path, const char *library, int (*reader)(void *context), void *context) {
+  int fds[2];
+  if (pipe(fds) != 0) return reader(context);
+  fflush(stdout), fflush(stderr); /* (nothing buffered here is written twice) */
+  const pid_t child = fork();
+  if (child == 0) {
+    close(fds[0]);
+    run_child(path, reader, context, fds[1]);
+  }
+  close(fds[1]);
+  if (child < 0) {
+    close(fds[0]);
+    return reader(context);
+  }
+  /* the messages first (a child that fills the pipe waits for it to be read) */
+  size_t size = 0, cap = 4096;
+  char *text = peri_malloc(cap);
+  for (;;) {
+    if (size + 1 >= cap) text = peri_realloc(text, cap *= 2);
+    const ssize_t r = read(fds[0], text + size, cap - size - 1);
+    if (r > 0) size += (size_t)r;
+    else if (r == 0 || errno != EINTR) break;
+  }
+  text[size] = '\0';
+  close(fds[0]);
+  int status = 0;
+  while (waitpid(child, &status, 0) < 0)
+    if (errno != EINTR) break;
+  int rc = PERI_ERR_INPUT;
+  if (WIFSIGNALED(status)) {
+    peri_error("%s: the %s library crashed reading it (%s): the file is damaged, or not one %s reads", path, library,
+               strsignal(WTERMSIG(status)), library);
+  } else if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+    rc = reader(context);
+  } else {
+    const int said = forward(text);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != PERI_ERR_INPUT || said == 0)
+      peri_error("%s: the %s library stopped reading it (exit status %d) within %.0f GiB of memory: the file is "
+                 "damaged, or not one %s reads",
+                 path, library, WIFEXITED(status) ? WEXITSTATUS(status) : -1,
+                 (double)child_budget(path) / (double)((rlim_t)1 << 30), library);
+  }
+  free(text);
+  return rc;
+}

@@ -1,0 +1,14 @@
+/* Reading a file through a library that may crash, hang on memory or exit on a damaged file
+ * (Gmsh, netCDF under Exodus II): the reading runs in a child process first (guarded_read.c). */
+#ifndef PERI_IO_GUARDED_READ_H
+#define PERI_IO_GUARDED_READ_H
+
+/* Runs reader(context), the whole reading of PATH through LIBRARY (a name for messages), in a
+ * child process with a bound on its memory (4 GiB more than the process has, plus 64 times the
+ * file's size), the child's messages kept. When the child read the file, the reading runs again
+ * here and its result is returned; otherwise the child's messages are reported here (a reader
+ * that refused the file), or a message says the library crashed or ended the child, and
+ * PERI_ERR_INPUT is returned. Where no child can be started the reading runs here unguarded. */
+int peri_guarded_read(const char *path, const char *library, int (*reader)(void *context), void *context);
+
+#endif
