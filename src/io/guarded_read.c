@@ -56,7 +56,7 @@ static rlim_t child_budget(const char *path) {
   return CHILD_MEMORY_BASE + CHILD_MEMORY_PER_FILE_BYTE * file;
 }
 
-static void run_child(const char *path, int (*reader)(void *), void *context, int fd) {
+static _Noreturn void run_child(const char *path, int (*reader)(void *), void *context, int fd) {
   const struct rlimit no_core = {0, 0}; /* a crash is expected of a damaged file: no core file */
   setrlimit(RLIMIT_CORE, &no_core);
   const rlim_t bound = mapped_bytes() + child_budget(path);
@@ -76,7 +76,8 @@ static void run_child(const char *path, int (*reader)(void *), void *context, in
 /* The child's messages reported here, line by line, under their kinds; whether there was one. */
 static int forward(char *text) {
   int lines = 0;
-  for (char *line = strtok(text, "\n"); line; line = strtok(NULL, "\n")) {
+  char *rest = NULL;
+  for (char *line = strtok_r(text, "\n", &rest); line; line = strtok_r(NULL, "\n", &rest)) {
     char *tab = strchr(line, '\t');
     if (!tab) continue;
     *tab = '\0';
