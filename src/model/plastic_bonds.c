@@ -751,7 +751,8 @@ void peri_plastic_dissipation(const peri_sim *s, double *D) {
   for (int32_t i = 0; i < p->n_owned; ++i) {
     const peri_material *mi = &s->mat.materials[p->material[i]];
     double sum = 0.0;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+    /* (a node without a plastic state has dissipated nothing: its bonds are not read) */
+    for (int64_t k = b->offset[i]; !node_at_rest(s, i) && k < b->offset[i + 1]; ++k) {
       const int32_t j = b->neighbor[k];
       const peri_sublayers *sl = bond_layers(s, i, j);
       if (!sl) continue;
