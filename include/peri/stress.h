@@ -11,6 +11,9 @@
  * Evaluates the model's forces at the current u first (bonds do not break). Returns
  * PERI_OK, or PERI_ERR_RUN when the model has no stress recovery. */
 int peri_stress(peri_sim *s, double *sigma);
+/* The same for the owned nodes i with wanted[i] != 0 (all when wanted is NULL); the others'
+ * sigma is 0. (The forces are evaluated for every node as above.) */
+int peri_stress_of(peri_sim *s, double *sigma, const uint8_t *wanted);
 /* Small strain eps = (F + F^T)/2 - I into eps[9n]; in plane stress eps33 from the
  * material's Poisson ratio, -nu/(1-nu)(eps11+eps22). */
 void peri_strain(const peri_sim *s, double *eps);

@@ -48,6 +48,15 @@ static void ring_gradient(double a, double b, double h, double x1, double x2, do
   grad[1] = m1 * d2;
 }
 
+/* Node i in the crack-tip frame (e1 along the crack, e2 across it, in the plane): its
+ * coordinates x1, x2 from the tip and half its cell's width h. */
+static void node_frame(const peri_j_integral *jc, const peri_particles *p, int32_t i, const double e1[2],
+                       const double e2[2], double *x1, double *x2, double *h) {
+  const double dx = p->x[3 * i] - jc->tip[0], dy = p->x[3 * i + 1] - jc->tip[1];
+  *x1 = dx * e1[0] + dy * e1[1], *x2 = dx * e2[0] + dy * e2[1];
+  *h = 0.5 * peri_grid_node_spacing(p->volume[i], 2, jc->thickness, 1.0);
+}
+
 int peri_j_integral_values(peri_sim *s, const peri_j_integral *jc, double *J, double *crack_extension) {
   const peri_particles *p = &s->disc.p;
   const int32_t n = p->n_owned;
@@ -57,25 +66,36 @@ int peri_j_integral_values(peri_sim *s, const peri_j_integral *jc, double *J, do
   double *phi = peri_malloc(sizeof(double) * nn);
   const int nc = jc->n_contours;
   double *terms = peri_calloc(nn * (size_t)nc, sizeof(double));
-  int rc = peri_stress(s, sigma); /* evaluates the forces (LPS: the dilatation) first */
+  /* the nodes of the rings (dq != 0 for a contour): only their stress is read */
+  const double e1[2] = {jc->direction[0], jc->direction[1]}, e2[2] = {-e1[1], e1[0]};
+  uint8_t *in_ring = peri_calloc(nn, 1);
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < n; ++i) {
+    double x1, x2, h;
+    node_frame(jc, p, i, e1, e2, &x1, &x2, &h);
+    for (int c = 0; c < nc && !in_ring[i]; ++c) {
+      double g[2];
+      ring_gradient(jc->inner[c], jc->outer[c], h, x1, x2, g);
+      in_ring[i] = g[0] != 0.0 || g[1] != 0.0;
+    }
+  }
+  int rc = peri_stress_of(s, sigma, in_ring); /* evaluates the forces (LPS: the dilatation) first */
   if (rc == PERI_OK) {
     s->mat.model->energy(s, W);
     if (dissipated) peri_plastic_dissipation(s, dissipated);
     peri_damage_index(s, phi);
   }
-  /* e1 along the crack, e2 across it (in the plane) */
-  const double e1[2] = {jc->direction[0], jc->direction[1]}, e2[2] = {-e1[1], e1[0]};
   double ahead = 0.0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(max : ahead)
   for (int32_t i = 0; i < (rc == PERI_OK ? n : 0); ++i) {
-    const double dx = p->x[3 * i] - jc->tip[0], dy = p->x[3 * i + 1] - jc->tip[1];
-    const double x1 = dx * e1[0] + dy * e1[1], x2 = dx * e2[0] + dy * e2[1];
+    double x1, x2, h;
+    node_frame(jc, p, i, e1, e2, &x1, &x2, &h);
     if (phi[i] >= jc->damage_threshold && fabs(x2) <= jc->band && x1 > ahead) ahead = x1;
+    if (!in_ring[i]) continue;
     double H[9], du1[2] = {0.0, 0.0};
     bool gradient = false;
     for (int c = 0; c < nc; ++c) {
       double g[2];
-      const double h = 0.5 * peri_grid_node_spacing(p->volume[i], 2, jc->thickness, 1.0);
       ring_gradient(jc->inner[c], jc->outer[c], h, x1, x2, g);
       if (g[0] == 0.0 && g[1] == 0.0) continue;
       if (!gradient) { /* du/dx1 = H e1 */
@@ -104,6 +124,6 @@ int peri_j_integral_values(peri_sim *s, const peri_j_integral *jc, double *J, do
     free(column);
     *crack_extension = peri_comm_max(ahead);
   }
-  free(sigma), free(W), free(dissipated), free(phi), free(terms);
+  free(sigma), free(W), free(dissipated), free(phi), free(terms), free(in_ring);
   return rc;
 }

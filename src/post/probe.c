@@ -163,9 +163,31 @@ int peri_probe(peri_sim *s, const char *name, double *value) {
                                                      pt->u[3 * i + 2] * pt->u[3 * i + 2]));
     return *value = m, PERI_OK;
   }
+  /* the nodes the probe reads: the nearest body node to a point, the column nearest to a
+   * plane; only their stress is evaluated (a maximum reads every node) */
+  uint8_t *wanted = p.kind == P_MAX_VM ? NULL : peri_calloc((size_t)(n > 0 ? n : 1), 1);
+  int32_t best = -1;
+  double column = INFINITY;
+  const double tol = 1e-9 * s->disc.geom.spacing;
+  if (p.kind == P_POINT) {
+    double best_d = INFINITY;
+    for (int32_t i = 0; i < n; ++i) {
+      if (pt->flags[i] & PERI_NODE_FICTITIOUS) continue; /* the nearest body node */
+      double d2 = 0.0;
+      for (int c = 0; c < p.n_coords; ++c) d2 += (pt->x[3 * i + c] - p.point[c]) * (pt->x[3 * i + c] - p.point[c]);
+      if (d2 < best_d) best_d = d2, best = i; /* first of equals: deterministic */
+    }
+    if (best >= 0) wanted[best] = 1;
+  } else if (p.kind != P_MAX_VM) { /* mean over the column nearest to the plane */
+    double nearest = INFINITY;
+    for (int32_t i = 0; i < n; ++i) nearest = fmin(nearest, fabs(pt->x[3 * i + p.axis] - p.point[0]));
+    for (int32_t i = 0; i < n; ++i) /* the lower of two equidistant columns */
+      if (fabs(pt->x[3 * i + p.axis] - p.point[0]) <= nearest + tol) column = fmin(column, pt->x[3 * i + p.axis]);
+    for (int32_t i = 0; i < n; ++i) wanted[i] = fabs(pt->x[3 * i + p.axis] - column) <= tol;
+  }
   double *sigma = peri_malloc(sizeof(double) * 9 * (size_t)n);
   double *eps = NULL;
-  int rc = peri_stress(s, sigma);
+  int rc = peri_stress_of(s, sigma, wanted);
   if (rc == PERI_OK && p.field == F_STRAIN) {
     eps = peri_malloc(sizeof(double) * 9 * (size_t)n);
     peri_strain(s, eps);
@@ -177,25 +199,12 @@ int peri_probe(peri_sim *s, const char *name, double *value) {
         if (!(pt->flags[i] & PERI_NODE_FICTITIOUS)) m = fmax(m, peri_von_mises(s, &sigma[9 * (size_t)i], s->mat.materials[pt->material[i]].nu));
       *value = m;
     } else if (p.kind == P_POINT) {
-      int32_t best = -1;
-      double best_d = INFINITY;
-      for (int32_t i = 0; i < n; ++i) {
-        if (pt->flags[i] & PERI_NODE_FICTITIOUS) continue; /* the nearest body node */
-        double d2 = 0.0;
-        for (int c = 0; c < p.n_coords; ++c) d2 += (pt->x[3 * i + c] - p.point[c]) * (pt->x[3 * i + c] - p.point[c]);
-        if (d2 < best_d) best_d = d2, best = i; /* first of equals: deterministic */
-      }
       *value = best >= 0 ? field_value(s, &p, sigma, eps, best) : NAN;
-    } else { /* mean over the column nearest to the plane */
-      double nearest = INFINITY, column = INFINITY;
-      const double tol = 1e-9 * s->disc.geom.spacing;
-      for (int32_t i = 0; i < n; ++i) nearest = fmin(nearest, fabs(pt->x[3 * i + p.axis] - p.point[0]));
-      for (int32_t i = 0; i < n; ++i) /* the lower of two equidistant columns */
-        if (fabs(pt->x[3 * i + p.axis] - p.point[0]) <= nearest + tol) column = fmin(column, pt->x[3 * i + p.axis]);
+    } else {
       double sum = 0.0, largest = -INFINITY;
       long count = 0;
       for (int32_t i = 0; i < n; ++i)
-        if (fabs(pt->x[3 * i + p.axis] - column) <= tol) {
+        if (wanted[i]) {
           const double v = field_value(s, &p, sigma, eps, i);
           sum += v;
           largest = fmax(largest, v);
@@ -204,6 +213,7 @@ int peri_probe(peri_sim *s, const char *name, double *value) {
       *value = count ? (p.column_max ? largest : sum / count) : NAN;
     }
   }
+  free(wanted);
   free(sigma);
   free(eps);
   return rc;

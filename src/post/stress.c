@@ -9,7 +9,9 @@
 #include "peri/stress.h"
 #include "peri/small_matrix.h"
 
-int peri_stress(peri_sim *s, double *sigma) {
+int peri_stress(peri_sim *s, double *sigma) { return peri_stress_of(s, sigma, NULL); }
+
+int peri_stress_of(peri_sim *s, double *sigma, const uint8_t *wanted) {
   peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   if (!s->mat.model->pair_force) {
@@ -24,7 +26,7 @@ int peri_stress(peri_sim *s, double *sigma) {
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double sg[9] = {0};
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+    for (int64_t k = b->offset[i]; (!wanted || wanted[i]) && k < b->offset[i + 1]; ++k) {
       if (b->broken[k]) continue;
       const int32_t j = b->neighbor[k];
       double xi[3], dy[3], r2 = 0.0;
