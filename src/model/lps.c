@@ -757,9 +757,9 @@ static long lps_plastic_force_pass(peri_sim *s, bool update_s0) {
           if (broken_here > 0) peri_node_blocks_clear_broken(items, &s->disc.bonds, item, i);
           n_broken += broken_here;
         }
-        lps_node_coefficients(s, i, r->sum[0], r->sum[1]);
         if (track_smin) p->smin[i] = r->smin;
       }
+      lps_item_coefficients(s, i0, i1, sums); /* (the item's nodes at once, from their final sums) */
     }
     free(scratch);
   }
@@ -804,7 +804,7 @@ static long lps_deviatoric_force_pass(peri_sim *s, bool update_s0) {
   double *elastic = peri_malloc(sizeof(double) * (size_t)(p->n_owned > 0 ? p->n_owned : 1));
   long n_broken = 0;
   LPS_FOR_EACH_NODE(items, loops, w, breaking, {
-    lps_node_coefficients(s, i, r->sum[0], r->sum[1]);
+    if (i == i0) lps_item_coefficients(s, i0, i1, sums); /* (the item's nodes at once) */
     if (track_smin) p->smin[i] = r->smin;
     const double theta = p->theta[i];
     elastic[i] = r->sum[2] - (2.0 * theta / 3.0) * r->sum[0] + (theta * theta / 9.0) * r->sum[1];
