@@ -116,4 +116,7 @@ long peri_broken_count(const peri_bonds *b);
  * checkpoint is only resumed on the same families. */
 uint64_t peri_bonds_hash(const peri_bonds *b, int32_t n);
 
+/* The most bonds a node of 0..n-1 has (its family's length; 0 for no node). */
+int64_t peri_bonds_longest_family(const peri_bonds *b, int32_t n);
+
 #endif

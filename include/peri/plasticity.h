@@ -153,7 +153,8 @@ double peri_plastic_bond_stretch(const struct peri_sim *s, int32_t i, int64_t k)
  * share of node i's elastic energy (PMB c omega |xi| / 2; LPS the deviatoric alpha omega
  * |xi|^2). Exact for a bond loaded monotonically (an elastic-perfectly-plastic sublayer has
  * dissipated s_y |s^p|), the deformation-theory work of the J-integral (docs/plasticity.md
- * section 5); a lower bound after reversals. 0 for elastic materials. */
-void peri_plastic_dissipation(const struct peri_sim *s, double *D);
+ * section 5); a lower bound after reversals. 0 for elastic materials. Only the nodes with
+ * wanted[i] != 0 (all when wanted is NULL); the others' D is 0. */
+void peri_plastic_dissipation(const struct peri_sim *s, double *D, const uint8_t *wanted);
 
 #endif

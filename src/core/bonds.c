@@ -340,3 +340,10 @@ uint64_t peri_bonds_hash(const peri_bonds *b, int32_t n) {
   }
   return h;
 }
+
+int64_t peri_bonds_longest_family(const peri_bonds *b, int32_t n) {
+  int64_t longest = 0;
+  for (int32_t i = 0; i < n; ++i)
+    if (b->offset[i + 1] - b->offset[i] > longest) longest = b->offset[i + 1] - b->offset[i];
+  return longest;
+}

@@ -577,11 +577,8 @@ static bool block_return_any(peri_sim *s, const peri_bond_view *w, const peri_no
 
 /* The longest family, rounded up to a multiple of 8 (the eight-lane loops' scratch). */
 static int64_t longest_family(const peri_bonds *b, int32_t n) {
-  int64_t longest = 1;
-  for (int32_t i = 0; i < n; ++i)
-    if (b->offset[i + 1] - b->offset[i] > longest) longest = b->offset[i + 1] - b->offset[i];
-  longest = (longest + 7) / 8 * 8;
-  return longest;
+  const int64_t longest = peri_bonds_longest_family(b, n);
+  return longest > 0 ? (longest + 7) / 8 * 8 : 8;
 }
 
 /* Whether block item `item` keeps its bonds' terms in template order: its whole template, no

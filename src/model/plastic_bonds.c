@@ -742,7 +742,7 @@ void peri_plastic_lps_energy(peri_sim *s, double *W) {
   }
 }
 
-void peri_plastic_dissipation(const peri_sim *s, double *D) {
+void peri_plastic_dissipation(const peri_sim *s, double *D, const uint8_t *wanted) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const bool lps = !strcmp(s->mat.model->name, "lps"); /* (by name: the model table calls this file) */
@@ -752,7 +752,8 @@ void peri_plastic_dissipation(const peri_sim *s, double *D) {
     const peri_material *mi = &s->mat.materials[p->material[i]];
     double sum = 0.0;
     /* (a node without a plastic state has dissipated nothing: its bonds are not read) */
-    for (int64_t k = b->offset[i]; !node_at_rest(s, i) && k < b->offset[i + 1]; ++k) {
+    const int64_t end = (wanted && !wanted[i]) || node_at_rest(s, i) ? b->offset[i] : b->offset[i + 1];
+    for (int64_t k = b->offset[i]; k < end; ++k) {
       const int32_t j = b->neighbor[k];
       const peri_sublayers *sl = bond_layers(s, i, j);
       if (!sl) continue;

@@ -16,9 +16,7 @@ void peri_pmb_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const double *eth = s->state.thermal_strain;
-  int64_t longest = 0;
-  for (int32_t i = 0; i < p->n_owned; ++i)
-    if (b->offset[i + 1] - b->offset[i] > longest) longest = b->offset[i + 1] - b->offset[i];
+  const int64_t longest = peri_bonds_longest_family(b, p->n_owned);
   /* rows in parallel; add() sees one row at a time, each block once, so the sums do not
    * depend on the threads */
 #pragma omp parallel

@@ -66,7 +66,7 @@ int peri_j_integral_values(peri_sim *s, const peri_j_integral *jc, double *J, do
   double *phi = peri_malloc(sizeof(double) * nn);
   const int nc = jc->n_contours;
   double *terms = peri_calloc(nn * (size_t)nc, sizeof(double));
-  /* the nodes of the rings (dq != 0 for a contour): only their stress is read */
+  /* the nodes of the rings (dq != 0 for a contour): only their stress and dissipated work are read */
   const double e1[2] = {jc->direction[0], jc->direction[1]}, e2[2] = {-e1[1], e1[0]};
   uint8_t *in_ring = peri_calloc(nn, 1);
 #pragma omp parallel for schedule(static)
@@ -82,7 +82,7 @@ int peri_j_integral_values(peri_sim *s, const peri_j_integral *jc, double *J, do
   int rc = peri_stress_of(s, sigma, in_ring); /* evaluates the forces (LPS: the dilatation) first */
   if (rc == PERI_OK) {
     s->mat.model->energy(s, W);
-    if (dissipated) peri_plastic_dissipation(s, dissipated);
+    if (dissipated) peri_plastic_dissipation(s, dissipated, in_ring);
     peri_damage_index(s, phi);
   }
   double ahead = 0.0;

@@ -16,9 +16,7 @@ void peri_yield_index(const peri_sim *s, double *psi) {
   const uint8_t *flags = s->state.plastic_nodes; /* (NULL until the first plastic pass builds them) */
   /* beta of each bond from its length where partial volumes apply (else 1, whatever the length) */
   const bool partial = b->family.rule != PERI_PV_NONE && b->family.spacing > 0;
-  int64_t longest = 1;
-  for (int32_t i = 0; i < p->n_owned; ++i)
-    if (b->offset[i + 1] - b->offset[i] > longest) longest = b->offset[i + 1] - b->offset[i];
+  const int64_t most = peri_bonds_longest_family(b, p->n_owned), longest = most > 0 ? most : 1;
 #pragma omp parallel
   {
     uint8_t *yielded_bond = peri_malloc((size_t)longest);

@@ -26,7 +26,8 @@ int peri_stress_of(peri_sim *s, double *sigma, const uint8_t *wanted) {
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i) {
     double sg[9] = {0};
-    for (int64_t k = b->offset[i]; (!wanted || wanted[i]) && k < b->offset[i + 1]; ++k) {
+    const int64_t end = !wanted || wanted[i] ? b->offset[i + 1] : b->offset[i];
+    for (int64_t k = b->offset[i]; k < end; ++k) {
       if (b->broken[k]) continue;
       const int32_t j = b->neighbor[k];
       double xi[3], dy[3], r2 = 0.0;
