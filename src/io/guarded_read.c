@@ -23,6 +23,11 @@
 /* the child's memory: this much more than the process maps, plus this many times the file */
 #define CHILD_MEMORY_BASE ((rlim_t)4 << 30)
 #define CHILD_MEMORY_PER_FILE_BYTE 64
+/* the child's processor time: this many seconds plus one a MB of the file (the examples' meshes
+ * read in a fraction of a second, and Gmsh reads a .msh at tens of MB/s): a reading beyond it
+ * is taken for a loop on a damaged file */
+#define CHILD_SECONDS_BASE 120
+#define CHILD_BYTES_A_SECOND ((off_t)1 << 20)
 
 /* The child's message sink: each line as "KIND<tab>LINE<newline>" into the pipe (a line has no
  * newline of its own: error.c writes control characters escaped). */
@@ -56,9 +61,24 @@ static rlim_t child_budget(const char *path) {
   return CHILD_MEMORY_BASE + CHILD_MEMORY_PER_FILE_BYTE * file;
 }
 
-static _Noreturn void run_child(const char *path, int (*reader)(void *), void *context, int fd) {
+/* The processor time the child may take reading PATH, in seconds. */
+static unsigned child_seconds(const char *path) {
+  struct stat st;
+  const off_t file = stat(path, &st) == 0 && st.st_size > 0 ? st.st_size : 0;
+  return CHILD_SECONDS_BASE + (unsigned)(file / CHILD_BYTES_A_SECOND);
+}
+
+static _Noreturn void run_child(const char *path, int (*reader)(void *), void *context, int fd, unsigned seconds) {
   const struct rlimit no_core = {0, 0}; /* a crash is expected of a damaged file: no core file */
   setrlimit(RLIMIT_CORE, &no_core);
+  /* beyond `seconds` of processor time SIGXCPU ends the child, and a child that catches it is
+   * killed a little later (the hard limit) */
+  struct rlimit cpu;
+  if (getrlimit(RLIMIT_CPU, &cpu) == 0 && (cpu.rlim_cur == RLIM_INFINITY || cpu.rlim_cur > seconds)) {
+    cpu.rlim_cur = seconds;
+    if (cpu.rlim_max == RLIM_INFINITY || cpu.rlim_max > seconds + 5) cpu.rlim_max = seconds + 5;
+    setrlimit(RLIMIT_CPU, &cpu);
+  }
   const rlim_t bound = mapped_bytes() + child_budget(path);
   struct rlimit memory;
   if (getrlimit(RLIMIT_AS, &memory) == 0 && (memory.rlim_cur == RLIM_INFINITY || memory.rlim_cur > bound)) {
@@ -88,13 +108,18 @@ static int forward(char *text) {
 }
 
 int peri_guarded_read(const char *path, const char *library, int (*reader)(void *context), void *context) {
+  return peri_guarded_read_within(path, library, reader, context, child_seconds(path));
+}
+
+int peri_guarded_read_within(const char *path, const char *library, int (*reader)(void *context), void *context,
+                             unsigned seconds) {
   int fds[2];
   if (pipe(fds) != 0) return reader(context);
   fflush(stdout), fflush(stderr); /* (nothing buffered here is written twice) */
   const pid_t child = fork();
   if (child == 0) {
     close(fds[0]);
-    run_child(path, reader, context, fds[1]);
+    run_child(path, reader, context, fds[1], seconds);
   }
   close(fds[1]);
   if (child < 0) {
@@ -116,7 +141,11 @@ int peri_guarded_read(const char *path, const char *library, int (*reader)(void 
   while (waitpid(child, &status, 0) < 0)
     if (errno != EINTR) break;
   int rc = PERI_ERR_INPUT;
-  if (WIFSIGNALED(status)) {
+  if (WIFSIGNALED(status) && WTERMSIG(status) == SIGXCPU) {
+    peri_error("%s: the %s library did not finish reading it within %u s of processor time: the file is damaged, "
+               "or not one %s reads",
+               path, library, seconds, library);
+  } else if (WIFSIGNALED(status)) {
     peri_error("%s: the %s library crashed reading it (%s): the file is damaged, or not one %s reads", path, library,
                strsignal(WTERMSIG(status)), library);
   } else if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {

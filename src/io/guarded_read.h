@@ -5,10 +5,14 @@
 
 /* Runs reader(context), the whole reading of PATH through LIBRARY (a name for messages), in a
  * child process with a bound on its memory (4 GiB more than the process has, plus 64 times the
- * file's size), the child's messages kept. When the child read the file, the reading runs again
- * here and its result is returned; otherwise the child's messages are reported here (a reader
- * that refused the file), or a message says the library crashed or ended the child, and
- * PERI_ERR_INPUT is returned. Where no child can be started the reading runs here unguarded. */
+ * file's size) and on its processor time (120 s plus 1 s a MB of the file), the child's
+ * messages kept. When the child read the file, the reading runs again here and its result is
+ * returned; otherwise the child's messages are reported here (a reader that refused the file),
+ * or a message says the library crashed, ran out of time or ended the child, and PERI_ERR_INPUT
+ * is returned. Where no child can be started the reading runs here unguarded. */
 int peri_guarded_read(const char *path, const char *library, int (*reader)(void *context), void *context);
+/* The same with the child's processor time bounded by `seconds`. */
+int peri_guarded_read_within(const char *path, const char *library, int (*reader)(void *context), void *context,
+                             unsigned seconds);
 
 #endif
