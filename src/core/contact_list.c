@@ -128,6 +128,7 @@ static int64_t scan_node(const cell_grid *g, const double *x, const double *y, i
     for (int64_t cy = c[1] > STENCIL ? c[1] - STENCIL : 0; cy <= c[1] + STENCIL && cy < g->nc[1]; ++cy) {
       const int64_t row = (cz * g->nc[1] + cy) * g->nc[0];
       const int64_t k0 = g->start[row + x0], k1 = g->start[row + x1 + 1];
+      if (k1 <= k0) continue; /* (an empty row: the buffer may not be allocated yet) */
       buffer_reserve(buf, count + k1 - k0);
       int32_t *out = &buf->partner[buf->size];
       double *reach_out = &buf->reach[buf->size];

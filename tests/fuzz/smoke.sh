@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# A short fuzzing run of one target (the ctest tests fuzz.deck_smoke and
+# A short fuzzing run of one target (the ctest tests fuzz.deck_smoke, fuzz.run_smoke and
 # fuzz.checkpoint_smoke; README.md has the long runs):
 #   bash tests/fuzz/smoke.sh TARGET_BINARY CORPUS_NAME SECONDS [libFuzzer options...]
 # starts from the seeds in tests/fuzz/corpus/CORPUS_NAME, writes new inputs to a temporary
 # corpus, and fails when the target crashes, leaks, times out or trips a sanitizer; the
-# input that did it is kept as fuzz-CORPUS_NAME-*.crash in the working directory.
+# input that did it is kept as TARGET-*.crash (fuzz_deck-crash-...) in the working directory.
 # libFuzzer's random seed is fixed (PERI_FUZZ_SEED, 0 for a new one each run), so that a
 # smoke run repeats on the same build and machine; the long runs of README.md explore.
 set -u
@@ -13,6 +13,7 @@ if [[ $# -lt 3 ]]; then
   exit 2
 fi
 target=$1 name=$2 seconds=$3
+label=$(basename "$target")
 shift 3
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 [[ -x "$target" ]] || { echo "FAIL: $target is not an executable program" >&2; exit 1; }
@@ -36,14 +37,14 @@ dict=()
 status=$?
 grep -E '^(#[0-9]+[[:space:]]+(INITED|DONE)|stat::number_of_executed_units|Done [0-9]+ runs)' "$work/log"
 if [[ $status -ne 0 ]]; then
-  echo "FAIL: $name: the target stopped with status $status (libFuzzer seed $seed)" >&2
+  echo "FAIL: $label: the target stopped with status $status (libFuzzer seed $seed)" >&2
   tail -n 60 "$work/log" >&2
   for a in "$work"/artifacts/*; do
     [[ -f "$a" ]] || continue
-    keep="fuzz-$name-$(basename "$a").crash"
+    keep="$label-$(basename "$a").crash"
     cp -- "$a" "$keep"
     echo "the input is kept as $(pwd)/$keep (run: $target $keep)" >&2
   done
   exit 1
 fi
-echo "ok: $name: no crash, leak, timeout or sanitizer report in $seconds s"
+echo "ok: $label: no crash, leak, timeout or sanitizer report in $seconds s"

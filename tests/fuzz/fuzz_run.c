@@ -1,0 +1,53 @@
+/* libFuzzer target: a deck that the set-up accepts, run for a few steps. The input goes through
+ * the C API as `peri run` takes a deck (peri_api_open_string, the output in a directory of its
+ * own without frames or pictures, peri_api_step): the models' force loops, breaking, contact,
+ * plasticity, the tools, boundary conditions and the history rows of explicit dynamics on
+ * whatever odd but valid deck the mutations make. Quasi-static and heat-only decks are
+ * skipped (a solve may take long for a valid deck: a timeout, not a bug), and so are grids
+ * larger than the seeds'. */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include "peri/api.h"
+#include "deck_size.h"
+#include "quiet.h"
+
+/* Largest grid and bond count an input may ask for (the seeds have at most 1000 nodes), and
+ * the steps of each run. */
+enum { MAX_NODES = 2000, STEPS = 4 };
+static const double MAX_BONDS = 2.0e5;
+
+static char output_dir[256], deck_name[300];
+
+int LLVMFuzzerInitialize(int *argc, char ***argv) {
+  (void)argc;
+  (void)argv;
+  silence_library();
+  const char *dir = getenv("TMPDIR");
+  snprintf(output_dir, sizeof output_dir, "%s/peri-fuzz-run-XXXXXX", dir && strlen(dir) < 200 ? dir : "/tmp");
+  if (!mkdtemp(output_dir)) abort();
+  snprintf(deck_name, sizeof deck_name, "%s/fuzz.yaml", output_dir);
+  return 0;
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+  char *text = malloc(size + 1);
+  memcpy(text, data, size);
+  text[size] = '\0';
+  double nodes, bonds;
+  estimate_size(text, &nodes, &bonds);
+  if (!(nodes <= MAX_NODES) || !(bonds <= MAX_BONDS)) {
+    free(text);
+    return -1; /* not added to the corpus */
+  }
+  static const char *const sets[] = {"output.frames=0", "output.picture=false"};
+  peri_api *run = NULL;
+  if (peri_api_open_string(text, deck_name, 2, sets, &run) == PERI_API_OK && !peri_api_is_quasi_static(run) &&
+      peri_api_set_output(run, output_dir) == PERI_API_OK)
+    peri_api_step(run, STEPS); /* (a heat-only deck refuses: it runs whole) */
+  if (run) peri_api_close(run);
+  free(text);
+  return 0;
+}
