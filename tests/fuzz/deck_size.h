@@ -4,6 +4,8 @@
 #ifndef PERI_FUZZ_DECK_SIZE_H
 #define PERI_FUZZ_DECK_SIZE_H
 #include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 #include "peri/deck.h"
 #include "peri/setup.h"
@@ -41,6 +43,19 @@ static inline void estimate_size(const char *text, double *nodes, double *bonds)
     *bonds = *nodes * pow(reach, (double)dim);
   }
   peri_deck_free(root);
+}
+
+/* The input as deck text (NUL-terminated, for the caller to free), or NULL when its grid would
+ * have more than max_nodes nodes or max_bonds bonds. */
+static inline char *deck_text_within(const uint8_t *data, size_t size, double max_nodes, double max_bonds) {
+  char *text = malloc(size + 1);
+  memcpy(text, data, size);
+  text[size] = '\0';
+  double nodes, bonds;
+  estimate_size(text, &nodes, &bonds);
+  if (nodes <= max_nodes && bonds <= max_bonds) return text;
+  free(text);
+  return NULL;
 }
 
 #endif

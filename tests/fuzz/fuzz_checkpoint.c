@@ -21,8 +21,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv) {
   silence_library();
   deck_path = getenv("PERI_FUZZ_CHECKPOINT_DECK");
   if (!deck_path) deck_path = PERI_FUZZ_CHECKPOINT_DECK; /* the source tree's copy */
-  const char *dir = getenv("TMPDIR");
-  snprintf(work_dir, sizeof work_dir, "%s/peri-fuzz-ckpt-XXXXXX", dir && strlen(dir) < 200 ? dir : "/tmp");
+  fuzz_temp_path(work_dir, sizeof work_dir, "peri-fuzz-ckpt-XXXXXX");
   if (!mkdtemp(work_dir)) abort();
   snprintf(checkpoint_path, sizeof checkpoint_path, "%s/input.h5", work_dir);
   return 0;

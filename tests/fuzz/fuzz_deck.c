@@ -27,8 +27,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv) {
   (void)argc;
   (void)argv;
   silence_library();
-  const char *dir = getenv("TMPDIR");
-  snprintf(deck_path, sizeof deck_path, "%s/peri-fuzz-deck-XXXXXX.yaml", dir && strlen(dir) < 200 ? dir : "/tmp");
+  fuzz_temp_path(deck_path, sizeof deck_path, "peri-fuzz-deck-XXXXXX.yaml");
   int fd = mkstemps(deck_path, 5);
   if (fd < 0) abort();
   close(fd);
@@ -36,13 +35,9 @@ int LLVMFuzzerInitialize(int *argc, char ***argv) {
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-  char *text = malloc(size + 1);
-  memcpy(text, data, size);
-  text[size] = '\0';
-  double nodes, bonds;
-  estimate_size(text, &nodes, &bonds);
+  char *text = deck_text_within(data, size, MAX_NODES, MAX_BONDS);
+  if (!text) return -1; /* not added to the corpus */
   free(text);
-  if (!(nodes <= MAX_NODES) || !(bonds <= MAX_BONDS)) return -1; /* not added to the corpus */
 
   FILE *f = fopen(deck_path, "wb");
   if (!f) abort();

@@ -27,23 +27,15 @@ int LLVMFuzzerInitialize(int *argc, char ***argv) {
   (void)argc;
   (void)argv;
   silence_library();
-  const char *dir = getenv("TMPDIR");
-  snprintf(output_dir, sizeof output_dir, "%s/peri-fuzz-run-XXXXXX", dir && strlen(dir) < 200 ? dir : "/tmp");
+  fuzz_temp_path(output_dir, sizeof output_dir, "peri-fuzz-run-XXXXXX");
   if (!mkdtemp(output_dir)) abort();
   snprintf(deck_name, sizeof deck_name, "%s/fuzz.yaml", output_dir);
   return 0;
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-  char *text = malloc(size + 1);
-  memcpy(text, data, size);
-  text[size] = '\0';
-  double nodes, bonds;
-  estimate_size(text, &nodes, &bonds);
-  if (!(nodes <= MAX_NODES) || !(bonds <= MAX_BONDS)) {
-    free(text);
-    return -1; /* not added to the corpus */
-  }
+  char *text = deck_text_within(data, size, MAX_NODES, MAX_BONDS);
+  if (!text) return -1; /* not added to the corpus */
   /* a quasi-static deck is opened again with its solves bounded: few iterations, re-solves and
    * cut-backs (a solve that does not converge in them ends the run with its message) */
   static const char *const sets[] = {"output.frames=0",          "output.picture=false",

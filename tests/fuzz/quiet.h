@@ -8,11 +8,19 @@
 #define PERI_FUZZ_QUIET_H
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 static inline void silence_library(void) {
   if (getenv("PERI_FUZZ_VERBOSE")) return;
   FILE *null = fopen("/dev/null", "w");
   if (null) stderr = null; /* glibc: stderr is an assignable FILE * */
+}
+
+/* A path under TMPDIR (else /tmp) from `pattern` ("peri-fuzz-deck-XXXXXX.yaml"), for mkstemps or
+ * mkdtemp to fill in. */
+static inline void fuzz_temp_path(char *out, size_t size, const char *pattern) {
+  const char *dir = getenv("TMPDIR");
+  snprintf(out, size, "%s/%s", dir && strlen(dir) < 200 ? dir : "/tmp", pattern);
 }
 
 #endif
