@@ -3,7 +3,7 @@
  * own without frames or pictures, peri_api_step): the models' force loops, breaking, contact,
  * plasticity, the tools, boundary conditions and the history rows of explicit dynamics on
  * whatever odd but valid deck the mutations make; quasi-static decks with their solves bounded
- * (one load step, 100 iterations, 3 re-solves, 1 cut-back: a valid solve may otherwise take long, a timeout and
+ * (one load step, 50 iterations, 3 re-solves, 1 cut-back: a valid solve may otherwise take long, a timeout and
  * not a bug). Heat-only decks stop after the set-up (they run whole), and grids larger than the
  * seeds' are skipped. */
 #include <stdbool.h>
@@ -21,7 +21,7 @@
 enum { MAX_NODES = 2000, STEPS = 4, LOAD_STEPS = 1 };
 static const double MAX_BONDS = 2.0e5;
 
-static char output_dir[256], deck_name[300];
+static char output_dir[256], deck_name[1100];
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
   (void)argc;
@@ -29,7 +29,10 @@ int LLVMFuzzerInitialize(int *argc, char ***argv) {
   silence_library();
   fuzz_temp_path(output_dir, sizeof output_dir, "peri-fuzz-run-XXXXXX");
   if (!mkdtemp(output_dir)) abort();
-  snprintf(deck_name, sizeof deck_name, "%s/fuzz.yaml", output_dir);
+  /* the name the messages give the deck, and the folder of its relative paths: the examples'
+   * (their images; nothing is written there, the output goes to output_dir) */
+  const char *examples = getenv("PERI_FUZZ_EXAMPLES");
+  snprintf(deck_name, sizeof deck_name, "%s/fuzz.yaml", examples ? examples : PERI_FUZZ_EXAMPLES);
   return 0;
 }
 
@@ -39,7 +42,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   /* a quasi-static deck is opened again with its solves bounded: few iterations, re-solves and
    * cut-backs (a solve that does not converge in them ends the run with its message) */
   static const char *const sets[] = {"output.frames=0",          "output.picture=false",
-                                     "solver.max_iterations=100", "solver.max_fracture_iterations=3",
+                                     "solver.max_iterations=50", "solver.max_fracture_iterations=3",
                                      "solver.max_cutbacks=1", "solver.tolerance=1e-4"};
   peri_api *run = NULL;
   bool quasi_static = false;
