@@ -25,14 +25,17 @@ static inline void estimate_size(const char *text, double *nodes, double *bonds)
   double spacing = NAN, horizon = NAN, m = NAN;
   if (peri_deck_int(root, "dimension", true, &dim) == 0 && dim >= 1 && dim <= 3 && fill &&
       fill->kind == PERI_NODE_SEQUENCE && peri_deck_double(d, "spacing", true, &spacing) == 0 && spacing > 0.0) {
-    static const char *const extra[] = {"material", NULL};
+    static const char *const extra[] = {"material", "spacing", NULL}; /* (setup.c's fill keys) */
     for (int k = 0; k < fill->count; ++k) {
       peri_shape shape;
       memset(&shape, 0, sizeof shape);
       if (peri_shape_parse(fill->items[k], (int)dim, "fill", extra, &shape) != 0) continue;
+      /* an item's own spacing (graded grids) counts its nodes */
+      double own = spacing;
+      if (peri_deck_double(fill->items[k], "spacing", false, &own) != 0 || !(own > 0.0)) own = spacing;
       double lo[3], hi[3], count = 1.0;
       if (peri_shape_bounds(&shape, (int)dim, lo, hi))
-        for (int a = 0; a < dim; ++a) count *= fabs(hi[a] - lo[a]) / spacing + 2.0;
+        for (int a = 0; a < dim; ++a) count *= fabs(hi[a] - lo[a]) / own + 2.0;
       peri_shape_free(&shape);
       *nodes += isfinite(count) ? count : 1e300;
     }
