@@ -63,7 +63,10 @@ typedef struct peri_horizon_field {
                              u_j - u_i (zero-energy mode control, src/model/partial_stress.c) */
   double *stiffness;      /* [n] the bond stiffness factor of the control: PMB c_i, LPS alpha_m/m_i */
   double stabilization;   /* the control's factor (discretization.partial_stress_stabilization) */
-  double *control_reaction; /* [3n] scratch: the control's reactions on the stencil nodes */
+  double *entry_reaction; /* [3 per stencil entry] scratch: the reaction of each entry on its node */
+  int64_t *target_offset; /* [n + 1] the stencil entries whose node is j: target_entry[target_offset[j] ..] */
+  int64_t *target_entry;  /* (in the entries' order, so that each node sums its reactions in one order
+                             whatever the threads) */
   uint8_t *needs_stress;  /* [n] coupled nodes and the nodes of their stencils */
   int32_t *lattice_index; /* [n] row of node i in lattice_correction; -1: none (a local node, a node
                              outside the stencils, a node whose family is too weak) */

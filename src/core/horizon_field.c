@@ -129,7 +129,9 @@ void peri_horizon_field_free(peri_horizon_field *h) {
   free(h->stencil_bond);
   free(h->stencil_fit);
   free(h->stiffness);
-  free(h->control_reaction);
+  free(h->entry_reaction);
+  free(h->target_offset);
+  free(h->target_entry);
   free(h->lattice_index);
   free(h->lattice_correction);
   free(h->needs_stress);

@@ -372,9 +372,20 @@ int peri_partial_stress_prepare(peri_sim *s, void (*compute_states)(peri_sim *s)
     }
   }
   mark_variational(h, p);
-  free(h->partial_stress), free(h->control_reaction);
+  free(h->partial_stress);
   h->partial_stress = peri_calloc(9 * (size_t)(p->n > 0 ? p->n : 1), sizeof(double));
-  h->control_reaction = peri_calloc(3 * (size_t)(p->n > 0 ? p->n : 1), sizeof(double));
+  /* each node's stencil entries, for a sum of their reactions in one order (a sum by atomic
+   * additions took the threads' order: results changed with their number at round-off) */
+  free(h->entry_reaction), free(h->target_offset), free(h->target_entry);
+  h->entry_reaction = peri_calloc(3 * (size_t)(total > 0 ? total : 1), sizeof(double));
+  h->target_offset = peri_calloc((size_t)p->n + 1, sizeof(int64_t));
+  h->target_entry = peri_malloc(sizeof(int64_t) * (size_t)(total > 0 ? total : 1));
+  for (int64_t t = 0; t < total; ++t) ++h->target_offset[h->stencil_node[t] + 1];
+  for (int32_t j = 0; j < p->n; ++j) h->target_offset[j + 1] += h->target_offset[j];
+  int64_t *next = peri_malloc(sizeof(int64_t) * (size_t)(p->n > 0 ? p->n : 1));
+  memcpy(next, h->target_offset, sizeof(int64_t) * (size_t)p->n);
+  for (int64_t t = 0; t < total; ++t) h->target_entry[next[h->stencil_node[t]]++] = t;
+  free(next);
   return lattice_correction(s, compute_states);
 }
 
@@ -416,8 +427,7 @@ double peri_partial_stress_local_energy(const peri_sim *s, int32_t i) {
 void peri_partial_stress_force(peri_sim *s) {
   peri_horizon_field *h = s->disc.horizon_field;
   peri_particles *p = &s->disc.p;
-  double *nu = h->partial_stress, *reaction_sum = h->control_reaction;
-  memset(reaction_sum, 0, 3 * sizeof(double) * (size_t)(p->n > 0 ? p->n : 1));
+  double *nu = h->partial_stress, *entry_reaction = h->entry_reaction;
   /* nu0_i of every node of a stencil, with the lattice correction */
 #pragma omp parallel for schedule(dynamic, 64)
   for (int32_t i = 0; i < p->n_owned; ++i) {
@@ -443,13 +453,13 @@ void peri_partial_stress_force(peri_sim *s) {
       const double *nu_j = nu + 9 * (size_t)j, *w = h->stencil_weight + 3 * t;
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c) f[a] += (variational ? nu_i[3 * a + c] : nu_j[3 * a + c] - nu_i[3 * a + c]) * w[c];
+      for (int a = 0; a < 3; ++a) entry_reaction[3 * t + a] = 0.0;
       if (h->variational && h->local[i] && h->variational[j]) { /* -V_i sigma_i . dG_i/du_j / V_j on a variational node j */
         const double ratio = p->volume[i] / p->volume[j];
         for (int a = 0; a < 3; ++a) {
           double share = 0.0;
           for (int c = 0; c < 3; ++c) share += nu_i[3 * a + c] * w[c];
-#pragma omp atomic
-          reaction_sum[3 * (size_t)j + a] -= ratio * share;
+          entry_reaction[3 * t + a] = ratio * share;
         }
       }
     }
@@ -473,15 +483,19 @@ void peri_partial_stress_force(peri_sim *s) {
         double z = p->u[3 * (size_t)j + a] - ui[a];
         for (int l = 0; l < nb; ++l) z -= phi[l] * coef[l][a];
         control[a] += h->stencil_bond[t] * z;
-        const double reaction = kappa * h->stencil_bond[t] * z;
-#pragma omp atomic
-        reaction_sum[3 * (size_t)j + a] -= reaction;
+        entry_reaction[3 * t + a] += kappa * h->stencil_bond[t] * z;
       }
     }
     for (int a = 0; a < 3; ++a) p->f[3 * (size_t)i + a] = f[a] + kappa * control[a];
   }
-  /* the control's reactions, added once every coupled node has its force */
+  /* the reactions, added once every coupled node has its force: each node's in its entries'
+   * order */
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < p->n_owned; ++i)
-    for (int a = 0; a < 3; ++a) p->f[3 * (size_t)i + a] += reaction_sum[3 * (size_t)i + a];
+    for (int a = 0; a < 3; ++a) {
+      double reaction = 0.0;
+      for (int64_t e = h->target_offset[i]; e < h->target_offset[i + 1]; ++e)
+        reaction -= entry_reaction[3 * h->target_entry[e] + a];
+      p->f[3 * (size_t)i + a] += reaction;
+    }
 }
