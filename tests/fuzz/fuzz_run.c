@@ -3,9 +3,9 @@
  * own without frames or pictures, peri_api_step): the models' force loops, breaking, contact,
  * plasticity, the tools, boundary conditions and the history rows of explicit dynamics on
  * whatever odd but valid deck the mutations make; quasi-static decks with their solves bounded
- * (one load step, 50 iterations, 3 re-solves, 1 cut-back: a valid solve may otherwise take long, a timeout and
- * not a bug). Heat-only decks stop after the set-up (they run whole), and grids larger than the
- * seeds' are skipped. */
+ * (one load step, 50 iterations, a tolerance of 1e-4, 3 re-solves, 1 cut-back: a valid solve
+ * may otherwise take long, a timeout and not a bug). Heat-only decks stop after the set-up
+ * (they run whole), and grids larger than the seeds' are skipped. */
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
