@@ -108,6 +108,7 @@ void peri_restart_free(struct peri_restart *r) {
   for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k) free(arrays[k]);
   free(r->broken);
   free(r->plastic);
+  free(r->tools);
   free(r->cut);
   free(r->growing_cut);
   for (long k = 0; k < r->frames_listed; ++k) free(r->frame_files[k]);
