@@ -11,7 +11,7 @@ PORTABLE ?=
 CMAKE_OPTIONS := $(if $(PREFIX),-DCMAKE_INSTALL_PREFIX=$(PREFIX)) \
                  $(if $(PORTABLE),-DPERI_NATIVE=$(if $(filter 1 yes on ON true,$(PORTABLE)),OFF,ON))
 
-.PHONY: all deps configure build run test install bench bench-peers bench-plate bench-coupling bench-notch clean
+.PHONY: all deps configure build run test install bench bench-peers bench-plate bench-coupling bench-notch invariance clean
 
 all: build
 
@@ -57,6 +57,11 @@ bench-coupling: build
 # the refined notch on its graded grid against the uniformly fine beam (docs/variable_horizon.md)
 bench-notch: build
 	@PERI=$(BUILD)/peri bench/refined_notch
+
+# every example and test deck (the fuzz seeds) on 1 and 2 threads and 1 and 3 MPI ranks, their
+# history.csv compared (docs/reliability.md, "Determinism"; about 40 minutes on 2 cores; not in `make test`)
+invariance: build
+	@scripts/invariance_sweep --peri $(BUILD)/peri
 
 clean:
 	rm -rf $(BUILD) output
