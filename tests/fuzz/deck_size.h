@@ -8,12 +8,34 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/deck.h"
+#include "peri/expr.h"
 #include "peri/setup.h"
 #include "peri/shape.h"
 
 /* Grid nodes the fill shapes of a deck ask for, from their bounding boxes (an upper bound
  * of the grid generator's count); 0 when the deck does not say (the set-up then reports
  * the problem itself). Bonds: nodes times the lattice points within a horizon. */
+/* The largest |horizon| of an expression over the box lo..hi, sampled at 17 points a side
+ * (a bound for the size estimate, not the set-up's check); 0 when it does not parse. */
+static inline double horizon_expression_bound(const char *text, int dim, const double lo[3], const double hi[3]) {
+  char err[256];
+  peri_expr *e = peri_expr_parse(text, err, sizeof err);
+  if (!e) return 0.0;
+  enum { SAMPLES = 17 };
+  double largest = 0.0;
+  for (int i = 0; i < SAMPLES; ++i)
+    for (int j = 0; j < (dim > 1 ? SAMPLES : 1); ++j)
+      for (int k = 0; k < (dim > 2 ? SAMPLES : 1); ++k) {
+        const int at[3] = {i, j, k};
+        double x[3] = {0, 0, 0};
+        for (int a = 0; a < dim; ++a) x[a] = lo[a] + (hi[a] - lo[a]) * at[a] / (SAMPLES - 1);
+        const double h = fabs(peri_expr_eval(e, x[0], x[1], x[2], 0.0));
+        if (h > largest) largest = h; /* (NaN is not larger) */
+      }
+  peri_expr_free(e);
+  return largest;
+}
+
 static inline void estimate_size(const char *text, double *nodes, double *bonds) {
   *nodes = 0.0;
   *bonds = 0.0;
@@ -26,6 +48,9 @@ static inline void estimate_size(const char *text, double *nodes, double *bonds)
   if (peri_deck_int(root, "dimension", true, &dim) == 0 && dim >= 1 && dim <= 3 && fill &&
       fill->kind == PERI_NODE_SEQUENCE && peri_deck_double(d, "spacing", true, &spacing) == 0 && spacing > 0.0) {
     static const char *const extra[] = {"material", "spacing", NULL}; /* (setup.c's fill keys) */
+    const peri_node *horizon_node = peri_deck_get(d, "horizon");
+    const char *horizon_text = horizon_node && horizon_node->scalar ? horizon_node->scalar : NULL;
+    double horizon_bound = 0.0; /* a horizon given as an expression: its largest sampled value */
     for (int k = 0; k < fill->count; ++k) {
       peri_shape shape;
       memset(&shape, 0, sizeof shape);
@@ -34,14 +59,19 @@ static inline void estimate_size(const char *text, double *nodes, double *bonds)
       double own = spacing;
       if (peri_deck_double(fill->items[k], "spacing", false, &own) != 0 || !(own > 0.0)) own = spacing;
       double lo[3], hi[3], count = 1.0;
-      if (peri_shape_bounds(&shape, (int)dim, lo, hi))
+      if (peri_shape_bounds(&shape, (int)dim, lo, hi)) {
         for (int a = 0; a < dim; ++a) count *= fabs(hi[a] - lo[a]) / own + 2.0;
+        if (horizon_text) horizon_bound = fmax(horizon_bound, horizon_expression_bound(horizon_text, (int)dim, lo, hi));
+      }
       peri_shape_free(&shape);
       *nodes += isfinite(count) ? count : 1e300;
     }
-    if (peri_deck_double(d, "m", false, &m) == 0 && isnan(m) &&
-        peri_deck_double(d, "horizon", false, &horizon) == 0)
-      m = horizon / spacing;
+    if (peri_deck_double(d, "m", false, &m) == 0 && isnan(m)) {
+      if (peri_deck_double(d, "horizon", false, &horizon) == 0 && !isnan(horizon))
+        m = horizon / spacing;
+      else if (horizon_bound > 0.0)
+        m = horizon_bound / spacing;
+    }
     double reach = isfinite(m) ? 2.0 * fabs(m) + 1.0 : 1.0;
     *bonds = *nodes * pow(reach, (double)dim);
   }
