@@ -54,18 +54,20 @@ static rlim_t mapped_bytes(void) {
   return (rlim_t)pages * (rlim_t)(page > 0 ? page : 4096);
 }
 
+/* The file's size in bytes, 0 if unknown (the child's bounds grow with it). */
+static off_t file_bytes(const char *path) {
+  struct stat st;
+  return stat(path, &st) == 0 && st.st_size > 0 ? st.st_size : 0;
+}
+
 /* The memory the child may take beyond what the process maps. */
 static rlim_t child_budget(const char *path) {
-  struct stat st;
-  const rlim_t file = stat(path, &st) == 0 && st.st_size > 0 ? (rlim_t)st.st_size : 0;
-  return CHILD_MEMORY_BASE + CHILD_MEMORY_PER_FILE_BYTE * file;
+  return CHILD_MEMORY_BASE + CHILD_MEMORY_PER_FILE_BYTE * (rlim_t)file_bytes(path);
 }
 
 /* The processor time the child may take reading PATH, in seconds. */
 static unsigned child_seconds(const char *path) {
-  struct stat st;
-  const off_t file = stat(path, &st) == 0 && st.st_size > 0 ? st.st_size : 0;
-  return CHILD_SECONDS_BASE + (unsigned)(file / CHILD_BYTES_A_SECOND);
+  return CHILD_SECONDS_BASE + (unsigned)(file_bytes(path) / CHILD_BYTES_A_SECOND);
 }
 
 static _Noreturn void run_child(const char *path, int (*reader)(void *), void *context, int fd, unsigned seconds) {

@@ -3,11 +3,9 @@
  *
  * Inputs whose grid would be large are skipped: a deck asking for a million nodes is a
  * valid deck, and building it only makes the run slow (a timeout, not a bug). */
-#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 #include <unistd.h>
 #include "peri/deck.h"
 #include "peri/setup.h"
