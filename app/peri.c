@@ -17,13 +17,14 @@
 #include "peri/run.h"
 #include "peri/setup.h"
 #include "peri/sim.h"
+#include "peri/gpu.h"
 #include "omp_wait.h"
 #include "rve_command.h"
 
 static void usage(FILE *out) {
   fprintf(out,
           "usage: peri run DECK [--threads N] [--quiet] [--progress[=SECONDS]] [--output DIR]\n"
-          "                [--set KEY=VALUE ...] [--restart FILE]\n"
+          "                [--set KEY=VALUE ...] [--restart FILE] [--device cpu|gpu]\n"
           "       peri check DECK [--set KEY=VALUE ...]\n"
           "       peri sweep DECK --set-list KEY=V1,V2,... [--set-list ...] --quantity NAME [...]\n"
           "                  [--set KEY=VALUE ...] [--threads N]\n"
@@ -49,6 +50,9 @@ static void usage(FILE *out) {
           "  --output DIR        write output into DIR (overrides output.directory)\n"
           "  --restart FILE      continue the run from the checkpoint FILE (output.checkpoint_every;\n"
           "                      docs/restart.md): same deck, history.csv and the .pvd continue\n"
+          "  --device cpu|gpu    where the explicit steps run (default cpu); gpu needs a build with\n"
+          "                      CUDA and a GPU (docs/gpu.md); a deck the GPU path does not take\n"
+          "                      runs on the CPU with a warning saying why\n"
           "  --petsc-options STR PETSc options for solver type implicit, after the deck's\n"
           "                      solver.petsc_options, e.g. \"-snes_monitor -ksp_monitor\"\n"
           "  --set KEY=VALUE     override a deck value before it is read, e.g.\n"
@@ -270,6 +274,8 @@ static int command(int argc, char **argv) {
   bool quiet = false;
   double progress_every = -1.0; /* --progress[=SECONDS]: < 0 not given */
   long threads = 0;
+  int device = PERI_DEVICE_CPU;
+  char device_name[160] = "";
   const char **sets = calloc((size_t)argc, sizeof(char *));
   const char **quantities = calloc((size_t)argc, sizeof(char *));
   sweep_list *lists = calloc((size_t)argc, sizeof(sweep_list));
@@ -291,7 +297,7 @@ static int command(int argc, char **argv) {
       }
     } else if (!strcmp(a, "--threads") || !strcmp(a, "--output") || !strcmp(a, "--set") ||
              !strcmp(a, "--set-list") || !strcmp(a, "--quantity") || !strcmp(a, "--restart") ||
-             !strcmp(a, "--petsc-options")) {
+             !strcmp(a, "--petsc-options") || !strcmp(a, "--device")) {
       if (k + 1 >= argc) {
         peri_error("option %s needs a value", a);
         rc = PERI_ERR_INPUT;
@@ -310,6 +316,21 @@ static int command(int argc, char **argv) {
         quantities[n_q++] = value;
       } else if (!strcmp(a, "--petsc-options")) {
         peri_implicit_set_command_line_options(value);
+      } else if (!strcmp(a, "--device")) {
+        if (is_sweep || !strcmp(value, "cpu")) {
+          if (is_sweep) {
+            peri_error("option --device: only for peri run and peri check");
+            rc = PERI_ERR_INPUT;
+          }
+        } else if (strcmp(value, "gpu") != 0) {
+          peri_error("option --device: expected cpu or gpu, got '%s'", value);
+          rc = PERI_ERR_INPUT;
+        } else if (!peri_gpu_device(device_name, sizeof device_name)) {
+          peri_error("option --device gpu: %s", device_name);
+          rc = PERI_ERR_INPUT;
+        } else {
+          device = PERI_DEVICE_GPU;
+        }
       } else if (!strcmp(a, "--restart")) {
         if (strcmp(command, "run") != 0) {
           peri_error("option --restart: only for peri run");
@@ -363,6 +384,8 @@ static int command(int argc, char **argv) {
         sim.out.directory = strdup(output);
       }
       sim.par.omp_wait = peri_omp_wait_description();
+      sim.par.device = device;
+      snprintf(sim.par.device_name, sizeof sim.par.device_name, "%s", device_name);
       if (!strcmp(command, "check")) {
         peri_print_summary(&sim, stdout);
         peri_print_threads(&sim, stdout);

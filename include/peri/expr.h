@@ -18,6 +18,8 @@ peri_expr *peri_expr_constant(double value);
 double peri_expr_eval(peri_expr *e, double x, double y, double z, double t);
 /* True when the expression does not depend on x, y, z or t. */
 bool peri_expr_is_constant(const peri_expr *e);
+/* True when the expression reads t. */
+bool peri_expr_uses_time(const peri_expr *e);
 /* The text the expression was parsed from. */
 const char *peri_expr_text(const peri_expr *e);
 void peri_expr_free(peri_expr *e);

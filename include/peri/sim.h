@@ -274,6 +274,13 @@ typedef struct peri_parallel {
   /* copies the owners' values of a per-node field (ncomp doubles per node) into the ghost
    * slots; NULL in a single process. Call it through peri_sim_exchange. */
   void (*exchange)(struct peri_sim *s, double *field, int ncomp);
+  /* where the explicit steps run (peri_device, include/peri/gpu.h: --device gpu) and, after a
+   * GPU run, the device's name, its steps and their seconds, its memory and the bonds it broke
+   * (the summary's gpu line, docs/gpu.md) */
+  int device;
+  char device_name[160];
+  long gpu_steps, gpu_broken;
+  double gpu_seconds, gpu_bytes, gpu_bytes_per_bond;
 } peri_parallel;
 
 /* A simulation, one member per subsystem: a new subsystem adds one member. */

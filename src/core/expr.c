@@ -16,6 +16,7 @@
 struct peri_expr {
   char *text;
   bool constant;
+  bool uses_time;          /* t is one of its variables */
   double value;            /* the cached value when constant */
   muParserHandle_t parser; /* NULL when constant */
   double x, y, z, t;       /* muparser reads these by address */
@@ -106,6 +107,7 @@ peri_expr *peri_expr_parse(const char *text, char *err, size_t errlen) {
         peri_expr_free(e);
         return NULL;
       }
+      if (name && !strcmp(name, "t")) e->uses_time = true;
     }
   } else {
     used_count = -1; /* unknown until the expression parses */
@@ -152,6 +154,8 @@ double peri_expr_eval(peri_expr *e, double x, double y, double z, double t) {
 }
 
 bool peri_expr_is_constant(const peri_expr *e) { return e->constant; }
+
+bool peri_expr_uses_time(const peri_expr *e) { return e->uses_time; }
 
 const char *peri_expr_text(const peri_expr *e) { return e->text; }
 

@@ -23,6 +23,7 @@
 #include "peri/decompose.h"
 #include "peri/energies.h"
 #include "peri/error.h"
+#include "peri/gpu.h"
 #include "peri/film_quantities.h"
 #include "peri/film_series.h"
 #include "peri/frames.h"
@@ -302,8 +303,9 @@ int peri_run_advance(peri_run_session *r, long until) {
   peri_sim *s = r->s;
   if (r->rc != PERI_OK || r->finished || s->state.step >= until) return r->rc;
   r->c.stop_at = until;
-  int rc = peri_is_quasi_static(s) ? peri_solve_quasi_static(s, step_hook, &r->c)
-                                   : peri_solve_explicit_hooked(s, step_hook, step_hook_quiet, &r->c);
+  int rc = peri_is_quasi_static(s)              ? peri_solve_quasi_static(s, step_hook, &r->c)
+           : s->par.device == PERI_DEVICE_GPU ? peri_solve_explicit_gpu(s, step_hook, step_hook_quiet, &r->c)
+                                              : peri_solve_explicit_hooked(s, step_hook, step_hook_quiet, &r->c);
   if (r->c.failed) rc = PERI_ERR_RUN;
   return r->rc = rc;
 }
@@ -350,6 +352,11 @@ int peri_run_finish(peri_run_session *r) {
       printf("  finished     %ld steps in %.3f s: %.1f steps/s, %.3g bond updates/s (%d threads)\n", s->state.step,
              wall, wall > 0 ? (s->state.step - c.first_step) / wall : 0.0, wall > 0 ? updates / wall : 0.0,
              omp_get_max_threads());
+    if (s->par.device == PERI_DEVICE_GPU && s->par.gpu_steps > 0) /* docs/gpu.md */
+      printf("  gpu          %ld steps in %.3f s on the device: %.4g directed-bond updates/s; %.3g GB on the device "
+             "(%.1f bytes per bond)\n", s->par.gpu_steps, s->par.gpu_seconds,
+             s->par.gpu_seconds > 0 ? (double)peri_global_bonds(s) * (double)s->par.gpu_steps / s->par.gpu_seconds : 0.0,
+             s->par.gpu_bytes / 1e9, s->par.gpu_bytes_per_bond);
     printf("  broken bonds %ld of %lld\n", broken, (long long)peri_global_bonds(s));
     if (s->contact && s->contact->short_range) { /* the pair list's builds (docs/contact.md), the same on every rank */
       const long pairs = peri_contact_pairs(s), pruned = peri_contact_pruned_pairs(s), ghosts = peri_contact_ghost_count(s);

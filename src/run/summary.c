@@ -9,6 +9,7 @@
 #include "peri/contact.h"
 #include "peri/short_range.h"
 #include "peri/damage.h"
+#include "peri/gpu.h"
 #include "peri/model.h"
 #include "peri/quasistatic.h"
 #include "peri/run.h"
@@ -161,4 +162,7 @@ void peri_print_threads(const peri_sim *s, FILE *out) {
   const int threads = omp_get_max_threads();
   fprintf(out, "  threads      %d OpenMP thread%s per process, %s\n", threads, threads == 1 ? "" : "s",
           s->par.omp_wait);
+  if (s->par.device == PERI_DEVICE_GPU) /* docs/gpu.md */
+    fprintf(out, "  device       GPU: %s; the explicit steps run there, the set-up and output on the CPU\n",
+            s->par.device_name);
 }
