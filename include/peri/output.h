@@ -47,6 +47,8 @@ peri_history *peri_history_open(const char *path, int n_columns, const char *con
  * the array), whether or not the file opened. */
 peri_history *peri_history_open_in(const char *directory, int n_columns, char **names);
 int peri_history_write(peri_history *h, const double *values);
+/* Significant digits of the values written from now on (10 unless set; 17 keeps a double). */
+void peri_history_set_digits(peri_history *h, int digits);
 /* <directory>/history_units.csv beside history.csv: the same header line, then one line with
  * the unit of each column, so that readers of history.csv are unchanged. Returns 0 or
  * PERI_ERR_RUN with a message. */

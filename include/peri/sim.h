@@ -105,6 +105,7 @@ typedef struct peri_output {
   char **fields;                /* names of fields to write */
   bool compress;
   long history_every;
+  int history_digits;           /* significant digits of history.csv's values (output.history_digits) */
   bool picture;                 /* PNG at the end (2D) */
   char *picture_field;
   int picture_width;

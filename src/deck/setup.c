@@ -779,7 +779,7 @@ static int parse_output(parse_ctx *c) {
   peri_output *o = &s->out;
   const peri_node *it = peri_deck_get(c->root, "output");
   static const char *const keys[] = {"directory", "every", "frames", "fields", "compress",
-                                     "history_every", "picture", "plot", "checkpoint_every",
+                                     "history_every", "history_digits", "picture", "plot", "checkpoint_every",
                                      "checkpoint_file", "format", "phase_stress",
                                      "interface_history", "region_energy", "wrinkles", "dataset", "penetration", NULL};
   /* defaults */
@@ -795,7 +795,7 @@ static int parse_output(parse_ctx *c) {
   o->picture_field = peri_strdup("damage");
   o->picture_width = 1200;
   o->progress_every = 10.0; /* seconds between progress lines off a terminal (--progress) */
-  long every = -1, frames = -1, history_every = -1;
+  long every = -1, frames = -1, history_every = -1, history_digits = 10;
   const char *dir = NULL;
   if (it) {
     TRY(peri_deck_allow(it, "output", keys));
@@ -810,6 +810,9 @@ static int parse_output(parse_ctx *c) {
     if (peri_deck_get(it, "frames") && frames < 0) return peri_deck_error(peri_deck_get(it, "frames"), "key 'frames': must be >= 0");
     if (peri_deck_get(it, "history_every") && history_every < 1)
       return peri_deck_error(peri_deck_get(it, "history_every"), "key 'history_every': must be >= 1");
+    TRY(peri_deck_int(it, "history_digits", false, &history_digits));
+    if (history_digits < 1 || history_digits > 17)
+      return peri_deck_error(peri_deck_get(it, "history_digits"), "key 'history_digits': must be from 1 to 17");
     const peri_node *fields = peri_deck_get(it, "fields");
     if (fields) {
       if (fields->kind != PERI_NODE_SEQUENCE)
@@ -886,6 +889,7 @@ static int parse_output(parse_ctx *c) {
   o->every = every >= 1 ? every : 0;
   if (frames >= 0) o->every = -frames; /* resolved once the step count is known */
   o->history_every = history_every >= 1 ? history_every : 0;
+  o->history_digits = (int)history_digits;
   return peri_checkpoint_check_names(s, c->root); /* src/deck/checkpoint_names.c */
 }
 

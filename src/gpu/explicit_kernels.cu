@@ -92,6 +92,7 @@ struct Dev {
   double beta0, inv_dx, inv_delta2, dt, damping, damping_divisor;
   double indenter_radius, indenter_stiffness;
   const double *x0, *x1, *x2, *V, *inv_rho, *half_mass, *wvol;
+  const double *p0, *p1, *p2; /* the positions as given (the indenter's) */
   double *u0, *u1, *u2, *v0, *v1, *v2, *f0, *f1, *f2, *b0, *b1, *b2, *e0, *e1, *e2, *l0, *l1, *l2;
   double *s0_node, *smin, *D, *B;
   const int32_t *count, *material;
@@ -172,12 +173,10 @@ HD static inline Bond bond_of(const Dev &d, int64_t i, int64_t j) {
   return b;
 }
 
-/* The breaking test of bond e = (a, i) at this displacement: true when it breaks now. The
- * smallest stretch of the intact bonds (LAMMPS form) goes into *smin first. */
-HD static inline bool breaks_now(const Dev &d, int64_t e, int64_t i, int64_t j, const Bond &b, bool breaking,
-                                 double *smin) {
-  if (d.lammps_s0 && b.stretch < *smin) *smin = b.stretch;
-  if (!breaking || !(b.stretch > bond_s0(d, i, j))) return false;
+/* The breaking test of bond e = (a, i) at this displacement (node_blocks.c: the stretch of
+ * bond_stretch against peri_bond_s0): true, and the bond marked broken, when it breaks now. */
+HD static inline bool breaks_now(const Dev &d, int64_t e, int64_t i, int64_t j, const Bond &b) {
+  if (!(b.stretch > bond_s0(d, i, j))) return false;
   d.brk[e] = 1;
   return true;
 }
@@ -186,7 +185,9 @@ HD static inline bool breaks_now(const Dev &d, int64_t e, int64_t i, int64_t j, 
 /* The models (src/model/pmb.c, lps.c; docs/model_reference.md 2-3). */
 
 /* PMB, node i: breaks its bonds beyond their critical stretch (when `breaking`), then sums
- * f_i = sum c s omega beta V_j (y/|y|) over the intact ones in family order. */
+ * f_i = sum c s omega beta V_j (y/|y|) over the intact ones in family order, in the
+ * operations of pmb.c's scalar pmb_bond (its stretch (r - r0) r / (r0 r), the smallest of
+ * which the LAMMPS form takes). */
 HD static inline void pmb_node(const Dev &d, int64_t i, bool breaking) {
   const double *mat = d.mat + MATERIAL_ROWS * d.material[i];
   const double ci = mat[MAT_C];
@@ -198,19 +199,25 @@ HD static inline void pmb_node(const Dev &d, int64_t i, bool breaking) {
     if (d.brk[e]) continue;
     const int64_t j = d.nbr[e];
     const Bond b = bond_of(d, i, j);
-    if (breaks_now(d, e, i, j, b, breaking, &smin)) {
+    const double inv_r0_r = 1.0 / (b.r0 * b.r);
+    const double stretch = (b.r - b.r0) * b.r * inv_r0_r;
+    if (d.lammps_s0 && stretch < smin) smin = stretch;
+    if (breaking && breaks_now(d, e, i, j, b)) {
       ++broken;
       continue;
     }
     if (!(b.r > 0.0)) continue;
     const double c = d.multi ? 0.5 * (ci + d.mat[MATERIAL_ROWS * d.material[j] + MAT_C]) : ci;
-    const double g = c * b.stretch * family_omega(d, b.r0) * family_beta(d, b.r0) * d.V[j] / b.r;
+    const double g = c * stretch * family_omega(d, b.r0) * family_beta(d, b.r0) * d.V[j] * b.r0 * inv_r0_r;
     f0 = fma(g, b.y0, f0), f1 = fma(g, b.y1, f1), f2 = fma(g, b.y2, f2);
   }
   d.f0[i] = f0, d.f1[i] = f1, d.f2[i] = f2;
   if (d.lammps_s0) d.smin[i] = smin;
   d.sums[SUM_BROKEN * d.n + i] += (double)broken;
 }
+
+/* |a| by lps.c's peri_length3: the squares summed by fused operations. */
+HD static inline double length3(double a0, double a1, double a2) { return sqrt(fma(a2, a2, fma(a1, a1, a0 * a0))); }
 
 /* LPS pass 1, node i: the breaking test, then the dilatation's sums over the intact bonds and
  * the coefficients D_i and B_i of the force pass (lps.c lps_coefficients_of, no thermal
@@ -225,15 +232,19 @@ HD static inline void lps_dilatation_node(const Dev &d, int64_t i, bool breaking
     if (d.brk[e]) continue;
     const int64_t j = d.nbr[e];
     const Bond b = bond_of(d, i, j);
-    if (breaks_now(d, e, i, j, b, breaking, &smin)) {
+    /* (lps.c lps_bond_sums: its lengths, its extension and its stretch) */
+    const double r0 = length3(d.x0[j] - d.x0[i], d.x1[j] - d.x1[i], d.x2[j] - d.x2[i]);
+    const double ext = length3(b.y0, b.y1, b.y2) - r0;
+    if (d.lammps_s0 && ext / r0 < smin) smin = ext / r0;
+    if (breaking && breaks_now(d, e, i, j, b)) {
       ++broken;
       continue;
     }
     /* omega |xi| = 1 for the inverse influence */
-    const double omega_r0 = d.influence == 1 ? 1.0 : family_omega(d, b.r0) * b.r0;
-    const double w = omega_r0 * family_beta(d, b.r0) * d.V[j];
-    we_x = fma(w, b.r - b.r0, we_x);
-    w_xx = fma(w, b.r0, w_xx);
+    const double omega_r0 = d.influence == 1 ? 1.0 : family_omega(d, r0) * r0;
+    const double w = omega_r0 * family_beta(d, r0) * d.V[j];
+    we_x = fma(w, ext, we_x);
+    w_xx = fma(w, r0, w_xx);
   }
   const double *mat = d.mat + MATERIAL_ROWS * d.material[i];
   const double m = d.wvol[i], n_theta = mat[MAT_N_THETA];
@@ -256,12 +267,15 @@ HD static inline void lps_force_node(const Dev &d, int64_t i) {
     const int64_t e = a * d.n + i;
     if (d.brk[e]) continue;
     const int64_t j = d.nbr[e];
-    const Bond b = bond_of(d, i, j);
-    if (!(b.r > 0.0)) continue;
-    const double t = fma(b.r0, Di + d.D[j], (b.r - b.r0) * (Bi + d.B[j]));
-    const double bv = family_beta(d, b.r0) * d.V[j];
-    const double g = d.influence == 1 ? t * bv / (b.r0 * b.r) : family_omega(d, b.r0) * t * bv / b.r;
-    f0 = fma(g, b.y0, f0), f1 = fma(g, b.y1, f1), f2 = fma(g, b.y2, f2);
+    /* (lps.c lps_bond_force) */
+    const double x0 = d.x0[j] - d.x0[i], x1 = d.x1[j] - d.x1[i], x2 = d.x2[j] - d.x2[i];
+    const double y0 = x0 + (d.u0[j] - d.u0[i]), y1 = x1 + (d.u1[j] - d.u1[i]), y2 = x2 + (d.u2[j] - d.u2[i]);
+    const double r0 = length3(x0, x1, x2), r = length3(y0, y1, y2);
+    if (!(r > 0.0)) continue;
+    const double t = fma(r0, Di + d.D[j], (r - r0) * (Bi + d.B[j]));
+    const double bv = family_beta(d, r0) * d.V[j];
+    const double g = d.influence == 1 ? t * bv / (r0 * r) : family_omega(d, r0) * t * bv / r;
+    f0 = fma(g, y0, f0), f1 = fma(g, y1, f1), f2 = fma(g, y2, f2);
   }
   d.f0[i] = f0, d.f1[i] = f1, d.f2[i] = f2;
 }
@@ -275,7 +289,18 @@ HD static inline void break_node(const Dev &d, int64_t i) {
     const int64_t e = a * d.n + i;
     if (d.brk[e]) continue;
     const int64_t j = d.nbr[e];
-    if (breaks_now(d, e, i, j, bond_of(d, i, j), true, &smin)) ++broken;
+    const Bond b = bond_of(d, i, j);
+    if (d.lammps_s0) { /* the smallest stretch as the model's force pass takes it */
+      double stretch;
+      if (d.model == PERI_GPU_PMB) {
+        stretch = (b.r - b.r0) * b.r * (1.0 / (b.r0 * b.r));
+      } else {
+        const double r0 = length3(d.x0[j] - d.x0[i], d.x1[j] - d.x1[i], d.x2[j] - d.x2[i]);
+        stretch = (length3(b.y0, b.y1, b.y2) - r0) / r0;
+      }
+      if (stretch < smin) smin = stretch;
+    }
+    if (breaks_now(d, e, i, j, b)) ++broken;
   }
   if (d.lammps_s0) d.smin[i] = smin;
   d.sums[SUM_BROKEN * d.n + i] += (double)broken;
@@ -314,7 +339,7 @@ static void loads(peri_gpu *g) {
     double b0 = d.e0[i], b1 = d.e1[i], b2 = d.e2[i];
     double r0 = 0.0, r1 = 0.0, r2 = 0.0;
     if (on) {
-      const double y0 = d.x0[i] + d.u0[i] - c0, y1 = d.x1[i] + d.u1[i] - c1, y2 = d.x2[i] + d.u2[i] - c2;
+      const double y0 = d.p0[i] + d.u0[i] - c0, y1 = d.p1[i] + d.u1[i] - c1, y2 = d.p2[i] + d.u2[i] - c2;
       const double rr = y0 * y0 + y1 * y1 + y2 * y2, R = d.indenter_radius;
       if (rr < R * R) {
         const double r = sqrt(rr);
@@ -444,7 +469,8 @@ static int create(peri_gpu *g, const peri_gpu_problem *q) {
   for (int64_t i = 0; i < n; ++i) width = q->offset[i + 1] - q->offset[i] > width ? q->offset[i + 1] - q->offset[i] : width;
   d.width = width;
   /* per-node doubles */
-  double **fields[] = {(double **)&d.x0, (double **)&d.x1, (double **)&d.x2, (double **)&d.V, (double **)&d.inv_rho,
+  double **fields[] = {(double **)&d.x0, (double **)&d.x1, (double **)&d.x2, (double **)&d.p0, (double **)&d.p1,
+                       (double **)&d.p2, (double **)&d.V, (double **)&d.inv_rho,
                        (double **)&d.half_mass, &d.u0, &d.u1, &d.u2, &d.v0, &d.v1, &d.v2, &d.f0, &d.f1, &d.f2,
                        &d.b0, &d.b1, &d.b2, &d.e0, &d.e1, &d.e2, &d.l0, &d.l1, &d.l2, &d.s0_node, &d.smin};
   for (size_t k = 0; k < sizeof fields / sizeof fields[0]; ++k)
@@ -474,10 +500,10 @@ static int create(peri_gpu *g, const peri_gpu_problem *q) {
   int32_t *itmp = (int32_t *)malloc(sizeof(int32_t) * N);
   if (!tmp || !itmp) return free(tmp), free(itmp), fail(g, "out of host memory");
   int rc = 0;
-  const double *x = q->x;
-  double *coords[3] = {(double *)d.x0, (double *)d.x1, (double *)d.x2};
-  for (int k = 0; k < 3 && !rc; ++k) {
-    for (int64_t i = 0; i < n; ++i) tmp[i] = x[3 * i + k];
+  double *coords[6] = {(double *)d.x0, (double *)d.x1, (double *)d.x2, (double *)d.p0, (double *)d.p1, (double *)d.p2};
+  for (int k = 0; k < 6 && !rc; ++k) {
+    const double *x = k < 3 || !q->x_given ? q->x : q->x_given;
+    for (int64_t i = 0; i < n; ++i) tmp[i] = x[3 * i + k % 3];
     rc = upload(g, coords[k], tmp, dn, "the positions");
   }
   if (!rc) rc = upload(g, (void *)d.V, q->volume, sizeof(double) * (size_t)n, "the volumes");
@@ -727,7 +753,7 @@ extern "C" double peri_gpu_step_seconds(peri_gpu *g) {
 extern "C" void peri_gpu_free(peri_gpu *g) {
   if (!g) return;
   Dev &d = g->d;
-  void *all[] = {(void *)d.x0, (void *)d.x1, (void *)d.x2, (void *)d.V, (void *)d.inv_rho, (void *)d.half_mass,
+  void *all[] = {(void *)d.x0, (void *)d.x1, (void *)d.x2, (void *)d.p0, (void *)d.p1, (void *)d.p2, (void *)d.V, (void *)d.inv_rho, (void *)d.half_mass,
                  (void *)d.wvol, d.u0, d.u1, d.u2, d.v0, d.v1, d.v2, d.f0, d.f1, d.f2, d.b0, d.b1, d.b2, d.e0, d.e1,
                  d.e2, d.l0, d.l1, d.l2, d.s0_node, d.smin, d.D, d.B, (void *)d.count, (void *)d.material,
                  (void *)d.nbr, d.brk, (void *)d.no_fail, (void *)d.held_mask, (void *)d.mat, (void *)d.pair_s0,

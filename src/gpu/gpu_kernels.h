@@ -21,7 +21,9 @@ typedef struct peri_gpu_problem {
   int model;                 /* PERI_GPU_PMB or PERI_GPU_LPS */
   int32_t n;                 /* nodes (one process: all owned) */
   int64_t n_bonds;           /* directed bonds */
-  const double *x;           /* [3n] reference positions */
+  const double *x;           /* [3n] reference positions, as the bond loops take them (on a lattice its
+                                exact coordinates: src/model/node_blocks.c) */
+  const double *x_given;     /* [3n] the nodes' positions as given (the indenter's; NULL: x) */
   const double *volume;      /* [n] */
   const int64_t *offset;     /* [n+1] families, CSR (include/peri/bonds.h) */
   const int32_t *neighbor;   /* [n_bonds] */

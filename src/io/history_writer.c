@@ -14,6 +14,7 @@ struct peri_history {
   FILE *out;
   char *path;
   int n_columns;
+  int digits; /* significant digits of each value */
 };
 
 /* CSV quoting (RFC 4180) only where a name would otherwise break the columns. */
@@ -49,6 +50,7 @@ peri_history *peri_history_open(const char *path, int n_columns, const char *con
   h->out = out;
   h->path = peri_strdup(path);
   h->n_columns = n_columns;
+  h->digits = 10;
   errno = 0;
   for (int c = 0; c < n_columns; c++) {
     if (c > 0) fputc(',', out);
@@ -66,11 +68,13 @@ int peri_history_write(peri_history *h, const double *values) {
   errno = 0;
   for (int c = 0; c < h->n_columns; c++) {
     if (c > 0) fputc(',', h->out);
-    fprintf(h->out, "%.10g", values[c]);
+    fprintf(h->out, "%.*g", h->digits, values[c]);
   }
   fputc('\n', h->out);
   return flush_line(h);
 }
+
+void peri_history_set_digits(peri_history *h, int digits) { h->digits = digits; }
 
 void peri_history_close(peri_history *h) {
   if (!h) return;

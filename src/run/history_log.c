@@ -31,6 +31,7 @@ int peri_history_log_open(peri_history_log *h, const peri_sim *s) {
   const int units_rc = peri_history_units_write(s->out.directory, n, names, units);
   free(units);
   h->file = peri_history_open_in(s->out.directory, n, names);
+  if (h->file && s->out.history_digits > 0) peri_history_set_digits(h->file, s->out.history_digits);
   return h->file && units_rc == PERI_OK ? PERI_OK : PERI_ERR_RUN;
 }
 

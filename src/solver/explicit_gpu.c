@@ -9,6 +9,7 @@
 #include <string.h>
 #include "peri/comm.h"
 #include "peri/contribution.h"
+#include "peri/discretize.h"
 #include "peri/energies.h"
 #include "peri/error.h"
 #include "peri/gpu.h"
@@ -71,14 +72,20 @@ static void external_loads(peri_sim *s, double t) {
 /* The problem the device takes, from the sim; the arrays it points to are the sim's, or
  * allocated into *owned_mask and *owned_nodes and *owned_flags (freed by the caller). */
 static void problem_of(const peri_sim *s, peri_gpu_problem *q, uint8_t **owned_mask, int32_t **owned_nodes,
-                       uint8_t **owned_flags) {
+                       uint8_t **owned_flags, double **owned_x) {
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const int32_t n = p->n_owned;
   memset(q, 0, sizeof *q);
   q->model = is_model(s, "pmb") ? PERI_GPU_PMB : PERI_GPU_LPS;
   q->n = n, q->n_bonds = b->offset[n];
-  q->x = p->x, q->volume = p->volume, q->offset = b->offset, q->neighbor = b->neighbor, q->broken = b->broken;
+  /* the bond loops' positions: a lattice's nodes at its exact coordinates (node_blocks.c) */
+  const peri_geometry *geom = &s->disc.geom;
+  double *x = peri_malloc(sizeof(double) * 3 * (size_t)(n > 0 ? n : 1));
+  for (size_t c = 0; c < 3 * (size_t)n; ++c)
+    x[c] = geom->lattice ? peri_exact_coordinate(&geom->lattice_axis[c % 3], p->x[c]) : p->x[c];
+  *owned_x = x;
+  q->x = x, q->x_given = p->x, q->volume = p->volume, q->offset = b->offset, q->neighbor = b->neighbor, q->broken = b->broken;
   q->material = p->material, q->wvol = p->wvol;
   uint8_t *no_fail = peri_malloc((size_t)(n > 0 ? n : 1));
   for (int32_t i = 0; i < n; ++i) no_fail[i] = p->flags[i] & PERI_NODE_NO_FAIL ? 1 : 0;
@@ -133,10 +140,12 @@ int peri_solve_explicit_gpu(peri_sim *s, peri_step_hook hook, peri_step_quiet qu
   peri_gpu_problem q;
   uint8_t *mask = NULL, *no_fail = NULL;
   int32_t *held_node = NULL;
-  problem_of(s, &q, &mask, &held_node, &no_fail);
+  double *x = NULL;
+  problem_of(s, &q, &mask, &held_node, &no_fail, &x);
   char err[600];
   peri_gpu *g = peri_gpu_create(&q, err, sizeof err);
   free(no_fail);
+  free(x);
   if (!g) {
     free(mask), free(held_node);
     peri_error("GPU: %s", err);

@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""The GPU path against the CPU path (docs/gpu.md, "Same answers").
+
+Runs each case's deck twice, `--device cpu` and `--device gpu`, with every digit of
+history.csv (output.history_digits 17), and compares the histories row by row and column by
+column: every value within 1e-12 of its scale (round-off: the GPU sums each node's bonds in
+the same order, but its lengths come from other instructions than the CPU's vector kernels),
+and the same broken bonds. A column's scale is its largest magnitude over the run, or that of
+its kind where larger: the energies' largest for an energy, the largest reaction or indenter
+force for a force, and for a momentum the largest momentum or sqrt(2 M KE), M the body's
+mass and KE its largest kinetic energy (a momentum that is zero by symmetry is round-off of
+sums of terms of that size). Where a bond's stretch lies within round-off of its critical stretch the two
+runs may break it at different steps, after which they may part: the first row whose
+broken-bond fraction differs is reported as such, the rows before it are compared and the
+rows after it are not. A case passes when its rows agree up to that point and at least half
+of them were compared.
+
+usage: same_answers.py PERI [--repo DIR] [--keep DIR] [--only NAME ...]
+Exit status 0 when every case passes, 1 otherwise.
+"""
+import argparse
+import csv
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+TOLERANCE = 1e-12  # relative to the column's scale (the issue's figure for the histories)
+
+# name, deck (from the repository root), settings
+CASES = [
+    ("lammps_pmb_3d", "examples/lammps_peri_pmb.yaml",
+     ["solver.steps=300", "output.history_every=10", "output.every=300"]),
+    ("lammps_lps_3d", "examples/lammps_peri_lps.yaml",
+     ["solver.steps=300", "output.history_every=10", "output.every=300"]),
+    ("quickstart_pmb_2d", "examples/quickstart.yaml",
+     ["solver.end_time=2.0e-5", "output.history_every=10", "output.frames=1", "output.picture=false"]),
+    ("lps_two_materials_2d", "tests/gpu/decks/lps_two_materials_2d.yaml", []),
+    ("wave_pmb_1d", "examples/wave_in_bar.yaml", ["output.history_every=10"]),
+    ("kalthoff_pmb_3d", "examples/kalthoff_winkler.yaml",
+     ["output.history_every=5", "output.frames=1", "output.picture=false"]),
+    ("cylinder_lps_3d", "examples/fragmenting_cylinder.yaml",
+     ["solver.end_time=1.0e-4", "output.history_every=10", "output.frames=1", "output.picture=false"]),
+]
+
+
+def read_history(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    return rows[0], [[float(v) for v in r] for r in rows[1:]]
+
+
+def run(peri, repo, deck, sets, device, out):
+    """(seconds, mass, broken bonds) of the run"""
+    cmd = [peri, "run", os.path.join(repo, deck), "--progress=0", "--device", device, "--output", out,
+           "--set", "output.history_digits=17"]
+    for s in sets:
+        cmd += ["--set", s]
+    t = time.time()
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed ({p.returncode}): {p.stderr.strip()}")
+    if device == "gpu" and "device       GPU" not in p.stdout:
+        raise RuntimeError(f"the run did not take the GPU: {p.stderr.strip()}")
+    mass = float(re.search(r"^  mass +(\S+) kg", p.stdout, re.M).group(1))
+    broken = int(re.search(r"^  broken bonds (\d+)", p.stdout, re.M).group(1))
+    return time.time() - t, mass, broken
+
+
+def kind_of(name):
+    if name.endswith("energy") or name in ("external_work", "energy_balance"):
+        return "energy"
+    if name.startswith("reaction_") or name.startswith("indenter_force_"):
+        return "force"
+    if name.startswith("momentum_"):
+        return "momentum"
+    return None
+
+
+def compare(header, cpu, gpu, mass):
+    """(passed, report lines)"""
+    lines = []
+    if len(cpu) != len(gpu):
+        return False, [f"rows: CPU {len(cpu)}, GPU {len(gpu)}"]
+    broken = header.index("broken_bond_fraction") if "broken_bond_fraction" in header else None
+    parted = len(cpu)
+    if broken is not None:
+        for r, (a, b) in enumerate(zip(cpu, gpu)):
+            if a[broken] != b[broken]:
+                parted = r
+                lines.append(f"broken bonds part at row {r} (t = {a[0]:.6g}): fraction CPU {a[broken]:.10g}, GPU "
+                             f"{b[broken]:.10g} (a bond within round-off of its critical stretch); rows from there "
+                             f"not compared")
+                break
+    own = [max([abs(r[c]) for r in cpu[:parted]] + [abs(r[c]) for r in gpu[:parted]] + [0.0])
+           for c in range(len(header))]
+    kinds = {}
+    for c, name in enumerate(header):
+        if kind_of(name):
+            kinds[kind_of(name)] = max(kinds.get(kind_of(name), 0.0), own[c])
+    if "kinetic_energy" in header:
+        ke = own[header.index("kinetic_energy")]
+        kinds["momentum"] = max(kinds.get("momentum", 0.0), (2.0 * mass * ke) ** 0.5)
+    worst, where = 0.0, ""
+    for c, name in enumerate(header):
+        scale = max(own[c], kinds.get(kind_of(name), 0.0))
+        for r in range(parted):
+            d = abs(cpu[r][c] - gpu[r][c])
+            rel = d / scale if scale > 0 else (0.0 if d == 0 else float("inf"))
+            if rel > worst:
+                worst, where = rel, f"{name} at row {r} (CPU {cpu[r][c]:.12g}, GPU {gpu[r][c]:.12g})"
+    lines.append(f"{parted} of {len(cpu)} rows compared, largest difference {worst:.3g} of the column's scale"
+                 + (f": {where}" if where else ""))
+    ok = worst <= TOLERANCE and parted >= max(1, len(cpu) // 2)
+    return ok, lines
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("peri")
+    ap.add_argument("--repo", default=os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+    ap.add_argument("--keep", help="write the runs here (else a temporary folder)")
+    ap.add_argument("--only", nargs="*", help="the cases to run (default: all)")
+    args = ap.parse_args()
+    work = args.keep or tempfile.mkdtemp(prefix="peri-gpu-")
+    failed = 0
+    for name, deck, sets in CASES:
+        if args.only and name not in args.only:
+            continue
+        try:
+            t_cpu, mass, broken_cpu = run(args.peri, args.repo, deck, sets, "cpu", os.path.join(work, name, "cpu"))
+            t_gpu, _, broken_gpu = run(args.peri, args.repo, deck, sets, "gpu", os.path.join(work, name, "gpu"))
+            header, cpu = read_history(os.path.join(work, name, "cpu", "history.csv"))
+            header_g, gpu = read_history(os.path.join(work, name, "gpu", "history.csv"))
+            ok, lines = (False, ["the columns differ"]) if header != header_g else compare(header, cpu, gpu, mass)
+            lines.append(f"broken bonds at the end: CPU {broken_cpu}, GPU {broken_gpu}")
+            if broken_cpu != broken_gpu and not any(l.startswith("broken bonds part") for l in lines):
+                ok = False
+        except (RuntimeError, OSError, ValueError) as e:
+            ok, lines, t_cpu, t_gpu = False, [str(e)], 0.0, 0.0
+        failed += not ok
+        print(f"{'PASS' if ok else 'FAIL'} {name} (CPU {t_cpu:.1f} s, GPU {t_gpu:.1f} s)")
+        for line in lines:
+            print("     " + line)
+        sys.stdout.flush()
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
