@@ -158,16 +158,18 @@ int peri_solve_explicit_gpu(peri_sim *s, peri_step_hook hook, peri_step_quiet qu
   double *b_keep = peri_malloc(sizeof(double) * 3 * (size_t)(n > 0 ? n : 1));
   memcpy(b_keep, p->b, sizeof(double) * 3 * (size_t)n);
   external_loads(s, s->state.time);
-  int status = peri_gpu_upload(g, p->u, p->v, s->state.forces_current || s->state.step > 0 ? p->f : NULL, p->b,
+  int status = peri_gpu_upload(g, p->u, p->v, s->state.step > 0 ? p->f : NULL, p->b,
                                s->mat.s0_node, s->state.step_load) == 0
                    ? PERI_OK
                    : PERI_ERR_RUN;
   memcpy(p->b, b_keep, sizeof(double) * 3 * (size_t)n);
   free(b_keep);
-  /* the first step's force (a restart resumes with the checkpoint's forces and load) */
+  /* the first step's force, evaluated on the device even where the host has it (the first
+   * frame's), so that a run's arithmetic is the GPU's throughout; a restart resumes with the
+   * checkpoint's forces and load */
   double centre[3];
   indenter_centre(s, s->state.time, centre);
-  if (status == PERI_OK && peri_gpu_start(g, centre, s->state.step == 0 && !s->state.forces_current, s->state.step == 0) < 0)
+  if (status == PERI_OK && peri_gpu_start(g, centre, s->state.step == 0, s->state.step == 0) < 0)
     status = PERI_ERR_RUN;
   s->state.forces_current = false;
   const bool check_runaway = true; /* (no heat source runs on the GPU) */

@@ -9,13 +9,22 @@ and the same broken bonds. A column's scale is its largest magnitude over the ru
 its kind where larger: the energies' largest for an energy, the largest reaction or indenter
 force for a force, and for a momentum the largest momentum or sqrt(2 M KE), M the body's
 mass and KE its largest kinetic energy (a momentum that is zero by symmetry is round-off of
-sums of terms of that size). Where a bond's stretch lies within round-off of its critical stretch the two
+sums of terms of that size).
+
+With --reference PERI_REFERENCE (the program built with the CPU's scalar bond loops, whose
+operations the GPU kernels follow one for one) the GPU is held to it instead, within 1e-12,
+and to the CPU's vector kernels (those of PERI) no farther than the scalar loops themselves
+are from them (twice that difference, or 1e-12 if larger): two CPU builds differ at
+round-off, which dynamics with breaking carries on. The strain energy and the energy balance
+are left out of the comparison with the scalar loops: the host computes them from the GPU's
+state with the program's own (vector) energy kernels, so they are compared with the vector
+run. Where a bond's stretch lies within round-off of its critical stretch the two
 runs may break it at different steps, after which they may part: the first row whose
 broken-bond fraction differs is reported as such, the rows before it are compared and the
 rows after it are not. A case passes when its rows agree up to that point and at least half
 of them were compared.
 
-usage: same_answers.py PERI [--repo DIR] [--keep DIR] [--only NAME ...]
+usage: same_answers.py PERI [--reference PERI_REFERENCE] [--repo DIR] [--keep DIR] [--only NAME ...]
 Exit status 0 when every case passes, 1 otherwise.
 """
 import argparse
@@ -79,18 +88,21 @@ def kind_of(name):
     return None
 
 
-def compare(header, cpu, gpu, mass):
-    """(passed, report lines)"""
+HOST_ENERGY = ("strain_energy", "energy_balance")
+
+
+def compare(header, cpu, gpu, mass, tolerance=TOLERANCE, label="CPU", leave_out=()):
+    """(passed, report lines, largest difference)"""
     lines = []
     if len(cpu) != len(gpu):
-        return False, [f"rows: CPU {len(cpu)}, GPU {len(gpu)}"]
+        return False, [f"rows: {label} {len(cpu)}, GPU {len(gpu)}"], float("inf")
     broken = header.index("broken_bond_fraction") if "broken_bond_fraction" in header else None
     parted = len(cpu)
     if broken is not None:
         for r, (a, b) in enumerate(zip(cpu, gpu)):
             if a[broken] != b[broken]:
                 parted = r
-                lines.append(f"broken bonds part at row {r} (t = {a[0]:.6g}): fraction CPU {a[broken]:.10g}, GPU "
+                lines.append(f"broken bonds part at row {r} (t = {a[0]:.6g}): fraction {label} {a[broken]:.10g}, GPU "
                              f"{b[broken]:.10g} (a bond within round-off of its critical stretch); rows from there "
                              f"not compared")
                 break
@@ -105,21 +117,24 @@ def compare(header, cpu, gpu, mass):
         kinds["momentum"] = max(kinds.get("momentum", 0.0), (2.0 * mass * ke) ** 0.5)
     worst, where = 0.0, ""
     for c, name in enumerate(header):
+        if name in leave_out:
+            continue
         scale = max(own[c], kinds.get(kind_of(name), 0.0))
         for r in range(parted):
             d = abs(cpu[r][c] - gpu[r][c])
             rel = d / scale if scale > 0 else (0.0 if d == 0 else float("inf"))
             if rel > worst:
-                worst, where = rel, f"{name} at row {r} (CPU {cpu[r][c]:.12g}, GPU {gpu[r][c]:.12g})"
-    lines.append(f"{parted} of {len(cpu)} rows compared, largest difference {worst:.3g} of the column's scale"
-                 + (f": {where}" if where else ""))
-    ok = worst <= TOLERANCE and parted >= max(1, len(cpu) // 2)
-    return ok, lines
+                worst, where = rel, f"{name} at row {r} ({label} {cpu[r][c]:.12g}, GPU {gpu[r][c]:.12g})"
+    lines.append(f"against {label}: {parted} of {len(cpu)} rows compared, largest difference {worst:.3g} of the "
+                 f"column's scale (tolerance {tolerance:.3g})" + (f": {where}" if where else ""))
+    ok = worst <= tolerance and parted >= max(1, len(cpu) // 2)
+    return ok, lines, worst
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("peri")
+    ap.add_argument("--reference", help="the program with the CPU's scalar bond loops (peri-reference)")
     ap.add_argument("--repo", default=os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
     ap.add_argument("--keep", help="write the runs here (else a temporary folder)")
     ap.add_argument("--only", nargs="*", help="the cases to run (default: all)")
@@ -134,10 +149,24 @@ def main():
             t_gpu, _, broken_gpu = run(args.peri, args.repo, deck, sets, "gpu", os.path.join(work, name, "gpu"))
             header, cpu = read_history(os.path.join(work, name, "cpu", "history.csv"))
             header_g, gpu = read_history(os.path.join(work, name, "gpu", "history.csv"))
-            ok, lines = (False, ["the columns differ"]) if header != header_g else compare(header, cpu, gpu, mass)
-            lines.append(f"broken bonds at the end: CPU {broken_cpu}, GPU {broken_gpu}")
-            if broken_cpu != broken_gpu and not any(l.startswith("broken bonds part") for l in lines):
-                ok = False
+            if header != header_g:
+                raise ValueError("the columns differ")
+            if args.reference:
+                _, _, broken_ref = run(args.reference, args.repo, deck, sets, "cpu", os.path.join(work, name, "ref"))
+                _, ref = read_history(os.path.join(work, name, "ref", "history.csv"))
+                ok, lines, _ = compare(header, ref, gpu, mass, TOLERANCE, "CPU scalar", HOST_ENERGY)
+                _, _, apart = compare(header, cpu, ref, mass, float("inf"), "CPU vector")
+                ok_v, lines_v, _ = compare(header, cpu, gpu, mass, max(2.0 * apart, TOLERANCE), "CPU vector")
+                ok, lines = ok and ok_v, lines + lines_v
+                lines.append(f"the CPU's scalar loops against its vector kernels: {apart:.3g}")
+                lines.append(f"broken bonds at the end: CPU scalar {broken_ref}, CPU vector {broken_cpu}, GPU {broken_gpu}")
+                if broken_ref != broken_gpu and not any("broken bonds part" in l for l in lines):
+                    ok = False
+            else:
+                ok, lines, _ = compare(header, cpu, gpu, mass)
+                lines.append(f"broken bonds at the end: CPU {broken_cpu}, GPU {broken_gpu}")
+                if broken_cpu != broken_gpu and not any("broken bonds part" in l for l in lines):
+                    ok = False
         except (RuntimeError, OSError, ValueError) as e:
             ok, lines, t_cpu, t_gpu = False, [str(e)], 0.0, 0.0
         failed += not ok
