@@ -78,6 +78,7 @@ struct peri_restart {
  * the first contact, and the flags. What a tool evaluates afresh (block sums) is left out. */
 enum { TOOL_STATE = 29 };
 
+#ifdef PERI_HAVE_HDF5 /* (written only with HDF5) */
 static void tool_state_pack(const peri_tool *tl, double out[TOOL_STATE]) {
   double *o = out;
   *o++ = tl->q, *o++ = tl->q_rate, *o++ = tl->load_compliance;
@@ -89,6 +90,7 @@ static void tool_state_pack(const peri_tool *tl, double out[TOOL_STATE]) {
     for (int d = 0; d < 3; ++d) *o++ = vectors[k][d];
   *o++ = 0.0; /* reserved */
 }
+#endif
 
 static void tool_state_unpack(peri_tool *tl, const double in[TOOL_STATE]) {
   const double *i = in;
