@@ -11,7 +11,7 @@ PORTABLE ?=
 CMAKE_OPTIONS := $(if $(PREFIX),-DCMAKE_INSTALL_PREFIX=$(PREFIX)) \
                  $(if $(PORTABLE),-DPERI_NATIVE=$(if $(filter 1 yes on ON true,$(PORTABLE)),OFF,ON))
 
-.PHONY: all deps configure build run test install bench bench-peers bench-plate bench-coupling bench-notch invariance clean
+.PHONY: all deps configure build run test install bench bench-gpu bench-peers bench-plate bench-coupling bench-notch invariance clean
 
 all: build
 
@@ -42,6 +42,10 @@ bench: build
 	@PERI=$(BUILD)/peri bench/refined_notch
 
 # Peridigm (built from ../shared/peers, Debian's Trilinos) and peri on the fragmenting cylinder
+# the GPU back end (docs/gpu.md): a build with it (PERI_CUDA=AUTO finds nvcc and a GPU)
+bench-gpu: build
+	@PERI=$(BUILD)/peri bench/gpu/run
+
 bench-peers: build
 	@scripts/install-deps --peers
 	@PERI=$(BUILD)/peri BUILD=$(BUILD) bench/peers/cylinder_side_by_side

@@ -11,6 +11,10 @@ force for a force, and for a momentum the largest momentum or sqrt(2 M KE), M th
 mass and KE its largest kinetic energy (a momentum that is zero by symmetry is round-off of
 sums of terms of that size).
 
+A last case, `restart_pmb_3d`, runs the LAMMPS problem on the GPU with a checkpoint at step
+100 and again from that checkpoint, also on the GPU: the two histories must be the same file
+(skipped, and said so, in a build without HDF5).
+
 With --reference PERI_REFERENCE (the program built with the CPU's scalar bond loops, whose
 operations the GPU kernels follow one for one) the GPU is held to it instead, within 1e-12,
 and to the CPU's vector kernels (those of PERI) no farther than the scalar loops themselves
@@ -131,6 +135,32 @@ def compare(header, cpu, gpu, mass, tolerance=TOLERANCE, label="CPU", leave_out=
     return ok, lines, worst
 
 
+def restart_case(peri, repo, work):
+    """(passed or None when skipped, report lines)"""
+    deck = os.path.join(repo, "examples/lammps_peri_pmb.yaml")
+    sets = ["solver.steps=200", "output.history_every=10", "output.history_digits=17",
+            "output.checkpoint_every=100", "output.checkpoint_file=ck_{step}.h5"]
+    full, part = os.path.join(work, "restart", "full"), os.path.join(work, "restart", "part")
+    cmd = [peri, "run", deck, "--progress=0", "--device", "gpu", "--output", full]
+    for s in sets:
+        cmd += ["--set", s]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0 and "HDF5" in p.stderr:
+        return None, ["skipped: this build writes no checkpoints (no HDF5)"]
+    if p.returncode != 0:
+        return False, [f"the run failed: {p.stderr.strip()}"]
+    import shutil
+    shutil.rmtree(part, ignore_errors=True)
+    shutil.copytree(full, part)
+    cmd[cmd.index(full)] = part
+    p = subprocess.run(cmd + ["--restart", os.path.join(part, "ck_000100.h5")], capture_output=True, text=True)
+    if p.returncode != 0:
+        return False, [f"the restart failed: {p.stderr.strip()}"]
+    with open(os.path.join(full, "history.csv"), "rb") as a, open(os.path.join(part, "history.csv"), "rb") as b:
+        same = a.read() == b.read()
+    return same, ["restarted at step 100: history.csv " + ("the same file" if same else "DIFFERS")]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("peri")
@@ -174,6 +204,12 @@ def main():
         for line in lines:
             print("     " + line)
         sys.stdout.flush()
+    if not args.only or "restart_pmb_3d" in args.only:
+        ok, lines = restart_case(args.peri, args.repo, work)
+        failed += ok is False
+        print(f"{'SKIP' if ok is None else 'PASS' if ok else 'FAIL'} restart_pmb_3d")
+        for line in lines:
+            print("     " + line)
     return 1 if failed else 0
 
 
