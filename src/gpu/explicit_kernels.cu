@@ -322,7 +322,7 @@ static void internal_force(peri_gpu *g) {
     each(d.n, [=] HD(int64_t i) { lps_force_node(d, i); });
   }
   if (d.breaking && g->break_after_force) each(d.n, [=] HD(int64_t i) { break_node(d, i); });
-  if (d.lammps_s0 && d.breaking)
+  if (d.lammps_s0) /* (also without breaking, as the CPU keeps it) */
     each(d.n, [=] HD(int64_t i) {
       const double *mat = d.mat + MATERIAL_ROWS * d.material[i];
       if (isfinite(d.smin[i])) d.s0_node[i] = mat[MAT_S00] - mat[MAT_ALPHA_S] * d.smin[i];

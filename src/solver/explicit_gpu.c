@@ -26,6 +26,7 @@ bool peri_gpu_runs(const peri_sim *s, char *why, size_t size) {
   if (s->solver.kind != PERI_SOLVER_EXPLICIT) reason = "only explicit dynamics runs on the GPU";
   else if (!is_model(s, "pmb") && !is_model(s, "lps")) reason = "only the pmb and lps models run on the GPU";
   else if (s->par.dd || peri_comm_size() > 1) reason = "the GPU path runs in one process (no MPI ranks)";
+  else if (s->disc.p.n != s->disc.p.n_owned) reason = "nodes beyond the owned ones (ghosts) run on the CPU";
   else if (s->thermal || s->state.thermal_strain) reason = "heat conduction and thermal strain run on the CPU";
   else if (s->coupling) reason = "a PD-FEM coupling runs on the CPU";
   else if (s->contact) reason = "short-range contact forces run on the CPU";
