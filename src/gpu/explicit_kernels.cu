@@ -184,14 +184,41 @@ HD static inline bool breaks_now(const Dev &d, int64_t e, int64_t i, int64_t j, 
 /* ------------------------------------------------------------------------------------- */
 /* The models (src/model/pmb.c, lps.c; docs/model_reference.md 2-3). */
 
-/* PMB, node i: breaks its bonds beyond their critical stretch (when `breaking`), then sums
- * f_i = sum c s omega beta V_j (y/|y|) over the intact ones in family order, in the
- * operations of pmb.c's scalar pmb_bond (its stretch (r - r0) r / (r0 r), the smallest of
- * which the LAMMPS form takes). */
-HD static inline void pmb_node(const Dev &d, int64_t i, bool breaking) {
-  const double *mat = d.mat + MATERIAL_ROWS * d.material[i];
-  const double ci = mat[MAT_C];
-  double f0 = 0.0, f1 = 0.0, f2 = 0.0, smin = INFINITY;
+/* |a| by lps.c's peri_length3: the squares summed by fused operations. */
+HD static inline double length3(double a0, double a1, double a2) { return sqrt(fma(a2, a2, fma(a1, a1, a0 * a0))); }
+
+/* What a model's passes take from a bond's lengths besides the stretch of the breaking test:
+ * PMB its stretch (r - r0) r / (r0 r) and 1/(r0 r) (pmb.c pmb_bond), LPS its extension and
+ * |xi| from lengths by fused sums (lps.c lps_bond_sums); stretch() is the one the LAMMPS form
+ * takes the smallest of. */
+struct PmbBond {
+  double stretch_, inv_r0_r;
+  HD double stretch() const { return stretch_; }
+};
+HD static inline PmbBond pmb_measure(const Bond &b) {
+  PmbBond m;
+  m.inv_r0_r = 1.0 / (b.r0 * b.r);
+  m.stretch_ = (b.r - b.r0) * b.r * m.inv_r0_r;
+  return m;
+}
+struct LpsBond {
+  double ext, r0;
+  HD double stretch() const { return ext / r0; }
+};
+HD static inline LpsBond lps_measure(const Dev &d, int64_t i, int64_t j, const Bond &b) {
+  LpsBond m;
+  m.r0 = length3(d.x0[j] - d.x0[i], d.x1[j] - d.x1[i], d.x2[j] - d.x2[i]);
+  m.ext = length3(b.y0, b.y1, b.y2) - m.r0;
+  return m;
+}
+
+/* Visits node i's intact bonds in family order: measure(j, bond) (the model's view of it),
+ * the breaking test (when `breaking`), then body(j, bond, measure) on the bonds that stay. The
+ * LAMMPS form's smallest stretch is taken over the bonds intact before the test, as the CPU's
+ * passes take it; the bonds broken go into the step's sums. */
+template <class Measure, class Body>
+HD static inline void visit_family(const Dev &d, int64_t i, bool breaking, Measure measure, Body body) {
+  double smin = INFINITY;
   long broken = 0;
   const int64_t cnt = d.count[i];
   for (int64_t a = 0; a < cnt; ++a) {
@@ -199,53 +226,50 @@ HD static inline void pmb_node(const Dev &d, int64_t i, bool breaking) {
     if (d.brk[e]) continue;
     const int64_t j = d.nbr[e];
     const Bond b = bond_of(d, i, j);
-    const double inv_r0_r = 1.0 / (b.r0 * b.r);
-    const double stretch = (b.r - b.r0) * b.r * inv_r0_r;
-    if (d.lammps_s0 && stretch < smin) smin = stretch;
+    const auto m = measure(j, b);
+    if (d.lammps_s0 && m.stretch() < smin) smin = m.stretch();
     if (breaking && breaks_now(d, e, i, j, b)) {
       ++broken;
       continue;
     }
-    if (!(b.r > 0.0)) continue;
-    const double c = d.multi ? 0.5 * (ci + d.mat[MATERIAL_ROWS * d.material[j] + MAT_C]) : ci;
-    const double g = c * stretch * family_omega(d, b.r0) * family_beta(d, b.r0) * d.V[j] * b.r0 * inv_r0_r;
-    f0 = fma(g, b.y0, f0), f1 = fma(g, b.y1, f1), f2 = fma(g, b.y2, f2);
+    body(j, b, m);
   }
-  d.f0[i] = f0, d.f1[i] = f1, d.f2[i] = f2;
   if (d.lammps_s0) d.smin[i] = smin;
   d.sums[SUM_BROKEN * d.n + i] += (double)broken;
 }
 
-/* |a| by lps.c's peri_length3: the squares summed by fused operations. */
-HD static inline double length3(double a0, double a1, double a2) { return sqrt(fma(a2, a2, fma(a1, a1, a0 * a0))); }
+/* PMB, node i: breaks its bonds beyond their critical stretch (when `breaking`), then sums
+ * f_i = sum c s omega beta V_j (y/|y|) over the intact ones in family order, in the
+ * operations of pmb.c's scalar pmb_bond. */
+HD static inline void pmb_node(const Dev &d, int64_t i, bool breaking) {
+  const double ci = d.mat[MATERIAL_ROWS * d.material[i] + MAT_C];
+  double f0 = 0.0, f1 = 0.0, f2 = 0.0;
+  visit_family(
+      d, i, breaking, [&](int64_t, const Bond &b) { return pmb_measure(b); },
+      [&](int64_t j, const Bond &b, const PmbBond &m) {
+        if (!(b.r > 0.0)) return;
+        const double c = d.multi ? 0.5 * (ci + d.mat[MATERIAL_ROWS * d.material[j] + MAT_C]) : ci;
+        const double g = c * m.stretch_ * family_omega(d, b.r0) * family_beta(d, b.r0) * d.V[j] * b.r0 * m.inv_r0_r;
+        f0 = fma(g, b.y0, f0), f1 = fma(g, b.y1, f1), f2 = fma(g, b.y2, f2);
+      });
+  d.f0[i] = f0, d.f1[i] = f1, d.f2[i] = f2;
+}
 
 /* LPS pass 1, node i: the breaking test, then the dilatation's sums over the intact bonds and
  * the coefficients D_i and B_i of the force pass (lps.c lps_coefficients_of, no thermal
  * strain): theta = n_theta sum w e / m, P = sum w e - theta sum w |xi| / 3 (m for the peer
  * form), alpha = alpha_m / m, D = n_theta (K_theta theta - alpha P / 3) / m - alpha theta / 3. */
 HD static inline void lps_dilatation_node(const Dev &d, int64_t i, bool breaking) {
-  double we_x = 0.0, w_xx = 0.0, smin = INFINITY;
-  long broken = 0;
-  const int64_t cnt = d.count[i];
-  for (int64_t a = 0; a < cnt; ++a) {
-    const int64_t e = a * d.n + i;
-    if (d.brk[e]) continue;
-    const int64_t j = d.nbr[e];
-    const Bond b = bond_of(d, i, j);
-    /* (lps.c lps_bond_sums: its lengths, its extension and its stretch) */
-    const double r0 = length3(d.x0[j] - d.x0[i], d.x1[j] - d.x1[i], d.x2[j] - d.x2[i]);
-    const double ext = length3(b.y0, b.y1, b.y2) - r0;
-    if (d.lammps_s0 && ext / r0 < smin) smin = ext / r0;
-    if (breaking && breaks_now(d, e, i, j, b)) {
-      ++broken;
-      continue;
-    }
-    /* omega |xi| = 1 for the inverse influence */
-    const double omega_r0 = d.influence == 1 ? 1.0 : family_omega(d, r0) * r0;
-    const double w = omega_r0 * family_beta(d, r0) * d.V[j];
-    we_x = fma(w, ext, we_x);
-    w_xx = fma(w, r0, w_xx);
-  }
+  double we_x = 0.0, w_xx = 0.0;
+  visit_family(
+      d, i, breaking, [&](int64_t j, const Bond &b) { return lps_measure(d, i, j, b); },
+      [&](int64_t j, const Bond &, const LpsBond &m) {
+        /* omega |xi| = 1 for the inverse influence */
+        const double omega_r0 = d.influence == 1 ? 1.0 : family_omega(d, m.r0) * m.r0;
+        const double w = omega_r0 * family_beta(d, m.r0) * d.V[j];
+        we_x = fma(w, m.ext, we_x);
+        w_xx = fma(w, m.r0, w_xx);
+      });
   const double *mat = d.mat + MATERIAL_ROWS * d.material[i];
   const double m = d.wvol[i], n_theta = mat[MAT_N_THETA];
   if (mat[MAT_PEER] != 0.0) w_xx = m;
@@ -254,8 +278,6 @@ HD static inline void lps_dilatation_node(const Dev &d, int64_t i, bool breaking
   const double alpha = mat[MAT_ALPHA_M] / m;
   d.D[i] = n_theta * (mat[MAT_K_THETA] * theta - alpha * P / 3.0) / m - alpha * (0.0 + theta / 3.0);
   d.B[i] = alpha;
-  if (d.lammps_s0) d.smin[i] = smin;
-  d.sums[SUM_BROKEN * d.n + i] += (double)broken;
 }
 
 /* LPS pass 2, node i: f_i = sum omega (|xi| (D_i + D_j) + e (B_i + B_j)) beta V_j y/|y|. */
@@ -282,28 +304,12 @@ HD static inline void lps_force_node(const Dev &d, int64_t i) {
 
 /* The breaking test alone (the LAMMPS order's cut after the force, models.md 5.1). */
 HD static inline void break_node(const Dev &d, int64_t i) {
-  double smin = INFINITY;
-  long broken = 0;
-  const int64_t cnt = d.count[i];
-  for (int64_t a = 0; a < cnt; ++a) {
-    const int64_t e = a * d.n + i;
-    if (d.brk[e]) continue;
-    const int64_t j = d.nbr[e];
-    const Bond b = bond_of(d, i, j);
-    if (d.lammps_s0) { /* the smallest stretch as the model's force pass takes it */
-      double stretch;
-      if (d.model == PERI_GPU_PMB) {
-        stretch = (b.r - b.r0) * b.r * (1.0 / (b.r0 * b.r));
-      } else {
-        const double r0 = length3(d.x0[j] - d.x0[i], d.x1[j] - d.x1[i], d.x2[j] - d.x2[i]);
-        stretch = (length3(b.y0, b.y1, b.y2) - r0) / r0;
-      }
-      if (stretch < smin) smin = stretch;
-    }
-    if (breaks_now(d, e, i, j, b)) ++broken;
-  }
-  if (d.lammps_s0) d.smin[i] = smin;
-  d.sums[SUM_BROKEN * d.n + i] += (double)broken;
+  if (d.model == PERI_GPU_PMB)
+    visit_family(d, i, true, [&](int64_t, const Bond &b) { return pmb_measure(b); },
+                 [](int64_t, const Bond &, const PmbBond &) {});
+  else
+    visit_family(d, i, true, [&](int64_t j, const Bond &b) { return lps_measure(d, i, j, b); },
+                 [](int64_t, const Bond &, const LpsBond &) {});
 }
 
 /* ------------------------------------------------------------------------------------- */
