@@ -276,11 +276,11 @@ typedef struct peri_parallel {
    * slots; NULL in a single process. Call it through peri_sim_exchange. */
   void (*exchange)(struct peri_sim *s, double *field, int ncomp);
   /* where the explicit steps run (peri_device, include/peri/gpu.h: --device gpu) and, after a
-   * GPU run, the device's name, its steps and their seconds, its memory and the bonds it broke
-   * (the summary's gpu line, docs/gpu.md) */
+   * GPU run, the device's name, its steps and their seconds and its memory (the summary's gpu
+   * line, docs/gpu.md) */
   int device;
   char device_name[160];
-  long gpu_steps, gpu_broken;
+  long gpu_steps;
   double gpu_seconds, gpu_bytes, gpu_bytes_per_bond;
 } peri_parallel;
 

@@ -125,13 +125,18 @@ static void problem_of(const peri_sim *s, peri_gpu_problem *q, uint8_t **owned_m
   *owned_mask = mask, *owned_nodes = nodes;
 }
 
+/* A failed call of the device: its message, and the run's status. */
+static int device_failed(const peri_gpu *g) {
+  peri_error("GPU: %s", peri_gpu_error(g));
+  return PERI_ERR_RUN;
+}
+
 /* The device's state into the sim: what output and checkpoints read. */
 static int state_to_host(peri_sim *s, peri_gpu *g) {
   peri_particles *p = &s->disc.p;
   const int rc = peri_gpu_download(g, p->u, p->v, p->f, p->b, s->disc.bonds.broken, s->mat.s0_node, s->state.step_load);
   s->disc.bonds.broken_edits++; /* the CPU loops' copies of the flags follow (node_blocks.c) */
-  if (rc != 0) peri_error("GPU: %s", peri_gpu_error(g));
-  return rc == 0 ? PERI_OK : PERI_ERR_RUN;
+  return rc == 0 ? PERI_OK : device_failed(g);
 }
 
 int peri_solve_explicit_gpu(peri_sim *s, peri_step_hook hook, peri_step_quiet quiet, void *ctx) {
@@ -162,7 +167,7 @@ int peri_solve_explicit_gpu(peri_sim *s, peri_step_hook hook, peri_step_quiet qu
   int status = peri_gpu_upload(g, p->u, p->v, s->state.step > 0 ? p->f : NULL, p->b,
                                s->mat.s0_node, s->state.step_load) == 0
                    ? PERI_OK
-                   : PERI_ERR_RUN;
+                   : device_failed(g);
   memcpy(p->b, b_keep, sizeof(double) * 3 * (size_t)n);
   free(b_keep);
   /* the first step's force, evaluated on the device even where the host has it (the first
@@ -171,7 +176,7 @@ int peri_solve_explicit_gpu(peri_sim *s, peri_step_hook hook, peri_step_quiet qu
   double centre[3];
   indenter_centre(s, s->state.time, centre);
   if (status == PERI_OK && peri_gpu_start(g, centre, s->state.step == 0, s->state.step == 0) < 0)
-    status = PERI_ERR_RUN;
+    status = device_failed(g);
   s->state.forces_current = false;
   const bool check_runaway = true; /* (no heat source runs on the GPU) */
   /* the energy put into the body so far (explicit.c): a body at rest holds no strain energy */
@@ -179,7 +184,6 @@ int peri_solve_explicit_gpu(peri_sim *s, peri_step_hook hook, peri_step_quiet qu
   for (size_t c = 0; c < 3 * (size_t)n && at_rest; ++c) at_rest = p->u[c] == 0.0;
   double energy_in = peri_kinetic_energy(s) + (at_rest ? 0.0 : peri_strain_energy(s));
   const long first_step = s->state.step;
-  long broken = 0;
   bool on_host = true; /* the host's copy is the device's state */
   for (long step = s->state.step; status == PERI_OK && step < s->solver.steps; ++step) {
     s->state.time += dt;
@@ -195,18 +199,17 @@ int peri_solve_explicit_gpu(peri_sim *s, peri_step_hook hook, peri_step_quiet qu
     if (time_loads) {
       external_loads(s, s->state.time);
       if (peri_gpu_set_loads(g, p->b) != 0) {
-        status = PERI_ERR_RUN;
+        status = device_failed(g);
         break;
       }
     }
     indenter_centre(s, s->state.time, centre);
     peri_gpu_step_sums sums;
     if (peri_gpu_step(g, held, centre, &sums) != 0) {
-      status = PERI_ERR_RUN;
+      status = device_failed(g);
       break;
     }
     on_host = false;
-    broken += sums.broken;
     for (int d = 0; d < 3; ++d) s->cond.indenter.force[d] = sums.indenter_force[d];
     s->state.external_work += sums.work;
     energy_in += fabs(sums.work);
@@ -241,7 +244,6 @@ int peri_solve_explicit_gpu(peri_sim *s, peri_step_hook hook, peri_step_quiet qu
   double bytes, per_bond;
   peri_gpu_memory(g, &bytes, &per_bond);
   s->par.gpu_seconds = seconds, s->par.gpu_steps = steps, s->par.gpu_bytes = bytes, s->par.gpu_bytes_per_bond = per_bond;
-  s->par.gpu_broken = broken;
   peri_gpu_free(g);
   free(held);
   free(mask);
