@@ -545,8 +545,10 @@ static int create(peri_gpu *g, const peri_gpu_problem *q) {
   g->bytes -= sizeof(int32_t) * (double)(nb > 0 ? nb : 1);
   rc = upload(g, nbr_csr, q->neighbor, sizeof(int32_t) * (size_t)nb, "the families");
   if (!rc) rc = upload(g, g->broken_csr, q->broken, (size_t)nb, "the broken flags");
-  if (!rc) {
-    CHECK(g, dev_zero(d.brk, (size_t)(width * n > 0 ? width * n : 1)), "the broken flags");
+  /* (the temporary array is freed on every path: a failure below only sets rc) */
+  dev_status st = dev_ok;
+  if (!rc) st = dev_zero(d.brk, (size_t)(width * n > 0 ? width * n : 1));
+  if (!rc && st == dev_ok) {
     const int64_t *offset = g->offset;
     const uint8_t *broken_csr = g->broken_csr;
     int32_t *nbr = (int32_t *)d.nbr;
@@ -558,9 +560,10 @@ static int create(peri_gpu *g, const peri_gpu_problem *q) {
         brk[a * n + i] = broken_csr[k];
       }
     });
-    CHECK(g, dev_launched(), "the families' layout");
-    CHECK(g, dev_sync(), "the families' layout");
+    st = dev_launched();
+    if (st == dev_ok) st = dev_sync();
   }
+  if (!rc && st != dev_ok) rc = fail(g, "the families' layout on the device: %s", dev_message(st));
   dev_free(nbr_csr);
   if (rc) return rc;
   CHECK(g, dev_zero(d.sums, sizeof(double) * REDUCED * N), "the step's sums");
