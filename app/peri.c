@@ -387,6 +387,7 @@ static int command(int argc, char **argv) {
       sim.par.device = device;
       snprintf(sim.par.device_name, sizeof sim.par.device_name, "%s", device_name);
       if (!strcmp(command, "check")) {
+        peri_gpu_settle(&sim); /* (run does it in peri_run_prepare) */
         peri_print_summary(&sim, stdout);
         peri_print_threads(&sim, stdout);
       }

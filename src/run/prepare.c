@@ -17,12 +17,7 @@ int peri_run_prepare(peri_sim *s, const char *restart) {
   if (restart) rc = peri_restart_load(s, restart); /* checked before any output (docs/restart.md) */
   if (rc == PERI_OK && restart) rc = peri_restart_check_history(s); /* the same history.csv columns */
   if (rc == PERI_OK) rc = peri_solver_check_ranks(s, peri_comm_size()); /* MPI ranks */
-  char why[200];
-  if (rc == PERI_OK && s->par.device == PERI_DEVICE_GPU && !peri_gpu_runs(s, why, sizeof why)) {
-    /* (the GPU itself was checked with the command line, docs/gpu.md) */
-    peri_warning("--device gpu: %s; this run takes the CPU", why);
-    s->par.device = PERI_DEVICE_CPU;
-  }
+  if (rc == PERI_OK) peri_gpu_settle(s); /* --device gpu on a deck the GPU does not take (docs/gpu.md) */
   if (rc == PERI_OK && !s->out.quiet) {
     peri_print_summary(s, stdout);
     peri_print_threads(s, stdout);

@@ -46,6 +46,14 @@ bool peri_gpu_runs(const peri_sim *s, char *why, size_t size) {
 
 bool peri_gpu_device(char *name, size_t size) { return peri_gpu_probe(name, size); }
 
+void peri_gpu_settle(peri_sim *s) {
+  char why[200];
+  if (s->par.device != PERI_DEVICE_GPU || peri_gpu_runs(s, why, sizeof why)) return;
+  /* (the GPU itself was checked with the command line) */
+  peri_warning("--device gpu: %s; this run takes the CPU", why);
+  s->par.device = PERI_DEVICE_CPU;
+}
+
 /* The indenter's centre at time t (contributions/indenter.c). */
 static void indenter_centre(const peri_sim *s, double t, double c[3]) {
   for (int d = 0; d < 3; ++d)
