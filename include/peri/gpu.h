@@ -14,6 +14,9 @@ bool peri_gpu_runs(const peri_sim *s, char *why, size_t size);
 /* A run asked for the GPU (s->par.device) that the GPU path does not take goes to the CPU,
  * with a warning that says why. */
 void peri_gpu_settle(peri_sim *s);
+/* The bytes the GPU path will take on the device for this sim, and their peak during the
+ * set-up (the summary's device line). */
+void peri_gpu_memory_estimate(const peri_sim *s, double *bytes, double *peak);
 /* Whether this build has CUDA and a GPU is present: the GPU's name, or why not, into name. */
 bool peri_gpu_device(char *name, size_t size);
 /* peri_solve_explicit_hooked on the GPU, for a deck peri_gpu_runs takes. */

@@ -62,6 +62,16 @@ typedef struct peri_gpu_step_sums {
   long broken;
 } peri_gpu_step_sums;
 
+/* The bytes peri_gpu_create allocates on the device for n nodes, n_bonds directed bonds and
+ * families of at most `width` bonds (explicit_kernels.cu create: per node 36 doubles, 39 with
+ * LPS, and 18 bytes of indices and flags; 5 bytes per slot of the families' ELL layout, width
+ * slots a node; 1 per bond for the flags in CSR order), and the peak during the set-up, when
+ * the CSR neighbours (4 bytes per bond) are on the device too. */
+static inline void peri_gpu_bytes(int64_t n, int64_t n_bonds, int64_t width, bool lps, double *bytes, double *peak) {
+  *bytes = (double)n * ((lps ? 39.0 : 36.0) * 8.0 + 18.0) + 5.0 * (double)width * (double)n + (double)n_bonds;
+  *peak = *bytes + 4.0 * (double)n_bonds;
+}
+
 /* Whether a GPU is present: its name (and the runtime's version) into name, or why not. */
 bool peri_gpu_probe(char *name, size_t size);
 /* Copies the problem to the device; NULL with the reason in err when it does not fit or

@@ -165,7 +165,10 @@ void peri_print_threads(const peri_sim *s, FILE *out) {
   const int threads = omp_get_max_threads();
   fprintf(out, "  threads      %d OpenMP thread%s per process, %s\n", threads, threads == 1 ? "" : "s",
           s->par.omp_wait);
-  if (s->par.device == PERI_DEVICE_GPU) /* docs/gpu.md */
-    fprintf(out, "  device       GPU: %s; the explicit steps run there, the set-up and output on the CPU\n",
-            s->par.device_name);
+  if (s->par.device == PERI_DEVICE_GPU) { /* docs/gpu.md */
+    double bytes, peak;
+    peri_gpu_memory_estimate(s, &bytes, &peak);
+    fprintf(out, "  device       GPU: %s; the explicit steps run there (%.3g GB on the device, %.3g GB while the "
+            "families are laid out), the set-up and output on the CPU\n", s->par.device_name, bytes / 1e9, peak / 1e9);
+  }
 }

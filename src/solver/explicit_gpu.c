@@ -46,6 +46,12 @@ bool peri_gpu_runs(const peri_sim *s, char *why, size_t size) {
 
 bool peri_gpu_device(char *name, size_t size) { return peri_gpu_probe(name, size); }
 
+void peri_gpu_memory_estimate(const peri_sim *s, double *bytes, double *peak) {
+  const int32_t n = s->disc.p.n_owned;
+  peri_gpu_bytes(n, s->disc.bonds.offset[n], peri_bonds_longest_family(&s->disc.bonds, n), is_model(s, "lps"), bytes,
+                 peak);
+}
+
 void peri_gpu_settle(peri_sim *s) {
   char why[200];
   if (s->par.device != PERI_DEVICE_GPU || peri_gpu_runs(s, why, sizeof why)) return;

@@ -26,7 +26,12 @@ run_peri run "$deck" --device gpu --output "$TMP/gpu" "${short[@]}"
 if [[ "$RUN_STATUS" == 0 ]]; then # a build with the GPU back end on a machine with a GPU
   expect_stdout_matches "^  device       GPU: "
   expect_stdout_matches "^  gpu          [0-9]+ steps in "
-  pass "--device gpu: the run took the GPU"
+  # the device line's estimate of the device's memory is what the run allocated, within 1%
+  estimate=$(sed -n 's/^  device .*run there (\([0-9.e+-]*\) GB on the device.*/\1/p' "$RUN_STDOUT")
+  allocated=$(sed -n 's/^  gpu .*; \([0-9.e+-]*\) GB on the device.*/\1/p' "$RUN_STDOUT")
+  awk -v e="$estimate" -v a="$allocated" 'BEGIN { d = e - a; if (d < 0) d = -d; exit !(a > 0 && d <= 0.01 * a) }' ||
+    fail "device memory: estimated '$estimate' GB, allocated '$allocated' GB"
+  pass "--device gpu: the run took the GPU ($allocated GB allocated, $estimate GB estimated)"
 else
   expect_status 2
   expect_stderr_matches "^peri: error: option --device gpu: "
