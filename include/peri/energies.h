@@ -7,6 +7,8 @@
 /* Global quantities. */
 double peri_kinetic_energy(const peri_sim *s);
 double peri_strain_energy(peri_sim *s);
+/* The mass sum rho V of every node. */
+double peri_total_mass(const peri_sim *s);
 /* Total linear momentum sum rho V v. */
 void peri_linear_momentum(const peri_sim *s, double out[3]);
 /* Reaction on a region: -sum_i f_i V_i over its nodes (internal force density f). */

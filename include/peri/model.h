@@ -57,6 +57,10 @@ void peri_lps_tangent(const peri_sim *s, peri_tangent_add_fn add, void *ctx);
 /* Frees the bond loops' work items (peri_sim.disc.node_blocks). */
 struct peri_node_blocks;
 void peri_node_blocks_free(struct peri_node_blocks *nb);
+struct peri_geometry;
+/* Coordinate `axis` of a node at x as the bond loops take it: on a lattice its exact
+ * coordinate (peri_exact_coordinate), else x (src/model/node_blocks.c; the GPU's kernels). */
+double peri_bond_coordinate(const struct peri_geometry *g, int axis, double x);
 /* Share of the owned directed bonds that the bond loops run eight nodes at a time, the
  * bytes per directed bond of the blocks' templates and the share of the bonds in blocks that
  * read their offsets from the lattice's table (node_blocks.h); -1 before the first force

@@ -31,5 +31,12 @@ int peri_solve_explicit(peri_sim *s, peri_step_hook hook, void *ctx);
  * also begins the next one (the first half kick and the drift): the same arithmetic in one
  * pass over the nodes instead of two. */
 int peri_solve_explicit_hooked(peri_sim *s, peri_step_hook hook, peri_step_quiet quiet, void *ctx);
+/* The energy an explicit run starts with (kinetic, and strain when displaced), the first term
+ * of the energy put into the body that the runaway check bounds (docs/solvers.md section 10). */
+double peri_explicit_energy_in(peri_sim *s);
+/* The checks after an explicit step (every rank alike): the state finite, and with
+ * check_runaway the kinetic energy within RUNAWAY_FACTOR of energy_in; PERI_OK, or the reason
+ * written and PERI_ERR_RUN. */
+int peri_explicit_check_step(const peri_sim *s, bool finite, double kinetic, double energy_in, bool check_runaway);
 
 #endif

@@ -77,7 +77,7 @@ static dev_status dev_launched(void) { return cudaGetLastError(); }
 #endif
 
 /* The per-step sums reduced on the device, one row of n each (REDUCED of them). */
-enum { SUM_WORK, SUM_KINETIC, SUM_NONFINITE, SUM_INDENTER_X, SUM_INDENTER_Y, SUM_INDENTER_Z, SUM_BROKEN, REDUCED };
+enum { SUM_WORK, SUM_KINETIC, SUM_NONFINITE, SUM_INDENTER_X, SUM_INDENTER_Y, SUM_INDENTER_Z, REDUCED };
 /* Nodes summed by one thread of a reduction level: the CPU's fixed blocks (PERI_SUM_BLOCK,
  * include/peri/decompose.h), so that the first level's sums are the CPU's block sums. */
 #define SUM_GROUP 64
@@ -215,11 +215,10 @@ HD static inline LpsBond lps_measure(const Dev &d, int64_t i, int64_t j, const B
 /* Visits node i's intact bonds in family order: measure(j, bond) (the model's view of it),
  * the breaking test (when `breaking`), then body(j, bond, measure) on the bonds that stay. The
  * LAMMPS form's smallest stretch is taken over the bonds intact before the test, as the CPU's
- * passes take it; the bonds broken go into the step's sums. */
+ * passes take it. */
 template <class Measure, class Body>
 HD static inline void visit_family(const Dev &d, int64_t i, bool breaking, Measure measure, Body body) {
   double smin = INFINITY;
-  long broken = 0;
   const int64_t cnt = d.count[i];
   for (int64_t a = 0; a < cnt; ++a) {
     const int64_t e = a * d.n + i;
@@ -228,14 +227,10 @@ HD static inline void visit_family(const Dev &d, int64_t i, bool breaking, Measu
     const Bond b = bond_of(d, i, j);
     const auto m = measure(j, b);
     if (d.lammps_s0 && m.stretch() < smin) smin = m.stretch();
-    if (breaking && breaks_now(d, e, i, j, b)) {
-      ++broken;
-      continue;
-    }
+    if (breaking && breaks_now(d, e, i, j, b)) continue;
     body(j, b, m);
   }
   if (d.lammps_s0) d.smin[i] = smin;
-  d.sums[SUM_BROKEN * d.n + i] += (double)broken;
 }
 
 /* PMB, node i: breaks its bonds beyond their critical stretch (when `breaking`), then sums
@@ -385,8 +380,11 @@ static int reduce_rows(peri_gpu *g, double out[REDUCED]) {
     src = dst, src_stride = groups, m = groups, which ^= 1;
   } while (m > 1);
   CHECK(g, dev_launched(), "a reduction kernel");
-  for (int r = 0; r < REDUCED; ++r)
-    CHECK(g, d.n > 0 ? dev_from(&out[r], src + r * src_stride, sizeof(double)) : (out[r] = 0.0, dev_ok), "the step's sums");
+  /* (the last level has one group: the rows' sums lie side by side) */
+  if (d.n == 0)
+    for (int r = 0; r < REDUCED; ++r) out[r] = 0.0;
+  else
+    CHECK(g, dev_from(out, src, sizeof(double) * REDUCED), "the step's sums");
   return 0;
 }
 
@@ -604,16 +602,9 @@ extern "C" int peri_gpu_set_loads(peri_gpu *g, const double *b_ext) {
   return upload3(g, g->d.e0, g->d.e1, g->d.e2, b_ext, "the loads");
 }
 
-/* Clears the sums' rows that the passes add to. */
-static void clear_broken_row(peri_gpu *g) {
-  const Dev d = g->d;
-  each(d.n, [=] HD(int64_t i) { d.sums[SUM_BROKEN * d.n + i] = 0.0; });
-}
-
-extern "C" long peri_gpu_start(peri_gpu *g, const double centre[3], bool force, bool step_load) {
+extern "C" int peri_gpu_start(peri_gpu *g, const double centre[3], bool force, bool step_load) {
   const Dev d = g->d;
   for (int k = 0; k < 3; ++k) g->centre[k] = centre ? centre[k] : 0.0;
-  clear_broken_row(g);
   loads(g);
   if (force) internal_force(g);
   /* the step load of the present state (explicit.c external_load): b on free components, the
@@ -627,9 +618,9 @@ extern "C" long peri_gpu_start(peri_gpu *g, const double centre[3], bool force, 
         *(comp(d.l0, d.l1, d.l2, k) + i) = d.held_mask[i] & (1u << k) ? rho * (v - v) / d.dt - f : b;
       }
     });
-  double out[REDUCED];
-  if (reduce_rows(g, out) != 0) return -1;
-  return (long)out[SUM_BROKEN];
+  CHECK(g, dev_launched(), "the first force");
+  CHECK(g, dev_sync(), "the first force");
+  return 0;
 }
 
 extern "C" int peri_gpu_step(peri_gpu *g, const double *held, const double centre[3], peri_gpu_step_sums *sums) {
@@ -672,7 +663,6 @@ extern "C" int peri_gpu_step(peri_gpu *g, const double *held, const double centr
     });
   }
   for (int k = 0; k < 3; ++k) g->centre[k] = centre ? centre[k] : 0.0;
-  clear_broken_row(g);
   loads(g);
   internal_force(g);
   /* the second half kick, the step's load and work by the trapezoid rule, the kinetic energy
@@ -719,7 +709,6 @@ extern "C" int peri_gpu_step(peri_gpu *g, const double *held, const double centr
   if (reduce_rows(g, out) != 0) return -1;
   sums->work = out[SUM_WORK], sums->kinetic = out[SUM_KINETIC], sums->nonfinite = out[SUM_NONFINITE];
   for (int k = 0; k < 3; ++k) sums->indenter_force[k] = out[SUM_INDENTER_X + k];
-  sums->broken = (long)out[SUM_BROKEN];
   g->step_seconds += now_seconds() - t0;
   return 0;
 }

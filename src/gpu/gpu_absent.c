@@ -27,7 +27,7 @@ int peri_gpu_set_loads(peri_gpu *g, const double *b_ext) {
   (void)g, (void)b_ext;
   return -1;
 }
-long peri_gpu_start(peri_gpu *g, const double centre[3], bool force, bool step_load) {
+int peri_gpu_start(peri_gpu *g, const double centre[3], bool force, bool step_load) {
   (void)g, (void)centre, (void)force, (void)step_load;
   return -1;
 }

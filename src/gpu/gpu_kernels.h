@@ -56,10 +56,9 @@ typedef struct peri_gpu_problem {
 typedef struct peri_gpu peri_gpu;
 
 /* What a step returns: the external work of the step, the kinetic energy of the half-step
- * velocities, the components that are not finite, the indenter's force, the bonds broken. */
+ * velocities, the components that are not finite, the indenter's force. */
 typedef struct peri_gpu_step_sums {
   double work, kinetic, nonfinite, indenter_force[3];
-  long broken;
 } peri_gpu_step_sums;
 
 /* The bytes peri_gpu_create allocates on the device for n nodes, n_bonds directed bonds and
@@ -87,8 +86,8 @@ int peri_gpu_set_loads(peri_gpu *g, const double *b_ext);
 /* The start of a run: the loads b at the indenter's centre, the internal force of the present
  * state with breaking as the solver breaks (`force`; else the uploaded one stands) and the
  * step load of it (`step_load`, explicit.c external_load; else the uploaded one stands).
- * Returns the bonds broken, or -1. */
-long peri_gpu_start(peri_gpu *g, const double centre[3], bool force, bool step_load);
+ * 0, or -1 when the device fails. */
+int peri_gpu_start(peri_gpu *g, const double centre[3], bool force, bool step_load);
 /* One velocity-Verlet step (src/solver/explicit.c): half kick and drift of the free
  * components, the prescribed components' new values (held: [held_count][6], u then v),
  * the loads at the indenter's centre, the force, the second half kick, the work and the

@@ -211,6 +211,10 @@ void peri_node_blocks_clear_broken(peri_node_blocks *nb, const peri_bonds *b, in
   clear_broken_lanes(nb, b, item, i);
 }
 
+double peri_bond_coordinate(const peri_geometry *g, int axis, double x) {
+  return g->lattice ? peri_exact_coordinate(&g->lattice_axis[axis], x) : x;
+}
+
 /* Lane masks from the structure and the broken flags. */
 static void sync_broken(peri_node_blocks *nb, const peri_bonds *b) {
   memcpy(nb->tpl_lanes, nb->tpl_bonds, (size_t)nb->tpl_entries);
@@ -412,8 +416,7 @@ peri_node_blocks *peri_node_blocks_refresh(peri_sim *s) {
     const peri_geometry *geom = &s->disc.geom;
     for (size_t i = 0; i < n; ++i)
       for (int c = 0; c < 3; ++c)
-        nb->soa[c * n + i] = geom->lattice ? peri_exact_coordinate(&geom->lattice_axis[c], p->x[3 * i + (size_t)c])
-                                           : p->x[3 * i + (size_t)c];
+        nb->soa[c * n + i] = peri_bond_coordinate(geom, c, p->x[3 * i + (size_t)c]);
     build_geometry(nb);
     sync_broken(nb, &s->disc.bonds);
   }

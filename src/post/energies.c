@@ -25,6 +25,15 @@ double peri_kinetic_energy(const peri_sim *s) {
   return sum;
 }
 
+double peri_total_mass(const peri_sim *s) {
+  const peri_particles *p = &s->disc.p;
+  double *terms = node_terms(s, 1), sum = 0.0;
+  for (int32_t i = 0; i < p->n_owned; ++i) terms[i] = s->mat.materials[p->material[i]].density * p->volume[i];
+  peri_sum_owned(s, terms, 1, &sum);
+  free(terms);
+  return sum;
+}
+
 void peri_linear_momentum(const peri_sim *s, double out[3]) {
   const peri_particles *p = &s->disc.p;
   double *terms = node_terms(s, 3);

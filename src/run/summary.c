@@ -9,6 +9,7 @@
 #include "peri/contact.h"
 #include "peri/short_range.h"
 #include "peri/damage.h"
+#include "peri/energies.h"
 #include "peri/gpu.h"
 #include "peri/model.h"
 #include "peri/quasistatic.h"
@@ -83,9 +84,8 @@ void peri_print_discretization(const peri_sim *s, FILE *out, const char *model, 
   fprintf(out, "peri %s: %s\n", PERI_VERSION, s->deck_path);
   fprintf(out, "  model        %s, %dD%s\n", model, s->disc.geom.dim, s->solver.kind == PERI_SOLVER_HEAT ? "" : model_plane(s));
   fprintf(out, "  nodes        %d\n", s->disc.p.n);
-  double mass = 0.0; /* (the GPU tests take the scale of the momentum from it, tests/gpu) */
-  for (int32_t i = 0; i < s->disc.p.n; ++i) mass += s->mat.materials[s->disc.p.material[i]].density * s->disc.p.volume[i];
-  fprintf(out, "  mass         %.6g kg\n", mass);
+  /* (the GPU tests take the scale of the momentum from it, tests/gpu) */
+  fprintf(out, "  mass         %.6g kg\n", peri_total_mass(s));
   if (s->coupling) { /* PD-FEM coupling (docs/coupling.md) */
     static const char *const element[] = {"", "bar", "Q4", "Hex8"};
     fprintf(out, "  coupling     %d PD nodes, %d FEM nodes, %d %s elements%s\n", (int)s->coupling->n_pd,

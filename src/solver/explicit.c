@@ -36,6 +36,26 @@ static double initial_strain_energy(peri_sim *s) {
   return peri_comm_all(at_rest) ? 0.0 : peri_strain_energy(s);
 }
 
+double peri_explicit_energy_in(peri_sim *s) { return peri_kinetic_energy(s) + initial_strain_energy(s); }
+
+int peri_explicit_check_step(const peri_sim *s, bool finite, double kinetic, double energy_in, bool check_runaway) {
+  /* NaN fails the comparison; the bound catches a blow-up before energies overflow */
+  if (!finite || !isfinite(s->state.external_work)) {
+    peri_error("the solution diverged at step %ld (t = %g): displacement or velocity is not "
+               "finite; reduce the time step or check the loads", s->state.step, s->state.time);
+    return PERI_ERR_RUN;
+  }
+  if (check_runaway && kinetic > RUNAWAY_FACTOR * energy_in) {
+    peri_error("the solution diverged at step %ld (t = %g): the kinetic energy %.3g J exceeds %g times "
+               "the energy put into the body (%.3g J: the initial energy and the work of the loads); "
+               "the time step %g s is too large for stability: reduce solver.time_step or "
+               "solver.safety_factor", s->state.step, s->state.time, kinetic, RUNAWAY_FACTOR, energy_in,
+               s->solver.dt);
+    return PERI_ERR_RUN;
+  }
+  return PERI_OK;
+}
+
 /* External force density on each component: applied loads on free components, and on
  * prescribed ones the reaction rho a - f that enforces the motion. */
 static void external_load(const peri_sim *s, const double *v_old, double dt, double *load) {
@@ -161,7 +181,7 @@ int peri_solve_explicit_hooked(peri_sim *s, peri_step_hook hook, peri_step_quiet
   s->state.forces_current = false;
   /* the energy put into the body so far: the initial energy, then the steps' |work| */
   const bool check_runaway = !s->thermal;
-  double energy_in = check_runaway ? peri_kinetic_energy(s) + initial_strain_energy(s) : 0.0;
+  double energy_in = check_runaway ? peri_explicit_energy_in(s) : 0.0;
   /* accelerations at t = 0 live in f + b */
   int status = PERI_OK;
   bool begun = false; /* whether the previous step's last pass began this step */
@@ -238,18 +258,7 @@ int peri_solve_explicit_hooked(peri_sim *s, peri_step_hook hook, peri_step_quiet
     s->state.external_work += step_total;
     energy_in += fabs(step_total);
     finite = peri_comm_all(finite); /* every rank stops together */
-    /* NaN fails the comparison; the bound catches a blow-up before energies overflow */
-    if (!finite || !isfinite(s->state.external_work)) {
-      peri_error("the solution diverged at step %ld (t = %g): displacement or velocity is not "
-                 "finite; reduce the time step or check the loads", s->state.step, s->state.time);
-      status = PERI_ERR_RUN;
-    } else if (check_runaway && kinetic > RUNAWAY_FACTOR * energy_in) {
-      peri_error("the solution diverged at step %ld (t = %g): the kinetic energy %.3g J exceeds %g times "
-                 "the energy put into the body (%.3g J: the initial energy and the work of the loads); "
-                 "the time step %g s is too large for stability: reduce solver.time_step or "
-                 "solver.safety_factor", s->state.step, s->state.time, kinetic, RUNAWAY_FACTOR, energy_in, dt);
-      status = PERI_ERR_RUN;
-    }
+    status = peri_explicit_check_step(s, finite, kinetic, energy_in, check_runaway);
     if (status != PERI_OK) break;
     begun = begin_next;
     if (hook && hook(s, ctx)) break;

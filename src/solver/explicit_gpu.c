@@ -9,15 +9,11 @@
 #include <string.h>
 #include "peri/comm.h"
 #include "peri/contribution.h"
-#include "peri/discretize.h"
-#include "peri/energies.h"
+#include "peri/model.h"
 #include "peri/error.h"
 #include "peri/gpu.h"
 #include "peri/solver.h"
 #include "gpu/gpu_kernels.h"
-
-/* Explicit.c's runaway bound (docs/solvers.md section 10). */
-#define RUNAWAY_FACTOR 1000.0
 
 static bool is_model(const peri_sim *s, const char *name) { return !strcmp(s->mat.model->name, name); }
 
@@ -98,7 +94,7 @@ static void problem_of(const peri_sim *s, peri_gpu_problem *q, uint8_t **owned_m
   const peri_geometry *geom = &s->disc.geom;
   double *x = peri_malloc(sizeof(double) * 3 * (size_t)(n > 0 ? n : 1));
   for (size_t c = 0; c < 3 * (size_t)n; ++c)
-    x[c] = geom->lattice ? peri_exact_coordinate(&geom->lattice_axis[c % 3], p->x[c]) : p->x[c];
+    x[c] = peri_bond_coordinate(geom, (int)(c % 3), p->x[c]);
   *owned_x = x;
   q->x = x, q->x_given = p->x, q->volume = p->volume, q->offset = b->offset, q->neighbor = b->neighbor, q->broken = b->broken;
   q->material = p->material, q->wvol = p->wvol;
@@ -192,11 +188,8 @@ int peri_solve_explicit_gpu(peri_sim *s, peri_step_hook hook, peri_step_quiet qu
   if (status == PERI_OK && peri_gpu_start(g, centre, s->state.step == 0, s->state.step == 0) < 0)
     status = device_failed(g);
   s->state.forces_current = false;
-  const bool check_runaway = true; /* (no heat source runs on the GPU) */
-  /* the energy put into the body so far (explicit.c): a body at rest holds no strain energy */
-  bool at_rest = true;
-  for (size_t c = 0; c < 3 * (size_t)n && at_rest; ++c) at_rest = p->u[c] == 0.0;
-  double energy_in = peri_kinetic_energy(s) + (at_rest ? 0.0 : peri_strain_energy(s));
+  /* the energy put into the body so far (explicit.c; no heat source runs on the GPU) */
+  double energy_in = peri_explicit_energy_in(s);
   const long first_step = s->state.step;
   bool on_host = true; /* the host's copy is the device's state */
   for (long step = s->state.step; status == PERI_OK && step < s->solver.steps; ++step) {
@@ -227,17 +220,7 @@ int peri_solve_explicit_gpu(peri_sim *s, peri_step_hook hook, peri_step_quiet qu
     for (int d = 0; d < 3; ++d) s->cond.indenter.force[d] = sums.indenter_force[d];
     s->state.external_work += sums.work;
     energy_in += fabs(sums.work);
-    if (sums.nonfinite > 0 || !isfinite(s->state.external_work)) {
-      peri_error("the solution diverged at step %ld (t = %g): displacement or velocity is not "
-                 "finite; reduce the time step or check the loads", s->state.step, s->state.time);
-      status = PERI_ERR_RUN;
-    } else if (check_runaway && sums.kinetic > RUNAWAY_FACTOR * energy_in) {
-      peri_error("the solution diverged at step %ld (t = %g): the kinetic energy %.3g J exceeds %g times "
-                 "the energy put into the body (%.3g J: the initial energy and the work of the loads); "
-                 "the time step %g s is too large for stability: reduce solver.time_step or "
-                 "solver.safety_factor", s->state.step, s->state.time, sums.kinetic, RUNAWAY_FACTOR, energy_in, dt);
-      status = PERI_ERR_RUN;
-    }
+    status = peri_explicit_check_step(s, sums.nonfinite == 0.0, sums.kinetic, energy_in, true);
     if (status != PERI_OK) break;
     if (hook) {
       /* the output after this step reads the state: copy it back first */

@@ -12,9 +12,6 @@
 #include "peri/setup.h"
 #include "peri/shape.h"
 
-/* Grid nodes the fill shapes of a deck ask for, from their bounding boxes (an upper bound
- * of the grid generator's count); 0 when the deck does not say (the set-up then reports
- * the problem itself). Bonds: nodes times the lattice points within a horizon. */
 /* The largest |horizon| of an expression over the box lo..hi, sampled at 17 points a side
  * (a bound for the size estimate, not the set-up's check); 0 when it does not parse. */
 static inline double horizon_expression_bound(const char *text, int dim, const double lo[3], const double hi[3]) {
@@ -36,6 +33,9 @@ static inline double horizon_expression_bound(const char *text, int dim, const d
   return largest;
 }
 
+/* Grid nodes the fill shapes of a deck ask for, from their bounding boxes (an upper bound
+ * of the grid generator's count); 0 when the deck does not say (the set-up then reports
+ * the problem itself). Bonds: nodes times the lattice points within a horizon. */
 static inline void estimate_size(const char *text, double *nodes, double *bonds) {
   *nodes = 0.0;
   *bonds = 0.0;
