@@ -33,9 +33,12 @@ typedef struct peri_body_sums {
   double mass, momentum[3], kinetic_energy, damaged_mass, detached_mass, penetration;
 } peri_body_sums;
 
-/* out[b] for every body b, each summed over its nodes in node order (the same on any
- * thread count). */
+/* out[b] for every body b, each summed over its nodes in the fixed blocks of the global node
+ * order (the same on any thread and rank count); every rank must call it. */
 void peri_body_sums_now(const struct peri_sim *s, peri_body_sums *out);
+/* After the decomposition over MPI ranks: each node's body label for the rank's owned nodes and
+ * ghosts (a no-op in one process or without bodies). */
+void peri_bodies_localize(struct peri_sim *s);
 void peri_bodies_free(peri_bodies *b);
 
 #endif

@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include "peri/bodies.h"
-#include "peri/comm.h"
 #include "peri/error.h"
 #include "setup_parts.h"
 
@@ -113,10 +112,8 @@ int peri_setup_bodies(peri_sim *s, const peri_node *root) {
   if (list->kind != PERI_NODE_SEQUENCE || list->count < 1)
     return peri_deck_error(list, "key 'bodies': expected a list of region names, got %s",
                            peri_deck_kind_name(list));
-  /* a region holds only the owned nodes of a rank, so a ghost's body is unknown there */
-  if (peri_comm_size() > 1)
-    return peri_deck_error(list, "key 'bodies': runs in one process (threads), not on %d MPI ranks; "
-                                 "run without mpirun", peri_comm_size());
+  /* (every rank builds the labels of all nodes here, before the decomposition; each keeps its
+   * own nodes' and its ghosts' after it: peri_bodies_localize) */
   const peri_node *regions = peri_deck_get(root, "regions");
   const peri_particles *p = &s->disc.p;
   int32_t *label = peri_malloc(sizeof(int32_t) * (size_t)(p->n > 0 ? p->n : 1));

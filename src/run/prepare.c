@@ -2,6 +2,7 @@
  * (app/peri.c) and the C API (src/api/api.c): the checkpoint to continue from, the check of
  * the number of MPI ranks, the summary, and the decomposition over the ranks. */
 #include <stdio.h>
+#include "peri/bodies.h"
 #include "peri/checkpoint.h"
 #include "peri/comm.h"
 #include "peri/coupling.h"
@@ -29,6 +30,7 @@ int peri_run_prepare(peri_sim *s, const char *restart) {
     if (s->coupling && peri_comm_size() > 1) peri_coupling_set_reach(s);
     rc = peri_decompose(s); /* MPI ranks (docs/parallel.md); nothing in one process */
     if (rc == PERI_OK) rc = peri_coupling_localize(s);
+    if (rc == PERI_OK) peri_bodies_localize(s); /* the bodies' labels of the rank's nodes */
     if (rc == PERI_OK && !s->out.quiet) peri_print_decomposition(s, stdout);
   }
   return rc;
