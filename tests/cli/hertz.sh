@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Hertz contact (docs/contact.md "Hertz contact", issue 19): examples/hertz_contact.yaml at a
+# Hertz contact (docs/contact.md "Hertz contact"): examples/hertz_contact.yaml at a
 # coarse size, a rigid sphere R = 12.5 mm pressed 0.6 mm into an LPS block (E = 1 GPa,
 # nu = 0.25, m = 3, position-aware surface correction; 15 x 15 x 8 nodes) in six load steps
 # under nlcg. Hertz (Johnson, Contact Mechanics, §4.2): F = (4/3) E* sqrt(R) d^(3/2), E* =
@@ -9,8 +9,8 @@
 # outside the contact (Johnson eq. 3.42b): u(r) = d/pi [(2 - r^2/a^2) asin(a/r) + sqrt(r^2/a^2 - 1)],
 # a = sqrt(R d), i.e. m = d (1 - u(r0)/d), solved for d by bisection.
 #  - every row whose contact radius spans at least 2 spacings (a >= 2 dx, the rows where the
-#    contact holds a few rings of nodes) has F within 10% of Hertz at its d (the issue's
-#    bound);
+#    contact holds a few rings of nodes) has F within 10% of Hertz at its d (the
+#    target's bound);
 #  - the least-squares exponent of F against d over those rows is 3/2 within 0.1: a tenth of
 #    the way to a cone's 2 or a flat punch's 1.
 # Usage: bash tests/cli/hertz.sh PATH_TO_PERI   (from the repository root)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Rigid tools (docs/contact.md "Rigid tools", issue 19):
+# Rigid tools (docs/contact.md "Rigid tools"):
 #  - Coulomb friction: a plane pressed into a block and slid at 10 m/s with mu = 0.3. Every
 #    node under it slides, each with |f_t| = mu f_n, so F_t / P = mu when the sliding
 #    directions agree and never more (the triangle inequality); the nodes' own sideways

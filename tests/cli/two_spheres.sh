@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Two identical elastic spheres in a head-on collision (docs/contact.md "Bodies", issue 19):
+# Two identical elastic spheres in a head-on collision (docs/contact.md "Bodies"):
 # two bodies of 280 nodes at +-5 m/s, meeting through the short-range forces only.
 #  - momentum: the pair's forces are opposite, so the total momentum stays 0 to round-off
 #    (|sum| <= 1e-12 m v at every row, from the body sums and from momentum_x);

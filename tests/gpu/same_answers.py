@@ -40,7 +40,7 @@ import sys
 import tempfile
 import time
 
-TOLERANCE = 1e-12  # relative to the column's scale (the figure for the histories)
+TOLERANCE = 1e-12  # relative to the column's scale (the target for the histories)
 
 # name, deck (from the repository root), settings
 CASES = [

@@ -14,7 +14,7 @@
  *    bond is a PD node (brute force over all pairs), the PD zone grew from the notch patch, and
  *    most nodes are still FEM nodes;
  *  - the reaction-displacement curve of both coupled runs agrees with the all-PD one within 5%
- *    (the issue's bound) at every load step up to the coupled peak, crack initiation included;
+ *    (the target's bound) at every load step up to the coupled peak, crack initiation included;
  *  - the all-PD model is in balance (e_r at round-off) and the coupled ones are not (e_r > 1e-6:
  *    a beam in bending has a cubic displacement across the interface, eq. 2.70);
  *  - scheme 2 on a graded FEM mesh (coupling.graded_mesh: lattice cells in a band 8 m wide

@@ -121,7 +121,7 @@ static double plate_column(const char *correction) {
 }
 
 /* The corrected column is closer to uniform than the plain one at every depth's worst; the
- * 2% of the issue is not reached (docs/verification.md: the collapsed stress of the second
+ * 2% target is not reached (docs/verification.md: the collapsed stress of the second
  * row counts the corrected bonds of the surface row). */
 Test(surface_correction, plate_column_closer_to_uniform, .timeout = 600) {
   const double plain = plate_column("none");
