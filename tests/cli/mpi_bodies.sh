@@ -9,7 +9,8 @@
 #    the per-body masses are 280 nodes x rho dx^3 each on every rank count, the per-body
 #    momenta opposite, and the bodies meet through the short-range forces across ranks;
 #  - a projectile thrown at a plate with its penetration column (tests/cli/impact_penetration.sh);
-#  - two bars bonded as bodies with an interface critical stretch (tests/cli/bodies.sh).
+#  - two bars bonded as bodies with an interface critical stretch (tests/cli/bodies.sh);
+#  - the spheres restarted on 3 ranks from a checkpoint written on 2 (with HDF5).
 # Skipped when peri was built without MPI.
 # Usage: bash tests/cli/mpi_bodies.sh PATH_TO_PERI   (from the repository root)
 set -u
@@ -44,3 +45,20 @@ pass "projectile and plate: 1, 2 and 3 ranks give the same history, the penetrat
 
 mpi_same_on_ranks bonded tests/cli/decks/bonded_bodies_bar.yaml
 pass "two bars bonded as bodies with an interface: 1, 2 and 3 ranks give the same history and broken bonds"
+
+# a checkpoint of the spheres written on 2 ranks at step 100 (before they meet) and restarted
+# on 3 continues to the history of the run that was never interrupted (the bodies' labels come
+# from the deck, the rest from the checkpoint); needs HDF5, so it comes last
+skip_without_checkpoints
+every=(--set output.checkpoint_every=100 --set 'output.checkpoint_file=ck_{step}.h5')
+run_peri_mpi 2 run tests/cli/decks/two_spheres_collision.yaml --output "$TMP/ck-full" "${every[@]}"
+expect_status 0
+mkdir -p "$TMP/ck-part"
+cp "$TMP/ck-full/ck_000100.h5" "$TMP/ck-full/history.csv" "$TMP/ck-part/"
+run_peri_mpi 3 run tests/cli/decks/two_spheres_collision.yaml --output "$TMP/ck-part" "${every[@]}" \
+  --restart "$TMP/ck-part/ck_000100.h5"
+expect_status 0
+expect_stdout_contains "restart      from $TMP/ck-part/ck_000100.h5 at step 100"
+diff_report=$(compare_histories "$TMP/ck-full/history.csv" "$TMP/ck-part/history.csv" "$MPI_TOL") ||
+  fail "spheres: the checkpoint of 2 ranks restarted on 3 differs from the run without interruption: $diff_report"
+pass "spheres: a checkpoint of 2 ranks restarted on 3 gives the uninterrupted history, per-body sums included"
