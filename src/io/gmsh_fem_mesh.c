@@ -173,7 +173,7 @@ int peri_fem_mesh_file_read(const char *path, int dim, peri_fem_mesh_file *f) {
   }
   fclose(probe);
   fem_reading r = {path, dim, f};
-  return peri_gmsh_guarded(path, read_file, &r);
+  return peri_gmsh_guarded(path, dim, read_file, &r);
 }
 
 #endif

@@ -51,6 +51,7 @@ FORWARD(gmshInitialize, (int argc, char **argv, const int readConfigFiles, int *
         (argc, argv, readConfigFiles, ierr))
 FORWARD(gmshFinalize, (int *ierr), (ierr))
 FORWARD(gmshOpen, (const char *fileName, int *ierr), (fileName, ierr))
+FORWARD(gmshWrite, (const char *fileName, int *ierr), (fileName, ierr))
 FORWARD(gmshOptionSetNumber, (const char *name, const double value, int *ierr), (name, value, ierr))
 FORWARD(gmshLoggerStart, (int *ierr), (ierr))
 FORWARD(gmshLoggerGetLastError, (char **error, int *ierr), (error, ierr))

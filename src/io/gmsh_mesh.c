@@ -242,7 +242,7 @@ static int read_file(void *context) {
 int peri_mesh_read_gmsh(peri_mesh *m, const char *path, int dim, double thickness, double cross_section) {
   mesh_reading r = {m, path, dim, dim == 2 ? thickness : dim == 1 ? cross_section : 1.0};
   peri_mesh_init(m, dim); /* (an empty mesh where the guard refuses the file) */
-  return peri_gmsh_guarded(path, read_file, &r);
+  return peri_gmsh_guarded(path, dim, read_file, &r);
 }
 
 #endif

@@ -2,15 +2,69 @@
 #include "gmsh_session.h"
 
 #ifdef PERI_HAVE_GMSH
+#include <errno.h>
 #include <gmshc.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "guarded_read.h"
 #include "peri/error.h"
 
-int peri_gmsh_guarded(const char *path, int (*reader)(void *context), void *context) {
+/* A geometry meshed in a child (peri_gmsh_guarded): its mesh, in the temporary file `mesh`,
+ * is what peri_gmsh_open opens for it afterwards (the set-up reads meshes one at a time, on
+ * one thread). */
+static struct {
+  const char *geometry;
+  char mesh[4096];
+} meshed;
+
+static bool is_geometry(const char *path) {
   const char *dot = strrchr(path, '.');
-  if (dot && strcmp(dot, ".geo") == 0) return reader(context); /* (meshed here: twice would cost twice) */
-  return peri_guarded_read(path, "Gmsh", reader, context);
+  return dot && strcmp(dot, ".geo") == 0;
+}
+
+typedef struct geometry_meshing {
+  const char *path, *mesh;
+  int dim;
+} geometry_meshing;
+
+/* In the child: Gmsh meshes the geometry and writes the mesh, every element and the physical
+ * groups, with the nodes' coordinates in binary (the reading here gets the same numbers). */
+static int mesh_geometry(void *context) {
+  const geometry_meshing *g = context;
+  int rc = peri_gmsh_open(g->path, g->dim), ierr = 0;
+  if (rc != PERI_OK) return rc;
+  gmshOptionSetNumber("Mesh.Binary", 1, &ierr);
+  gmshOptionSetNumber("Mesh.SaveAll", 1, &ierr);
+  gmshWrite(g->mesh, &ierr);
+  if (ierr) rc = peri_gmsh_failed(g->path, "Gmsh could not write the mesh of the geometry");
+  gmshFinalize(&ierr);
+  return rc;
+}
+
+int peri_gmsh_guarded(const char *path, int dim, int (*reader)(void *context), void *context) {
+  if (!is_geometry(path)) return peri_guarded_read(path, "Gmsh", reader, context);
+  /* a geometry: meshed once, in a child (Gmsh 4.8 crashes meshing some geometries), whose mesh
+   * is then read as a .msh file is */
+  const char *dir = getenv("TMPDIR");
+  const int n = snprintf(meshed.mesh, sizeof meshed.mesh, "%s/peri-mesh-XXXXXX.msh", dir && *dir ? dir : "/tmp");
+  const int fd = n > 0 && (size_t)n < sizeof meshed.mesh ? mkstemps(meshed.mesh, 4) : -1;
+  if (fd < 0) {
+    peri_error("%s: no temporary file for its mesh (%s)", path, strerror(errno));
+    return PERI_ERR_INPUT;
+  }
+  close(fd);
+  geometry_meshing g = {path, meshed.mesh, dim};
+  int rc = peri_guarded_run(path, "Gmsh", "meshing", mesh_geometry, &g);
+  if (rc == PERI_OK) {
+    meshed.geometry = path;
+    rc = peri_guarded_read(path, "Gmsh", reader, context);
+    meshed.geometry = NULL;
+  }
+  unlink(meshed.mesh);
+  return rc;
 }
 
 int peri_gmsh_failed(const char *path, const char *what) {
@@ -38,14 +92,15 @@ int peri_gmsh_open(const char *path, int dim) {
   gmshOptionSetNumber("General.Verbosity", 1, &ierr);
   gmshLoggerStart(&ierr);
   int rc = PERI_OK;
-  gmshOpen(path, &ierr);
+  /* a geometry meshed by peri_gmsh_guarded: its mesh (the messages still name the geometry) */
+  const bool premeshed = meshed.geometry && strcmp(path, meshed.geometry) == 0;
+  gmshOpen(premeshed ? meshed.mesh : path, &ierr);
   char *last = NULL;
   int ierr2 = 0;
   gmshLoggerGetLastError(&last, &ierr2); /* some bad files log an error without setting ierr */
   if (ierr || (last && *last)) rc = peri_gmsh_failed(path, "cannot read the Gmsh mesh");
   gmshFree(last);
-  const char *dot = strrchr(path, '.');
-  if (rc == PERI_OK && dot && strcmp(dot, ".geo") == 0) { /* a geometry: Gmsh meshes it */
+  if (rc == PERI_OK && !premeshed && is_geometry(path)) { /* a geometry: Gmsh meshes it */
     gmshModelMeshGenerate(dim, &ierr);
     if (ierr) rc = peri_gmsh_failed(path, "Gmsh could not mesh the geometry");
   }

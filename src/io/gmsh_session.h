@@ -20,7 +20,9 @@ int peri_gmsh_open(const char *path, int dim);
 /* Runs reader(context), the whole reading of the mesh file PATH (open, queries, gmshFinalize),
  * through peri_guarded_read (guarded_read.h): Gmsh 4.8 crashes on some damaged .msh files (an
  * element with a negative node tag) instead of reporting them (docs/deck.md, "Meshes"). A
- * geometry (.geo) is read here only: Gmsh meshes it, and meshing it twice would double the cost. */
-int peri_gmsh_guarded(const char *path, int (*reader)(void *context), void *context);
+ * geometry (.geo) is first meshed in dimension DIM in a child process of its own (Gmsh 4.8 also
+ * crashes meshing some geometries: a quadrangle algorithm), which writes the mesh to a temporary
+ * .msh file; the reading then opens that file for PATH, so the geometry is meshed once. */
+int peri_gmsh_guarded(const char *path, int dim, int (*reader)(void *context), void *context);
 
 #endif

@@ -70,28 +70,38 @@ static unsigned child_seconds(const char *path) {
   return CHILD_SECONDS_BASE + (unsigned)(file_bytes(path) / CHILD_BYTES_A_SECOND);
 }
 
-static _Noreturn void run_child(const char *path, int (*reader)(void *), void *context, int fd, unsigned seconds) {
+/* The child's bounds: its processor time (0: none) and its memory beyond what the process maps
+ * (0: none). */
+typedef struct child_bounds {
+  unsigned seconds;
+  rlim_t memory;
+} child_bounds;
+
+static _Noreturn void run_child(int (*job)(void *), void *context, int fd, child_bounds bounds) {
   const struct rlimit no_core = {0, 0}; /* a crash is expected of a damaged file: no core file */
   setrlimit(RLIMIT_CORE, &no_core);
   /* beyond `seconds` of processor time SIGXCPU ends the child, and a child that catches it is
    * killed a little later (the hard limit) */
   struct rlimit cpu;
-  if (getrlimit(RLIMIT_CPU, &cpu) == 0 && (cpu.rlim_cur == RLIM_INFINITY || cpu.rlim_cur > seconds)) {
+  const unsigned seconds = bounds.seconds;
+  if (seconds > 0 && getrlimit(RLIMIT_CPU, &cpu) == 0 && (cpu.rlim_cur == RLIM_INFINITY || cpu.rlim_cur > seconds)) {
     cpu.rlim_cur = seconds;
     if (cpu.rlim_max == RLIM_INFINITY || cpu.rlim_max > seconds + 5) cpu.rlim_max = seconds + 5;
     setrlimit(RLIMIT_CPU, &cpu);
   }
-  const rlim_t bound = mapped_bytes() + child_budget(path);
   struct rlimit memory;
-  if (getrlimit(RLIMIT_AS, &memory) == 0 && (memory.rlim_cur == RLIM_INFINITY || memory.rlim_cur > bound)) {
-    memory.rlim_cur = bound;
-    setrlimit(RLIMIT_AS, &memory);
+  if (bounds.memory > 0) {
+    const rlim_t bound = mapped_bytes() + bounds.memory;
+    if (getrlimit(RLIMIT_AS, &memory) == 0 && (memory.rlim_cur == RLIM_INFINITY || memory.rlim_cur > bound)) {
+      memory.rlim_cur = bound;
+      setrlimit(RLIMIT_AS, &memory);
+    }
   }
   /* the libraries' own output (the messages come through the sink) */
   const int null = open("/dev/null", O_WRONLY);
   if (null >= 0) dup2(null, STDOUT_FILENO), dup2(null, STDERR_FILENO);
   peri_set_message_sink(to_pipe, &fd);
-  const int rc = reader(context);
+  const int rc = job(context);
   _exit(rc == PERI_OK ? 0 : PERI_ERR_INPUT); /* (no exit handlers: they are the parent's) */
 }
 
@@ -109,24 +119,23 @@ static int forward(char *text) {
   return lines;
 }
 
-int peri_guarded_read(const char *path, const char *library, int (*reader)(void *context), void *context) {
-  return peri_guarded_read_within(path, library, reader, context, child_seconds(path));
-}
-
-int peri_guarded_read_within(const char *path, const char *library, int (*reader)(void *context), void *context,
-                             unsigned seconds) {
+/* Runs job(context) in a child within `bounds`; PERI_OK when it succeeded there, else the
+ * child's messages or what ended it reported here (`doing`: "reading", "meshing") and
+ * PERI_ERR_INPUT. 1 when no child could be started (the caller runs the job here). */
+static int run_guarded(const char *path, const char *library, const char *doing, int (*job)(void *context),
+                       void *context, child_bounds bounds) {
   int fds[2];
-  if (pipe(fds) != 0) return reader(context);
+  if (pipe(fds) != 0) return 1;
   fflush(stdout), fflush(stderr); /* (nothing buffered here is written twice) */
   const pid_t child = fork();
   if (child == 0) {
     close(fds[0]);
-    run_child(path, reader, context, fds[1], seconds);
+    run_child(job, context, fds[1], bounds);
   }
   close(fds[1]);
   if (child < 0) {
     close(fds[0]);
-    return reader(context);
+    return 1;
   }
   /* the messages first (a child that fills the pipe waits for it to be read) */
   size_t size = 0, cap = 4096;
@@ -144,22 +153,45 @@ int peri_guarded_read_within(const char *path, const char *library, int (*reader
     if (errno != EINTR) break;
   int rc = PERI_ERR_INPUT;
   if (WIFSIGNALED(status) && WTERMSIG(status) == SIGXCPU) {
-    peri_error("%s: the %s library did not finish reading it within %u s of processor time: the file is damaged, "
+    peri_error("%s: the %s library did not finish %s it within %u s of processor time: the file is damaged, "
                "or not one %s reads",
-               path, library, seconds, library);
+               path, library, doing, bounds.seconds, library);
   } else if (WIFSIGNALED(status)) {
-    peri_error("%s: the %s library crashed reading it (%s): the file is damaged, or not one %s reads", path, library,
-               strsignal(WTERMSIG(status)), library);
+    peri_error("%s: the %s library crashed %s it (%s): the file is damaged, or not one %s reads", path, library,
+               doing, strsignal(WTERMSIG(status)), library);
   } else if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
-    rc = reader(context);
+    rc = PERI_OK;
   } else {
     const int said = forward(text);
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != PERI_ERR_INPUT || said == 0)
-      peri_error("%s: the %s library stopped reading it (exit status %d) within %.0f GiB of memory: the file is "
-                 "damaged, or not one %s reads",
-                 path, library, WIFEXITED(status) ? WEXITSTATUS(status) : -1,
-                 (double)child_budget(path) / (double)((rlim_t)1 << 30), library);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != PERI_ERR_INPUT || said == 0) {
+      if (bounds.memory > 0)
+        peri_error("%s: the %s library stopped %s it (exit status %d) within %.0f GiB of memory: the file is "
+                   "damaged, or not one %s reads",
+                   path, library, doing, WIFEXITED(status) ? WEXITSTATUS(status) : -1,
+                   (double)bounds.memory / (double)((rlim_t)1 << 30), library);
+      else
+        peri_error("%s: the %s library stopped %s it (exit status %d): the file is damaged, or not one %s reads",
+                   path, library, doing, WIFEXITED(status) ? WEXITSTATUS(status) : -1, library);
+    }
   }
   free(text);
   return rc;
+}
+
+int peri_guarded_read(const char *path, const char *library, int (*reader)(void *context), void *context) {
+  return peri_guarded_read_within(path, library, reader, context, child_seconds(path));
+}
+
+int peri_guarded_read_within(const char *path, const char *library, int (*reader)(void *context), void *context,
+                             unsigned seconds) {
+  const child_bounds bounds = {seconds, child_budget(path)};
+  const int rc = run_guarded(path, library, "reading", reader, context, bounds);
+  return rc == PERI_OK || rc == 1 ? reader(context) : rc; /* (read here too: the child's reading is gone) */
+}
+
+int peri_guarded_run(const char *path, const char *library, const char *doing, int (*job)(void *context),
+                     void *context) {
+  const child_bounds none = {0, 0};
+  const int rc = run_guarded(path, library, doing, job, context, none);
+  return rc == 1 ? job(context) : rc;
 }

@@ -14,5 +14,12 @@ int peri_guarded_read(const char *path, const char *library, int (*reader)(void 
 /* The same with the child's processor time bounded by `seconds`. */
 int peri_guarded_read_within(const char *path, const char *library, int (*reader)(void *context), void *context,
                              unsigned seconds);
+/* Runs job(context), a library's work on the file PATH that leaves its result in a file (Gmsh
+ * meshing a geometry), in a child process only, without bounds on its time or memory (the work
+ * may legitimately be long and large): PERI_OK when it succeeded there; a crash or a refusal
+ * reported here as for a reading ("the Gmsh library crashed meshing it"), and PERI_ERR_INPUT.
+ * Where no child can be started the job runs here. */
+int peri_guarded_run(const char *path, const char *library, const char *doing, int (*job)(void *context),
+                     void *context);
 
 #endif

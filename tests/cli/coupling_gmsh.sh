@@ -9,6 +9,8 @@
 #  - the linear field u = a + Hx imposed on every node: out_of_balance (e_r) below 1e-13; a
 #    quadratic one above 1e-6 (the check can fail); the same with 2-node bars (1D) and 8-node
 #    hexahedra (3D) that the Gmsh library meshes from a .geo;
+#  - a geometry that crashes Gmsh 4.8 while meshing, and one Gmsh cannot parse: exit 2 naming
+#    the file (the geometry is meshed in a child process);
 #  - bad meshes exit 2 before any work, naming the file and the entity: a missing file, a file
 #    Gmsh cannot parse, an element naming a node the file does not define, an inverted element
 #    (clockwise corners: det J < 0), a degenerate one (collinear corners), an element type peri
@@ -90,6 +92,12 @@ er2=$(imposed "1e-4*y*y" "1e-4*x*x")
 awk -v e="$er2" 'BEGIN { exit !(e > 1e-6) }' || fail "quadratic field: e_r $er2 should be out of balance"
 pass "linear field on every node: e_r $er (quadratic: $er2)"
 
+# the geometries below are meshed into temporary .msh files under TMPDIR: a directory of the
+# test's own, which must be empty at the end
+saved_tmpdir=${TMPDIR:-/tmp}
+export TMPDIR="$TMP/meshes"
+mkdir -p "$TMPDIR"
+
 # 1D bars and 3D hexahedra: structured meshes that the Gmsh library makes from a .geo when the
 # deck reads it, a linear field imposed on every node
 cat >"$TMP/bar.geo" <<'GEO'
@@ -134,6 +142,31 @@ for case in bar:11 cube:27; do
   [[ "$pd" == "${case#*:}" ]] || fail "$name: $pd PD nodes, expected ${case#*:}"
   pass "$name on a Gmsh mesh, linear field on every node: e_r $er with $pd PD nodes"
 done
+
+# a geometry that Gmsh 4.8 crashes meshing (the example's, with the frontal-Delaunay algorithm
+# for quadrangles, 8): meshed in a child process, so the run exits 2 naming the file instead of
+# dying with the library; a later Gmsh that meshes it runs the deck (exit 0). Either way peri
+# itself is never ended by a signal. A geometry Gmsh cannot parse is refused with its message.
+sed -e 's/Mesh.Algorithm = 6;/Mesh.Algorithm = 8;/' examples/coupling_gmsh_plate.geo >"$TMP/quads8.geo"
+sed -e 's/mesh: coupling_gmsh_plate.msh/mesh: quads8.geo/' "$plate" >"$TMP/quads8.yaml"
+run_peri_in "$TMP" check quads8.yaml
+case "$RUN_STATUS" in
+  2) expect_stdout_empty
+     expect_stderr_contains "quads8.geo: the Gmsh library crashed meshing it"
+     pass "a geometry that crashes Gmsh while meshing: exit 2 naming the file" ;;
+  0) pass "a geometry that crashed Gmsh 4.8 while meshing is meshed by this Gmsh" ;;
+  *) fail "a geometry that crashes Gmsh while meshing: exit status $RUN_STATUS (a signal kills peri itself)" ;;
+esac
+printf 'Point(1) = {0, 0, 0;\n' >"$TMP/broken.geo"
+sed -e 's/mesh: coupling_gmsh_plate.msh/mesh: broken.geo/' "$plate" >"$TMP/broken.yaml"
+run_peri_in "$TMP" check broken.yaml
+expect_status 2
+expect_stderr_contains "broken.geo: cannot read the Gmsh mesh"
+pass "a geometry Gmsh cannot parse: exit 2 naming the file"
+left=$(ls -A "$TMPDIR")
+[[ -z "$left" ]] || fail "the geometries' temporary meshes are left behind: $left"
+pass "no temporary mesh left behind (the two geometries and the cube and bar above)"
+export TMPDIR=$saved_tmpdir
 
 # the failing cases: a small deck on a 2 x 1 grid of spacing 1, its mesh written by the test
 cat >"$TMP/small.yaml" <<'DECK'
