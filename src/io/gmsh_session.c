@@ -50,6 +50,7 @@ int peri_gmsh_guarded(const char *path, int dim, int (*reader)(void *context), v
    * is then read as a .msh file is */
   const char *dir = getenv("TMPDIR");
   const int n = snprintf(meshed.mesh, sizeof meshed.mesh, "%s/peri-mesh-XXXXXX.msh", dir && *dir ? dir : "/tmp");
+  if (n <= 0 || (size_t)n >= sizeof meshed.mesh) errno = ENAMETOOLONG;
   const int fd = n > 0 && (size_t)n < sizeof meshed.mesh ? mkstemps(meshed.mesh, 4) : -1;
   if (fd < 0) {
     peri_error("%s: no temporary file for its mesh (%s)", path, strerror(errno));
