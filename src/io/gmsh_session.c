@@ -49,11 +49,13 @@ int peri_gmsh_guarded(const char *path, int dim, int (*reader)(void *context), v
   /* a geometry: meshed once, in a child (Gmsh 4.8 crashes meshing some geometries), whose mesh
    * is then read as a .msh file is */
   const char *dir = getenv("TMPDIR");
-  const int n = snprintf(meshed.mesh, sizeof meshed.mesh, "%s/peri-mesh-XXXXXX.msh", dir && *dir ? dir : "/tmp");
+  if (!dir || !*dir) dir = "/tmp";
+  const int n = snprintf(meshed.mesh, sizeof meshed.mesh, "%s/peri-mesh-XXXXXX.msh", dir);
   if (n <= 0 || (size_t)n >= sizeof meshed.mesh) errno = ENAMETOOLONG;
   const int fd = n > 0 && (size_t)n < sizeof meshed.mesh ? mkstemps(meshed.mesh, 4) : -1;
   if (fd < 0) {
-    peri_error("%s: no temporary file for its mesh (%s)", path, strerror(errno));
+    peri_error("%s: cannot create a temporary file for its mesh in %s (%s): set TMPDIR to a writable directory",
+               path, dir, strerror(errno));
     return PERI_ERR_INPUT;
   }
   close(fd);
