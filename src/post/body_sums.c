@@ -25,9 +25,7 @@ void peri_body_sums_now(const peri_sim *s, peri_body_sums *out) {
   double *terms = peri_malloc(sizeof(double) * BODY_SUMS * (size_t)(n > 0 ? n : 1));
   for (int b = 0; b < bodies->count; ++b) {
     const peri_penetration *pen = &bodies->penetration[b];
-    /* the front of the body's attached nodes, and of all its nodes for a body turned to debris */
-    double front = -INFINITY, debris_front = -INFINITY;
-#pragma omp parallel for schedule(static) reduction(max : front, debris_front)
+#pragma omp parallel for schedule(static)
     for (int32_t i = 0; i < n; ++i) {
       double *t = &terms[BODY_SUMS * (size_t)i];
       if (bodies->label[i] != b) {
@@ -41,12 +39,16 @@ void peri_body_sums_now(const peri_sim *s, peri_body_sums *out) {
       t[4] = 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
       t[5] = phi[i] > 0.0 ? m : 0.0;
       t[6] = phi[i] >= 1.0 ? m : 0.0; /* every bond broken: the node has left its body */
-      if (pen->on) { /* debris ahead of the body is not the body's front while it has one */
-        double along = 0.0;
-        for (int d = 0; d < 3; ++d) along += (p->x[3 * (size_t)i + d] + p->u[3 * (size_t)i + d]) * pen->direction[d];
-        if (phi[i] < 1.0) front = fmax(front, along - pen->face);
-        debris_front = fmax(debris_front, along - pen->face);
-      }
+    }
+    /* the front of the body's attached nodes, and of all its nodes for a body turned to debris
+     * (debris ahead of the body is not the body's front while it has one) */
+    double front = -INFINITY, debris_front = -INFINITY;
+    for (int32_t i = 0; pen->on && i < n; ++i) {
+      if (bodies->label[i] != b) continue;
+      double along = 0.0;
+      for (int d = 0; d < 3; ++d) along += (p->x[3 * (size_t)i + d] + p->u[3 * (size_t)i + d]) * pen->direction[d];
+      if (phi[i] < 1.0) front = fmax(front, along - pen->face);
+      debris_front = fmax(debris_front, along - pen->face);
     }
     double sum[BODY_SUMS];
     peri_sum_owned(s, terms, BODY_SUMS, sum);
