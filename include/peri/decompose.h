@@ -43,7 +43,7 @@ void peri_print_decomposition(const peri_sim *s, FILE *out);
  * critical stretch when the deck uses it (a no-op in a single process). */
 void peri_exchange_state(peri_sim *s);
 
-/* The sum over every owned node of all ranks of terms[ncomp * i + c] (ncomp <= 9), in
+/* The sum over every owned node of all ranks of terms[ncomp * i + c], in
  * fixed-order blocks (PERI_SUM_BLOCK): independent of the number of ranks and threads.
  * Every rank gets the result. */
 void peri_sum_owned(const peri_sim *s, const double *terms, int ncomp, double *out);
