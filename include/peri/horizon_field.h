@@ -50,7 +50,7 @@ typedef struct peri_horizon_field {
   int64_t *reverse;       /* [n_bonds] bond j -> i of bond k = i -> j */
   /* PMB without a coupling region (one pass over the bonds, src/model/variable_horizon.c) */
   double *bond_length;    /* [n_bonds] |xi| of directed bond k */
-  double *bond_state;     /* [n_bonds] t_i<xi_ij> / e: c_i omega beta_i / (2 |xi|) */
+  double *bond_pair_state; /* [n_bonds] (t_i<xi_ij> + t_j<xi_ji>) / e of bond k, t_i / e = c_i omega beta_i / (2 |xi|) */
   double *bond_pair;      /* [n_bonds] (t_ij + t_ji) V_j / e of bond k */
   double *bond_critical;  /* [n_bonds] the critical elongation s0 |xi| of bond k (INFINITY: never breaks) */
   double *partial_stress; /* [9 n] nu0_i = sum_j T_i<xi_ij> (x) xi_ij V_j, row-major */

@@ -119,7 +119,7 @@ void peri_horizon_field_free(peri_horizon_field *h) {
   free(h->state);
   free(h->reverse);
   free(h->bond_length);
-  free(h->bond_state);
+  free(h->bond_pair_state);
   free(h->bond_pair);
   free(h->bond_critical);
   free(h->partial_stress);

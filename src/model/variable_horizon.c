@@ -48,19 +48,25 @@ static void pmb_bond_constants(peri_sim *s) {
   const peri_bonds *b = &s->disc.bonds;
   const size_t nb = (size_t)(b->n_bonds > 0 ? b->n_bonds : 1);
   h->bond_length = peri_malloc(nb * sizeof(double));
-  h->bond_state = peri_malloc(nb * sizeof(double));
+  double *state = peri_malloc(nb * sizeof(double)); /* t_i<xi_ij> / e of each directed bond */
+  h->bond_pair_state = peri_malloc(nb * sizeof(double));
   h->bond_pair = peri_malloc(nb * sizeof(double));
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i)
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       const double r0 = peri_bond_length(p->x, i, b->neighbor[k]);
       h->bond_length[k] = r0;
-      h->bond_state[k] = 0.5 * h->node_constant[i] * vh_weight(&b->family, h->delta[i], r0) / r0;
+      state[k] = 0.5 * h->node_constant[i] * vh_weight(&b->family, h->delta[i], r0) / r0;
     }
+  /* both ends' states of each bond in the bond's own entry, so that the force and the pair
+   * force read no reverse bond (on MPI ranks the reverse of a bond into a ghost is not here) */
 #pragma omp parallel for schedule(dynamic, 256)
   for (int32_t i = 0; i < p->n_owned; ++i)
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
-      h->bond_pair[k] = (h->bond_state[k] + h->bond_state[h->reverse[k]]) * p->volume[b->neighbor[k]];
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
+      h->bond_pair_state[k] = state[k] + state[h->reverse[k]];
+      h->bond_pair[k] = h->bond_pair_state[k] * p->volume[b->neighbor[k]];
+    }
+  free(state);
 }
 
 static void vh_pmb_states(peri_sim *s);
@@ -373,8 +379,7 @@ static double vh_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
   const double r0 = peri_bond_length(s->disc.p.x, i, b->neighbor[k]);
   const double beta = peri_bonds_beta(b, r0);
   if (!(beta > 0.0)) return 0.0;
-  if (h->bond_state)
-    return b->broken[k] ? 0.0 : (h->bond_state[k] + h->bond_state[h->reverse[k]]) * (r - h->bond_length[k]) / beta;
+  if (h->bond_pair_state) return b->broken[k] ? 0.0 : h->bond_pair_state[k] * (r - h->bond_length[k]) / beta;
   return (h->state[k] + h->state[h->reverse[k]]) / beta;
 }
 
