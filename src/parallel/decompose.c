@@ -10,6 +10,7 @@
 #include "peri/comm.h"
 #include "peri/decompose.h"
 #include "peri/error.h"
+#include "peri/horizon_field.h"
 #include "peri/thermal.h"
 
 /* out[k] = src[ids[k]] for elements of `size` bytes; NULL stays NULL. */
@@ -192,6 +193,24 @@ static void localize_bonds(peri_bonds *b, int64_t g0, int64_t g1, const int32_t 
   b->n_bonds = count;
 }
 
+/* A horizon per node (docs/variable_horizon.md): on ranks only full peridynamics with PMB runs
+ * (deck check), whose force reads each bond's constants and each node's and ghost's horizon and
+ * critical-stretch factor; the states and reverse bonds of the other forms are dropped. */
+static void localize_horizon(peri_horizon_field *h, const int32_t *ids, int32_t n_local, int64_t from, int64_t count) {
+  if (!h) return;
+  LOCALIZE(h->delta, sizeof(double), ids, n_local);
+  LOCALIZE(h->s0_scale, sizeof(double), ids, n_local);
+  LOCALIZE(h->coupled, sizeof(uint8_t), ids, n_local);
+  LOCALIZE(h->node_constant, sizeof(double), ids, n_local);
+  SLICE(h->bond_length, sizeof(double), from, count);
+  SLICE(h->bond_pair_state, sizeof(double), from, count);
+  SLICE(h->bond_pair, sizeof(double), from, count);
+  SLICE(h->bond_critical, sizeof(double), from, count);
+  free(h->state), h->state = NULL;
+  free(h->reverse), h->reverse = NULL;
+  h->n = n_local;
+}
+
 static void localize_regions(peri_sim *s, int64_t g0, int64_t g1) {
   for (int r = 0; r < s->cond.n_regions; ++r) {
     peri_region *reg = &s->cond.regions[r];
@@ -316,6 +335,7 @@ int peri_decompose(peri_sim *s) {
   free(s->cond.prescribed);
   s->cond.prescribed = peri_calloc(3 * (size_t)(n_local > 0 ? n_local : 1), 1);
   localize_regions(s, g0, g1);
+  localize_horizon(s->disc.horizon_field, ids, n_local, bond_from, bond_count);
   /* the plastic state of the owned families (docs/plasticity.md), in bond rows: the split comes
    * before the first force evaluation, so the deviatoric rule has not taken it into its slots */
   SLICE(s->state.plastic_stretch, sizeof(double) * (size_t)s->state.plastic_layers, bond_from, bond_count);
