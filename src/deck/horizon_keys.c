@@ -149,22 +149,13 @@ int peri_setup_horizon_solver(const peri_sim *s, const peri_node *root) {
   const peri_node *d = peri_deck_get(root, "discretization");
   const peri_node *at = peri_deck_get(d, "horizon") ? peri_deck_get(d, "horizon") : peri_deck_get(d, "m");
   const peri_node *ps = peri_deck_get(d, "partial_stress");
-  /* on MPI ranks: full peridynamics with PMB and the one-pass force (each bond's constants,
-   * sliced with the bonds); the partial stress's reactions, LPS's states and the LAMMPS
-   * breaking order read the reverse bonds of other ranks' nodes */
-  if (peri_comm_size() > 1) {
-    const char *why = h->n_local > 0 ? "local nodes (horizon 0)"
-                      : h->n_coupled > 0 ? "a coupling region (the partial stress)"
-                      : !h->bond_pair ? "the lps model"
-                      : s->solver.break_after_force ? "solver.breaking_order: after_force"
-                      : NULL;
-    if (why)
-      return peri_deck_error(ps && h->n_coupled > 0 ? ps : at,
-                             "key 'horizon': on MPI ranks (%d here) a horizon that varies runs as full peridynamics "
-                             "with the pmb model (discretization.partial_stress: none); this deck has %s: run it "
-                             "in one process",
-                             peri_comm_size(), why);
-  }
+  /* on MPI ranks: full peridynamics (each node computes the other end's state of its bonds);
+   * the partial stress scatters its reactions to stencil nodes of other ranks */
+  if (peri_comm_size() > 1 && (h->n_local > 0 || h->n_coupled > 0))
+    return peri_deck_error(ps && h->n_coupled > 0 ? ps : at,
+                           "key 'horizon': on MPI ranks (%d here) a horizon that varies runs as full peridynamics "
+                           "(discretization.partial_stress: none); this deck has %s: run it in one process",
+                           peri_comm_size(), h->n_local > 0 ? "local nodes (horizon 0)" : "a coupling region (the partial stress)");
   if (s->solver.kind == PERI_SOLVER_IMPLICIT)
     return peri_deck_error(at, "key 'horizon': the implicit solver needs a tangent stiffness, which the models with a "
                            "horizon that varies do not have; use adr, dynamic_relaxation or nlcg");

@@ -192,6 +192,21 @@ static void vh_lps_dilatation(peri_sim *s) {
   }
 }
 
+/* t_i<xi_ij> of node i's bond to j (intact), from i's constants and its dilatation and P_i (LPS) */
+static inline double vh_state(const peri_sim *s, vh_kind kind, int32_t i, int32_t j) {
+  const peri_horizon_field *h = s->disc.horizon_field;
+  const peri_particles *p = &s->disc.p;
+  double dy[3];
+  const double r0 = peri_bond_length(p->x, i, j), r = peri_deformed_bond(p->x, p->u, i, j, dy);
+  const double c = h->node_constant[i], w = vh_weight(&s->disc.bonds.family, h->delta[i], r0), e = r - r0;
+  if (kind == VH_PMB) return 0.5 * c * w * e / r0;
+  /* lps.c lps_half: n_theta (K_theta theta - alpha P/3) omega L/m + alpha omega e^d */
+  const peri_material *mat = &s->mat.materials[p->material[i]];
+  const double alpha = mat->alpha_m / c, theta = p->theta[i];
+  return w * (mat->n_theta * (mat->K_theta * theta - alpha * p->pstate[i] / 3.0) * r0 / c +
+              alpha * (e - theta * r0 / 3.0));
+}
+
 /* t_i<xi_ij> of every intact directed bond into h->state (0 for a broken one) */
 static void vh_states(peri_sim *s, vh_kind kind) {
   peri_horizon_field *h = s->disc.horizon_field;
@@ -203,24 +218,18 @@ static void vh_states(peri_sim *s, vh_kind kind) {
       for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) h->state[k] = 0.0;
       continue;
     }
-    const peri_material *mat = &s->mat.materials[p->material[i]];
-    const double c = h->node_constant[i];
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      const int32_t j = b->neighbor[k];
-      double dy[3];
-      const double r0 = peri_bond_length(p->x, i, j), r = peri_deformed_bond(p->x, p->u, i, j, dy);
-      const double w = vh_weight(&b->family, h->delta[i], r0), e = r - r0;
-      double t;
-      if (kind == VH_PMB) {
-        t = 0.5 * c * w * e / r0;
-      } else { /* lps.c lps_half: n_theta (K_theta theta - alpha P/3) omega L/m + alpha omega e^d */
-        const double alpha = mat->alpha_m / c, theta = p->theta[i];
-        t = w * (mat->n_theta * (mat->K_theta * theta - alpha * p->pstate[i] / 3.0) * r0 / c +
-                 alpha * (e - theta * r0 / 3.0));
-      }
-      h->state[k] = b->broken[k] ? 0.0 : t;
-    }
+    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k)
+      h->state[k] = b->broken[k] ? 0.0 : vh_state(s, kind, i, b->neighbor[k]);
   }
+}
+
+/* t_j<xi_ji> of bond k = i -> j: the state of its reverse bond, or on MPI ranks (no reverse
+ * bonds: j may be a ghost) the same operations from j's constants, horizon, dilatation and P_j
+ * (exchanged), which give the same number; both directions of a bond break together. */
+static inline double vh_other_state(const peri_sim *s, vh_kind kind, int32_t i, int64_t k) {
+  const peri_horizon_field *h = s->disc.horizon_field;
+  if (h->reverse) return h->state[h->reverse[k]];
+  return s->disc.bonds.broken[k] ? 0.0 : vh_state(s, kind, s->disc.bonds.neighbor[k], i);
 }
 
 /* the force states of the current displacement, for the lattice probe of partial_stress.c */
@@ -301,7 +310,11 @@ static long vh_force(peri_sim *s, vh_kind kind) {
   const peri_bonds *b = &s->disc.bonds;
   const bool breaking = s->solver.breaking, after = s->solver.break_after_force;
   long broken = breaking && !after ? vh_break(s) : 0;
-  if (kind == VH_LPS) vh_lps_dilatation(s);
+  if (kind == VH_LPS) {
+    vh_lps_dilatation(s);
+    peri_sim_exchange(s, p->theta, 1); /* (the ghosts' theta and P: their bonds' states here) */
+    peri_sim_exchange(s, p->pstate, 1);
+  }
   vh_states(s, kind);
   /* the full peridynamic force outside the coupling region */
 #pragma omp parallel for schedule(dynamic, 256)
@@ -314,7 +327,7 @@ static long vh_force(peri_sim *s, vh_kind kind) {
       double dy[3];
       const double r = peri_deformed_bond(p->x, p->u, i, j, dy);
       if (!(r > 0.0)) continue;
-      const double g = (h->state[k] + h->state[h->reverse[k]]) * p->volume[j] / r;
+      const double g = (h->state[k] + vh_other_state(s, kind, i, k)) * p->volume[j] / r;
       for (int a = 0; a < 3; ++a) f[a] += g * dy[a];
     }
     for (int a = 0; a < 3; ++a) p->f[3 * (size_t)i + a] = f[a];
@@ -380,7 +393,8 @@ static double vh_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
   const double beta = peri_bonds_beta(b, r0);
   if (!(beta > 0.0)) return 0.0;
   if (h->bond_pair_state) return b->broken[k] ? 0.0 : h->bond_pair_state[k] * (r - h->bond_length[k]) / beta;
-  return (h->state[k] + h->state[h->reverse[k]]) / beta;
+  const vh_kind kind = strcmp(s->mat.model->name, "lps") == 0 ? VH_LPS : VH_PMB;
+  return (h->state[k] + vh_other_state(s, kind, i, k)) / beta;
 }
 
 static const peri_model_ops vh_pmb = {

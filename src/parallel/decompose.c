@@ -193,9 +193,10 @@ static void localize_bonds(peri_bonds *b, int64_t g0, int64_t g1, const int32_t 
   b->n_bonds = count;
 }
 
-/* A horizon per node (docs/variable_horizon.md): on ranks only full peridynamics with PMB runs
- * (deck check), whose force reads each bond's constants and each node's and ghost's horizon and
- * critical-stretch factor; the states and reverse bonds of the other forms are dropped. */
+/* A horizon per node (docs/variable_horizon.md): on ranks only full peridynamics runs (deck
+ * check), whose force reads each bond's constants or state and each node's and ghost's horizon,
+ * constant and critical-stretch factor; the reverse bonds are dropped (a node computes the other
+ * end's state of its bonds itself, src/model/variable_horizon.c). */
 static void localize_horizon(peri_horizon_field *h, const int32_t *ids, int32_t n_local, int64_t from, int64_t count) {
   if (!h) return;
   LOCALIZE(h->delta, sizeof(double), ids, n_local);
@@ -206,7 +207,7 @@ static void localize_horizon(peri_horizon_field *h, const int32_t *ids, int32_t 
   SLICE(h->bond_pair_state, sizeof(double), from, count);
   SLICE(h->bond_pair, sizeof(double), from, count);
   SLICE(h->bond_critical, sizeof(double), from, count);
-  free(h->state), h->state = NULL;
+  SLICE(h->state, sizeof(double), from, count);
   free(h->reverse), h->reverse = NULL;
   h->n = n_local;
 }
