@@ -4,8 +4,8 @@
 # reads each bond's constants (both ends' states summed in the bond's entry), sliced with the
 # bonds; LPS and the LAMMPS breaking order compute the other end's state of each bond from the
 # ghost's horizon, constant, dilatation and P (exchanged) by the operations that node's own rank
-# uses. Every sum runs in the order of one process, so history.csv is the same on 1, 2 and 3
-# ranks to a relative 1e-12, with the same broken bonds:
+# uses. Every sum runs in the order of one process, so history.csv is the same on any number of
+# ranks to a relative 1e-12, with the same broken bonds (1 and 2 or 3 ranks here):
 #  - examples/graded_notched_beam.yaml (a graded grid, dx 1 and 3 mm, PMB, nlcg to failure: the
 #    crack, re-solves and cut-backs), and its first 3 load steps with the lps model;
 #  - examples/horizon_pulse.yaml with partial_stress: none (explicit, delta 3 dx and 6 dx), with
@@ -20,16 +20,19 @@ source "$(dirname "${BASH_SOURCE[0]}")/lib/mpi.bash"
 cli_init "$@"
 mpi_init
 
-export MPI_RANKS="1 2 3"
+# (the beam's nlcg takes 46,740 iterations, each with global sums: 2 ranks, so that the ranks do
+# not share a core with each other when ctest runs tests side by side)
+export MPI_RANKS="1 2"
 mpi_same_on_ranks graded_beam examples/graded_notched_beam.yaml --set output.frames=0 --set output.picture=false
 [[ "$MPI_BROKEN" =~ broken\ bonds\ ([0-9]+) && ${BASH_REMATCH[1]} -gt 0 ]] ||
   fail "graded beam: no bond broke ('$MPI_BROKEN'): the crack was to run on every rank count"
-pass "graded notched beam (PMB, nlcg to failure): 1, 2 and 3 ranks give the same history and broken bonds"
+pass "graded notched beam (PMB, nlcg to failure): 1 and 2 ranks give the same history and broken bonds"
 
 lps_beam=(--set materials.pmma.model=lps --set materials.pmma.poisson_ratio=0.3 --set solver.load_steps=3
   --set solver.end_time=0.03 --set output.frames=0 --set output.picture=false)
+export MPI_RANKS="1 3"
 mpi_same_on_ranks lps_beam examples/graded_notched_beam.yaml "${lps_beam[@]}"
-pass "graded notched beam with the lps model (3 load steps): 1, 2 and 3 ranks give the same history"
+pass "graded notched beam with the lps model (3 load steps): 1 and 3 ranks give the same history"
 
 export MPI_RANKS="1 3"
 mpi_same_on_ranks pulse examples/horizon_pulse.yaml --set discretization.partial_stress=none
