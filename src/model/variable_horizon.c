@@ -386,15 +386,21 @@ static void vh_lps_energy(peri_sim *s, double *W) { vh_energy(s, W, VH_LPS); }
  * recovery multiplies it): each end's partial volume is already in its state. PMB without a
  * coupling region from the per-bond constants (vh_pmb_force_fused stores no states), otherwise
  * the states of the last force evaluation. */
-static double vh_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
+static double vh_pair_force(const peri_sim *s, vh_kind kind, int32_t i, int64_t k, double r) {
   const peri_horizon_field *h = s->disc.horizon_field;
   const peri_bonds *b = &s->disc.bonds;
   const double r0 = peri_bond_length(s->disc.p.x, i, b->neighbor[k]);
   const double beta = peri_bonds_beta(b, r0);
   if (!(beta > 0.0)) return 0.0;
   if (h->bond_pair_state) return b->broken[k] ? 0.0 : h->bond_pair_state[k] * (r - h->bond_length[k]) / beta;
-  const vh_kind kind = strcmp(s->mat.model->name, "lps") == 0 ? VH_LPS : VH_PMB;
   return (h->state[k] + vh_other_state(s, kind, i, k)) / beta;
+}
+
+static double vh_pmb_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
+  return vh_pair_force(s, VH_PMB, i, k, r);
+}
+static double vh_lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {
+  return vh_pair_force(s, VH_LPS, i, k, r);
 }
 
 static const peri_model_ops vh_pmb = {
@@ -404,7 +410,7 @@ static const peri_model_ops vh_pmb = {
     .init = vh_pmb_init,
     .force = vh_pmb_force,
     .energy = vh_pmb_energy,
-    .pair_force = vh_pair_force,
+    .pair_force = vh_pmb_pair_force,
 };
 
 static const peri_model_ops vh_lps = {
@@ -414,7 +420,7 @@ static const peri_model_ops vh_lps = {
     .init = vh_lps_init,
     .force = vh_lps_force,
     .energy = vh_lps_energy,
-    .pair_force = vh_pair_force,
+    .pair_force = vh_lps_pair_force,
 };
 
 const peri_model_ops *peri_variable_horizon_model(const peri_model_ops *model) {

@@ -6,6 +6,8 @@
 #include "peri/decompose.h"
 #include "peri/error.h"
 
+enum { SMALL_SUM = 16 };
+
 int64_t peri_sum_blocks_owned(const peri_sim *s) { return (s->disc.p.n_owned + PERI_SUM_BLOCK - 1) / PERI_SUM_BLOCK; }
 
 void peri_sum_owned(const peri_sim *s, const double *terms, int ncomp, double *out) {
@@ -28,7 +30,9 @@ void peri_sum_owned(const peri_sim *s, const double *terms, int ncomp, double *o
 void peri_sum_blocks(const peri_sim *s, const double *block, int ncomp, double *out) {
   const int64_t n_blocks = peri_sum_blocks_owned(s);
   const peri_decomposition *d = s->par.dd;
-  double *total = peri_calloc((size_t)(ncomp > 0 ? ncomp : 1), sizeof(double));
+  /* (a small sum, every explicit step's, stays off the heap; the bodies' many columns take it) */
+  double small[SMALL_SUM] = {0};
+  double *total = ncomp <= SMALL_SUM ? small : peri_calloc((size_t)ncomp, sizeof(double));
   if (!d) {
     for (int64_t k = 0; k < n_blocks; ++k)
       for (int c = 0; c < ncomp; ++c) total[c] += block[k * ncomp + c];
@@ -48,7 +52,7 @@ void peri_sum_blocks(const peri_sim *s, const double *block, int ncomp, double *
     free(counts);
   }
   for (int c = 0; c < ncomp; ++c) out[c] = total[c];
-  free(total);
+  if (total != small) free(total);
 }
 
 int64_t peri_global_nodes(const peri_sim *s) { return s->par.dd ? s->par.dd->n_global : s->disc.p.n_owned; }

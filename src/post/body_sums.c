@@ -4,7 +4,6 @@
  * count; the penetration front is a largest value, taken over the ranks. */
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 #include "peri/bodies.h"
 #include "peri/comm.h"
 #include "peri/damage_index.h"
@@ -19,7 +18,6 @@ void peri_body_sums_now(const peri_sim *s, peri_body_sums *out) {
   const peri_bodies *bodies = s->bodies;
   const peri_particles *p = &s->disc.p;
   const int count = bodies->count, ncomp = BODY_SUMS * count;
-  memset(out, 0, sizeof *out * (size_t)count);
   const int32_t n = p->n_owned;
   double *phi = peri_malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
   peri_damage_index(s, phi);
