@@ -31,6 +31,9 @@ typedef struct peri_sublayers {
    * where sublayer k of a node yields on the deviatoric energy of its whole family (von
    * Mises) and yield[] are the uniaxial deviatoric yield strains e_yk of the deviatoric curve */
   bool deviatoric;
+  /* with deviatoric: the tensor rule (docs/plasticity.md section 10), the plastic deviatoric
+   * stretches of a node's bonds written through one tensor per sublayer */
+  bool tensor;
 } peri_sublayers;
 
 /* The bond work at which a bond breaks for the fracture energy G0, when every bond crossing a

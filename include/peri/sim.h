@@ -255,6 +255,9 @@ typedef struct peri_state {
    * family sums (fixed by the reference configuration), where the eight-lane kernels do not
    * evaluate it (Gaussian influence, builds without them); NULL otherwise and for the bond rule */
   double *plastic_bond_weight;
+  /* the tensor yield rule (docs/plasticity.md section 10, src/model/tensor_plasticity.c): a
+   * plastic deviatoric strain tensor per node and sublayer; NULL for the other rules */
+  struct peri_tensor_plasticity *plastic_tensor;
   struct peri_restart *restart; /* checkpoint to continue from (--restart), NULL otherwise */
 } peri_state;
 

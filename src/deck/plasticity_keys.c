@@ -9,6 +9,7 @@
 #include "peri/deck.h"
 #include "peri/error.h"
 #include "peri/plasticity.h"
+#include "peri/tensor_plasticity.h"
 #include "setup_parts.h"
 
 #define TRY(expr)                   \
@@ -84,33 +85,36 @@ static int calibrate_to_family(const peri_sim *s, const peri_node *pl, const cha
   return PERI_OK;
 }
 
-/* yield_rule: bond (each bond's sublayers on its stretch) or deviatoric (the state-based rule
+/* yield_rule: bond (each bond's sublayers on its stretch), deviatoric (the state-based rule
  * of docs/plasticity.md section 8: LPS in 3D, sublayers from a curve, none of the bond
- * rule's failure and rate keys, whose quantities are a bond's). */
+ * rule's failure and rate keys, whose quantities are a bond's) or deviatoric_tensor (the same
+ * with one plastic tensor per node and sublayer, section 10). */
 static int parse_yield_rule(const peri_sim *s, const peri_node *pl, const char *section, const peri_material *mat,
                             peri_sublayers *sl) {
-  static const char *const choices[] = {"bond", "deviatoric", NULL};
+  static const char *const choices[] = {"bond", "deviatoric", "deviatoric_tensor", NULL};
   int which = 0;
   TRY(peri_deck_choice(pl, "yield_rule", false, choices, &which));
   if (which == 0) return PERI_OK;
+  const char *rule = choices[which];
   const peri_node *at = peri_deck_get(pl, "yield_rule");
   if (strcmp(s->mat.model->name, "lps") != 0)
-    return peri_deck_error(at, "%s.yield_rule: deviatoric is a rule of the lps model (model here: %s)", section,
+    return peri_deck_error(at, "%s.yield_rule: %s is a rule of the lps model (model here: %s)", section, rule,
                            s->mat.model->name);
   if (s->disc.geom.dim != 3)
-    return peri_deck_error(at, "%s.yield_rule: deviatoric is for dimension 3 (its von Mises calibration is the 3D "
-                           "family's)", section);
+    return peri_deck_error(at, "%s.yield_rule: %s is for dimension 3 (its von Mises calibration is the 3D "
+                           "family's)", section, rule);
   if (mat->peer_force_state)
-    return peri_deck_error(at, "%s.yield_rule: deviatoric needs force_state variational", section);
+    return peri_deck_error(at, "%s.yield_rule: %s needs force_state variational", section, rule);
   static const char *const bond_only[] = {"weights", "yield_stretches", "calibration", "critical_plastic_stretch",
                                           "critical_bond_energy", "cowper_symonds", NULL};
   for (int k = 0; bond_only[k]; ++k)
     if (peri_deck_get(pl, bond_only[k]))
-      return peri_deck_error(peri_deck_key_node(pl, bond_only[k]), "%s.%s: not with yield_rule deviatoric (%s)",
-                             section, bond_only[k],
+      return peri_deck_error(peri_deck_key_node(pl, bond_only[k]), "%s.%s: not with yield_rule %s (%s)",
+                             section, bond_only[k], rule,
                              k < 2 ? "give the uniaxial curve: strains with stresses or power_law"
                                    : "a key of the bond rule");
   sl->deviatoric = true;
+  sl->tensor = which == 2;
   return PERI_OK;
 }
 
@@ -244,7 +248,7 @@ int peri_setup_plasticity(peri_sim *s, const peri_node *root) {
   for (int m = 0; m < s->mat.n_materials && mats; ++m) {
     const peri_sublayers *sl = s->mat.materials[m].sublayers;
     if (!sl) continue;
-    if (first && sl->deviatoric != first->deviatoric)
+    if (first && (sl->deviatoric != first->deviatoric || sl->tensor != first->tensor))
       return peri_deck_error(peri_deck_get(mats->items[m], "plasticity"),
                              "materials.%s.plasticity: all plastic materials take the same yield_rule",
                              s->mat.materials[m].name);
@@ -254,7 +258,7 @@ int peri_setup_plasticity(peri_sim *s, const peri_node *root) {
 }
 
 int peri_setup_plasticity_solver(peri_sim *s, const peri_node *root) {
-  if (!s->state.plastic_stretch) return PERI_OK;
+  if (!s->state.plastic_stretch && !s->state.plastic_tensor) return PERI_OK;
   if (s->disc.surface_correction != 0) {
     const peri_node *d = peri_deck_get(root, "discretization");
     return peri_deck_error(d ? peri_deck_get(d, "surface_correction") : root,
@@ -273,6 +277,10 @@ int peri_setup_plasticity_solver(peri_sim *s, const peri_node *root) {
     }
   if (s->solver.kind == PERI_SOLVER_ADR || s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION) {
     /* load steps map from the accepted state (src/model/plastic_bonds.c) */
+    if (s->state.plastic_tensor) {
+      s->state.plastic_tensor->quasi_static = true;
+      return PERI_OK;
+    }
     const size_t n = (size_t)s->state.plastic_layers * (size_t)s->disc.bonds.n_bonds;
     s->state.plastic_committed = peri_calloc_aligned(n > 0 ? n : 1, sizeof(double));
     return PERI_OK;

@@ -20,6 +20,7 @@
 #include "peri/decompose.h"
 #include "peri/discretize.h"
 #include "peri/error.h"
+#include "peri/tensor_plasticity.h"
 #include "peri/fem_mesh.h"
 #include "peri/frames.h"
 #include "peri/nodefile.h"
@@ -1089,6 +1090,7 @@ void peri_sim_free(peri_sim *s) {
   free(s->state.plastic_committed);
   free(s->state.plastic_nodes);
   free(s->state.plastic_reverse);
+  peri_tensor_free(s->state.plastic_tensor);
   free(s->state.plastic_bond_term);
   free(s->state.plastic_slots.item_slot);
   free(s->state.plastic_slots.bond_slot);

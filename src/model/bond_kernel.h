@@ -3,6 +3,7 @@
 #define PERI_BOND_KERNEL_H
 #include <math.h>
 #include "peri/sim.h"
+#include "peri/tensor_plasticity.h"
 #include "node_blocks.h"
 
 /* Deformed bond vector y_j - y_i and its length. Computed identically from both ends up
@@ -191,6 +192,8 @@ typedef struct peri_bond_view {
   const int32_t *tpl_node;
   const uint16_t *tpl_geom;
   const double *geom;
+  /* the tensor yield rule's per-node plastic terms ([6][n], src/model/tensor_plasticity.c), or NULL */
+  const double *restrict plastic_term;
 } peri_bond_view;
 
 /* The view of s with the copies in `soa` (6 n doubles: x0 x1 x2 u0 u1 u2). */
@@ -203,7 +206,8 @@ static inline peri_bond_view peri_bond_view_of(const peri_sim *s, const double *
                             s->disc.p.n,
                             s->disc.node_blocks ? s->disc.node_blocks->tpl_node : NULL,
                             s->disc.node_blocks ? s->disc.node_blocks->tpl_geom : NULL,
-                            s->disc.node_blocks ? s->disc.node_blocks->geom : NULL};
+                            s->disc.node_blocks ? s->disc.node_blocks->geom : NULL,
+                            s->state.plastic_tensor ? s->state.plastic_tensor->term : NULL};
   return w;
 }
 

@@ -55,7 +55,9 @@
 
 bool peri_deviatoric_rule(const peri_sim *s) {
   for (int m = 0; m < s->mat.n_materials; ++m)
-    if (s->mat.materials[m].sublayers && s->mat.materials[m].sublayers->deviatoric) return true;
+    if (s->mat.materials[m].sublayers && s->mat.materials[m].sublayers->deviatoric &&
+        !s->mat.materials[m].sublayers->tensor)
+      return true;
   return false;
 }
 

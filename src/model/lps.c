@@ -12,6 +12,7 @@
 #include "peri/constants.h"
 #include "peri/error.h"
 #include "peri/model.h"
+#include "peri/tensor_plasticity.h"
 #include "bond_kernel.h"
 #include "node_blocks.h"
 #include "plastic_bonds.h"
@@ -19,8 +20,12 @@
 
 static int lps_init(peri_sim *s) {
   if (peri_plastic_init(s) != PERI_OK) return PERI_ERR_INPUT; /* sublayer plasticity (docs/plasticity.md) */
-  /* the deviatoric rule's own state (docs/plasticity.md section 8) */
-  if (peri_deviatoric_rule(s) && peri_deviatoric_init(s) != PERI_OK) return PERI_ERR_INPUT;
+  /* the deviatoric rules' own state (docs/plasticity.md sections 8 and 10) */
+  if (peri_tensor_rule(s)) {
+    if (peri_tensor_init(s) != PERI_OK) return PERI_ERR_INPUT;
+  } else if (peri_deviatoric_rule(s) && peri_deviatoric_init(s) != PERI_OK) {
+    return PERI_ERR_INPUT;
+  }
   peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   for (int m = 0; m < s->mat.n_materials; ++m) {
@@ -107,21 +112,32 @@ static inline __attribute__((always_inline)) double lps_bond_sums(const lps_cent
   return omega_r0 * peri_eval_beta(fam, r0) * (uniform ? ci->V : V_j);
 }
 
+/* The tensor yield rule (src/model/tensor_plasticity.c): n . A . n of the offset x (1/|x|^2 in
+ * inv_r0_sq) for A = (xx, yy, zz, xy, xz, yz). */
+static inline __attribute__((always_inline)) double lps_tensor_term(double x0, double x1, double x2,
+                                                                     double inv_r0_sq, const double *A) {
+  const double sum = fma(x0 * x0, A[0], fma(x1 * x1, A[1], fma(x2 * x2, A[2], 2.0 * fma(x0 * x1, A[3], fma(x0 * x2, A[4], x1 * x2 * A[5])))));
+  return sum * inv_r0_sq;
+}
+
 /* Pass 2, bond i-j: the factor g of the force density g (y_j - y_i) on i, with t_ij + t_ji =
  * omega (|xi| (D_i + D_j) + e (B_i + B_j)). */
 static inline __attribute__((always_inline)) double lps_bond_force(const lps_centre ci_value,
                                                                    const peri_family_eval *fam, double xj0,
                                                                    double xj1, double xj2, double uj0, double uj1,
                                                                    double uj2, double D_j, double B_j, double V_j,
-                                                                   peri_influence influence, bool uniform, double *y0,
-                                                                   double *y1, double *y2) {
+                                                                   peri_influence influence, bool uniform, bool tensor,
+                                                                   const double *A, double *y0, double *y1,
+                                                                   double *y2) {
   const lps_centre *ci = &ci_value;
   const double x0 = xj0 - ci->x0, x1 = xj1 - ci->x1, x2 = xj2 - ci->x2;
   const double d0 = x0 + (uj0 - ci->u0), d1 = x1 + (uj1 - ci->u1), d2 = x2 + (uj2 - ci->u2);
   *y0 = d0, *y1 = d1, *y2 = d2;
   const double r0 = peri_length3(x0, x1, x2);
   const double r = peri_length3(d0, d1, d2);
-  const double t = fma(r0, ci->D + D_j, (r - r0) * (ci->B + B_j));
+  /* the tensor rule: n . (A_i + A_j) . n, A the nodes' plastic terms (A[c] = A_i + A_j) */
+  const double T = tensor ? lps_tensor_term(x0, x1, x2, 1.0 / (r0 * r0), A) : 0.0;
+  const double t = fma(r0, (ci->D + D_j) - T, (r - r0) * (ci->B + B_j));
   const double bv = peri_eval_beta(fam, r0) * (uniform ? ci->V : V_j);
   /* omega = 1/|xi| for the inverse influence: one division for both */
   const double scale = influence == PERI_INFLUENCE_INVERSE ? t * bv / (r0 * r)
@@ -198,6 +214,16 @@ static inline __attribute__((always_inline)) peri_v8d lps_bond_sums_v8(const lps
   return v8_mul_pd(v8_mul_pd(omega_r0, peri_beta_or_one_v8(fam, r0, unit_beta)), uniform ? ci->V : V_j);
 }
 
+/* lps_tensor_term for eight bonds (the same operations). */
+static inline __attribute__((always_inline)) peri_v8d lps_tensor_term_v8(const peri_offset_v8 *o, const peri_v8d *A) {
+  const peri_v8d x0 = o->x[0], x1 = o->x[1], x2 = o->x[2];
+  const peri_v8d shear = v8_fmadd_pd(v8_mul_pd(x0, x1), A[3], v8_fmadd_pd(v8_mul_pd(x0, x2), A[4], v8_mul_pd(v8_mul_pd(x1, x2), A[5])));
+  const peri_v8d sum = v8_fmadd_pd(v8_mul_pd(x0, x0), A[0],
+                                   v8_fmadd_pd(v8_mul_pd(x1, x1), A[1],
+                                               v8_fmadd_pd(v8_mul_pd(x2, x2), A[2], v8_mul_pd(v8_set1_pd(2.0), shear))));
+  return v8_mul_pd(sum, v8_mul_pd(o->inv_r0, o->inv_r0));
+}
+
 /* Pass 2 (lps_bond_force): the factor g of the force density g (y_j - y_i), y in y[3]. */
 static inline __attribute__((always_inline)) peri_v8d lps_bond_force_v8(const lps_centre_v8 *ci,
                                                                        const peri_family_eval *fam,
@@ -205,10 +231,13 @@ static inline __attribute__((always_inline)) peri_v8d lps_bond_force_v8(const lp
                                                                        peri_v8d uj1, peri_v8d uj2, peri_v8d D_j,
                                                                        peri_v8d B_j, peri_v8d V_j,
                                                                        peri_influence influence, bool uniform,
-                                                                       bool unit_beta, peri_v8d y[3]) {
+                                                                       bool unit_beta, bool tensor, const peri_v8d *A,
+                                                                       peri_v8d y[3]) {
   peri_v8d r0, inv_r0, r, inv_r;
   lps_lengths_v8(ci, o, uj0, uj1, uj2, &r0, &inv_r0, &r, &inv_r, y);
-  const peri_v8d t = v8_fmadd_pd(r0, v8_add_pd(ci->D, D_j),
+  peri_v8d DD = v8_add_pd(ci->D, D_j);
+  if (tensor) DD = v8_sub_pd(DD, lps_tensor_term_v8(o, A));
+  const peri_v8d t = v8_fmadd_pd(r0, DD,
                                     v8_mul_pd(v8_sub_pd(r, r0), v8_add_pd(ci->B, B_j)));
   const peri_v8d bv = v8_mul_pd(peri_beta_or_one_v8(fam, r0, unit_beta), uniform ? ci->V : V_j);
   peri_v8d scale = v8_mul_pd(v8_mul_pd(t, bv), inv_r);
@@ -227,15 +256,33 @@ static inline __attribute__((always_inline)) peri_v8d lps_bond_force_v8(const lp
 typedef struct lps_sums {
   double sum[3], smin;
   bool candidate;
+  /* the tensor rule's pass 1 (src/model/tensor_plasticity.c): sum w q x_a x_b / |xi|^2 for
+   * ab = xx, yy, zz, xy, xz, yz */
+  double tensor[6];
 } lps_sums;
+
+/* The tensor rule's pass-1 sums of n bonds in family order, each bond's c = w q / |xi|^2 and
+ * offset x: nt[ab] += c x_a x_b (the operations of a block's lane). */
+static inline void lps_tensor_sums(const double *c, const double *x0, const double *x1, const double *x2, int n,
+                                   double nt[6]) {
+  for (int a = 0; a < n; ++a) {
+    const double c0 = c[a] * x0[a], c1 = c[a] * x1[a], c2 = c[a] * x2[a];
+    nt[0] = fma(c0, x0[a], nt[0]), nt[1] = fma(c1, x1[a], nt[1]), nt[2] = fma(c2, x2[a], nt[2]);
+    nt[3] = fma(c0, x1[a], nt[3]), nt[4] = fma(c0, x2[a], nt[4]), nt[5] = fma(c1, x2[a], nt[5]);
+  }
+}
 
 /* Node i alone, pass 1 or 2, over its intact bonds in family order (the bond values by a
  * vector loop, their sums in order). */
 static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_view *w, int32_t i, bool force,
                                                                bool thermal, peri_influence influence,
                                                                bool uniform, bool track_smin, bool energy,
-                                                               bool two_sided, bool deviatoric) {
+                                                               bool two_sided, bool deviatoric, bool tensor) {
   const lps_centre ci = lps_centre_of(w, i, thermal, force, !force && !energy);
+  const double *restrict Aterm = w->plastic_term;
+  double Ai[6] = {0}, nt[6] = {0};
+  if (tensor && force)
+    for (int c = 0; c < 6; ++c) Ai[c] = Aterm[(size_t)c * (size_t)w->n + (size_t)i];
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict D = w->coef,
@@ -246,10 +293,14 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
   double s0 = 0.0, s1 = 0.0, s2 = 0.0, smin = INFINITY, excess = -INFINITY;
   int32_t intact[PERI_INTACT_CHUNK];
   double g[PERI_INTACT_CHUNK], v0[PERI_INTACT_CHUNK], v1[PERI_INTACT_CHUNK], v2[PERI_INTACT_CHUNK];
+  /* the tensor rule's pass 1: each bond's w q / |xi|^2 and offset */
+  double tc[PERI_INTACT_CHUNK], tx0[PERI_INTACT_CHUNK], tx1[PERI_INTACT_CHUNK], tx2[PERI_INTACT_CHUNK];
 #ifdef PERI_BOND_V8
   if (LPS_V8(influence)) {
     const peri_v8d zero = v8_setzero_pd();
     const lps_centre_v8 cv = lps_centre_v8_of(w, i, thermal, force, !force && !energy, false);
+    peri_v8d Av[6];
+    for (int c = 0; c < 6; ++c) Av[c] = v8_set1_pd(Ai[c]);
     peri_v8d smin_v = v8_set1_pd(INFINITY), excess_v = v8_set1_pd(-INFINITY);
     for (int64_t k = k0; k < k1;) {
       int n;
@@ -262,9 +313,11 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
         if (force) {
           peri_v8d y[3];
           const peri_offset_v8 o = lps_offset_v8(&cv, LPS_GATHER(X0), LPS_GATHER(X1), LPS_GATHER(X2));
+          peri_v8d A[6];
+          for (int c = 0; tensor && c < 6; ++c) A[c] = v8_add_pd(Av[c], LPS_GATHER(Aterm + (size_t)c * n_nodes));
           const peri_v8d gv = lps_bond_force_v8(&cv, &fam, &o,
                                                LPS_GATHER(U0), LPS_GATHER(U1), LPS_GATHER(U2), LPS_GATHER(D),
-                                               LPS_GATHER(B), V_j, influence, uniform, false, y);
+                                               LPS_GATHER(B), V_j, influence, uniform, false, tensor, A, y);
           v8_mask_storeu_pd(g + a, m, gv);
           v8_mask_storeu_pd(v0 + a, m, y[0]);
           v8_mask_storeu_pd(v1 + a, m, y[1]);
@@ -281,6 +334,12 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
           v8_mask_storeu_pd(v0 + a, m, q);
           v8_mask_storeu_pd(v1 + a, m, r0);
           if (energy || deviatoric) v8_mask_storeu_pd(v2 + a, m, v8_mul_pd(v8_mul_pd(q, q), inv_r0));
+          if (tensor) {
+            v8_mask_storeu_pd(tc + a, m, v8_mul_pd(v8_mul_pd(wt, q), v8_mul_pd(inv_r0, inv_r0)));
+            v8_mask_storeu_pd(tx0 + a, m, o.x[0]);
+            v8_mask_storeu_pd(tx1 + a, m, o.x[1]);
+            v8_mask_storeu_pd(tx2 + a, m, o.x[2]);
+          }
           if (track_smin) smin_v = v8_mask_min_pd(smin_v, m, smin_v, st);
           excess_v = v8_mask_max_pd(excess_v, m, excess_v, e);
         }
@@ -291,8 +350,10 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
         s1 = fma(g[a], v1[a], s1);
         if (force || energy || deviatoric) s2 = fma(g[a], v2[a], s2);
       }
+      if (tensor && !force) lps_tensor_sums(tc, tx0, tx1, tx2, n, nt);
     }
-    const lps_sums r = {{s0, s1, s2}, v8_reduce_min_pd(smin_v), v8_reduce_max_pd(excess_v) > 0.0};
+    lps_sums r = {{s0, s1, s2}, v8_reduce_min_pd(smin_v), v8_reduce_max_pd(excess_v) > 0.0, {0}};
+    if (tensor) memcpy(r.tensor, nt, sizeof nt);
     return r;
   }
 #endif
@@ -303,8 +364,10 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
 #pragma omp simd
       for (int a = 0; a < n; ++a) {
         const int32_t j = nbr[a];
+        double A[6];
+        for (int c = 0; c < 6; ++c) A[c] = tensor ? Ai[c] + Aterm[(size_t)c * n_nodes + (size_t)j] : 0.0;
         g[a] = lps_bond_force(ci, &fam, X0[j], X1[j], X2[j], U0[j], U1[j], U2[j], D[j], B[j],
-                              uniform ? 0.0 : V[j], influence, uniform, &v0[a], &v1[a], &v2[a]);
+                              uniform ? 0.0 : V[j], influence, uniform, tensor, A, &v0[a], &v1[a], &v2[a]);
       }
       for (int a = 0; a < n; ++a) {
         s0 = fma(g[a], v0[a], s0);
@@ -320,6 +383,10 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
                              energy ? 0.0 : s0_bound[j], uniform ? 0.0 : V[j], thermal, influence, uniform,
                              track_smin, two_sided, &v0[a], &v1[a], &s, &e);
         if (energy || deviatoric) v2[a] = v0[a] * v0[a] / v1[a];
+        if (tensor) {
+          tx0[a] = X0[j] - ci.x0, tx1[a] = X1[j] - ci.x1, tx2[a] = X2[j] - ci.x2;
+          tc[a] = g[a] * v0[a] / (v1[a] * v1[a]);
+        }
         if (track_smin) smin = peri_min(smin, s);
         excess = peri_max(excess, e);
       }
@@ -328,9 +395,11 @@ static inline __attribute__((always_inline)) lps_sums lps_node(const peri_bond_v
         s1 = fma(g[a], v1[a], s1);
         if (energy || deviatoric) s2 = fma(g[a], v2[a], s2);
       }
+      if (tensor) lps_tensor_sums(tc, tx0, tx1, tx2, n, nt);
     }
   }
-  const lps_sums r = {{s0, s1, s2}, smin, excess > 0.0};
+  lps_sums r = {{s0, s1, s2}, smin, excess > 0.0, {0}};
+  if (tensor) memcpy(r.tensor, nt, sizeof nt);
   return r;
 }
 
@@ -341,7 +410,7 @@ static inline __attribute__((always_inline)) void lps_block_v8(const peri_bond_v
                                                                const uint8_t *restrict lanes, int64_t count,
                                                                bool force, bool thermal, peri_influence influence,
                                                                bool uniform, bool track_smin, bool energy,
-                                                               bool two_sided, bool deviatoric,
+                                                               bool two_sided, bool deviatoric, bool tensor,
                                                                lps_sums out[PERI_BLOCK], peri_break_marks *marks,
                                                                bool unit_beta, bool same_bound,
                                                                const uint16_t *restrict table, bool from_table) {
@@ -354,6 +423,13 @@ static inline __attribute__((always_inline)) void lps_block_v8(const peri_bond_v
   const lps_centre_v8 cv = lps_centre_v8_of(w, i0, thermal, force, !force && !energy, true);
   peri_v8d s0 = zero, s1 = zero, s2 = zero, smin = v8_set1_pd(INFINITY);
   peri_m8 beyond = 0;
+  /* the tensor rule: pass 1's sums w q x_a x_b / |xi|^2; the force pass's centre terms A_i */
+  const double *restrict Aterm = w->plastic_term;
+  peri_v8d nt[6], Ai[6];
+  for (int c = 0; c < 6; ++c) {
+    nt[c] = zero;
+    Ai[c] = tensor && force ? v8_loadu_pd(Aterm + (size_t)c * n_nodes + (size_t)i0) : zero;
+  }
   /* every entry one offset for all lanes (a lattice, node_blocks.h): the offsets and their
    * lengths from the table, the positions not read (from_table: table is not NULL, a constant
    * of each copy of the loop) */
@@ -365,10 +441,11 @@ static inline __attribute__((always_inline)) void lps_block_v8(const peri_bond_v
     const peri_offset_v8 o = from_table ? peri_offset_of_table_v8(w->geom + (size_t)table[a] * PERI_GEOM_STRIDE, true)
                                    : lps_offset_v8(&cv, v8_loadu_pd(X0 + j), v8_loadu_pd(X1 + j), v8_loadu_pd(X2 + j));
     if (force) {
-      peri_v8d y[3];
+      peri_v8d y[3], A[6];
+      for (int c = 0; tensor && c < 6; ++c) A[c] = v8_add_pd(Ai[c], v8_loadu_pd(Aterm + (size_t)c * n_nodes + j));
       const peri_v8d g = lps_bond_force_v8(&cv, &fam, &o, v8_loadu_pd(U0 + j), v8_loadu_pd(U1 + j),
                                           v8_loadu_pd(U2 + j), v8_loadu_pd(D + j), v8_loadu_pd(B + j),
-                                          V_j, influence, uniform, unit_beta, y);
+                                          V_j, influence, uniform, unit_beta, tensor, A, y);
       /* a lane takes the bond when its bit is set: the node path's sums, in the same order */
       s0 = v8_mask3_fmadd_pd(g, y[0], s0, on);
       s1 = v8_mask3_fmadd_pd(g, y[1], s1, on);
@@ -382,16 +459,25 @@ static inline __attribute__((always_inline)) void lps_block_v8(const peri_bond_v
       s0 = v8_mask3_fmadd_pd(wt, q, s0, on);
       s1 = v8_mask3_fmadd_pd(wt, r0, s1, on);
       if (energy || deviatoric) s2 = v8_mask3_fmadd_pd(wt, v8_mul_pd(v8_mul_pd(q, q), inv_r0), s2, on);
+      if (tensor) { /* (lps_tensor_sums's operations lane by lane) */
+        const peri_v8d c = v8_mul_pd(v8_mul_pd(wt, q), v8_mul_pd(inv_r0, inv_r0));
+        const peri_v8d c0 = v8_mul_pd(c, o.x[0]), c1 = v8_mul_pd(c, o.x[1]), c2 = v8_mul_pd(c, o.x[2]);
+        nt[0] = v8_mask3_fmadd_pd(c0, o.x[0], nt[0], on), nt[1] = v8_mask3_fmadd_pd(c1, o.x[1], nt[1], on);
+        nt[2] = v8_mask3_fmadd_pd(c2, o.x[2], nt[2], on), nt[3] = v8_mask3_fmadd_pd(c0, o.x[1], nt[3], on);
+        nt[4] = v8_mask3_fmadd_pd(c0, o.x[2], nt[4], on), nt[5] = v8_mask3_fmadd_pd(c1, o.x[2], nt[5], on);
+      }
       if (track_smin) smin = v8_mask_min_pd(smin, on, smin, st);
       const peri_m8 over = v8_mask_cmp_pd_mask(on, e, zero, _CMP_GT_OQ); /* beyond the screening bound */
       beyond |= over;
       if (marks) peri_mark_entry(marks, a, over);
     }
   }
-  double a0[PERI_BLOCK], a1[PERI_BLOCK], a2[PERI_BLOCK], am[PERI_BLOCK];
+  double a0[PERI_BLOCK], a1[PERI_BLOCK], a2[PERI_BLOCK], am[PERI_BLOCK], at[6][PERI_BLOCK];
   v8_storeu_pd(a0, s0), v8_storeu_pd(a1, s1), v8_storeu_pd(a2, s2), v8_storeu_pd(am, smin);
+  for (int c = 0; tensor && c < 6; ++c) v8_storeu_pd(at[c], nt[c]);
   for (int l = 0; l < PERI_BLOCK; ++l) {
-    const lps_sums r = {{a0[l], a1[l], a2[l]}, am[l], (beyond >> l) & 1u};
+    lps_sums r = {{a0[l], a1[l], a2[l]}, am[l], (beyond >> l) & 1u, {0}};
+    for (int c = 0; tensor && c < 6; ++c) r.tensor[c] = at[c][l];
     out[l] = r;
   }
 }
@@ -405,8 +491,8 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
                                                             const uint8_t *restrict lanes, int64_t count,
                                                             bool force, bool thermal, peri_influence influence,
                                                             bool uniform, bool track_smin, bool energy,
-                                                            bool two_sided, bool deviatoric, lps_sums out[PERI_BLOCK],
-                                                            peri_break_marks *marks) {
+                                                            bool two_sided, bool deviatoric, bool tensor,
+                                                            lps_sums out[PERI_BLOCK], peri_break_marks *marks) {
   const size_t n_nodes = (size_t)w->n;
   const double *restrict X0 = w->x0, *restrict X1 = w->x1, *restrict X2 = w->x2, *restrict U0 = w->u0,
                          *restrict U1 = w->u1, *restrict U2 = w->u2, *restrict V = w->V, *restrict D = w->coef,
@@ -422,7 +508,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
     const uint16_t *table = peri_block_offsets(w, tj, count);
 #define LPS_BLOCK_V8(UNIT_BETA, SAME_BOUND, FROM_TABLE)                                                          \
   lps_block_v8(w, i0, tj, lanes, count, force, thermal, influence, uniform, track_smin, energy, two_sided,        \
-               deviatoric, out, marks, UNIT_BETA, SAME_BOUND, table, FROM_TABLE)
+               deviatoric, tensor, out, marks, UNIT_BETA, SAME_BOUND, table, FROM_TABLE)
 #define LPS_BLOCK_V8_SOURCES(UNIT_BETA, SAME_BOUND)                                                              \
   (table ? LPS_BLOCK_V8(UNIT_BETA, SAME_BOUND, true) : LPS_BLOCK_V8(UNIT_BETA, SAME_BOUND, false))
     if (unit_beta && same_bound) LPS_BLOCK_V8_SOURCES(true, true);
@@ -434,6 +520,11 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
     return;
   }
 #endif
+  if (tensor) { /* (the tensor rule without the eight-lane functions: node by node, the same sums) */
+    for (int l = 0; l < PERI_BLOCK; ++l)
+      out[l] = lps_node(w, i0 + l, force, thermal, influence, uniform, track_smin, energy, two_sided, deviatoric, true);
+    return;
+  }
   /* the eight centres as arrays (one vector each), s0 .. beyond the lanes' running sums */
   double c0[PERI_BLOCK], c1[PERI_BLOCK], c2[PERI_BLOCK], cu0[PERI_BLOCK], cu1[PERI_BLOCK], cu2[PERI_BLOCK],
       ceth[PERI_BLOCK], cbound[PERI_BLOCK], cV[PERI_BLOCK], cD[PERI_BLOCK], cB[PERI_BLOCK];
@@ -462,7 +553,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
         const lps_centre c = {c0[l], c1[l], c2[l], cu0[l], cu1[l], cu2[l], 0.0, 0.0, cV[l], cD[l], cB[l]};
         double y0, y1, y2;
         const double g = lps_bond_force(c, &fam, A0[l], A1[l], A2[l], E0[l], E1[l], E2[l], Dj[l], Bj[l],
-                                        uniform ? 0.0 : Vj[l], influence, uniform, &y0, &y1, &y2);
+                                        uniform ? 0.0 : Vj[l], influence, uniform, false, NULL, &y0, &y1, &y2);
         /* (a lane without the bond adds exactly 0, the sums starting at +0: an unconditional
          * update keeps the sums in registers, where a conditional one would store them to
          * memory at every entry and stall on the reload at the next) */
@@ -496,7 +587,7 @@ static inline __attribute__((always_inline)) void lps_block(const peri_bond_view
     }
   }
   for (int l = 0; l < PERI_BLOCK; ++l) {
-    const lps_sums r = {{s0[l], s1[l], s2[l]}, smin[l], beyond[l] > 0.0};
+    const lps_sums r = {{s0[l], s1[l], s2[l]}, smin[l], beyond[l] > 0.0, {0}};
     out[l] = r;
   }
 }
@@ -509,47 +600,56 @@ typedef struct lps_loops {
   void (*block)(const peri_bond_view *, int32_t, const int32_t *, const uint8_t *, int64_t, lps_sums *,
                 peri_break_marks *);
 } lps_loops;
-#define LPS_VARIANT(NAME, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, DEV)                      \
+#define LPS_VARIANT(NAME, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, DEV, TENSOR)              \
   static lps_sums NAME##_node(const peri_bond_view *w, int32_t i) {                                       \
-    return lps_node(w, i, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, DEV);                     \
+    return lps_node(w, i, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, DEV, TENSOR);             \
   }                                                                                                        \
   static void NAME##_block(const peri_bond_view *w, int32_t i0, const int32_t *tj, const uint8_t *lanes,   \
                            int64_t count, lps_sums *out, peri_break_marks *marks) {                        \
-    lps_block(w, i0, tj, lanes, count, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, DEV, out, marks); \
+    lps_block(w, i0, tj, lanes, count, FORCE, THERMAL, INFLUENCE, UNIFORM, SMIN, ENERGY, TWO, DEV, TENSOR, \
+              out, marks);                                                                                 \
   }                                                                                                        \
   static const lps_loops NAME = {NAME##_node, NAME##_block};
 /* Pass 1 by influence function (constant on a grid, constant, inverse, Gaussian), without
  * and with thermal strain; without and with the minimum stretch (the LAMMPS-form critical
  * stretch), and for the energy; "uniform": every node has the same volume, so the loop does
  * not gather it; "two-sided": the plastic screen (lps_plastic_force_pass), |e| against it */
-#define LPS_SUMS_VARIANTS(SUFFIX, SMIN, ENERGY, TWO, DEV)                                                           \
-  LPS_VARIANT(lps_sums_uniform##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, true, SMIN, ENERGY, TWO, DEV)    \
-  LPS_VARIANT(lps_sums_constant##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, false, SMIN, ENERGY, TWO, DEV)  \
-  LPS_VARIANT(lps_sums_inverse##SUFFIX, false, false, PERI_INFLUENCE_INVERSE, false, SMIN, ENERGY, TWO, DEV)    \
-  LPS_VARIANT(lps_sums_gaussian##SUFFIX, false, false, PERI_INFLUENCE_GAUSSIAN, false, SMIN, ENERGY, TWO, DEV)  \
-  LPS_VARIANT(lps_sums_thermal##SUFFIX, false, true, PERI_INFLUENCE_CONSTANT, false, SMIN, ENERGY, TWO, DEV)    \
+#define LPS_SUMS_VARIANTS(SUFFIX, SMIN, ENERGY, TWO, DEV, TEN)                                                        \
+  LPS_VARIANT(lps_sums_uniform##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, true, SMIN, ENERGY, TWO, DEV, TEN)    \
+  LPS_VARIANT(lps_sums_constant##SUFFIX, false, false, PERI_INFLUENCE_CONSTANT, false, SMIN, ENERGY, TWO, DEV, TEN)  \
+  LPS_VARIANT(lps_sums_inverse##SUFFIX, false, false, PERI_INFLUENCE_INVERSE, false, SMIN, ENERGY, TWO, DEV, TEN)    \
+  LPS_VARIANT(lps_sums_gaussian##SUFFIX, false, false, PERI_INFLUENCE_GAUSSIAN, false, SMIN, ENERGY, TWO, DEV, TEN)  \
+  LPS_VARIANT(lps_sums_thermal##SUFFIX, false, true, PERI_INFLUENCE_CONSTANT, false, SMIN, ENERGY, TWO, DEV, TEN)    \
   LPS_VARIANT(lps_sums_inverse_thermal##SUFFIX, false, true, PERI_INFLUENCE_INVERSE, false, SMIN, ENERGY,  \
-              TWO, DEV)                                                                                         \
+              TWO, DEV, TEN)                                                                                         \
   LPS_VARIANT(lps_sums_gaussian_thermal##SUFFIX, false, true, PERI_INFLUENCE_GAUSSIAN, false, SMIN, ENERGY, \
-              TWO, DEV)                                                                                         \
+              TWO, DEV, TEN)                                                                                         \
   static const lps_loops *const lps_sums_table##SUFFIX[2][4] = {                                         \
       {&lps_sums_uniform##SUFFIX, &lps_sums_constant##SUFFIX, &lps_sums_inverse##SUFFIX,                   \
        &lps_sums_gaussian##SUFFIX},                                                                        \
       {&lps_sums_thermal##SUFFIX, &lps_sums_thermal##SUFFIX, &lps_sums_inverse_thermal##SUFFIX,            \
        &lps_sums_gaussian_thermal##SUFFIX}};
-LPS_SUMS_VARIANTS(, false, false, false, false)
-LPS_SUMS_VARIANTS(_smin, true, false, false, false)
-LPS_SUMS_VARIANTS(_energy, false, true, false, false)
-LPS_SUMS_VARIANTS(_plastic, false, false, true, false)
-LPS_SUMS_VARIANTS(_plastic_smin, true, false, true, false)
+LPS_SUMS_VARIANTS(, false, false, false, false, false)
+LPS_SUMS_VARIANTS(_smin, true, false, false, false, false)
+LPS_SUMS_VARIANTS(_energy, false, true, false, false, false)
+LPS_SUMS_VARIANTS(_plastic, false, false, true, false, false)
+LPS_SUMS_VARIANTS(_plastic_smin, true, false, true, false, false)
 /* the deviatoric yield rule: pass 1 with the sum of omega beta V q^2 (the elastic deviatoric
  * energy of a node that has never yielded, its screen) */
-LPS_SUMS_VARIANTS(_deviatoric, false, false, false, true)
-LPS_SUMS_VARIANTS(_deviatoric_smin, true, false, false, true)
-LPS_VARIANT(lps_force_uniform, true, false, PERI_INFLUENCE_CONSTANT, true, false, false, false, false)
-LPS_VARIANT(lps_force_constant, true, false, PERI_INFLUENCE_CONSTANT, false, false, false, false, false)
-LPS_VARIANT(lps_force_inverse, true, false, PERI_INFLUENCE_INVERSE, false, false, false, false, false)
-LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false, false, false, false, false)
+LPS_SUMS_VARIANTS(_deviatoric, false, false, false, true, false)
+LPS_SUMS_VARIANTS(_deviatoric_smin, true, false, false, true, false)
+/* the tensor yield rule: the same with the tensor sums (src/model/tensor_plasticity.c) */
+LPS_SUMS_VARIANTS(_tensor, false, false, false, true, true)
+LPS_SUMS_VARIANTS(_tensor_smin, true, false, false, true, true)
+LPS_VARIANT(lps_force_uniform, true, false, PERI_INFLUENCE_CONSTANT, true, false, false, false, false, false)
+LPS_VARIANT(lps_force_constant, true, false, PERI_INFLUENCE_CONSTANT, false, false, false, false, false, false)
+LPS_VARIANT(lps_force_inverse, true, false, PERI_INFLUENCE_INVERSE, false, false, false, false, false, false)
+LPS_VARIANT(lps_force_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false, false, false, false, false, false)
+
+LPS_VARIANT(lps_force_tensor_uniform, true, false, PERI_INFLUENCE_CONSTANT, true, false, false, false, false, true)
+LPS_VARIANT(lps_force_tensor_constant, true, false, PERI_INFLUENCE_CONSTANT, false, false, false, false, false, true)
+LPS_VARIANT(lps_force_tensor_inverse, true, false, PERI_INFLUENCE_INVERSE, false, false, false, false, false, true)
+LPS_VARIANT(lps_force_tensor_gaussian, true, false, PERI_INFLUENCE_GAUSSIAN, false, false, false, false, false, true)
 
 /* Pass 1's table for the deck's influence function, volumes and thermal strain. */
 static const lps_loops *lps_pass1_loops(const peri_sim *s, const peri_node_blocks *items,
@@ -684,15 +784,23 @@ static inline void lps_item_sums(const peri_node_blocks *items, int32_t item, in
   }
 }
 
-/* Pass 2's loops for the deck's influence function and volumes. */
-static const lps_loops *lps_force_loops(const peri_sim *s, const peri_node_blocks *items) {
+/* Pass 2's loops for the deck's influence function and volumes (with the tensor rule's plastic
+ * terms when `tensor`). */
+static const lps_loops *lps_force_loops(const peri_sim *s, const peri_node_blocks *items, bool tensor) {
+  if (tensor)
+    return s->disc.family.influence == PERI_INFLUENCE_INVERSE    ? &lps_force_tensor_inverse
+           : s->disc.family.influence == PERI_INFLUENCE_GAUSSIAN ? &lps_force_tensor_gaussian
+           : items->uniform_volume                                ? &lps_force_tensor_uniform
+                                                                  : &lps_force_tensor_constant;
   return s->disc.family.influence == PERI_INFLUENCE_INVERSE    ? &lps_force_inverse
          : s->disc.family.influence == PERI_INFLUENCE_GAUSSIAN ? &lps_force_gaussian
          : items->uniform_volume                                ? &lps_force_uniform
                                                                 : &lps_force_constant;
 }
 
-/* Pass 2 for every owned node, after pass 1 (the coefficients D and B of every node). */
+/* Pass 2 for every owned node, after pass 1 (the coefficients D and B of every node), with
+ * the tensor rule's plastic terms when some node has one (with every term 0 the two loops give
+ * the same numbers). */
 static void lps_pair_forces(peri_sim *s) {
   peri_particles *p = &s->disc.p;
   const size_t n = (size_t)p->n;
@@ -701,7 +809,7 @@ static void lps_pair_forces(peri_sim *s) {
   peri_sim_exchange(s, s->disc.p.coef + n, 1);
   peri_node_blocks *items = s->disc.node_blocks; /* refreshed by the dilatation pass */
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
-  const lps_loops *loops = lps_force_loops(s, items);
+  const lps_loops *loops = lps_force_loops(s, items, s->state.plastic_tensor && s->state.plastic_tensor->any_plastic);
   long n_broken = 0; /* (the force pass breaks nothing) */
   LPS_FOR_EACH_NODE(items, loops, w, false, {
     for (int d = 0; d < 3; ++d) p->f[3 * (size_t)i + d] = r->sum[d];
@@ -734,7 +842,7 @@ static long lps_plastic_force_pass(peri_sim *s, bool update_s0) {
   peri_node_blocks *items = peri_node_blocks_refresh(s);
   const bool track_smin = s->mat.s0_node != NULL;
   const lps_loops *sums_loops = lps_pass1_loops(s, items, track_smin ? lps_sums_table_plastic_smin : lps_sums_table_plastic);
-  const lps_loops *force_loops = lps_force_loops(s, items);
+  const lps_loops *force_loops = lps_force_loops(s, items, false);
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
   peri_bond_view screened = w;
   screened.s0_bound = pass.screen, screened.s0_uniform = false;
@@ -815,7 +923,7 @@ static long lps_deviatoric_force_pass(peri_sim *s, bool update_s0) {
   free(elastic);
   peri_sim_exchange(s, p->coef, 1); /* pass 2 reads D_j and B_j of ghosts */
   peri_sim_exchange(s, p->coef + (size_t)p->n, 1);
-  const lps_loops *force_loops = lps_force_loops(s, items);
+  const lps_loops *force_loops = lps_force_loops(s, items, false);
 #pragma omp parallel
   PERI_FOR_EACH_ITEM(items, item) {
     const int32_t i0 = items->first[item], i1 = items->first[item + 1];
@@ -841,7 +949,36 @@ static long lps_deviatoric_force_pass(peri_sim *s, bool update_s0) {
   return n_broken;
 }
 
+/* The tensor yield rule (src/model/tensor_plasticity.c, docs/plasticity.md section 10): pass 1
+ * with the sums of the nodes' least-squares tensors and the elastic deviatoric energy (the
+ * screen of a node that has never yielded), the nodes' returns, then pass 2 with the plastic
+ * terms of both ends of every bond. */
+static long lps_tensor_force_pass(peri_sim *s, bool update_s0) {
+  peri_update_s0_bound(s);
+  peri_node_blocks *items = peri_node_blocks_refresh(s);
+  const bool track_smin = s->mat.s0_node != NULL, breaking = s->solver.breaking;
+  const lps_loops *loops = lps_pass1_loops(s, items, track_smin ? lps_sums_table_tensor_smin : lps_sums_table_tensor);
+  peri_particles *p = &s->disc.p;
+  const peri_bond_view w = peri_bond_view_of(s, items->soa);
+  const size_t owned = (size_t)(p->n_owned > 0 ? p->n_owned : 1), stride = (size_t)p->n_owned;
+  double *elastic = peri_malloc(sizeof(double) * owned), *N = peri_malloc(6 * sizeof(double) * owned);
+  long n_broken = 0;
+  LPS_FOR_EACH_NODE(items, loops, w, breaking, {
+    if (i == i0) lps_item_coefficients(s, i0, i1, sums); /* (the item's nodes at once) */
+    if (track_smin) p->smin[i] = r->smin;
+    const double theta = p->theta[i];
+    elastic[i] = r->sum[2] - (2.0 * theta / 3.0) * r->sum[0] + (theta * theta / 9.0) * r->sum[1];
+    for (int c = 0; c < 6; ++c) N[(size_t)c * stride + (size_t)i] = r->tensor[c];
+  })
+  if (track_smin && update_s0) peri_update_lammps_s0(s);
+  peri_tensor_return(s, N, elastic);
+  free(elastic), free(N);
+  lps_pair_forces(s);
+  return n_broken;
+}
+
 static long lps_force(peri_sim *s) {
+  if (s->state.plastic_tensor) return peri_force_in_breaking_order(s, lps_tensor_force_pass);
   if (s->state.plastic_reverse) return peri_force_in_breaking_order(s, lps_deviatoric_force_pass);
   if (s->state.plastic_stretch) return peri_force_in_breaking_order(s, lps_plastic_force_pass);
   return peri_force_in_breaking_order(s, s->disc.bonds.surface_G ? peri_corrected_lps_force : lps_force_pass);
@@ -858,6 +995,10 @@ static void lps_energy(peri_sim *s, double *W) {
   }
   if (s->state.plastic_reverse) {
     peri_deviatoric_energy(s, W);
+    return;
+  }
+  if (s->state.plastic_tensor) {
+    peri_tensor_energy(s, W);
     return;
   }
   if (s->state.plastic_stretch) {
@@ -890,6 +1031,9 @@ static double lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) 
   if (s->state.plastic_reverse) /* the deviatoric rule: each end's plastic part of its deviatoric term */
     return omega * (L * (p->coef[i] + p->coef[j]) + (r - L) * (p->coef[n + (size_t)i] + p->coef[n + (size_t)j]) -
                     L * peri_deviatoric_pair_plastic(s, i, k));
+  if (s->state.plastic_tensor) /* the tensor rule: n . (A_i + A_j) . n */
+    return omega * (L * (p->coef[i] + p->coef[j] - peri_tensor_bond_term(s, i, i, j) - peri_tensor_bond_term(s, j, i, j)) +
+                    (r - L) * (p->coef[n + (size_t)i] + p->coef[n + (size_t)j]));
   const double e = r - L - peri_plastic_bond_stretch(s, i, k) * L; /* the elastic extension */
   /* node i's half, omega (n_theta (K theta - alpha P/3) L/m + alpha (e - eth L - theta L/3))
    * with its thermal strain eth, is omega (D L + B e) with i's coefficients D, B of the

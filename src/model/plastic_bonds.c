@@ -22,6 +22,7 @@
 #include "bond_chunk.h"
 #include "bond_kernel.h"
 #include "node_blocks.h"
+#include "peri/tensor_plasticity.h"
 #include "plastic_bonds.h"
 
 /* The sublayers of bond i-j: those of the common material; between two materials the ones
@@ -42,6 +43,7 @@ int peri_plastic_init(peri_sim *s) {
     const peri_sublayers *sl = s->mat.materials[m].sublayers;
     if (sl && sl->n > layers) layers = sl->n;
     deviatoric = deviatoric || (sl && sl->deviatoric);
+    if (sl && sl->tensor) return PERI_OK; /* (the tensor rule keeps no state per bond) */
   }
   if (layers == 0) return PERI_OK;
   const size_t n = (size_t)s->disc.bonds.n_bonds * (size_t)layers;
@@ -89,6 +91,7 @@ double peri_plastic_bond_stretch(const peri_sim *s, int32_t i, int64_t k) {
 }
 
 void peri_plastic_commit(peri_sim *s) {
+  peri_tensor_commit(s);
   if (s->state.plastic_committed)
     memcpy(s->state.plastic_committed, s->state.plastic_stretch, sizeof(double) * plastic_state_doubles(s));
 }

@@ -15,6 +15,7 @@
 #include "peri/error.h"
 #include "peri/model.h"
 #include "peri/plastic_fields.h"
+#include "peri/tensor_plasticity.h"
 
 /* Version of the layout of docs/datasets.md; a reader checks it. */
 #define PERI_DATASET_FORMAT_VERSION 1
@@ -223,7 +224,7 @@ static int write_frame(peri_sim *s) {
   const size_t owned = (size_t)(p->n_owned > 0 ? p->n_owned : 1), bonds = (size_t)(s->disc.bonds.n_bonds > 0 ? s->disc.bonds.n_bonds : 1);
   double *damage = peri_malloc(sizeof(double) * owned), *yield = NULL;
   peri_damage_index(s, damage);
-  if (s->state.plastic_stretch) {
+  if (peri_has_plasticity(s)) {
     yield = peri_malloc(sizeof(double) * owned);
     peri_yield_index(s, yield);
   }

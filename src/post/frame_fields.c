@@ -2,6 +2,7 @@
  * given simulation and their units (include/peri/frames.h). */
 #include <string.h>
 #include "peri/frames.h"
+#include "peri/tensor_plasticity.h"
 
 /* The fields output.fields and output.picture accept. A new field is its name here and its
  * branch in frame_fields (frames.c). */
@@ -18,7 +19,7 @@ int peri_frame_field_components(const peri_sim *s, const char *name) {
   if (!strcmp(name, "heat_flux")) return s->thermal ? 3 : 0;
   if (!strcmp(name, "node_type")) return s->coupling ? 1 : 0; /* 1 PD, 0 FEM (docs/coupling.md) */
   if (!strcmp(name, "body")) return s->bodies ? 1 : 0; /* the bodies key (docs/contact.md) */
-  if (!strcmp(name, "yield_index") || !strcmp(name, "plastic_stretch")) return s->state.plastic_stretch ? 1 : 0;
+  if (!strcmp(name, "yield_index") || !strcmp(name, "plastic_stretch")) return peri_has_plasticity(s) ? 1 : 0;
   if (!strcmp(name, "displacement") || !strcmp(name, "velocity") || !strcmp(name, "force") ||
       !strcmp(name, "principal_stress"))
     return 3;

@@ -23,6 +23,7 @@
 #include "peri/horizon_field.h"
 #include "peri/stress.h"
 #include "peri/thermal.h"
+#include "peri/tensor_plasticity.h"
 #include "frames_parts.h"
 
 enum { MAX_FRAME_FIELDS = 24, MAX_FRAME_FIELDS_COPY = MAX_FRAME_FIELDS };
@@ -350,10 +351,10 @@ int peri_frames_picture(peri_frames *f, peri_sim *s, char *path_out, size_t n) {
       values[i] = sqrt(sum);
     }
     free(e);
-  } else if (!strcmp(name, "yield_index") && s->state.plastic_stretch) {
+  } else if (!strcmp(name, "yield_index") && peri_has_plasticity(s)) {
     peri_yield_index(s, values);
     vmin = 0.0, vmax = 1.0;
-  } else if (!strcmp(name, "plastic_stretch") && s->state.plastic_stretch) {
+  } else if (!strcmp(name, "plastic_stretch") && peri_has_plasticity(s)) {
     peri_plastic_stretch_field(s, values);
   } else if (!strcmp(name, "temperature") && s->thermal) {
     memcpy(values, s->thermal->T, sizeof(double) * (size_t)p->n_owned);

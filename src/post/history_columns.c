@@ -12,6 +12,7 @@
 #include "peri/j_integral.h"
 #include "peri/thermal.h"
 #include "peri/tools.h"
+#include "peri/tensor_plasticity.h"
 
 typedef struct column_list {
   char **names;
@@ -110,7 +111,7 @@ static void mechanical_columns(column_list *c, const peri_sim *s) {
                                       "energy_balance", "broken_bond_fraction"};
   for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; ++k) add(c, fixed[k]);
   add(c, "mean_damage"); /* the mean damage index of the nodes */
-  if (s->state.plastic_stretch) add(c, "mean_yield_index"); /* docs/plasticity.md */
+  if (peri_has_plasticity(s)) add(c, "mean_yield_index"); /* docs/plasticity.md */
   char buf[300];
   for (int d = 0; d < s->disc.geom.dim; ++d) {
     snprintf(buf, sizeof buf, "momentum_%c", "xyz"[d]);

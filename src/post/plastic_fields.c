@@ -8,8 +8,13 @@
 #include "peri/plastic_fields.h"
 #include "peri/plasticity.h"
 #include "peri/sim.h"
+#include "peri/tensor_plasticity.h"
 
 void peri_yield_index(const peri_sim *s, double *psi) {
+  if (s->state.plastic_tensor) { /* the tensor rule: a node's bonds yield together */
+    peri_tensor_yield_index(s, psi);
+    return;
+  }
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
   const bool plastic = s->state.plastic_stretch != NULL;
@@ -57,6 +62,10 @@ void peri_yield_index(const peri_sim *s, double *psi) {
 }
 
 void peri_plastic_stretch_field(const peri_sim *s, double *out) {
+  if (s->state.plastic_tensor) {
+    peri_tensor_plastic_stretch(s, out);
+    return;
+  }
   const peri_particles *p = &s->disc.p;
   const peri_bonds *b = &s->disc.bonds;
 #pragma omp parallel for schedule(static)

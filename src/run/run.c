@@ -42,6 +42,7 @@
 #include "peri/quasistatic.h"
 #include "peri/stress.h"
 #include "peri/thermal.h"
+#include "peri/tensor_plasticity.h"
 
 typedef struct run_ctx {
   peri_frames *frames;
@@ -88,7 +89,7 @@ static int write_history(peri_sim *s, run_ctx *c) {
   const int64_t n_bonds = peri_global_bonds(s); /* all ranks (docs/parallel.md) */
   c->log.row[k++] = n_bonds ? (double)peri_global_broken(s) / (double)n_bonds : 0.0;
   c->log.row[k++] = peri_mean_damage(s); /* the mean of the damage field */
-  if (s->state.plastic_stretch) c->log.row[k++] = peri_mean_yield_index(s); /* docs/plasticity.md */
+  if (peri_has_plasticity(s)) c->log.row[k++] = peri_mean_yield_index(s); /* docs/plasticity.md */
   double momentum[3];
   peri_linear_momentum(s, momentum);
   for (int d = 0; d < s->disc.geom.dim; ++d) c->log.row[k++] = momentum[d];

@@ -16,6 +16,7 @@
 #include "peri/run.h"
 #include "peri/solver.h"
 #include "peri/thermal.h"
+#include "peri/tensor_plasticity.h"
 
 static const char *const kernel_names[] = {"conical", "constant"};
 static const char *const quad_names[] = {"bonds", "bobaru2012"};
@@ -67,6 +68,7 @@ double peri_memory_estimate(const peri_sim *s) {
   double per_node = 15 * 8 + 8 + 8 + 4 + 4 + 1 + 3;
   if (s->disc.p.theta) per_node += 3 * 8;
   if (s->mat.s0_node) per_node += 2 * 8;
+  per_node += peri_tensor_bytes_per_node(s); /* the tensor yield rule (docs/plasticity.md section 10) */
   per_node += 6 * 8; /* the bond loops' copies of x and u (src/model/node_blocks.c) */
   /* sublayer plastic stretches and, for the deviatoric rule, the reverse bond's index, the
    * plastic term, the slots and, where it is stored, the bond's weight (docs/plasticity.md) */
@@ -134,7 +136,8 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
     const peri_sublayers *sl = mat->sublayers;
     if (!sl) continue;
     if (sl->deviatoric)
-      fprintf(out, "  plasticity   %s: deviatoric yield rule, %d sublayers (W, e_y):", mat->name, sl->n);
+      fprintf(out, "  plasticity   %s: %s yield rule, %d sublayers (W, e_y):", mat->name,
+              sl->tensor ? "deviatoric tensor" : "deviatoric", sl->n);
     else
       fprintf(out, "  plasticity   %s: %d sublayers (W, s_y):", mat->name, sl->n);
     for (int k = 0; k < sl->n; ++k) fprintf(out, " (%.4f, %.4g)", sl->weight[k], sl->yield[k]);
@@ -148,6 +151,10 @@ void peri_print_summary(const peri_sim *s, FILE *out) {
   else if (s->state.plastic_stretch)
     fprintf(out, "  plastic state %d bytes per directed bond (%d plastic stretches)\n", 8 * s->state.plastic_layers,
             s->state.plastic_layers);
+  else if (s->state.plastic_tensor)
+    fprintf(out, "  plastic state %.0f bytes per node, none per bond (%d plastic tensors of 6 components, the plastic "
+                 "term, the family's moments)\n",
+            peri_tensor_bytes_per_node(s), s->state.plastic_tensor->layers);
   if (peri_is_quasi_static(s)) peri_print_quasi_static_summary(s, out);
   else
     fprintf(out, "  time step    %g s (stable estimate %g s), %ld steps to t = %g s\n", s->solver.dt,

@@ -13,6 +13,7 @@
 #include "peri/error.h"
 #include "peri/gpu.h"
 #include "peri/solver.h"
+#include "peri/tensor_plasticity.h"
 #include "gpu/gpu_kernels.h"
 
 static bool is_model(const peri_sim *s, const char *name) { return !strcmp(s->mat.model->name, name); }
@@ -28,7 +29,7 @@ bool peri_gpu_runs(const peri_sim *s, char *why, size_t size) {
   else if (s->contact) reason = "short-range contact forces run on the CPU";
   else if (s->tools) reason = "rigid tools run on the CPU";
   else if (s->bodies) reason = "several bodies run on the CPU";
-  else if (s->state.plastic_stretch) reason = "sublayer plasticity runs on the CPU";
+  else if (peri_has_plasticity(s)) reason = "sublayer plasticity runs on the CPU";
   else if (s->disc.bonds.surface_G) reason = "surface corrections run on the CPU";
   else if (s->disc.horizon_field || s->disc.family.node_horizon) reason = "a horizon that varies runs on the CPU";
   else if (s->mat.interface_moduli || s->mat.pair_strength) reason = "interface moduli and strengths run on the CPU";

@@ -22,6 +22,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include "peri/plasticity.h"
+#include "peri/tensor_plasticity.h"
 #include "peri/plastic_fields.h"
 #include "peri/setup.h"
 #include "peri/stress.h"
@@ -366,6 +367,7 @@ static void build_block(peri_sim *s, const char *plasticity) {
   cr_assert_eq(sim_from_string(s, deck), 0, "deck:\n%s", deck);
   if (s->state.plastic_stretch) /* increments map from the accepted state (uniaxial_at) */
     s->state.plastic_committed = calloc((size_t)s->state.plastic_layers * (size_t)s->disc.bonds.n_bonds, sizeof(double));
+  if (s->state.plastic_tensor) s->state.plastic_tensor->quasi_static = true;
 }
 
 /* Under a proportional path (the deviatoric strain stays on one axis) the radial return of
@@ -446,9 +448,11 @@ static void check_bar_3d_deviatoric(const char *plasticity, const char *label) {
  * sigma_y), sigma_y = 400 MPa) yields when the shear stress reaches the von Mises k =
  * sigma_y / sqrt(3) = 230.9 MPa and stays there; every bond of the centre's family yields at
  * once (yield index 1 from the first yield on, 0 before). */
-static void check_shear_deviatoric(void) {
+static void check_shear_deviatoric(const char *rule) {
   peri_sim s;
-  build_block(&s, "    plasticity: {strains: [0.002], stresses: [400e6], yield_rule: deviatoric}\n");
+  char plasticity[256];
+  snprintf(plasticity, sizeof plasticity, "    plasticity: {strains: [0.002], stresses: [400e6], yield_rule: %s}\n", rule);
+  build_block(&s, plasticity);
   const int32_t c = centre_node(&s);
   double *sig = malloc(sizeof(double) * 9 * (size_t)s.disc.p.n), *psi = malloc(sizeof(double) * (size_t)s.disc.p.n);
   const double k_vm = SIGMA0 / sqrt(3.0), mu = E_STEEL / 2.5, g_y = k_vm / mu; /* the continuum yield shear strain */
@@ -482,7 +486,16 @@ static void check_shear_deviatoric(void) {
 }
 
 Test(plasticity, bar_3d_lps_deviatoric) { check_bar_3d_deviatoric(table_5_2_deviatoric, "LPS deviatoric"); }
-Test(plasticity, shear_3d_lps_deviatoric) { check_shear_deviatoric(); }
+Test(plasticity, shear_3d_lps_deviatoric) { check_shear_deviatoric("deviatoric"); }
+/* The tensor rule (docs/plasticity.md section 10): under these homogeneous deformations every
+ * family's deviatoric stretches are affine, so it must meet the same curve, Masing rule and von
+ * Mises shear yield as the per-bond rule. */
+static const char *const table_5_2_tensor = "    plasticity:\n"
+                                            "      strains: [0.002, 0.0065, 0.0124, 0.0168]\n"
+                                            "      power_law: {yield_stress: 400e6, yield_strain: 0.002, exponent: 0.1}\n"
+                                            "      yield_rule: deviatoric_tensor\n";
+Test(plasticity, bar_3d_lps_tensor) { check_bar_3d_deviatoric(table_5_2_tensor, "LPS tensor"); }
+Test(plasticity, shear_3d_lps_tensor) { check_shear_deviatoric("deviatoric_tensor"); }
 Test(plasticity, bar_1d_pmb) { check_bar_1d(); }
 Test(plasticity, bar_1d_rate) { check_bar_1d_rate(); }
 Test(plasticity, bar_3d_pmb) { check_bar_3d("pmb"); }
