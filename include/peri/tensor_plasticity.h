@@ -55,10 +55,10 @@ void peri_tensor_ready(peri_sim *s);
 /* Quasi-static load steps: the state of the accepted step becomes the one to map from. */
 void peri_tensor_commit(peri_sim *s);
 /* After the dilatation pass (theta and alpha = B of every owned node): the radial return of
- * every owned node's sublayers from N[c * n_owned + i] = sum_j w q x_c x_c' / |xi|^2 (pass
- * 1's tensor sums, w = omega |xi| beta V, q = e - eth |xi|) and elastic[i] = sum_j omega beta
- * V (e^d)^2 (the screen of a node that has never yielded), then the terms of the ghosts. */
-void peri_tensor_return(peri_sim *s, const double *N, const double *elastic);
+ * every owned node's sublayers from N[c * n_owned + i] = sum_j w q x_a x_b / |xi|^2 (pass 1's
+ * tensor sums, ab the component c; w = omega |xi| beta V, q = e - eth |xi|), then the terms
+ * of the ghosts. */
+void peri_tensor_return(peri_sim *s, const double *N);
 /* n . T . n of bond i -> j's direction for node `node`'s term T (alpha sum_l W_l P_l). */
 double peri_tensor_bond_term(const peri_sim *s, int32_t node, int32_t i, int32_t j);
 /* Strain energy densities of the owned nodes. */

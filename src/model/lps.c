@@ -638,9 +638,9 @@ LPS_SUMS_VARIANTS(_plastic_smin, true, false, true, false, false)
  * energy of a node that has never yielded, its screen) */
 LPS_SUMS_VARIANTS(_deviatoric, false, false, false, true, false)
 LPS_SUMS_VARIANTS(_deviatoric_smin, true, false, false, true, false)
-/* the tensor yield rule: the same with the tensor sums (src/model/tensor_plasticity.c) */
-LPS_SUMS_VARIANTS(_tensor, false, false, false, true, true)
-LPS_SUMS_VARIANTS(_tensor_smin, true, false, false, true, true)
+/* the tensor yield rule: pass 1 with the sums of the nodes' tensors (src/model/tensor_plasticity.c) */
+LPS_SUMS_VARIANTS(_tensor, false, false, false, false, true)
+LPS_SUMS_VARIANTS(_tensor_smin, true, false, false, false, true)
 LPS_VARIANT(lps_force_uniform, true, false, PERI_INFLUENCE_CONSTANT, true, false, false, false, false, false)
 LPS_VARIANT(lps_force_constant, true, false, PERI_INFLUENCE_CONSTANT, false, false, false, false, false, false)
 LPS_VARIANT(lps_force_inverse, true, false, PERI_INFLUENCE_INVERSE, false, false, false, false, false, false)
@@ -950,9 +950,8 @@ static long lps_deviatoric_force_pass(peri_sim *s, bool update_s0) {
 }
 
 /* The tensor yield rule (src/model/tensor_plasticity.c, docs/plasticity.md section 10): pass 1
- * with the sums of the nodes' least-squares tensors and the elastic deviatoric energy (the
- * screen of a node that has never yielded), the nodes' returns, then pass 2 with the plastic
- * terms of both ends of every bond. */
+ * with the sums of the nodes' least-squares tensors, the nodes' returns, then pass 2 with the
+ * plastic terms of both ends of every bond. */
 static long lps_tensor_force_pass(peri_sim *s, bool update_s0) {
   peri_update_s0_bound(s);
   peri_node_blocks *items = peri_node_blocks_refresh(s);
@@ -961,18 +960,16 @@ static long lps_tensor_force_pass(peri_sim *s, bool update_s0) {
   peri_particles *p = &s->disc.p;
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
   const size_t owned = (size_t)(p->n_owned > 0 ? p->n_owned : 1), stride = (size_t)p->n_owned;
-  double *elastic = peri_malloc(sizeof(double) * owned), *N = peri_malloc(6 * sizeof(double) * owned);
+  double *N = peri_malloc(6 * sizeof(double) * owned);
   long n_broken = 0;
   LPS_FOR_EACH_NODE(items, loops, w, breaking, {
     if (i == i0) lps_item_coefficients(s, i0, i1, sums); /* (the item's nodes at once) */
     if (track_smin) p->smin[i] = r->smin;
-    const double theta = p->theta[i];
-    elastic[i] = r->sum[2] - (2.0 * theta / 3.0) * r->sum[0] + (theta * theta / 9.0) * r->sum[1];
     for (int c = 0; c < 6; ++c) N[(size_t)c * stride + (size_t)i] = r->tensor[c];
   })
   if (track_smin && update_s0) peri_update_lammps_s0(s);
-  peri_tensor_return(s, N, elastic);
-  free(elastic), free(N);
+  peri_tensor_return(s, N);
+  free(N);
   lps_pair_forces(s);
   return n_broken;
 }

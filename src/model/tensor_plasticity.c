@@ -31,6 +31,7 @@
 #include "peri/error.h"
 #include "peri/plasticity.h"
 #include "peri/tensor_plasticity.h"
+#include "vector8.h"
 
 #define NC PERI_TENSOR_COMPONENTS
 /* the entries of a symmetric 6 x 6 matrix packed as its upper triangle, row by row */
@@ -47,10 +48,9 @@ static inline int packed_index(int r, int c) {
 #define MOMENT_KINV PACKED
 #define MOMENT_H (2 * PACKED)
 
-/* A radial return only beyond the bound by this margin, and the screen of a node that has
- * never yielded with this one, as in the per-bond rule (deviatoric_plasticity.c). */
+/* A radial return only beyond the bound by this margin, as in the per-bond rule
+ * (deviatoric_plasticity.c): a second evaluation at the same displacement changes nothing. */
 #define RETURN_MARGIN 1e-10
-#define SCREEN_MARGIN 1e-6
 /* K is taken as singular (a family whose intact bonds do not span the six strain modes) when
  * a pivot of its Cholesky factor falls below this fraction of its largest diagonal entry */
 #define SINGULAR_PIVOT 1e-10
@@ -189,80 +189,150 @@ static void refresh_moments(peri_sim *s, peri_tensor_plasticity *t) {
   }
 }
 
-/* Whether any component of node i's state (or of its committed state) is nonzero. */
-static inline bool has_state(const peri_tensor_plasticity *t, int32_t i) {
-  const size_t n = (size_t)t->n_owned;
-  for (int e = 0; e < t->layers * NC; ++e)
-    if (t->state[(size_t)e * n + (size_t)i] != 0.0 || (t->committed && t->committed[(size_t)e * n + (size_t)i] != 0.0))
-      return true;
-  return false;
-}
+/* Nodes per chunk of the return: the lanes of its vector loops. */
+#define RETURN_CHUNK 8
 
-/* y = a x for the packed symmetric a (stride n, node i) */
-static inline void packed_times(const double *a, size_t n, int32_t i, const double x[NC], double y[NC]) {
-  for (int r = 0; r < NC; ++r) {
-    double v = 0.0;
-    for (int c = 0; c < NC; ++c) v = fma(a[(size_t)packed_index(r, c) * n + (size_t)i], x[c], v);
-    y[r] = v;
-  }
-}
-
-/* The return of node i; returns whether its term is nonzero. */
-static bool node_return(peri_sim *s, peri_tensor_plasticity *t, int32_t i, const double *N, double elastic) {
+/* The return of the nodes i0 .. i1-1 (at most RETURN_CHUNK, all of material `mat` with its
+ * sublayers sl) in vector loops across the nodes: the least-squares tensor D, then sublayer by
+ * sublayer the energy S_l of D - P_l and the radial return beyond the bound, and the term. A
+ * node whose K is singular (K^-1 stored as 0) keeps its state. (No screen: a node below its
+ * first yield costs a few vector operations here, against its bonds' in the passes.) */
+static void chunk_return(peri_sim *s, peri_tensor_plasticity *t, int32_t i0, int32_t i1, const peri_material *mat,
+                         const peri_sublayers *sl, const double *restrict N) {
   const peri_particles *p = &s->disc.p;
   const size_t n = (size_t)t->n_owned, nl = (size_t)t->n_local;
-  const peri_material *mat = &s->mat.materials[p->material[i]];
-  const peri_sublayers *sl = mat->sublayers;
-  double *term = t->term;
-  if (!sl) return false; /* (an elastic material's term stays 0) */
-  const double scale = 3.0 * mat->mu / mat->alpha_m * p->wvol[i];
-  const bool before = has_state(t, i);
-  /* never yielded and below the first yield: the affine part's energy is at most the whole
-   * elastic deviatoric energy of pass 1 */
-  if (!before && elastic <= scale * sl->yield[0] * sl->yield[0] * (1.0 - SCREEN_MARGIN)) return false;
-  if (t->moments[(size_t)MOMENT_KINV * n + (size_t)i] == 0.0) /* singular K: the state kept */
-    return before;
-  const double theta = p->theta[i];
-  double M[NC], D[NC], A[NC] = {0};
-  for (int c = 0; c < NC; ++c)
-    M[c] = (c < 3 ? 1.0 : 2.0) * N[(size_t)c * n + (size_t)i] - (theta / 3.0) * t->moments[(MOMENT_H + c) * n + (size_t)i];
-  packed_times(t->moments + (size_t)MOMENT_KINV * n, n, i, M, D);
-  const double *base = t->committed ? t->committed : t->state;
-  bool plastic = false;
+  const double *restrict K = t->moments + (size_t)MOMENT_K * n, *restrict Kinv = t->moments + (size_t)MOMENT_KINV * n,
+                         *restrict H = t->moments + (size_t)MOMENT_H * n, *restrict theta = p->theta,
+                         *restrict wvol = p->wvol, *restrict alpha = p->coef + p->n;
+  const double *restrict base = t->committed ? t->committed : t->state;
+  double *restrict state = t->state, *restrict term = t->term;
+  const double scale0 = 3.0 * mat->mu / mat->alpha_m;
+  double D[NC][RETURN_CHUNK], A[NC][RETURN_CHUNK], keep[RETURN_CHUNK];
+#pragma omp simd
+  for (int32_t i = i0; i < i1; ++i) {
+    const int lane = i - i0;
+    double M[NC];
+    for (int c = 0; c < NC; ++c)
+      M[c] = fma(theta[i] * (-1.0 / 3.0), H[(size_t)c * n + (size_t)i], (c < 3 ? 1.0 : 2.0) * N[(size_t)c * n + (size_t)i]);
+    for (int r = 0; r < NC; ++r) {
+      double v = 0.0;
+      for (int c = 0; c < NC; ++c) v = fma(Kinv[(size_t)packed_index(r, c) * n + (size_t)i], M[c], v);
+      D[r][lane] = v, A[r][lane] = 0.0;
+    }
+    keep[lane] = Kinv[(size_t)i] == 0.0 ? 1.0 : 0.0;
+  }
   for (int l = 0; l < sl->n; ++l) {
-    double delta[NC], Kd[NC], S = 0.0, P[NC];
-    for (int c = 0; c < NC; ++c) delta[c] = D[c] - base[(size_t)(l * NC + c) * n + (size_t)i];
-    packed_times(t->moments + (size_t)MOMENT_K * n, n, i, delta, Kd);
-    for (int c = 0; c < NC; ++c) S = fma(delta[c], Kd[c], S);
-    const double bound = scale * sl->yield[l] * sl->yield[l];
-    const double factor = S > bound * (1.0 + RETURN_MARGIN) ? sqrt(bound / S) : 1.0;
-    for (int c = 0; c < NC; ++c) {
-      const double old = base[(size_t)(l * NC + c) * n + (size_t)i];
-      P[c] = factor < 1.0 ? D[c] - factor * delta[c] : old;
-      t->state[(size_t)(l * NC + c) * n + (size_t)i] = P[c];
-      A[c] = fma(sl->weight[l], P[c], A[c]);
-      plastic |= P[c] != 0.0;
+    const double W = sl->weight[l], ey2 = sl->yield[l] * sl->yield[l];
+    const double *restrict from = base + (size_t)l * NC * n;
+    double *restrict to = state + (size_t)l * NC * n;
+#pragma omp simd
+    for (int32_t i = i0; i < i1; ++i) {
+      const int lane = i - i0;
+      double delta[NC], S = 0.0;
+      for (int c = 0; c < NC; ++c) delta[c] = D[c][lane] - from[(size_t)c * n + (size_t)i];
+      for (int r = 0; r < NC; ++r) {
+        double Kd = 0.0;
+        for (int c = 0; c < NC; ++c) Kd = fma(K[(size_t)packed_index(r, c) * n + (size_t)i], delta[c], Kd);
+        S = fma(delta[r], Kd, S);
+      }
+      const double bound = (scale0 * wvol[i]) * ey2;
+      const bool flows = S > bound * (1.0 + RETURN_MARGIN) && keep[lane] == 0.0;
+      const double factor = sqrt(bound / (flows ? S : bound));
+      for (int c = 0; c < NC; ++c) {
+        const double old = from[(size_t)c * n + (size_t)i];
+        const double P = flows ? fma(-factor, delta[c], D[c][lane]) : old;
+        to[(size_t)c * n + (size_t)i] = P;
+        A[c][lane] = fma(W, P, A[c][lane]);
+      }
     }
   }
-  const double alpha = p->coef[(size_t)p->n + (size_t)i];
-  for (int c = 0; c < NC; ++c) term[(size_t)c * nl + (size_t)i] = alpha * A[c];
-  return plastic;
+#pragma omp simd
+  for (int32_t i = i0; i < i1; ++i)
+    for (int c = 0; c < NC; ++c) term[(size_t)c * nl + (size_t)i] = alpha[i] * A[c][i - i0];
 }
 
-void peri_tensor_return(peri_sim *s, const double *N, const double *elastic) {
+#ifdef PERI_BOND_V8
+/* chunk_return for eight nodes i0 .. i0+7 of one material, one node a lane: the same
+ * operations, so the same numbers. */
+static void chunk_return_v8(peri_sim *s, peri_tensor_plasticity *t, int32_t i0, const peri_material *mat,
+                            const peri_sublayers *sl, const double *restrict N) {
+  const peri_particles *p = &s->disc.p;
+  const size_t n = (size_t)t->n_owned, nl = (size_t)t->n_local, i = (size_t)i0;
+  const double *restrict K = t->moments + (size_t)MOMENT_K * n, *restrict Kinv = t->moments + (size_t)MOMENT_KINV * n,
+                         *restrict H = t->moments + (size_t)MOMENT_H * n;
+  const double *restrict base = t->committed ? t->committed : t->state;
+  double *restrict state = t->state, *restrict term = t->term;
+  const peri_v8d third = v8_mul_pd(v8_loadu_pd(p->theta + i), v8_set1_pd(-1.0 / 3.0));
+  peri_v8d M[NC], D[NC], A[NC];
+  for (int c = 0; c < NC; ++c) {
+    const peri_v8d Nc = v8_loadu_pd(N + (size_t)c * n + i);
+    M[c] = v8_fmadd_pd(third, v8_loadu_pd(H + (size_t)c * n + i), c < 3 ? Nc : v8_add_pd(Nc, Nc));
+  }
+  for (int r = 0; r < NC; ++r) {
+    peri_v8d v = v8_setzero_pd();
+    for (int c = 0; c < NC; ++c) v = v8_fmadd_pd(v8_loadu_pd(Kinv + (size_t)packed_index(r, c) * n + i), M[c], v);
+    D[r] = v, A[r] = v8_setzero_pd();
+  }
+  const peri_m8 solvable = v8_cmp_pd_mask(v8_loadu_pd(Kinv + i), v8_setzero_pd(), _CMP_NEQ_OQ);
+  const peri_v8d scale = v8_mul_pd(v8_set1_pd(3.0 * mat->mu / mat->alpha_m), v8_loadu_pd(p->wvol + i));
+  for (int l = 0; l < sl->n; ++l) {
+    const double *restrict from = base + (size_t)l * NC * n;
+    double *restrict to = state + (size_t)l * NC * n;
+    peri_v8d delta[NC], S = v8_setzero_pd();
+    for (int c = 0; c < NC; ++c) delta[c] = v8_sub_pd(D[c], v8_loadu_pd(from + (size_t)c * n + i));
+    for (int r = 0; r < NC; ++r) {
+      peri_v8d Kd = v8_setzero_pd();
+      for (int c = 0; c < NC; ++c) Kd = v8_fmadd_pd(v8_loadu_pd(K + (size_t)packed_index(r, c) * n + i), delta[c], Kd);
+      S = v8_fmadd_pd(delta[r], Kd, S);
+    }
+    const peri_v8d bound = v8_mul_pd(scale, v8_set1_pd(sl->yield[l] * sl->yield[l]));
+    const peri_m8 flows =
+        solvable & v8_cmp_pd_mask(S, v8_mul_pd(bound, v8_set1_pd(1.0 + RETURN_MARGIN)), _CMP_GT_OQ);
+    const peri_v8d factor = v8_sqrt_pd(v8_div_pd(bound, v8_mask_mov_pd(bound, flows, S)));
+    const peri_v8d W = v8_set1_pd(sl->weight[l]);
+    for (int c = 0; c < NC; ++c) {
+      const peri_v8d P = v8_mask_mov_pd(v8_loadu_pd(from + (size_t)c * n + i), flows, v8_fnmadd_pd(factor, delta[c], D[c]));
+      v8_storeu_pd(to + (size_t)c * n + i, P);
+      A[c] = v8_fmadd_pd(W, P, A[c]);
+    }
+  }
+  const peri_v8d alpha = v8_loadu_pd(p->coef + (size_t)p->n + i);
+  for (int c = 0; c < NC; ++c) v8_storeu_pd(term + (size_t)c * nl + i, v8_mul_pd(alpha, A[c]));
+}
+#endif
+
+void peri_tensor_return(peri_sim *s, const double *N) {
   peri_tensor_ready(s);
   peri_tensor_plasticity *t = s->state.plastic_tensor;
-  if (s->disc.bonds.broken_edits != t->broken_edits || t->n_owned == 0) {
+  if (s->disc.bonds.broken_edits != t->broken_edits) {
     refresh_moments(s, t);
     t->broken_edits = s->disc.bonds.broken_edits;
   }
-  bool any = false;
-#pragma omp parallel for schedule(dynamic, 64) reduction(|| : any)
-  for (int32_t i = 0; i < t->n_owned; ++i) any = node_return(s, t, i, N, elastic[i]) || any;
+  const peri_particles *p = &s->disc.p;
+  const int32_t n_chunks = (t->n_owned + RETURN_CHUNK - 1) / RETURN_CHUNK;
   const size_t nl = (size_t)t->n_local;
+  bool any = false;
+#pragma omp parallel for schedule(static) reduction(|| : any)
+  for (int32_t chunk = 0; chunk < n_chunks; ++chunk) {
+    const int32_t i0 = chunk * RETURN_CHUNK, i1 = i0 + RETURN_CHUNK < t->n_owned ? i0 + RETURN_CHUNK : t->n_owned;
+    /* the chunk's nodes one material at a time (a run of one material in the common case) */
+    for (int32_t a = i0; a < i1;) {
+      int32_t b = a + 1;
+      while (b < i1 && p->material[b] == p->material[a]) ++b;
+      const peri_material *mat = &s->mat.materials[p->material[a]];
+#ifdef PERI_BOND_V8
+      if (mat->sublayers && b - a == RETURN_CHUNK) chunk_return_v8(s, t, a, mat, mat->sublayers, N);
+      else
+#endif
+      if (mat->sublayers) chunk_return(s, t, a, b, mat, mat->sublayers, N); /* (an elastic one's term stays 0) */
+      a = b;
+    }
+    for (int32_t i = i0; i < i1; ++i)
+      for (int c = 0; c < NC; ++c) any = any || t->term[(size_t)c * nl + (size_t)i] != 0.0;
+  }
   for (int c = 0; c < NC; ++c) peri_sim_exchange(s, t->term + (size_t)c * nl, 1); /* the ghosts' terms */
   for (size_t g = (size_t)t->n_owned; g < nl && !any; ++g)
-    for (int c = 0; c < NC; ++c) any |= t->term[(size_t)c * nl + g] != 0.0;
+    for (int c = 0; c < NC; ++c) any = any || t->term[(size_t)c * nl + g] != 0.0;
   t->any_plastic = any;
 }
 
