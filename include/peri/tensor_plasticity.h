@@ -68,6 +68,12 @@ void peri_tensor_energy(peri_sim *s, double *W);
 void peri_tensor_yield_index(const peri_sim *s, double *psi);
 /* The largest |sum_l W_l n . P_l . n| over each owned node's intact bonds. */
 void peri_tensor_plastic_stretch(const peri_sim *s, double *out);
+/* The owned nodes' state as rows of 6 L (sublayer by sublayer), allocated (zeros before the
+ * first force evaluation): what a checkpoint holds. */
+double *peri_tensor_state_rows(const peri_sim *s);
+/* The state of the owned nodes from rows of the global node order (global_id[i] the row of
+ * owned node i, NULL in one process), the committed state too: a checkpoint being read. */
+void peri_tensor_set_state_rows(peri_sim *s, const double *rows, const int32_t *global_id);
 /* Bytes per node of the rule's arrays (peri check). */
 double peri_tensor_bytes_per_node(const peri_sim *s);
 void peri_tensor_free(peri_tensor_plasticity *t);

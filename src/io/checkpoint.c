@@ -12,6 +12,8 @@
  *   /bonds/broken     [n_bonds] uint8, 0 intact / 1 broken, in bond (CSR) order
  *   /bonds/plastic_stretch [n_bonds][layers] doubles, the sublayers' plastic stretches
  *                     (docs/plasticity.md), when a material is plastic
+ *   /nodes/plastic_tensor [n][6 layers] doubles, the tensor yield rule's plastic tensors
+ *                     (sublayer by sublayer, xx yy zz xy xz yz; docs/plasticity.md section 10)
  *   /indenter/force   [3]
  *   /tools/K          (a deck with tools: one group per tool, K = 0, 1, ... in the deck's order)
  *                     attribute name; state [TOOL_STATE] doubles (tool_state_pack)
@@ -39,6 +41,7 @@
 #include "peri/decompose.h"
 #include "peri/error.h"
 #include "peri/plasticity.h"
+#include "peri/tensor_plasticity.h"
 #include "peri/thermal.h"
 #include "peri/tools.h"
 
@@ -53,6 +56,7 @@ struct peri_restart {
   double *u, *v, *f, *damage, *theta, *wvol, *pstate, *smin, *s0, *thermal_strain, *step_load;
   uint8_t *broken;
   double *plastic; /* [n_bonds * plastic_layers] */
+  double *plastic_tensor; /* [n * 6 * layers] of the tensor rule */
   double indenter_force[3];
   double *tools; /* [count * TOOL_STATE]: each tool's state (tool_state_pack) */
   peri_quasi_static qs;
@@ -110,6 +114,7 @@ void peri_restart_free(struct peri_restart *r) {
   for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; ++k) free(arrays[k]);
   free(r->broken);
   free(r->plastic);
+  free(r->plastic_tensor);
   free(r->tools);
   free(r->cut);
   free(r->growing_cut);
@@ -193,6 +198,8 @@ static void release_arrays(struct peri_restart *r) {
   free(r->broken);
   free(r->plastic);
   r->plastic = NULL;
+  free(r->plastic_tensor);
+  r->plastic_tensor = NULL;
   free(r->tools);
   r->tools = NULL;
   free(r->cut);
@@ -236,6 +243,7 @@ void peri_restart_apply(peri_sim *s) {
              sizeof(double) * layers * (size_t)s->disc.bonds.n_bonds);
     free(s->state.plastic_nodes), s->state.plastic_nodes = NULL; /* (rebuilt from the state) */
   }
+  if (r->plastic_tensor) peri_tensor_set_state_rows(s, r->plastic_tensor, s->par.dd ? s->par.dd->global_id : NULL);
   memcpy(s->cond.indenter.force, r->indenter_force, sizeof r->indenter_force);
   if (r->tools)
     for (int k = 0; k < s->tools->count; ++k) tool_state_unpack(&s->tools->tool[k], r->tools + (size_t)k * TOOL_STATE);
@@ -401,6 +409,7 @@ typedef struct state_view {
   const double *x, *u, *v, *f, *damage, *theta, *wvol, *pstate, *smin, *s0, *thermal_strain, *step_load, *T;
   const uint8_t *broken, *cut;
   const double *plastic; /* plastic_layers per bond, NULL without plasticity */
+  const double *plastic_tensor; /* the tensor rule's 6 layers per node, NULL without it */
   long growing_next; /* growing-crack bonds cut, over all ranks */
   void *gathered[16]; /* rank 0's gathered arrays, freed by view_free */
   int n_gathered;
@@ -478,6 +487,7 @@ static void view_of(const peri_sim *s, state_view *v) {
     double *copy;
     v->plastic = plastic_rows(s, &copy);
     if (copy) v->gathered[v->n_gathered++] = copy;
+    if (s->state.plastic_tensor) v->plastic_tensor = v->gathered[v->n_gathered++] = peri_tensor_state_rows(s);
     v->growing_next = th ? (long)th->growing_next : 0;
     return;
   }
@@ -499,6 +509,11 @@ static void view_of(const peri_sim *s, state_view *v) {
   v->T = th ? gather_nodes(s, v, th->T, 1) : NULL;
   v->broken = gather_bonds(s, v, s->disc.bonds.broken);
   v->plastic = gather_plastic(s, v);
+  if (s->state.plastic_tensor) {
+    double *rows = peri_tensor_state_rows(s);
+    v->plastic_tensor = gather_nodes(s, v, rows, PERI_TENSOR_COMPONENTS * s->state.plastic_tensor->layers);
+    free(rows);
+  }
   v->cut = gather_bonds(s, v, cut);
   /* each rank cuts the growing bonds of its families in the global (time) order, so the
    * global position is the sum of the ranks' positions */
@@ -554,6 +569,8 @@ static void write_contents(writer *w, const peri_sim *s, const state_view *v, co
   doubles_put(w, g, "s0", n, 1, v->s0);
   doubles_put(w, g, "thermal_strain", n, 1, v->thermal_strain);
   doubles_put(w, g, "step_load", n, 3, v->step_load);
+  if (v->plastic_tensor)
+    doubles_put(w, g, "plastic_tensor", n, PERI_TENSOR_COMPONENTS * s->state.plastic_tensor->layers, v->plastic_tensor);
   group_close(g);
 
   g = group_create(w, root, "bonds");
@@ -994,6 +1011,12 @@ static void read_checkpoint(reader *r, const peri_sim *s, struct peri_restart *o
   out->s0 = get_work_array(r, g, "s0", n, s->mat.s0_node != NULL);
   out->thermal_strain = get_work_array(r, g, "thermal_strain", n, s->state.thermal_strain != NULL);
   out->step_load = get_doubles(r, g, "step_load", n, 3, false);
+  if (!r->failed && s->state.plastic_tensor) {
+    out->plastic_tensor =
+        get_doubles(r, g, "plastic_tensor", n, PERI_TENSOR_COMPONENTS * s->state.plastic_tensor->layers, false);
+    if (!r->failed && !out->plastic_tensor)
+      bad(r, "%s", "has no /nodes/plastic_tensor of the deck's tensor yield rule (written with another rule?)");
+  }
   group_close(g);
 
   g = group_open(r, "bonds", true);

@@ -438,6 +438,30 @@ void peri_tensor_plastic_stretch(const peri_sim *s, double *out) {
   }
 }
 
+double *peri_tensor_state_rows(const peri_sim *s) {
+  const peri_tensor_plasticity *t = s->state.plastic_tensor;
+  const int32_t owned = s->disc.p.n_owned;
+  const size_t width = (size_t)t->layers * NC, n = (size_t)t->n_owned;
+  double *rows = peri_calloc(width * (size_t)(owned > 0 ? owned : 1), sizeof(double));
+  for (int32_t i = 0; i < t->n_owned; ++i)
+    for (size_t e = 0; e < width; ++e) rows[(size_t)i * width + e] = t->state[e * n + (size_t)i];
+  return rows;
+}
+
+void peri_tensor_set_state_rows(peri_sim *s, const double *rows, const int32_t *global_id) {
+  peri_tensor_ready(s);
+  peri_tensor_plasticity *t = s->state.plastic_tensor;
+  const size_t width = (size_t)t->layers * NC, n = (size_t)t->n_owned;
+  for (int32_t i = 0; i < t->n_owned; ++i) {
+    const double *row = rows + (size_t)(global_id ? global_id[i] : i) * width;
+    for (size_t e = 0; e < width; ++e) {
+      t->state[e * n + (size_t)i] = row[e];
+      if (t->committed) t->committed[e * n + (size_t)i] = row[e]; /* (written at an accepted load step) */
+    }
+  }
+  /* (the terms follow from the state at the next return, before any force pass reads them) */
+}
+
 double peri_tensor_bytes_per_node(const peri_sim *s) {
   const peri_tensor_plasticity *t = s->state.plastic_tensor;
   if (!t) return 0.0;

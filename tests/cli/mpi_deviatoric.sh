@@ -11,6 +11,8 @@
 #     bound, while a missing term from the other rank changes the flow at first order;
 #   - restarted on 2 ranks from the checkpoint at step 50 (mean yield index 0.13, before the
 #     block yields through) it gives history.csv and the final checkpoint bitwise.
+# The tensor yield rule (section 10) on 1, 2 and 3 ranks and restarted on 3 from a checkpoint
+# of 2, to the same 1e-9.
 # Skipped when peri was built without MPI or without HDF5.
 # Usage: bash tests/cli/mpi_deviatoric.sh PATH_TO_PERI   (from the repository root)
 set -u
@@ -74,4 +76,33 @@ done
 before=$(awk -F, -v c="$psi_col" -v r="$((rows + 1))" 'NR == r { print $c }' "$full/history.csv")
 awk -v a="$before" 'BEGIN { exit !(a < 0.5) }' || fail "the block has yielded through by step 50 (mean yield index $before)"
 pass "deviatoric block: restarted at step 50 on 2 ranks (mean yield index $before -> $psi), history.csv and the final checkpoint bitwise"
+
+# --- the tensor yield rule (docs/plasticity.md section 10): a node's force reads its ghosts'
+# plastic terms (6 numbers a node, exchanged as D and B are); the same block on 1, 2 and 3
+# ranks, the plastic tensors of the final checkpoint (global node order) within 1e-9 of the
+# nominal strain, and a restart at step 50 on 3 ranks from a checkpoint written on 2
+tensor=(--set materials.steel.plasticity.yield_rule=deviatoric_tensor)
+run_peri run "$block" "${tensor[@]}" --output "$TMP/t1" "${every[@]}"
+expect_status 0
+for np in 2 3; do
+  run_peri_mpi "$np" run "$block" "${tensor[@]}" --output "$TMP/t$np" "${every[@]}"
+  expect_status 0
+  report=$(compare_histories "$TMP/t1/history.csv" "$TMP/t$np/history.csv" 1e-9) ||
+    fail "tensor rule: history.csv on 1 and $np ranks differs: $report"
+done
+h5diff -d "$dp" "$TMP/t1/$fin" "$TMP/t2/$fin" /nodes/plastic_tensor /nodes/plastic_tensor >"$TMP/diff_t.txt" ||
+  fail "tensor rule: plastic tensors on 1 and 2 ranks differ by more than $dp: $(head -n 5 "$TMP/diff_t.txt")"
+h5dump -m %.3e -d /nodes/plastic_tensor "$TMP/t2/$fin" | grep -qE '[1-9]\.[0-9]+e-0[23]' ||
+  fail "tensor rule: the final checkpoint holds no plastic tensor of the size of the strain"
+part="$TMP/t_restart"
+mkdir -p "$part"
+cp "$TMP/t2"/*.pvd "$TMP/t2/$ck" "$part/"
+rows=$(h5_attr "$TMP/t2/$ck" /state/history_rows)
+head -n $((rows + 4)) "$TMP/t2/history.csv" >"$part/history.csv"
+run_peri_mpi 3 run "$block" "${tensor[@]}" --output "$part" --restart "$part/$ck" "${every[@]}"
+expect_status 0
+report=$(compare_histories "$TMP/t1/history.csv" "$part/history.csv" 1e-9) ||
+  fail "tensor rule: restarted on 3 ranks from 2, history.csv differs from one process: $report"
+psi_t=$(tail -n 1 "$TMP/t1/history.csv" | cut -d, -f"$psi_col")
+pass "tensor rule: 1, 2 and 3 ranks give the history (1e-9) and the plastic tensors (within $dp), a restart at step 50 from 2 ranks on 3 the history; mean yield index $psi_t"
 echo "PASS: $CLI_NAME"

@@ -306,6 +306,33 @@ sed 's|      yield_rule: deviatoric|&\n      critical_plastic_stretch: 0.01|' "$
 run_peri check "$TMP/dev_ductile.yaml"
 expect_status 2
 expect_stderr_contains "$TMP/dev_ductile.yaml:16:7: error: materials.steel.plasticity.critical_plastic_stretch: not with yield_rule deviatoric"
-pass "deviatoric rule: peri check (48 bytes per bond), threads 1 and 3 bitwise (mean yield index $psi), bad input exit 2"
+pass "deviatoric rule: peri check (64 bytes per bond), threads 1 and 3 bitwise (mean yield index $psi), bad input exit 2"
+
+# --- the tensor yield rule (docs/plasticity.md section 10): peri check, threads, the per-bond
+# rule's uniaxial response, bad input
+tensor=(--set materials.steel.plasticity.yield_rule=deviatoric_tensor)
+run_peri check "$block" "${tensor[@]}"
+expect_status 0
+expect_stdout_contains "plasticity   steel: deviatoric tensor yield rule, 4 sublayers (W, e_y): (0.9532, 0.001667)"
+expect_stdout_contains "plastic state 628 bytes per node, none per bond (4 plastic tensors of 6 components"
+for threads in 1 3; do
+  run_peri run "$block" "${tensor[@]}" --quiet --threads "$threads" --output "$TMP/tensor$threads"
+  expect_status 0
+done
+cmp -s "$TMP/tensor1/history.csv" "$TMP/tensor3/history.csv" || fail "tensor: history.csv differs between 1 and 3 threads"
+for f in "$TMP"/tensor1/*.vtu; do
+  cmp -s "$f" "$TMP/tensor3/$(basename "$f")" || fail "tensor: $(basename "$f") differs between 1 and 3 threads"
+done
+psi_t=$(tail -n 1 "$TMP/tensor1/history.csv" | cut -d, -f"$(csv_column "$TMP/tensor1/history.csv" mean_yield_index)")
+awk -v p="$psi_t" 'BEGIN { exit !(p > 0.5) }' || fail "tensor: the block barely yields (mean yield index $psi_t)"
+d=$(bad_deck ten_pmb "strains: [0.002, 0.004]" "stresses: [400e6, 450e6]" "yield_rule: deviatoric_tensor")
+run_peri check "$d"
+expect_status 2
+expect_stderr_contains "$d:10:19: error: materials.steel.plasticity.yield_rule: deviatoric_tensor is a rule of the lps model"
+sed 's|      yield_rule: deviatoric|&_tensor\n      cowper_symonds: {d: 40, p: 5}|' "$block" >"$TMP/ten_rate.yaml"
+run_peri check "$TMP/ten_rate.yaml"
+expect_status 2
+expect_stderr_contains "$TMP/ten_rate.yaml:16:7: error: materials.steel.plasticity.cowper_symonds: not with yield_rule deviatoric_tensor"
+pass "tensor rule: peri check (628 bytes per node, none per bond), threads 1 and 3 bitwise (mean yield index $psi_t), bad input exit 2"
 
 echo "PASS: $CLI_NAME"

@@ -118,6 +118,9 @@ restart_case plastic "$DECKS/plate_pmb.yaml" 100 200 mean_yield_index "${every[@
 # the deviatoric yield rule (docs/plasticity.md section 8): each node's plastic deviatoric
 # stretches of its bonds carried over, the 3D block restarted while it yields through
 restart_case deviatoric "$DECKS/plastic_block3d.yaml" 50 400 mean_yield_index "${every[@]}"
+# the tensor yield rule (section 10): each node's plastic tensors carried over
+restart_case tensor "$DECKS/plastic_block3d.yaml" 50 400 mean_yield_index "${every[@]}" \
+  --set materials.steel.plasticity.yield_rule=deviatoric_tensor
 restart_case heat "$DECKS/restart_heat.yaml" 20 60 broken_bond_fraction
 restart_case thermal_shock "$DECKS/restart_thermal_shock.yaml" 240 512 broken_bond_fraction
 # the bar breaks through at load step 21 in a dynamic phase (solver.dynamic_switch), whose
