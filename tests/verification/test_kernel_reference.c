@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "model/node_blocks.h"
+#include "peri/plastic_fields.h"
 #include "peri/damage.h"
 #include "peri/setup.h"
 #include "support.h"
@@ -350,21 +351,24 @@ Test(kernel_paths, lps_3d_gaussian) { check_paths(3, "lps", "gaussian", "lammps"
  * sees the state of the first). */
 /* The sheared 3D LPS block of the deviatoric cases below: the deviatoric rule with the
  * hardening curve `curve`, the influence `influence`, broken bonds and a random field. */
-static void deviatoric_block(peri_sim *s, const char *curve, const char *influence) {
+static void rule_block(peri_sim *s, const char *curve, const char *influence, const char *rule) {
   const double h = 0.5 * N_SIDE * DX;
   char deck[1024];
   snprintf(deck, sizeof deck,
            "dimension: 3\n"
            "materials:\n"
            "  steel: {model: lps, density: 7800, youngs_modulus: 200e9, poisson_ratio: 0.25,\n"
-           "          plasticity: {%s, yield_rule: deviatoric}}\n"
+           "          plasticity: {%s, yield_rule: %s}}\n"
            "discretization: {spacing: %g, m: 3, influence: %s,\n"
            "                 fill: [{shape: box, min: [%g, %g, %g], max: [%g, %g, %g]}]}\n"
            "solver: {type: explicit, steps: 1, breaking: false}\n"
            "output: {picture: false}\n",
-           curve, DX, influence, -h, -h, -0.3 * h, h, h, 0.3 * h);
+           curve, rule, DX, influence, -h, -h, -0.3 * h, h, h, 0.3 * h);
   cr_assert_eq(sim_from_string(s, deck), 0, "deck:\n%s", deck);
   damage_and_deform(s);
+}
+static void deviatoric_block(peri_sim *s, const char *curve, const char *influence) {
+  rule_block(s, curve, influence, "deviatoric");
 }
 
 Test(kernel_paths, lps_3d_deviatoric) {
@@ -387,6 +391,33 @@ Test(kernel_paths, lps_3d_deviatoric) {
   free(b);
   peri_sim_free(&s);
 }
+
+/* The tensor yield rule (docs/plasticity.md section 10) on the same sheared block, with broken
+ * bonds: pass 1's tensor sums and the force with the neighbours' plastic terms by a block of
+ * eight nodes on its template and node by node agree bit for bit (the second evaluation maps
+ * from the first's state at the same displacement, on the yield surface: no flow), and a
+ * yielded node's term is nonzero. */
+static void check_tensor_paths(const char *influence) {
+  peri_sim s;
+  rule_block(&s, "strains: [0.002, 0.0065], stresses: [400e6, 450e6]", influence, "deviatoric_tensor");
+  for (int32_t i = 0; i < s.disc.p.n; ++i) s.disc.p.u[3 * (size_t)i] += 0.006 * s.disc.p.x[3 * (size_t)i + 1];
+  const size_t bytes = sizeof(double) * 3 * (size_t)s.disc.p.n_owned;
+  double *a = malloc(bytes), *b = malloc(bytes), *psi = malloc(sizeof(double) * (size_t)s.disc.p.n_owned);
+  s.mat.model->force(&s); /* (the first evaluation yields) */
+  const double in_blocks = forces_both_paths(&s, a, b);
+  peri_yield_index(&s, psi);
+  int32_t yielded = 0;
+  for (int32_t i = 0; i < s.disc.p.n_owned; ++i) yielded += psi[i] > 0.0;
+  cr_log_info("lps 3D tensor %s: %.3f of the bonds in node blocks, %d of %d nodes yielded", influence, in_blocks,
+              yielded, s.disc.p.n_owned);
+  cr_assert_gt(in_blocks, 0.5, "the test needs node blocks");
+  cr_assert_gt(yielded, s.disc.p.n_owned / 2, "the test needs yielded nodes");
+  cr_expect(memcmp(a, b, bytes) == 0, "lps 3D tensor %s: the block and one-node paths differ", influence);
+  free(a), free(b), free(psi);
+  peri_sim_free(&s);
+}
+Test(kernel_paths, lps_3d_tensor) { check_tensor_paths("constant"); }
+Test(kernel_paths, lps_3d_tensor_inverse) { check_tensor_paths("inverse"); }
 
 /* The deviatoric rule's return on both paths from the same state: a block of eight nodes runs
  * it on its template, the other nodes one by one, and the two map the plastic state, the
