@@ -57,8 +57,9 @@ void peri_tensor_commit(peri_sim *s);
 /* After the dilatation pass (theta and alpha = B of every owned node): the radial return of
  * every owned node's sublayers from N[c * n_owned + i] = sum_j w q x_a x_b / |xi|^2 (pass 1's
  * tensor sums, ab the component c; w = omega |xi| beta V, q = e - eth |xi|), then the terms
- * of the ghosts. */
-void peri_tensor_return(peri_sim *s, const double *N);
+ * of the ghosts; bonds_broke: the pass broke bonds (the moments of the nodes that lost bonds
+ * are rebuilt, as after any change of peri_bonds.broken_edits). */
+void peri_tensor_return(peri_sim *s, const double *N, bool bonds_broke);
 /* n . T . n of bond i -> j's direction for node `node`'s term T (alpha sum_l W_l P_l). */
 double peri_tensor_bond_term(const peri_sim *s, int32_t node, int32_t i, int32_t j);
 /* Strain energy densities of the owned nodes. */

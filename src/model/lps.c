@@ -968,7 +968,7 @@ static long lps_tensor_force_pass(peri_sim *s, bool update_s0) {
     for (int c = 0; c < 6; ++c) N[(size_t)c * stride + (size_t)i] = r->tensor[c];
   })
   if (track_smin && update_s0) peri_update_lammps_s0(s);
-  peri_tensor_return(s, N);
+  peri_tensor_return(s, N, n_broken > 0);
   free(N);
   lps_pair_forces(s);
   return n_broken;

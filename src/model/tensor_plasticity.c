@@ -301,10 +301,10 @@ static void chunk_return_v8(peri_sim *s, peri_tensor_plasticity *t, int32_t i0, 
 }
 #endif
 
-void peri_tensor_return(peri_sim *s, const double *N) {
+void peri_tensor_return(peri_sim *s, const double *N, bool bonds_broke) {
   peri_tensor_ready(s);
   peri_tensor_plasticity *t = s->state.plastic_tensor;
-  if (s->disc.bonds.broken_edits != t->broken_edits) {
+  if (bonds_broke || s->disc.bonds.broken_edits != t->broken_edits) {
     refresh_moments(s, t);
     t->broken_edits = s->disc.bonds.broken_edits;
   }
