@@ -282,22 +282,31 @@ else
   echo "SKIP (part): no python3 with numpy for the LPS screened/unscreened comparison"
 fi
 
-# --- the deviatoric yield rule: peri check, threads, bad input
+# --- the deviatoric yield rules (docs/plasticity.md sections 8 and 10): peri check, threads,
+# bad input
 block="$DECKS/plastic_block3d.yaml"
+# rule_threads NAME [--set ...]: the block on 1 and 3 threads into $TMP/NAME1 and NAME3,
+# history.csv and the VTU bitwise; prints the final mean yield index (asserted above 0.5)
+rule_threads() {
+  local name=$1 threads f psi
+  shift
+  for threads in 1 3; do
+    run_peri run "$block" "$@" --quiet --threads "$threads" --output "$TMP/$name$threads"
+    expect_status 0
+  done
+  cmp -s "$TMP/${name}1/history.csv" "$TMP/${name}3/history.csv" || fail "$name: history.csv differs between 1 and 3 threads"
+  for f in "$TMP/${name}1"/*.vtu; do
+    cmp -s "$f" "$TMP/${name}3/$(basename "$f")" || fail "$name: $(basename "$f") differs between 1 and 3 threads"
+  done
+  psi=$(tail -n 1 "$TMP/${name}1/history.csv" | cut -d, -f"$(csv_column "$TMP/${name}1/history.csv" mean_yield_index)")
+  awk -v p="$psi" 'BEGIN { exit !(p > 0.5) }' || fail "$name: the block barely yields (mean yield index $psi)"
+  echo "$psi"
+}
 run_peri check "$block"
 expect_status 0
 expect_stdout_contains "plasticity   steel: deviatoric yield rule, 4 sublayers (W, e_y): (0.9532, 0.001667)"
 expect_stdout_contains "plastic state about 64 bytes per directed bond (4 plastic deviatoric stretches, the reverse bond's index, the plastic term, its reverse's and its own slot)"
-for threads in 1 3; do
-  run_peri run "$block" --quiet --threads "$threads" --output "$TMP/block$threads"
-  expect_status 0
-done
-cmp -s "$TMP/block1/history.csv" "$TMP/block3/history.csv" || fail "deviatoric: history.csv differs between 1 and 3 threads"
-for f in "$TMP"/block1/*.vtu; do
-  cmp -s "$f" "$TMP/block3/$(basename "$f")" || fail "deviatoric: $(basename "$f") differs between 1 and 3 threads"
-done
-psi=$(tail -n 1 "$TMP/block1/history.csv" | cut -d, -f"$(csv_column "$TMP/block1/history.csv" mean_yield_index)")
-awk -v p="$psi" 'BEGIN { exit !(p > 0.5) }' || fail "deviatoric: the block barely yields (mean yield index $psi)"
+psi=$(rule_threads deviatoric) || exit 1 # (a failure inside has said why)
 d=$(bad_deck dev_pmb "strains: [0.002, 0.004]" "stresses: [400e6, 450e6]" "yield_rule: deviatoric")
 run_peri check "$d"
 expect_status 2
@@ -308,23 +317,13 @@ expect_status 2
 expect_stderr_contains "$TMP/dev_ductile.yaml:16:7: error: materials.steel.plasticity.critical_plastic_stretch: not with yield_rule deviatoric"
 pass "deviatoric rule: peri check (64 bytes per bond), threads 1 and 3 bitwise (mean yield index $psi), bad input exit 2"
 
-# --- the tensor yield rule (docs/plasticity.md section 10): peri check, threads, the per-bond
-# rule's uniaxial response, bad input
+# the tensor rule: its state per node in peri check, the same checks
 tensor=(--set materials.steel.plasticity.yield_rule=deviatoric_tensor)
 run_peri check "$block" "${tensor[@]}"
 expect_status 0
 expect_stdout_contains "plasticity   steel: deviatoric tensor yield rule, 4 sublayers (W, e_y): (0.9532, 0.001667)"
 expect_stdout_contains "plastic state 628 bytes per node, none per bond (4 plastic tensors of 6 components"
-for threads in 1 3; do
-  run_peri run "$block" "${tensor[@]}" --quiet --threads "$threads" --output "$TMP/tensor$threads"
-  expect_status 0
-done
-cmp -s "$TMP/tensor1/history.csv" "$TMP/tensor3/history.csv" || fail "tensor: history.csv differs between 1 and 3 threads"
-for f in "$TMP"/tensor1/*.vtu; do
-  cmp -s "$f" "$TMP/tensor3/$(basename "$f")" || fail "tensor: $(basename "$f") differs between 1 and 3 threads"
-done
-psi_t=$(tail -n 1 "$TMP/tensor1/history.csv" | cut -d, -f"$(csv_column "$TMP/tensor1/history.csv" mean_yield_index)")
-awk -v p="$psi_t" 'BEGIN { exit !(p > 0.5) }' || fail "tensor: the block barely yields (mean yield index $psi_t)"
+psi_t=$(rule_threads tensor "${tensor[@]}") || exit 1
 d=$(bad_deck ten_pmb "strains: [0.002, 0.004]" "stresses: [400e6, 450e6]" "yield_rule: deviatoric_tensor")
 run_peri check "$d"
 expect_status 2
