@@ -62,8 +62,11 @@ void peri_tensor_commit(peri_sim *s);
 void peri_tensor_return(peri_sim *s, const double *N, bool bonds_broke);
 /* n . T . n of bond i -> j's direction for node `node`'s term T (alpha sum_l W_l P_l). */
 double peri_tensor_bond_term(const peri_sim *s, int32_t node, int32_t i, int32_t j);
-/* Strain energy densities of the owned nodes. */
-void peri_tensor_energy(peri_sim *s, double *W);
+/* The plastic tensors' part of the strain energy densities, added to W (the owned nodes'
+ * elastic LPS energies at this displacement): with N and theta of pass 1's sums at this
+ * displacement (as for peri_tensor_return), sum_j w (s^d - d . P)^2 = sum_j w (s^d)^2 - 2 P . M +
+ * P . K P, so W_i gains (alpha_m / 2 m_i) sum_l W_l (P_l . K P_l - 2 P_l . M). */
+void peri_tensor_energy(peri_sim *s, const double *N, const double *theta, double *W);
 /* The yield index of each owned node: 1 when its first sublayer has flowed (every bond of the
  * family at once), else 0. */
 void peri_tensor_yield_index(const peri_sim *s, double *psi);

@@ -641,6 +641,7 @@ LPS_SUMS_VARIANTS(_deviatoric_smin, true, false, false, true, false)
 /* the tensor yield rule: pass 1 with the sums of the nodes' tensors (src/model/tensor_plasticity.c) */
 LPS_SUMS_VARIANTS(_tensor, false, false, false, false, true)
 LPS_SUMS_VARIANTS(_tensor_smin, true, false, false, false, true)
+LPS_SUMS_VARIANTS(_tensor_energy, false, true, false, false, true)
 LPS_VARIANT(lps_force_uniform, true, false, PERI_INFLUENCE_CONSTANT, true, false, false, false, false, false)
 LPS_VARIANT(lps_force_constant, true, false, PERI_INFLUENCE_CONSTANT, false, false, false, false, false, false)
 LPS_VARIANT(lps_force_inverse, true, false, PERI_INFLUENCE_INVERSE, false, false, false, false, false, false)
@@ -994,18 +995,20 @@ static void lps_energy(peri_sim *s, double *W) {
     peri_deviatoric_energy(s, W);
     return;
   }
-  if (s->state.plastic_tensor) {
-    peri_tensor_energy(s, W);
-    return;
-  }
   if (s->state.plastic_stretch) {
     peri_plastic_lps_energy(s, W);
     return;
   }
+  /* the tensor rule: the elastic energy from the same sums and, with them, the plastic tensors'
+   * part (peri_tensor_energy) */
+  const bool tensor = s->state.plastic_tensor != NULL;
   peri_node_blocks *items = peri_node_blocks_refresh(s);
-  const lps_loops *loops = lps_pass1_loops(s, items, lps_sums_table_energy);
+  const lps_loops *loops = lps_pass1_loops(s, items, tensor ? lps_sums_table_tensor_energy : lps_sums_table_energy);
   const peri_bond_view w = peri_bond_view_of(s, items->soa);
   const peri_particles *p = &s->disc.p;
+  const size_t owned = (size_t)(p->n_owned > 0 ? p->n_owned : 1), stride = (size_t)p->n_owned;
+  double *N = tensor ? peri_malloc(6 * sizeof(double) * owned) : NULL,
+         *theta_of = tensor ? peri_malloc(sizeof(double) * owned) : NULL;
   long n_broken = 0; /* (the energy breaks nothing) */
   LPS_FOR_EACH_NODE(items, loops, w, false, {
     const peri_material *mat = &s->mat.materials[p->material[i]];
@@ -1014,8 +1017,14 @@ static void lps_energy(peri_sim *s, double *W) {
     const double deviatoric = r->sum[2] - (2.0 * theta / 3.0) * r->sum[0] + (theta * theta / 9.0) * r->sum[1];
     W[i] = mat->peer_force_state ? peri_lps_peer_energy(mat, theta, mat->alpha_m / m, r->sum[2])
                                  : 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * deviatoric;
+    if (tensor) {
+      for (int c = 0; c < 6; ++c) N[(size_t)c * stride + (size_t)i] = r->tensor[c];
+      theta_of[i] = theta;
+    }
   })
   (void)n_broken;
+  if (tensor) peri_tensor_energy(s, N, theta_of, W);
+  free(N), free(theta_of);
 }
 
 static double lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) {

@@ -357,55 +357,33 @@ static void weighted_tensor(const peri_sim *s, const peri_tensor_plasticity *t, 
     for (int c = 0; c < NC; ++c) E[c] = fma(sl->weight[l], t->state[(size_t)(l * NC + c) * n + (size_t)i], E[c]);
 }
 
-/* W_i = K_theta theta_i^2/2 + (alpha_m/m_i)/2 sum_l W_l sum_j omega beta V |xi|^2 (s^d - d .
- * P_l)^2 (the whole deviatoric energy for an elastic material), theta_i from this
- * displacement. Not on the time-step path. */
-void peri_tensor_energy(peri_sim *s, double *W) {
+void peri_tensor_energy(peri_sim *s, const double *N, const double *theta, double *W) {
   peri_tensor_ready(s);
-  const peri_tensor_plasticity *t = s->state.plastic_tensor;
+  peri_tensor_plasticity *t = s->state.plastic_tensor;
+  if (t->n_owned == 0) return;
+  refresh_moments(s, t); /* (bonds broken in the loops since the last return) */
   const peri_particles *p = &s->disc.p;
-  const peri_bonds *b = &s->disc.bonds;
-#pragma omp parallel for schedule(dynamic, 64)
-  for (int32_t i = 0; i < p->n_owned; ++i) {
+  const size_t n = (size_t)t->n_owned;
+#pragma omp parallel for schedule(static)
+  for (int32_t i = 0; i < t->n_owned; ++i) {
     const peri_material *mat = &s->mat.materials[p->material[i]];
     const peri_sublayers *sl = mat->sublayers;
-    const double eth = s->state.thermal_strain ? s->state.thermal_strain[i] : 0.0, m = p->wvol[i];
-    double wq = 0.0;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      double x[3], r0, y2 = 0.0;
-      const double w = energy_weight(s, i, j, x, &r0);
-      for (int c = 0; c < 3; ++c) {
-        const double y = x[c] + p->u[3 * (size_t)j + c] - p->u[3 * (size_t)i + c];
-        y2 += y * y;
+    if (!sl) continue;
+    double M[NC], plastic = 0.0;
+    for (int c = 0; c < NC; ++c)
+      M[c] = fma(theta[i] * (-1.0 / 3.0), t->moments[(MOMENT_H + c) * n + (size_t)i], (c < 3 ? 1.0 : 2.0) * N[(size_t)c * n + (size_t)i]);
+    for (int l = 0; l < sl->n; ++l) {
+      double P[NC], quadratic = 0.0, linear = 0.0;
+      for (int c = 0; c < NC; ++c) P[c] = t->state[(size_t)(l * NC + c) * n + (size_t)i];
+      for (int r = 0; r < NC; ++r) {
+        double KP = 0.0;
+        for (int c = 0; c < NC; ++c) KP = fma(t->moments[(MOMENT_K + packed_index(r, c)) * n + (size_t)i], P[c], KP);
+        quadratic = fma(P[r], KP, quadratic);
+        linear = fma(P[r], M[r], linear);
       }
-      wq += w / r0 * (sqrt(y2) - r0 - eth * r0);
+      plastic = fma(sl->weight[l], quadratic - 2.0 * linear, plastic);
     }
-    const double theta = mat->n_theta * wq / m;
-    double S[PERI_MAX_SUBLAYERS] = {0};
-    const int L = sl ? sl->n : 1;
-    for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
-      if (b->broken[k]) continue;
-      const int32_t j = b->neighbor[k];
-      double x[3], r0, y2 = 0.0, d[NC];
-      const double w = energy_weight(s, i, j, x, &r0);
-      for (int c = 0; c < 3; ++c) {
-        const double y = x[c] + p->u[3 * (size_t)j + c] - p->u[3 * (size_t)i + c];
-        y2 += y * y;
-      }
-      const double sd = (sqrt(y2) - r0) / r0 - eth - theta / 3.0;
-      direction_modes(x, r0, d);
-      for (int l = 0; l < L; ++l) {
-        double sp = 0.0;
-        for (int c = 0; sl && t->n_owned > 0 && c < NC; ++c)
-          sp += d[c] * t->state[(size_t)(l * NC + c) * (size_t)t->n_owned + (size_t)i];
-        S[l] += w * (sd - sp) * (sd - sp);
-      }
-    }
-    double deviatoric = 0.0;
-    for (int l = 0; l < L; ++l) deviatoric += (sl ? sl->weight[l] : 1.0) * S[l];
-    W[i] = 0.5 * mat->K_theta * theta * theta + 0.5 * (mat->alpha_m / m) * deviatoric;
+    W[i] += 0.5 * (mat->alpha_m / p->wvol[i]) * plastic;
   }
 }
 
