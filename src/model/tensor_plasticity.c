@@ -159,15 +159,16 @@ static int32_t build_moments(const peri_sim *s, peri_tensor_plasticity *t, int32
 
 void peri_tensor_ready(peri_sim *s) {
   peri_tensor_plasticity *t = s->state.plastic_tensor;
-  if (!t || t->n_owned > 0 || s->disc.p.n_owned == 0) return;
+  if (!t || t->term) return; /* (the term is allocated last: ready) */
   const peri_particles *p = &s->disc.p;
   t->n_owned = p->n_owned, t->n_local = p->n;
-  const size_t n = (size_t)t->n_owned, L = (size_t)t->layers;
+  /* (a rank without nodes still takes part in the ghosts' exchange: one entry at least) */
+  const size_t n = (size_t)(t->n_owned > 0 ? t->n_owned : 1), L = (size_t)t->layers;
   t->state = peri_calloc(L * NC * n, sizeof(double));
   if (t->quasi_static) t->committed = peri_calloc(L * NC * n, sizeof(double));
-  t->term = peri_calloc(NC * (size_t)t->n_local, sizeof(double));
   t->moments = peri_malloc(sizeof(double) * PERI_TENSOR_MOMENTS * n);
   t->moment_bonds = peri_malloc(sizeof(int32_t) * n);
+  t->term = peri_calloc(NC * (size_t)(t->n_local > 0 ? t->n_local : 1), sizeof(double));
 #pragma omp parallel for schedule(static)
   for (int32_t i = 0; i < t->n_owned; ++i) t->moment_bonds[i] = build_moments(s, t, i);
   t->broken_edits = s->disc.bonds.broken_edits;
@@ -338,7 +339,7 @@ void peri_tensor_return(peri_sim *s, const double *N, bool bonds_broke) {
 
 double peri_tensor_bond_term(const peri_sim *s, int32_t node, int32_t i, int32_t j) {
   const peri_tensor_plasticity *t = s->state.plastic_tensor;
-  if (!t || t->n_owned == 0) return 0.0;
+  if (!t || !t->term) return 0.0; /* (before the first force evaluation every term is 0) */
   const peri_particles *p = &s->disc.p;
   double x[3], d[NC];
   for (int c = 0; c < 3; ++c) x[c] = p->x[3 * (size_t)j + c] - p->x[3 * (size_t)i + c];
@@ -353,7 +354,7 @@ static void weighted_tensor(const peri_sim *s, const peri_tensor_plasticity *t, 
   const peri_sublayers *sl = s->mat.materials[s->disc.p.material[i]].sublayers;
   const size_t n = (size_t)t->n_owned;
   for (int c = 0; c < NC; ++c) E[c] = 0.0;
-  for (int l = 0; sl && t->n_owned > 0 && l < sl->n; ++l)
+  for (int l = 0; sl && t->state && l < sl->n; ++l)
     for (int c = 0; c < NC; ++c) E[c] = fma(sl->weight[l], t->state[(size_t)(l * NC + c) * n + (size_t)i], E[c]);
 }
 
