@@ -495,6 +495,53 @@ static const char *const table_5_2_tensor = "    plasticity:\n"
                                             "      power_law: {yield_stress: 400e6, yield_strain: 0.002, exponent: 0.1}\n"
                                             "      yield_rule: deviatoric_tensor\n";
 Test(plasticity, bar_3d_lps_tensor) { check_bar_3d_deviatoric(table_5_2_tensor, "LPS tensor"); }
+
+/* The thermal strain enters the tensor rule's deviatoric stretches (s^d = e/|xi| - eth -
+ * theta/3): the block expanding freely by a thermal strain 5 times the first yield strain has
+ * no deviatoric stretch, so no node yields and the force vanishes to round-off; the same
+ * expansion without the thermal strain (a hydrostatic stretch, theta = 3 eth) yields nowhere
+ * either, while a shear of the same size yields every node with a whole family. */
+Test(plasticity, tensor_thermal_expansion) {
+  peri_sim s;
+  build_block(&s, table_5_2_tensor);
+  const int32_t n = s.disc.p.n;
+  const double eth = 5.0 * EPS0;
+  double *psi = malloc(sizeof(double) * (size_t)n);
+  s.state.thermal_strain = calloc((size_t)n, sizeof(double));
+  for (int32_t i = 0; i < n; ++i) {
+    s.state.thermal_strain[i] = eth;
+    for (int d = 0; d < 3; ++d) s.disc.p.u[3 * i + d] = eth * s.disc.p.x[3 * i + d];
+  }
+  s.mat.model->force(&s);
+  double largest = 0.0;
+  for (int32_t i = 0; i < 3 * n; ++i) largest = fmax(largest, fabs(s.disc.p.f[i]));
+  peri_yield_index(&s, psi);
+  double yielded = 0.0;
+  for (int32_t i = 0; i < n; ++i) yielded += psi[i];
+  /* the force density of a node at the elastic strain eth: about E eth / spacing */
+  const double scale = E_STEEL * eth / 1e-3;
+  cr_log_info("tensor rule, free thermal expansion %g: largest force density %g (scale %g), yielded %g", eth, largest,
+              scale, yielded);
+  cr_expect(largest < 1e-9 * scale, "free thermal expansion: force density %g", largest);
+  cr_expect_eq(yielded, 0.0, "free thermal expansion: %g nodes yielded", yielded);
+  free(s.state.thermal_strain);
+  s.state.thermal_strain = NULL;
+  s.mat.model->force(&s); /* the same expansion as a mechanical hydrostatic stretch */
+  peri_yield_index(&s, psi);
+  yielded = 0.0;
+  for (int32_t i = 0; i < n; ++i) yielded += psi[i];
+  cr_expect_eq(yielded, 0.0, "hydrostatic stretch: %g nodes yielded", yielded);
+  for (int32_t i = 0; i < n; ++i) {
+    s.disc.p.u[3 * i] = eth * s.disc.p.x[3 * i + 1];
+    s.disc.p.u[3 * i + 1] = s.disc.p.u[3 * i + 2] = 0.0;
+  }
+  s.mat.model->force(&s);
+  peri_yield_index(&s, psi);
+  const int32_t c = centre_node(&s);
+  cr_expect_eq(psi[c], 1.0, "a shear of 5 yield strains: the centre did not yield");
+  free(psi);
+  peri_sim_free(&s);
+}
 Test(plasticity, shear_3d_lps_tensor) { check_shear_deviatoric("deviatoric_tensor"); }
 Test(plasticity, bar_1d_pmb) { check_bar_1d(); }
 Test(plasticity, bar_1d_rate) { check_bar_1d_rate(); }
