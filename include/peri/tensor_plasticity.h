@@ -60,8 +60,9 @@ void peri_tensor_commit(peri_sim *s);
  * of the ghosts; bonds_broke: the pass broke bonds (the moments of the nodes that lost bonds
  * are rebuilt, as after any change of peri_bonds.broken_edits). */
 void peri_tensor_return(peri_sim *s, const double *N, bool bonds_broke);
-/* n . T . n of bond i -> j's direction for node `node`'s term T (alpha sum_l W_l P_l). */
-double peri_tensor_bond_term(const peri_sim *s, int32_t node, int32_t i, int32_t j);
+/* n . (A_i + A_j) . n of bond i -> j, A the nodes' terms alpha sum_l W_l P_l: the pair force
+ * t_ij + t_ji loses omega |xi| times it. */
+double peri_tensor_pair_term(const peri_sim *s, int32_t i, int32_t j);
 /* The plastic tensors' part of the strain energy densities, added to W (the owned nodes'
  * elastic LPS energies at this displacement): with N and theta of pass 1's sums at this
  * displacement (as for peri_tensor_return), sum_j w (s^d - d . P)^2 = sum_j w (s^d)^2 - 2 P . M +

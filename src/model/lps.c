@@ -1038,7 +1038,7 @@ static double lps_pair_force(const peri_sim *s, int32_t i, int64_t k, double r) 
     return omega * (L * (p->coef[i] + p->coef[j]) + (r - L) * (p->coef[n + (size_t)i] + p->coef[n + (size_t)j]) -
                     L * peri_deviatoric_pair_plastic(s, i, k));
   if (s->state.plastic_tensor) /* the tensor rule: n . (A_i + A_j) . n */
-    return omega * (L * (p->coef[i] + p->coef[j] - peri_tensor_bond_term(s, i, i, j) - peri_tensor_bond_term(s, j, i, j)) +
+    return omega * (L * (p->coef[i] + p->coef[j] - peri_tensor_pair_term(s, i, j)) +
                     (r - L) * (p->coef[n + (size_t)i] + p->coef[n + (size_t)j]));
   const double e = r - L - peri_plastic_bond_stretch(s, i, k) * L; /* the elastic extension */
   /* node i's half, omega (n_theta (K theta - alpha P/3) L/m + alpha (e - eth L - theta L/3))

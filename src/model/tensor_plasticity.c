@@ -115,20 +115,15 @@ static bool invert_packed(const double *a, double *inv) {
   return true;
 }
 
-/* d(n) of the offset x (|x| = r0) */
-static inline void direction_modes(const double x[3], double r0, double d[NC]) {
-  const double s = 1.0 / (r0 * r0);
-  d[0] = x[0] * x[0] * s, d[1] = x[1] * x[1] * s, d[2] = x[2] * x[2] * s;
-  d[3] = 2.0 * x[0] * x[1] * s, d[4] = 2.0 * x[0] * x[2] * s, d[5] = 2.0 * x[1] * x[2] * s;
-}
-
-/* The energy weight omega beta V_j |xi|^2 of bond i -> j and its offset. */
-static inline double energy_weight(const peri_sim *s, int32_t i, int32_t j, double x[3], double *r0) {
-  const peri_particles *p = &s->disc.p;
-  for (int c = 0; c < 3; ++c) x[c] = p->x[3 * (size_t)j + c] - p->x[3 * (size_t)i + c];
-  *r0 = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
-  const peri_bonds *b = &s->disc.bonds;
-  return peri_bonds_omega(b, *r0) * peri_bonds_beta(b, *r0) * p->volume[j] * *r0 * *r0;
+/* d(n) of bond i -> j's reference direction; returns |xi|. */
+static inline double bond_modes(const peri_sim *s, int32_t i, int32_t j, double d[NC]) {
+  const double *x = s->disc.p.x;
+  const double x0 = x[3 * (size_t)j] - x[3 * (size_t)i], x1 = x[3 * (size_t)j + 1] - x[3 * (size_t)i + 1],
+               x2 = x[3 * (size_t)j + 2] - x[3 * (size_t)i + 2];
+  const double r0_sq = x0 * x0 + x1 * x1 + x2 * x2, inv = 1.0 / r0_sq;
+  d[0] = x0 * x0 * inv, d[1] = x1 * x1 * inv, d[2] = x2 * x2 * inv;
+  d[3] = 2.0 * x0 * x1 * inv, d[4] = 2.0 * x0 * x2 * inv, d[5] = 2.0 * x1 * x2 * inv;
+  return sqrt(r0_sq);
 }
 
 /* Node i's moments K, K^-1 and H over its intact bonds; returns how many bonds are intact. */
@@ -139,9 +134,11 @@ static int32_t build_moments(const peri_sim *s, peri_tensor_plasticity *t, int32
   for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
     if (b->broken[k]) continue;
     ++intact;
-    double x[3], r0, d[NC];
-    const double w = energy_weight(s, i, b->neighbor[k], x, &r0);
-    direction_modes(x, r0, d);
+    double d[NC];
+    const int32_t j = b->neighbor[k];
+    const double r0 = bond_modes(s, i, j, d);
+    /* the energy weight omega beta V_j |xi|^2 */
+    const double w = peri_bonds_omega(b, r0) * peri_bonds_beta(b, r0) * s->disc.p.volume[j] * r0 * r0;
     for (int r = 0; r < NC; ++r) {
       H[r] += w * d[r];
       for (int c = r; c < NC; ++c) K[packed_index(r, c)] += w * d[r] * d[c];
@@ -337,15 +334,13 @@ void peri_tensor_return(peri_sim *s, const double *N, bool bonds_broke) {
   t->any_plastic = any;
 }
 
-double peri_tensor_bond_term(const peri_sim *s, int32_t node, int32_t i, int32_t j) {
+double peri_tensor_pair_term(const peri_sim *s, int32_t i, int32_t j) {
   const peri_tensor_plasticity *t = s->state.plastic_tensor;
   if (!t || !t->term) return 0.0; /* (before the first force evaluation every term is 0) */
-  const peri_particles *p = &s->disc.p;
-  double x[3], d[NC];
-  for (int c = 0; c < 3; ++c) x[c] = p->x[3 * (size_t)j + c] - p->x[3 * (size_t)i + c];
-  direction_modes(x, sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]), d);
-  double v = 0.0;
-  for (int c = 0; c < NC; ++c) v += d[c] * t->term[(size_t)c * (size_t)t->n_local + (size_t)node];
+  double d[NC], v = 0.0;
+  bond_modes(s, i, j, d);
+  const size_t nl = (size_t)t->n_local;
+  for (int c = 0; c < NC; ++c) v += d[c] * (t->term[(size_t)c * nl + (size_t)i] + t->term[(size_t)c * nl + (size_t)j]);
   return v;
 }
 
@@ -407,9 +402,8 @@ void peri_tensor_plastic_stretch(const peri_sim *s, double *out) {
     weighted_tensor(s, t, i, E);
     for (int64_t k = b->offset[i]; k < b->offset[i + 1]; ++k) {
       if (b->broken[k]) continue;
-      double x[3], r0, d[NC], v = 0.0;
-      (void)energy_weight(s, i, b->neighbor[k], x, &r0);
-      direction_modes(x, r0, d);
+      double d[NC], v = 0.0;
+      bond_modes(s, i, b->neighbor[k], d);
       for (int c = 0; c < NC; ++c) v += d[c] * E[c];
       largest = fmax(largest, fabs(v));
     }
@@ -444,6 +438,5 @@ void peri_tensor_set_state_rows(peri_sim *s, const double *rows, const int32_t *
 double peri_tensor_bytes_per_node(const peri_sim *s) {
   const peri_tensor_plasticity *t = s->state.plastic_tensor;
   if (!t) return 0.0;
-  const bool committed = s->solver.kind == PERI_SOLVER_ADR || s->solver.kind == PERI_SOLVER_DYNAMIC_RELAXATION;
-  return 8.0 * ((committed ? 2 : 1) * t->layers * NC + NC + PERI_TENSOR_MOMENTS) + 4.0;
+  return 8.0 * ((t->quasi_static ? 2 : 1) * t->layers * NC + NC + PERI_TENSOR_MOMENTS) + 4.0;
 }
